@@ -1,0 +1,125 @@
+//! The crate's error and warning types.
+
+use thiserror::Error;
+
+/// Why a polygon soup is not a valid mesh. Each variant names the offending element
+/// (0-based indices, as stored).
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum MeshError {
+    /// The soup has no faces at all.
+    #[error("the mesh has no faces")]
+    NoFaces,
+    /// A face has fewer than three corners.
+    #[error("face {face} has {size} vertices; a face needs at least 3")]
+    FaceTooSmall {
+        /// Offending face.
+        face: u32,
+        /// Its number of corners.
+        size: usize,
+    },
+    /// A face refers to a vertex that does not exist.
+    #[error("face {face} refers to vertex {vertex}, but there are only {vertex_count} vertices")]
+    IndexOutOfRange {
+        /// Offending face.
+        face: u32,
+        /// The out-of-range index.
+        vertex: u32,
+        /// Number of vertices in the soup.
+        vertex_count: usize,
+    },
+    /// A face visits the same vertex twice.
+    #[error("face {face} uses vertex {vertex} more than once")]
+    RepeatedIndex {
+        /// Offending face.
+        face: u32,
+        /// The repeated vertex.
+        vertex: u32,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
+    NonFiniteCoordinate {
+        /// Offending vertex.
+        vertex: u32,
+        /// Its coordinates as read.
+        x: f64,
+        /// y.
+        y: f64,
+        /// z.
+        z: f64,
+    },
+    /// An edge is shared by more than two faces.
+    #[error("edge ({a}, {b}) is shared by {faces} faces (non-manifold edge)")]
+    NonManifoldEdge {
+        /// One end.
+        a: u32,
+        /// Other end.
+        b: u32,
+        /// Number of faces using the edge.
+        faces: usize,
+    },
+    /// Two faces traverse an edge in the same direction.
+    #[error(
+        "faces {face_a} and {face_b} both traverse edge ({a}, {b}) in the same direction \
+         (inconsistent orientation)"
+    )]
+    InconsistentOrientation {
+        /// Edge start.
+        a: u32,
+        /// Edge end.
+        b: u32,
+        /// First face.
+        face_a: u32,
+        /// Second face.
+        face_b: u32,
+    },
+    /// The faces around a vertex form more than one fan (bow-tie).
+    #[error("vertex {vertex} joins {fans} separate fans of faces (non-manifold vertex)")]
+    NonManifoldVertex {
+        /// Offending vertex.
+        vertex: u32,
+        /// Number of fans found around it.
+        fans: usize,
+    },
+    /// The mesh needs more than `u32::MAX` elements.
+    #[error("the mesh is too large: {what}")]
+    TooLarge {
+        /// What overflowed.
+        what: &'static str,
+    },
+}
+
+/// A defect that does not stop the mesh from being used, reported to the user.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Warning {
+    /// Vertices no face refers to (kept in place; removable with
+    /// [`crate::PolygonSoup::without_isolated_vertices`]).
+    IsolatedVertices {
+        /// The isolated vertices, ascending.
+        vertices: Vec<u32>,
+    },
+    /// Faces whose area is zero to round-off (collinear or coincident corners).
+    ZeroAreaFaces {
+        /// The degenerate faces, ascending.
+        faces: Vec<u32>,
+    },
+}
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        fn list(items: &[u32]) -> String {
+            let shown: Vec<String> = items.iter().take(8).map(u32::to_string).collect();
+            let more = if items.len() > 8 { format!(", … ({} in all)", items.len()) } else { String::new() };
+            format!("{}{more}", shown.join(", "))
+        }
+        match self {
+            Warning::IsolatedVertices { vertices } => {
+                write!(f, "{} isolated vertices (no face uses them): {}", vertices.len(), list(vertices))
+            }
+            Warning::ZeroAreaFaces { faces } => {
+                write!(f, "{} zero-area faces: {}", faces.len(), list(faces))
+            }
+        }
+    }
+}

@@ -1,0 +1,34 @@
+//! Polygon meshes for subdiv.
+//!
+//! - [`PolygonSoup`]: positions and a compact CSR [`FaceList`] as read from a
+//!   file, untrusted.
+//! - [`Topology`]: validated connectivity — manifold, consistently oriented,
+//!   faces of any size ≥ 3 — with the half-edge queries every subdivision rule
+//!   and limit matrix needs in O(1) or O(valence).
+//! - [`Mesh`]: a topology plus `f64` positions, with geometric queries.
+//!
+//! Validate once, then trust the type: a `Topology` that exists is manifold and
+//! oriented. Defects that do not break connectivity (isolated vertices,
+//! zero-area faces) are [`Warning`]s.
+//!
+//! ```ignore
+//! use subdiv_mesh::{shapes, Mesh};
+//! let mesh = shapes::cube();
+//! let t = mesh.topology();
+//! assert_eq!((t.vertex_count(), t.edge_count(), t.face_count()), (8, 12, 6));
+//! assert_eq!(t.euler_characteristic(), 2);
+//! assert_eq!(t.genus(), Some(0));
+//! assert!(t.vertices().all(|v| t.valence(v) == 3));
+//! ```
+#![warn(missing_docs)]
+
+mod error;
+mod ids;
+mod soup;
+
+pub use error::{MeshError, Warning};
+pub use ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
+pub use soup::{FaceGroups, FaceList, PolygonSoup};
+
+/// Re-exported vector type used for all positions.
+pub use glam::DVec3;
