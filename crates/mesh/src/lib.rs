@@ -11,7 +11,7 @@
 //! oriented. Defects that do not break connectivity (isolated vertices,
 //! zero-area faces) are [`Warning`]s.
 //!
-//! ```ignore
+//! ```
 //! use subdiv_mesh::{shapes, Mesh};
 //! let mesh = shapes::cube();
 //! let t = mesh.topology();
@@ -23,12 +23,21 @@
 #![warn(missing_docs)]
 
 mod error;
+mod geometry;
 mod ids;
+mod mesh;
+pub mod shapes;
 mod soup;
+mod topology;
+mod validate;
 
 pub use error::{MeshError, Warning};
+pub use geometry::{centroid, corner_angle, newell_normal, Aabb};
 pub use ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
+pub use mesh::{Mesh, ZERO_AREA_REL};
 pub use soup::{FaceGroups, FaceList, PolygonSoup};
+pub use topology::{Corner, Topology};
+pub use validate::{diagnose, Diagnosis};
 
 /// Re-exported vector type used for all positions.
 pub use glam::DVec3;

@@ -1,0 +1,187 @@
+//! A validated topology with positions.
+
+use crate::error::{MeshError, Warning};
+use crate::geometry::{centroid, corner_angle, newell_normal, Aabb};
+use crate::ids::{FaceId, VertexId};
+use crate::soup::{FaceGroups, FaceList, PolygonSoup};
+use crate::topology::Topology;
+use glam::DVec3;
+
+/// Relative area below which a face counts as zero-area: area ≤ this · d².
+pub const ZERO_AREA_REL: f64 = 1e-14;
+
+/// A polygon mesh: validated [`Topology`] plus one `f64` position per vertex.
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    topology: Topology,
+    positions: Vec<DVec3>,
+    groups: FaceGroups,
+}
+
+impl Mesh {
+    /// Validates a soup: per-face checks, finite coordinates, then connectivity
+    /// (see [`Topology::new`]). Returns the mesh and the warning-level defects
+    /// (isolated vertices, zero-area faces), which do not prevent its use.
+    pub fn from_soup(soup: PolygonSoup) -> Result<(Self, Vec<Warning>), MeshError> {
+        let PolygonSoup { positions, faces, groups } = soup;
+        if faces.is_empty() {
+            return Err(MeshError::NoFaces);
+        }
+        if let Some((v, p)) = positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+            return Err(MeshError::NonFiniteCoordinate { vertex: v as u32, x: p.x, y: p.y, z: p.z });
+        }
+        let topology = Topology::new(faces, positions.len())?;
+        let mesh = Self { topology, positions, groups };
+        let warnings = mesh.warnings();
+        Ok((mesh, warnings))
+    }
+
+    /// Builds a mesh from positions and faces, ignoring warnings.
+    pub fn new(positions: Vec<DVec3>, faces: FaceList) -> Result<Self, MeshError> {
+        Self::from_soup(PolygonSoup::new(positions, faces)).map(|(m, _)| m)
+    }
+
+    /// The same connectivity with other positions (e.g. a solved control mesh).
+    ///
+    /// # Panics
+    /// If `positions.len()` differs from the vertex count (a caller bug).
+    pub fn with_positions(&self, positions: Vec<DVec3>) -> Self {
+        assert_eq!(positions.len(), self.positions.len(), "one position per vertex");
+        Self { topology: self.topology.clone(), positions, groups: self.groups.clone() }
+    }
+
+    /// Builds from an already validated topology.
+    ///
+    /// # Panics
+    /// If `positions.len()` differs from the topology's vertex count (a caller bug).
+    pub fn from_topology(topology: Topology, positions: Vec<DVec3>) -> Self {
+        assert_eq!(positions.len(), topology.vertex_count(), "one position per vertex");
+        Self { topology, positions, groups: FaceGroups::default() }
+    }
+
+    /// The connectivity.
+    pub fn topology(&self) -> &Topology {
+        &self.topology
+    }
+    /// Vertex positions.
+    pub fn positions(&self) -> &[DVec3] {
+        &self.positions
+    }
+    /// Mutable vertex positions (connectivity is fixed).
+    pub fn positions_mut(&mut self) -> &mut [DVec3] {
+        &mut self.positions
+    }
+    /// Position of vertex `v`.
+    pub fn position(&self, v: VertexId) -> DVec3 {
+        self.positions[v.index()]
+    }
+    /// Face groups carried over from the file (may be empty).
+    pub fn groups(&self) -> &FaceGroups {
+        &self.groups
+    }
+    /// Back to plain data.
+    pub fn into_soup(self) -> PolygonSoup {
+        let groups = self.groups;
+        let faces = self.topology.faces().clone();
+        PolygonSoup { positions: self.positions, faces, groups }
+    }
+
+    /// Bounding box of the vertices that faces use.
+    pub fn bbox(&self) -> Aabb {
+        let t = &self.topology;
+        Aabb::of(t.vertices().filter(|&v| !t.is_isolated(v)).map(|v| self.position(v)))
+            .expect("a valid mesh has at least one face")
+    }
+    /// The scale *d* of SPEC §1: length of the bounding-box diagonal.
+    pub fn bbox_diagonal(&self) -> f64 {
+        self.bbox().diagonal()
+    }
+
+    fn face_points(&self, f: FaceId) -> impl ExactSizeIterator<Item = DVec3> + Clone + '_ {
+        self.topology.face(f).iter().map(|&v| self.positions[v as usize])
+    }
+    /// Centroid (vertex average) of face `f`: a Doo-Sabin limit point (SPEC §1).
+    pub fn face_centroid(&self, f: FaceId) -> DVec3 {
+        centroid(self.face_points(f))
+    }
+    /// Centroids of all faces.
+    pub fn face_centroids(&self) -> Vec<DVec3> {
+        self.topology.face_ids().map(|f| self.face_centroid(f)).collect()
+    }
+    /// Area of face `f` (half the Newell vector's length; exact for planar faces).
+    pub fn face_area(&self, f: FaceId) -> f64 {
+        0.5 * newell_normal(self.face_points(f)).length()
+    }
+    /// Unit normal of face `f` (Newell); zero for a zero-area face.
+    pub fn face_normal(&self, f: FaceId) -> DVec3 {
+        newell_normal(self.face_points(f)).normalize_or_zero()
+    }
+    /// Unit normals of all faces.
+    pub fn face_normals(&self) -> Vec<DVec3> {
+        self.topology.face_ids().map(|f| self.face_normal(f)).collect()
+    }
+    /// Angle-weighted unit vertex normals: nᵢ = Σⱼ θⱼ nⱼ / ‖Σⱼ θⱼ nⱼ‖ with θⱼ the
+    /// angle of face j at vertex i (Deng-Wang Eq. 8, ERRATA W5). Zero for
+    /// isolated vertices and where the sum vanishes.
+    pub fn vertex_normals(&self) -> Vec<DVec3> {
+        let face_normals = self.face_normals();
+        let t = &self.topology;
+        let mut normals = vec![DVec3::ZERO; t.vertex_count()];
+        for f in t.face_ids() {
+            let face = t.face(f);
+            let m = face.len();
+            for k in 0..m {
+                let p = |i: usize| self.positions[face[i] as usize];
+                let theta = corner_angle(p((k + m - 1) % m), p(k), p((k + 1) % m));
+                normals[face[k] as usize] += theta * face_normals[f.index()];
+            }
+        }
+        normals.iter_mut().for_each(|n| *n = n.normalize_or_zero());
+        normals
+    }
+
+    /// Warning-level defects: isolated vertices and zero-area faces
+    /// (area ≤ [`ZERO_AREA_REL`] · d²).
+    pub fn warnings(&self) -> Vec<Warning> {
+        let t = &self.topology;
+        let mut warnings = Vec::new();
+        let isolated: Vec<u32> = t.vertices().filter(|&v| t.is_isolated(v)).map(|v| v.0).collect();
+        if !isolated.is_empty() {
+            warnings.push(Warning::IsolatedVertices { vertices: isolated });
+        }
+        let d = self.bbox_diagonal();
+        let threshold = ZERO_AREA_REL * d * d;
+        let degenerate: Vec<u32> = t.face_ids().filter(|&f| self.face_area(f) <= threshold).map(|f| f.0).collect();
+        if !degenerate.is_empty() {
+            warnings.push(Warning::ZeroAreaFaces { faces: degenerate });
+        }
+        warnings
+    }
+}
+
+impl PolygonSoup {
+    /// Removes vertices no face uses (the documented repair for
+    /// [`Warning::IsolatedVertices`]). Returns the compacted soup and, for every
+    /// old vertex, its new index (`None` if removed). Faces with out-of-range
+    /// indices are kept unchanged so validation still reports them.
+    pub fn without_isolated_vertices(&self) -> (PolygonSoup, Vec<Option<u32>>) {
+        let n = self.positions.len();
+        let mut used = vec![false; n];
+        for &v in self.faces.indices() {
+            if let Some(u) = used.get_mut(v as usize) {
+                *u = true;
+            }
+        }
+        let mut map = vec![None; n];
+        let mut positions = Vec::with_capacity(n);
+        for (v, p) in self.positions.iter().enumerate() {
+            if used[v] {
+                map[v] = Some(positions.len() as u32);
+                positions.push(*p);
+            }
+        }
+        let indices = self.faces.indices().iter().map(|&v| map.get(v as usize).copied().flatten().unwrap_or(v)).collect();
+        let faces = FaceList::from_raw(self.faces.offsets().to_vec(), indices);
+        (PolygonSoup { positions, faces, groups: self.groups.clone() }, map)
+    }
+}

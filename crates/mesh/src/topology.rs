@@ -1,0 +1,569 @@
+//! Validated half-edge connectivity of a polygon mesh.
+//!
+//! Half-edge `h` is corner `k` of face `f`, directed from that corner's vertex
+//! to the next corner's; half-edges of a face are numbered contiguously, so a
+//! half-edge id is the corner's position in [`FaceList::indices`] and `next`,
+//! `prev`, `from` and `to` need no storage. Stored per half-edge: its face, its
+//! twin and its undirected edge. Stored per vertex: its outgoing half-edges in
+//! cyclic order (a CSR "fan"), which is exactly the neighbourhood of the
+//! papers' Fig. 2: faces f₀…f_{k−1} around V where face fᵢ = (V, Eᵢ, …, Eᵢ₊₁).
+
+use crate::error::MeshError;
+use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
+use crate::soup::FaceList;
+use std::collections::BTreeMap;
+
+/// Marker for "no half-edge" (boundary twin).
+const NONE: u32 = u32::MAX;
+
+/// A face corner: face `face`, position `index` in that face's vertex list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Corner {
+    /// The face.
+    pub face: FaceId,
+    /// 0-based position of the corner in the face.
+    pub index: u32,
+}
+
+/// Validated connectivity: every edge has one or two faces, two faces traverse a
+/// shared edge in opposite directions, and the faces around every vertex form a
+/// single fan. Isolated vertices (in no face) are allowed and have valence 0.
+#[derive(Clone, Debug)]
+pub struct Topology {
+    vertex_count: u32,
+    faces: FaceList,
+    he_face: Vec<u32>,
+    he_twin: Vec<u32>,
+    he_edge: Vec<u32>,
+    edge_he: Vec<u32>,
+    fan_offsets: Vec<u32>,
+    fan: Vec<HalfEdgeId>,
+    vertex_on_boundary: Vec<bool>,
+    loop_offsets: Vec<u32>,
+    loop_he: Vec<HalfEdgeId>,
+    face_component: Vec<u32>,
+    component_count: u32,
+}
+
+impl Topology {
+    /// Builds and validates the connectivity of `faces` over `vertex_count`
+    /// vertices, in time linear in the number of corners.
+    ///
+    /// Errors name the first offending element: a face with fewer than three
+    /// corners, an out-of-range or repeated index, an edge with more than two
+    /// faces, two faces traversing an edge the same way, or a vertex whose faces
+    /// form more than one fan. A face list with no faces is an error too.
+    pub fn new(faces: FaceList, vertex_count: usize) -> Result<Self, MeshError> {
+        if faces.is_empty() {
+            return Err(MeshError::NoFaces);
+        }
+        check_faces(&faces, vertex_count)?;
+        let nv = vertex_count;
+        let nh = faces.corner_count();
+        if nh >= NONE as usize {
+            return Err(MeshError::TooLarge { what: "more than 2³² − 2 corners" });
+        }
+        let offsets = faces.offsets();
+        let idx = faces.indices();
+
+        let mut he_face = vec![0u32; nh];
+        for f in 0..faces.len() {
+            he_face[offsets[f] as usize..offsets[f + 1] as usize].fill(f as u32);
+        }
+        let to = |h: usize| -> u32 {
+            let f = he_face[h] as usize;
+            let next = if h + 1 == offsets[f + 1] as usize { offsets[f] as usize } else { h + 1 };
+            idx[next]
+        };
+
+        // Outgoing and incoming half-edges per vertex, by counting sort (CSR).
+        let out_offsets = csr_offsets(nv, idx.iter().copied());
+        let out = csr_fill(&out_offsets, (0..nh).map(|h| (idx[h], h as u32)));
+        let in_offsets = csr_offsets(nv, (0..nh).map(to));
+        let incoming = csr_fill(&in_offsets, (0..nh).map(|h| (to(h), h as u32)));
+
+        // Twins: for each vertex a, stamp its outgoing half-edges by target, then
+        // every incoming half-edge x→a finds its twin a→x in O(1).
+        let mut stamp = vec![NONE; nv];
+        let mut slot = vec![NONE; nv];
+        let mut he_twin = vec![NONE; nh];
+        for a in 0..nv {
+            for &h in &out[out_offsets[a] as usize..out_offsets[a + 1] as usize] {
+                let b = to(h as usize) as usize;
+                if stamp[b] == a as u32 {
+                    let other = slot[b];
+                    return Err(same_direction_error(&he_face, a as u32, b as u32, other, h, &out, &out_offsets, &to));
+                }
+                stamp[b] = a as u32;
+                slot[b] = h;
+            }
+            for &g in &incoming[in_offsets[a] as usize..in_offsets[a + 1] as usize] {
+                let x = idx[g as usize] as usize;
+                if stamp[x] == a as u32 {
+                    he_twin[g as usize] = slot[x];
+                }
+            }
+        }
+
+        // Fans: walk h ← twin(prev(h)) from the boundary half-edge (or any one).
+        let prev = |h: usize| -> usize {
+            let f = he_face[h] as usize;
+            if h == offsets[f] as usize { offsets[f + 1] as usize - 1 } else { h - 1 }
+        };
+        let mut fan = Vec::with_capacity(nh);
+        let mut fan_offsets = Vec::with_capacity(nv + 1);
+        let mut vertex_on_boundary = vec![false; nv];
+        fan_offsets.push(0u32);
+        for v in 0..nv {
+            let outs = &out[out_offsets[v] as usize..out_offsets[v + 1] as usize];
+            if !outs.is_empty() {
+                let starts: Vec<u32> = outs.iter().copied().filter(|&h| he_twin[h as usize] == NONE).collect();
+                if starts.len() > 1 {
+                    return Err(MeshError::NonManifoldVertex { vertex: v as u32, fans: starts.len() });
+                }
+                vertex_on_boundary[v] = starts.len() == 1;
+                let start = starts.first().copied().unwrap_or(outs[0]);
+                let mut h = start;
+                let mut visited = 0usize;
+                loop {
+                    fan.push(HalfEdgeId(h));
+                    visited += 1;
+                    let t = he_twin[prev(h as usize)];
+                    if t == NONE || t == start || visited > outs.len() {
+                        break;
+                    }
+                    h = t;
+                }
+                if visited != outs.len() {
+                    // One fan reached only part of the faces at v: several fans.
+                    let fans = count_fans(outs, &he_twin, &prev);
+                    return Err(MeshError::NonManifoldVertex { vertex: v as u32, fans });
+                }
+            }
+            fan_offsets.push(fan.len() as u32);
+        }
+
+        // Undirected edges: one per half-edge pair, one per boundary half-edge.
+        let mut he_edge = vec![NONE; nh];
+        let mut edge_he = Vec::with_capacity(nh / 2 + 1);
+        for h in 0..nh {
+            let t = he_twin[h];
+            if t == NONE || (h as u32) < t {
+                he_edge[h] = edge_he.len() as u32;
+                if t != NONE {
+                    he_edge[t as usize] = edge_he.len() as u32;
+                }
+                edge_he.push(h as u32);
+            }
+        }
+
+        // Boundary loops: after boundary half-edge a→b comes b's boundary half-edge.
+        let mut loop_offsets = vec![0u32];
+        let mut loop_he = Vec::new();
+        let mut seen = vec![false; nh];
+        for h0 in 0..nh {
+            if he_twin[h0] != NONE || seen[h0] {
+                continue;
+            }
+            let mut h = h0;
+            while !seen[h] {
+                seen[h] = true;
+                loop_he.push(HalfEdgeId(h as u32));
+                let b = to(h) as usize;
+                h = fan[fan_offsets[b] as usize].index();
+            }
+            loop_offsets.push(loop_he.len() as u32);
+        }
+
+        // Connected components over faces, by breadth-first search through twins.
+        let nf = faces.len();
+        let mut face_component = vec![NONE; nf];
+        let mut component_count = 0u32;
+        let mut queue = Vec::new();
+        for f0 in 0..nf {
+            if face_component[f0] != NONE {
+                continue;
+            }
+            face_component[f0] = component_count;
+            queue.push(f0);
+            while let Some(f) = queue.pop() {
+                for h in offsets[f] as usize..offsets[f + 1] as usize {
+                    let t = he_twin[h];
+                    if t != NONE {
+                        let g = he_face[t as usize] as usize;
+                        if face_component[g] == NONE {
+                            face_component[g] = component_count;
+                            queue.push(g);
+                        }
+                    }
+                }
+            }
+            component_count += 1;
+        }
+
+        Ok(Self {
+            vertex_count: nv as u32,
+            faces,
+            he_face,
+            he_twin,
+            he_edge,
+            edge_he,
+            fan_offsets,
+            fan,
+            vertex_on_boundary,
+            loop_offsets,
+            loop_he,
+            face_component,
+            component_count,
+        })
+    }
+
+    // ---- sizes -------------------------------------------------------------
+
+    /// Number of vertices, isolated ones included.
+    pub fn vertex_count(&self) -> usize {
+        self.vertex_count as usize
+    }
+    /// Number of faces.
+    pub fn face_count(&self) -> usize {
+        self.faces.len()
+    }
+    /// Number of undirected edges.
+    pub fn edge_count(&self) -> usize {
+        self.edge_he.len()
+    }
+    /// Number of half-edges (= face corners).
+    pub fn half_edge_count(&self) -> usize {
+        self.he_face.len()
+    }
+    /// All vertex ids.
+    pub fn vertices(&self) -> impl ExactSizeIterator<Item = VertexId> {
+        (0..self.vertex_count).map(VertexId)
+    }
+    /// All face ids.
+    pub fn face_ids(&self) -> impl ExactSizeIterator<Item = FaceId> {
+        (0..self.faces.len() as u32).map(FaceId)
+    }
+    /// All edge ids.
+    pub fn edges(&self) -> impl ExactSizeIterator<Item = EdgeId> {
+        (0..self.edge_he.len() as u32).map(EdgeId)
+    }
+
+    // ---- faces -------------------------------------------------------------
+
+    /// The face list (CSR).
+    pub fn faces(&self) -> &FaceList {
+        &self.faces
+    }
+    /// Vertex indices of face `f`, in order.
+    #[inline]
+    pub fn face(&self, f: FaceId) -> &[u32] {
+        self.faces.face(f.index())
+    }
+    /// Number of corners of face `f`.
+    #[inline]
+    pub fn face_size(&self, f: FaceId) -> usize {
+        self.faces.face_size(f.index())
+    }
+    /// The half-edges of face `f` (corner `k` → corner `k + 1`), in order.
+    pub fn face_half_edges(&self, f: FaceId) -> impl ExactSizeIterator<Item = HalfEdgeId> {
+        let o = self.faces.offsets();
+        (o[f.index()]..o[f.index() + 1]).map(HalfEdgeId)
+    }
+    /// The connected component (0-based) that face `f` belongs to.
+    pub fn face_component(&self, f: FaceId) -> u32 {
+        self.face_component[f.index()]
+    }
+
+    // ---- half-edges --------------------------------------------------------
+
+    /// The face a half-edge belongs to.
+    #[inline]
+    pub fn he_face(&self, h: HalfEdgeId) -> FaceId {
+        FaceId(self.he_face[h.index()])
+    }
+    /// The corner a half-edge starts at.
+    #[inline]
+    pub fn he_corner(&self, h: HalfEdgeId) -> Corner {
+        let f = self.he_face[h.index()];
+        Corner { face: FaceId(f), index: h.0 - self.faces.offsets()[f as usize] }
+    }
+    /// Start vertex.
+    #[inline]
+    pub fn he_from(&self, h: HalfEdgeId) -> VertexId {
+        VertexId(self.faces.indices()[h.index()])
+    }
+    /// End vertex.
+    #[inline]
+    pub fn he_to(&self, h: HalfEdgeId) -> VertexId {
+        self.he_from(self.he_next(h))
+    }
+    /// Next half-edge in the same face.
+    #[inline]
+    pub fn he_next(&self, h: HalfEdgeId) -> HalfEdgeId {
+        let f = self.he_face[h.index()] as usize;
+        let o = self.faces.offsets();
+        HalfEdgeId(if h.0 + 1 == o[f + 1] { o[f] } else { h.0 + 1 })
+    }
+    /// Previous half-edge in the same face.
+    #[inline]
+    pub fn he_prev(&self, h: HalfEdgeId) -> HalfEdgeId {
+        let f = self.he_face[h.index()] as usize;
+        let o = self.faces.offsets();
+        HalfEdgeId(if h.0 == o[f] { o[f + 1] - 1 } else { h.0 - 1 })
+    }
+    /// The opposite half-edge, or `None` on the boundary.
+    #[inline]
+    pub fn he_twin(&self, h: HalfEdgeId) -> Option<HalfEdgeId> {
+        let t = self.he_twin[h.index()];
+        (t != NONE).then_some(HalfEdgeId(t))
+    }
+    /// The undirected edge of a half-edge.
+    #[inline]
+    pub fn he_edge(&self, h: HalfEdgeId) -> EdgeId {
+        EdgeId(self.he_edge[h.index()])
+    }
+
+    // ---- edges -------------------------------------------------------------
+
+    /// A half-edge of edge `e`; for a boundary edge, its only one.
+    #[inline]
+    pub fn edge_half_edge(&self, e: EdgeId) -> HalfEdgeId {
+        HalfEdgeId(self.edge_he[e.index()])
+    }
+    /// The two end vertices of edge `e` (in the direction of [`Self::edge_half_edge`]).
+    pub fn edge_vertices(&self, e: EdgeId) -> (VertexId, VertexId) {
+        let h = self.edge_half_edge(e);
+        (self.he_from(h), self.he_to(h))
+    }
+    /// The one or two faces of edge `e`.
+    pub fn edge_faces(&self, e: EdgeId) -> (FaceId, Option<FaceId>) {
+        let h = self.edge_half_edge(e);
+        (self.he_face(h), self.he_twin(h).map(|t| self.he_face(t)))
+    }
+    /// True when edge `e` has a single face.
+    pub fn is_boundary_edge(&self, e: EdgeId) -> bool {
+        self.he_twin[self.edge_he[e.index()] as usize] == NONE
+    }
+
+    // ---- vertices ----------------------------------------------------------
+
+    /// Outgoing half-edges of `v` in cyclic order: the i-th one, V→Eᵢ, lies in
+    /// face fᵢ = (V, Eᵢ, …, Eᵢ₊₁). On the boundary the first one is the
+    /// boundary half-edge, and the fan is open. Empty for isolated vertices.
+    #[inline]
+    pub fn vertex_fan(&self, v: VertexId) -> &[HalfEdgeId] {
+        &self.fan[self.fan_offsets[v.index()] as usize..self.fan_offsets[v.index() + 1] as usize]
+    }
+    /// The corners of `v`: its faces in cyclic order with its position in each.
+    pub fn vertex_corners(&self, v: VertexId) -> impl ExactSizeIterator<Item = Corner> + '_ {
+        self.vertex_fan(v).iter().map(|&h| self.he_corner(h))
+    }
+    /// Number of faces around `v`.
+    #[inline]
+    pub fn vertex_face_count(&self, v: VertexId) -> usize {
+        (self.fan_offsets[v.index() + 1] - self.fan_offsets[v.index()]) as usize
+    }
+    /// Valence: number of edges at `v` (faces + 1 on the boundary).
+    #[inline]
+    pub fn valence(&self, v: VertexId) -> usize {
+        self.vertex_face_count(v) + usize::from(self.vertex_on_boundary[v.index()])
+    }
+    /// True when `v` lies on the boundary.
+    #[inline]
+    pub fn is_boundary_vertex(&self, v: VertexId) -> bool {
+        self.vertex_on_boundary[v.index()]
+    }
+    /// True when no face uses `v`.
+    #[inline]
+    pub fn is_isolated(&self, v: VertexId) -> bool {
+        self.vertex_face_count(v) == 0
+    }
+    /// Edge neighbours E₀…E_{n−1} of `v` in cyclic order (E_i = end of the i-th
+    /// fan half-edge); on the boundary, the closing neighbour E_n last, so the
+    /// first and last are the two boundary neighbours.
+    pub fn vertex_neighbors(&self, v: VertexId) -> impl Iterator<Item = VertexId> + '_ {
+        let fan = self.vertex_fan(v);
+        let closing = (self.is_boundary_vertex(v)).then(|| self.he_from(self.he_prev(fan[fan.len() - 1])));
+        fan.iter().map(|&h| self.he_to(h)).chain(closing)
+    }
+    /// The two boundary neighbours (previous, next along the boundary loop) of a boundary vertex.
+    pub fn boundary_neighbors(&self, v: VertexId) -> Option<(VertexId, VertexId)> {
+        if !self.is_boundary_vertex(v) {
+            return None;
+        }
+        let fan = self.vertex_fan(v);
+        let next = self.he_to(fan[0]);
+        let prev = self.he_from(self.he_prev(fan[fan.len() - 1]));
+        Some((prev, next))
+    }
+
+    // ---- global ------------------------------------------------------------
+
+    /// True when the mesh has no boundary edge.
+    pub fn is_closed(&self) -> bool {
+        self.loop_he.is_empty()
+    }
+    /// Number of boundary loops.
+    pub fn boundary_loop_count(&self) -> usize {
+        self.loop_offsets.len() - 1
+    }
+    /// The boundary loops, each as its boundary half-edges in order.
+    pub fn boundary_loops(&self) -> impl ExactSizeIterator<Item = &[HalfEdgeId]> + '_ {
+        self.loop_offsets.windows(2).map(|w| &self.loop_he[w[0] as usize..w[1] as usize])
+    }
+    /// Number of connected components (isolated vertices not counted).
+    pub fn component_count(&self) -> usize {
+        self.component_count as usize
+    }
+    /// Number of vertices used by at least one face.
+    pub fn referenced_vertex_count(&self) -> usize {
+        self.vertices().filter(|&v| !self.is_isolated(v)).count()
+    }
+    /// Euler characteristic V − E + F over the vertices faces use.
+    pub fn euler_characteristic(&self) -> i64 {
+        self.referenced_vertex_count() as i64 - self.edge_count() as i64 + self.face_count() as i64
+    }
+    /// Genus summed over components, from χ_c = 2 − 2g_c − b_c per component
+    /// (b_c its boundary loops). `None` if some component gives a non-integral
+    /// or negative genus (impossible for a valid oriented manifold).
+    pub fn genus(&self) -> Option<u32> {
+        let nc = self.component_count();
+        let mut chi = vec![0i64; nc];
+        for v in self.vertices() {
+            if let Some(&h) = self.vertex_fan(v).first() {
+                chi[self.face_component(self.he_face(h)) as usize] += 1;
+            }
+        }
+        for e in self.edges() {
+            chi[self.face_component(self.he_face(self.edge_half_edge(e))) as usize] -= 1;
+        }
+        for f in self.face_ids() {
+            chi[self.face_component(f) as usize] += 1;
+        }
+        for lp in self.boundary_loops() {
+            chi[self.face_component(self.he_face(lp[0])) as usize] += 1; // χ + b
+        }
+        let mut genus = 0u32;
+        for c in chi {
+            let two_g = 2 - c;
+            if two_g < 0 || two_g % 2 != 0 {
+                return None;
+            }
+            genus += (two_g / 2) as u32;
+        }
+        Some(genus)
+    }
+    /// Histogram valence → number of vertices (isolated vertices under 0).
+    pub fn valence_histogram(&self) -> BTreeMap<usize, usize> {
+        let mut hist = BTreeMap::new();
+        for v in self.vertices() {
+            *hist.entry(self.valence(v)).or_insert(0) += 1;
+        }
+        hist
+    }
+}
+
+/// Per-face checks that need no connectivity: size, index range, repeats.
+fn check_faces(faces: &FaceList, vertex_count: usize) -> Result<(), MeshError> {
+    if vertex_count >= NONE as usize {
+        return Err(MeshError::TooLarge { what: "more than 2³² − 2 vertices" });
+    }
+    for (f, face) in faces.iter().enumerate() {
+        if face.len() < 3 {
+            return Err(MeshError::FaceTooSmall { face: f as u32, size: face.len() });
+        }
+        for (k, &v) in face.iter().enumerate() {
+            if v as usize >= vertex_count {
+                return Err(MeshError::IndexOutOfRange { face: f as u32, vertex: v, vertex_count });
+            }
+            // Faces are short; a quadratic scan beats hashing here.
+            if face[..k].contains(&v) {
+                return Err(MeshError::RepeatedIndex { face: f as u32, vertex: v });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// CSR offsets of a bucket count: `keys` yields the bucket of every item.
+fn csr_offsets(buckets: usize, keys: impl Iterator<Item = u32>) -> Vec<u32> {
+    let mut offsets = vec![0u32; buckets + 1];
+    for k in keys {
+        offsets[k as usize + 1] += 1;
+    }
+    for i in 0..buckets {
+        offsets[i + 1] += offsets[i];
+    }
+    offsets
+}
+
+/// Fills CSR buckets in item order (a stable counting sort).
+fn csr_fill(offsets: &[u32], items: impl Iterator<Item = (u32, u32)>) -> Vec<u32> {
+    let mut cursor: Vec<u32> = offsets[..offsets.len() - 1].to_vec();
+    let mut out = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
+    for (bucket, item) in items {
+        let c = &mut cursor[bucket as usize];
+        out[*c as usize] = item;
+        *c += 1;
+    }
+    out
+}
+
+/// Two half-edges a→b exist: either the undirected edge has more than two
+/// faces (non-manifold) or exactly two that agree in direction (orientation).
+#[allow(clippy::too_many_arguments)]
+fn same_direction_error(
+    he_face: &[u32],
+    a: u32,
+    b: u32,
+    first: u32,
+    second: u32,
+    out: &[u32],
+    out_offsets: &[u32],
+    to: &dyn Fn(usize) -> u32,
+) -> MeshError {
+    let count = |from: u32, target: u32| {
+        out[out_offsets[from as usize] as usize..out_offsets[from as usize + 1] as usize]
+            .iter()
+            .filter(|&&h| to(h as usize) == target)
+            .count()
+    };
+    let faces = count(a, b) + count(b, a);
+    if faces > 2 {
+        let (lo, hi) = (a.min(b), a.max(b));
+        MeshError::NonManifoldEdge { a: lo, b: hi, faces }
+    } else {
+        MeshError::InconsistentOrientation {
+            a,
+            b,
+            face_a: he_face[first as usize],
+            face_b: he_face[second as usize],
+        }
+    }
+}
+
+/// Number of separate fans among a vertex's outgoing half-edges.
+fn count_fans(outs: &[u32], he_twin: &[u32], prev: &dyn Fn(usize) -> usize) -> usize {
+    let mut unvisited: Vec<u32> = outs.to_vec();
+    let mut fans = 0;
+    while let Some(&seed) = unvisited.first() {
+        fans += 1;
+        // Walk both ways from the seed, removing what we reach.
+        let mut stack = vec![seed];
+        while let Some(h) = stack.pop() {
+            let Some(pos) = unvisited.iter().position(|&x| x == h) else { continue };
+            unvisited.swap_remove(pos);
+            let forward = he_twin[prev(h as usize)];
+            if forward != NONE {
+                stack.push(forward);
+            }
+            let back = he_twin[h as usize];
+            if back != NONE {
+                // twin(h) = x→v; the outgoing half-edge after it in its face is v→…
+                stack.extend(unvisited.iter().copied().filter(|&g| prev(g as usize) as u32 == back));
+            }
+        }
+    }
+    fans
+}

@@ -1,0 +1,254 @@
+//! Topology invariants on procedural shapes, error detection, and property tests.
+
+use proptest::prelude::*;
+use subdiv_mesh::shapes::{self, polygon_mix};
+use subdiv_mesh::{FaceList, Mesh, MeshError, PolygonSoup, Topology, VertexId, Warning};
+use glam::DVec3;
+
+/// Checks every structural invariant a consumer relies on.
+fn assert_invariants(t: &Topology) {
+    let mut boundary_half_edges = 0;
+    for f in t.face_ids() {
+        for h in t.face_half_edges(f) {
+            assert_eq!(t.he_face(h), f);
+            assert_eq!(t.he_prev(t.he_next(h)), h);
+            assert_eq!(t.he_from(t.he_next(h)), t.he_to(h));
+            match t.he_twin(h) {
+                Some(g) => {
+                    assert_eq!(t.he_twin(g), Some(h));
+                    assert_eq!((t.he_from(g), t.he_to(g)), (t.he_to(h), t.he_from(h)));
+                    assert_eq!(t.he_edge(g), t.he_edge(h));
+                    assert_ne!(t.he_face(g), f);
+                }
+                None => boundary_half_edges += 1,
+            }
+        }
+    }
+    assert_eq!(2 * t.edge_count(), t.half_edge_count() + boundary_half_edges);
+    let loop_edges: usize = t.boundary_loops().map(<[_]>::len).sum();
+    assert_eq!(loop_edges, boundary_half_edges);
+    for lp in t.boundary_loops() {
+        for k in 0..lp.len() {
+            assert_eq!(t.he_to(lp[k]), t.he_from(lp[(k + 1) % lp.len()]), "loop is connected");
+        }
+    }
+    let mut corners_seen = 0;
+    for v in t.vertices() {
+        let fan = t.vertex_fan(v);
+        corners_seen += fan.len();
+        let nbrs: Vec<VertexId> = t.vertex_neighbors(v).collect();
+        assert_eq!(nbrs.len(), t.valence(v));
+        for (i, &h) in fan.iter().enumerate() {
+            assert_eq!(t.he_from(h), v);
+            // Face fᵢ = (V, Eᵢ, …, Eᵢ₊₁): it enters V from Eᵢ₊₁.
+            let e_next = nbrs[(i + 1) % nbrs.len()];
+            assert_eq!(t.he_from(t.he_prev(h)), e_next, "fan order at vertex {v}");
+            let c = t.he_corner(h);
+            assert_eq!(t.face(c.face)[c.index as usize], v.0);
+        }
+        if t.is_boundary_vertex(v) {
+            assert!(t.he_twin(fan[0]).is_none());
+            let (prev, next) = t.boundary_neighbors(v).unwrap();
+            assert_eq!((prev, next), (nbrs[nbrs.len() - 1], nbrs[0]));
+        }
+    }
+    assert_eq!(corners_seen, t.half_edge_count());
+}
+
+#[test]
+fn platonic_solids_have_exact_combinatorics() {
+    for (mesh, v, e, f, valence) in [
+        (shapes::tetrahedron(), 4, 6, 4, 3),
+        (shapes::cube(), 8, 12, 6, 3),
+        (shapes::octahedron(), 6, 12, 8, 4),
+        (shapes::icosahedron(), 12, 30, 20, 5),
+    ] {
+        let t = mesh.topology();
+        assert_invariants(t);
+        assert_eq!((t.vertex_count(), t.edge_count(), t.face_count()), (v, e, f));
+        assert!(t.vertices().all(|x| t.valence(x) == valence && !t.is_boundary_vertex(x)));
+        assert!(t.is_closed());
+        assert_eq!((t.component_count(), t.genus(), t.euler_characteristic()), (1, Some(0), 2));
+        // Outward orientation: the Newell normal of every face points away from the centre.
+        for face in t.face_ids() {
+            assert!(mesh.face_normal(face).dot(mesh.face_centroid(face) - DVec3::splat(mesh_center(&mesh))) > 0.0);
+        }
+    }
+}
+
+fn mesh_center(mesh: &Mesh) -> f64 {
+    let b = mesh.bbox();
+    (b.min.x + b.max.x) / 2.0
+}
+
+#[test]
+fn grids_tori_prisms_plates() {
+    let g = shapes::quad_grid(5, 3);
+    let t = g.topology();
+    assert_invariants(t);
+    assert_eq!((t.vertex_count(), t.edge_count(), t.face_count()), (24, 5 * 4 + 6 * 3, 15));
+    assert_eq!((t.boundary_loop_count(), t.genus()), (1, Some(0)));
+    assert_eq!(t.boundary_loops().next().unwrap().len(), 16);
+    assert_eq!(t.valence(VertexId(0)), 2);
+    assert_eq!(t.valence(VertexId(1)), 3);
+    assert_eq!(t.valence(VertexId(7)), 4);
+
+    let tg = shapes::triangle_grid(4, 4);
+    assert_invariants(tg.topology());
+    assert_eq!(tg.topology().valence(VertexId(6)), 6);
+
+    let torus = shapes::torus(8, 5);
+    assert_invariants(torus.topology());
+    assert_eq!((torus.topology().euler_characteristic(), torus.topology().genus()), (0, Some(1)));
+
+    for n in 3..9 {
+        let p = shapes::prism(n);
+        assert_invariants(p.topology());
+        assert_eq!(p.topology().genus(), Some(0));
+        let pyr = shapes::pyramid(n);
+        assert_eq!(pyr.topology().valence(VertexId(n as u32)), n);
+    }
+    let pillow = shapes::pillow();
+    assert_invariants(pillow.topology());
+    assert!(pillow.topology().vertices().all(|v| pillow.topology().valence(v) == 2));
+
+    let holes = [(1, 1), (3, 1), (5, 3)];
+    for k in 0..=holes.len() {
+        let closed = shapes::plate_with_holes(7, 5, &holes[..k], true);
+        assert_invariants(closed.topology());
+        assert_eq!(closed.topology().genus(), Some(k as u32));
+        assert!(closed.topology().is_closed());
+        let open = shapes::plate_with_holes(7, 5, &holes[..k], false);
+        assert_invariants(open.topology());
+        assert_eq!((open.topology().boundary_loop_count(), open.topology().genus()), (k + 1, Some(0)));
+    }
+}
+
+#[test]
+fn two_components_are_counted() {
+    let a = shapes::tetrahedron();
+    let mut positions = a.positions().to_vec();
+    positions.extend(a.positions().iter().map(|p| *p + DVec3::X * 5.0));
+    let mut faces = a.topology().faces().clone();
+    for f in a.topology().faces().iter() {
+        faces.push(&f.iter().map(|&v| v + 4).collect::<Vec<_>>());
+    }
+    let m = Mesh::new(positions, faces).unwrap();
+    assert_eq!(m.topology().component_count(), 2);
+    assert_eq!(m.topology().euler_characteristic(), 4);
+    assert_eq!(m.topology().genus(), Some(0));
+}
+
+fn soup(positions: usize, faces: &[&[u32]]) -> PolygonSoup {
+    let p = (0..positions).map(|i| DVec3::new(i as f64, (i * i % 7) as f64, (i % 3) as f64)).collect();
+    PolygonSoup::new(p, FaceList::from_faces(faces.iter().copied()))
+}
+
+#[test]
+fn every_error_names_its_element() {
+    let tet: [&[u32]; 4] = [&[0, 1, 2], &[0, 2, 3], &[0, 3, 1], &[1, 3, 2]];
+    let err = |s: PolygonSoup| Mesh::from_soup(s).err().expect("must be rejected");
+
+    assert_eq!(err(soup(4, &[])), MeshError::NoFaces);
+    assert_eq!(err(soup(4, &[&[0, 1]])), MeshError::FaceTooSmall { face: 0, size: 2 });
+    assert_eq!(err(soup(4, &[&[0, 1, 7]])), MeshError::IndexOutOfRange { face: 0, vertex: 7, vertex_count: 4 });
+    assert_eq!(err(soup(4, &[&[0, 1, 2, 1]])), MeshError::RepeatedIndex { face: 0, vertex: 1 });
+    let mut nan = soup(4, &tet);
+    nan.positions[2].y = f64::NAN;
+    assert!(matches!(err(nan), MeshError::NonFiniteCoordinate { vertex: 2, .. }));
+    // Fourth face reversed: edges traversed twice in the same direction.
+    let flipped: [&[u32]; 4] = [&[0, 1, 2], &[0, 2, 3], &[0, 3, 1], &[2, 3, 1]];
+    assert!(matches!(err(soup(4, &flipped)), MeshError::InconsistentOrientation { .. }));
+    // Three triangles on edge (0, 1).
+    let fin: [&[u32]; 3] = [&[0, 1, 2], &[1, 0, 3], &[0, 1, 4]];
+    assert_eq!(err(soup(5, &fin)), MeshError::NonManifoldEdge { a: 0, b: 1, faces: 3 });
+    // Bow-tie: two triangles sharing only vertex 0 (open fans).
+    let bowtie: [&[u32]; 2] = [&[0, 1, 2], &[0, 3, 4]];
+    assert_eq!(err(soup(5, &bowtie)), MeshError::NonManifoldVertex { vertex: 0, fans: 2 });
+    // Two closed tetrahedra sharing vertex 0 (closed fans).
+    let two_tets: [&[u32]; 8] =
+        [&[0, 1, 2], &[0, 2, 3], &[0, 3, 1], &[1, 3, 2], &[0, 4, 5], &[0, 5, 6], &[0, 6, 4], &[4, 6, 5]];
+    assert_eq!(err(soup(7, &two_tets)), MeshError::NonManifoldVertex { vertex: 0, fans: 2 });
+    for e in [MeshError::NonManifoldEdge { a: 0, b: 1, faces: 3 }, MeshError::NonManifoldVertex { vertex: 0, fans: 2 }] {
+        assert!(e.to_string().contains('0'));
+    }
+}
+
+#[test]
+fn warnings_and_repair() {
+    let mut s = shapes::tetrahedron().into_soup();
+    s.positions.push(DVec3::new(9.0, 9.0, 9.0));
+    s.positions.insert(0, DVec3::new(-9.0, 0.0, 0.0));
+    let shifted: Vec<u32> = s.faces.indices().iter().map(|&v| v + 1).collect();
+    s.faces = FaceList::from_raw(s.faces.offsets().to_vec(), shifted);
+    let (mesh, warnings) = Mesh::from_soup(s.clone()).unwrap();
+    assert_eq!(warnings, vec![Warning::IsolatedVertices { vertices: vec![0, 5] }]);
+    assert_eq!(mesh.topology().valence(VertexId(0)), 0);
+    assert_eq!(mesh.topology().euler_characteristic(), 2);
+    // The bounding box ignores isolated vertices.
+    assert!(mesh.bbox_diagonal() < 4.0);
+    let (repaired, map) = s.without_isolated_vertices();
+    assert_eq!(map, vec![None, Some(0), Some(1), Some(2), Some(3), None]);
+    let (_, w) = Mesh::from_soup(repaired).unwrap();
+    assert!(w.is_empty());
+
+    let mut flat = shapes::pyramid(4).into_soup();
+    flat.positions[4] = DVec3::new(1.0, 0.0, 0.0); // apex onto a base corner's line
+    flat.positions[4] = (flat.positions[0] + flat.positions[1]) / 2.0;
+    let (_, w) = Mesh::from_soup(flat).unwrap();
+    assert!(matches!(&w[..], [Warning::ZeroAreaFaces { faces }] if faces == &vec![1]));
+}
+
+#[test]
+fn normals_are_angle_weighted() {
+    // On a cube corner the three faces meet at right angles: the normal is the diagonal.
+    let cube = shapes::cube();
+    let n = cube.vertex_normals();
+    let expected = DVec3::new(-1.0, -1.0, -1.0).normalize();
+    assert!((n[0] - expected).length() < 1e-15);
+    // A pyramid apex: unequal angles still give a unit normal along the axis by symmetry.
+    let pyr = shapes::pyramid(5);
+    assert!((pyr.vertex_normals()[5] - DVec3::Z).length() < 1e-12);
+    // On the icosahedron every vertex normal is radial.
+    let ico = shapes::icosahedron();
+    for (p, n) in ico.positions().iter().zip(ico.vertex_normals()) {
+        assert!((p.normalize() - n).length() < 1e-12);
+    }
+}
+
+fn generated_mesh() -> impl Strategy<Value = Mesh> {
+    (3usize..9, 3usize..9, 0usize..4, any::<bool>(), any::<u64>(), 0.0f64..0.5, 0.0f64..0.5).prop_map(
+        |(nx, ny, nholes, closed, seed, merge, split)| {
+            let (nx, ny) = (nx + 2 * nholes, ny);
+            let holes: Vec<(usize, usize)> = (0..nholes).map(|k| (1 + 2 * k, 1)).collect();
+            let base = shapes::plate_with_holes(nx, ny.max(3), &holes, closed);
+            polygon_mix(&base, seed, merge, split, 0.1)
+        },
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn generated_meshes_satisfy_invariants(mesh in generated_mesh()) {
+        assert_invariants(mesh.topology());
+    }
+
+    #[test]
+    fn relabelled_faces_give_the_same_counts(mesh in generated_mesh(), seed in any::<u64>()) {
+        // Rotating every face's corner list and permuting faces must not change the topology summary.
+        let t = mesh.topology();
+        let mut rng = shapes::SplitMix64(seed);
+        let mut faces: Vec<Vec<u32>> = t.faces().iter().map(|f| {
+            let r = rng.below(f.len());
+            (0..f.len()).map(|k| f[(k + r) % f.len()]).collect()
+        }).collect();
+        for i in (1..faces.len()).rev() { faces.swap(i, rng.below(i + 1)); }
+        let other = Topology::new(FaceList::from_faces(faces), t.vertex_count()).unwrap();
+        prop_assert_eq!(other.edge_count(), t.edge_count());
+        prop_assert_eq!(other.genus(), t.genus());
+        prop_assert_eq!(other.boundary_loop_count(), t.boundary_loop_count());
+        prop_assert_eq!(other.valence_histogram(), t.valence_histogram());
+        prop_assert_eq!(other.component_count(), t.component_count());
+    }
+}
