@@ -81,6 +81,14 @@ pub enum MeshError {
         /// Number of fans found around it.
         fans: usize,
     },
+    /// A triangle-only operation (Loop) met another polygon.
+    #[error("face {face} has {size} vertices; Loop subdivision needs triangles (use Catmull-Clark or Doo-Sabin, or triangulate)")]
+    NotTriangles {
+        /// Offending face.
+        face: u32,
+        /// Its number of corners.
+        size: usize,
+    },
     /// The mesh needs more than `u32::MAX` elements.
     #[error("the mesh is too large: {what}")]
     TooLarge {

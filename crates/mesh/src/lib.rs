@@ -26,6 +26,7 @@ mod error;
 mod geometry;
 mod ids;
 mod mesh;
+pub mod refine;
 pub mod shapes;
 mod soup;
 mod topology;

@@ -180,7 +180,8 @@ impl PolygonSoup {
                 positions.push(*p);
             }
         }
-        let indices = self.faces.indices().iter().map(|&v| map.get(v as usize).copied().flatten().unwrap_or(v)).collect();
+        let indices =
+            self.faces.indices().iter().map(|&v| map.get(v as usize).copied().flatten().unwrap_or(v)).collect();
         let faces = FaceList::from_raw(self.faces.offsets().to_vec(), indices);
         (PolygonSoup { positions, faces, groups: self.groups.clone() }, map)
     }

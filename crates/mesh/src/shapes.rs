@@ -41,15 +41,40 @@ pub fn octahedron() -> Mesh {
 pub fn icosahedron() -> Mesh {
     let t = (1.0 + 5f64.sqrt()) / 2.0;
     let raw = [
-        v(-1., t, 0.), v(1., t, 0.), v(-1., -t, 0.), v(1., -t, 0.),
-        v(0., -1., t), v(0., 1., t), v(0., -1., -t), v(0., 1., -t),
-        v(t, 0., -1.), v(t, 0., 1.), v(-t, 0., -1.), v(-t, 0., 1.),
+        v(-1., t, 0.),
+        v(1., t, 0.),
+        v(-1., -t, 0.),
+        v(1., -t, 0.),
+        v(0., -1., t),
+        v(0., 1., t),
+        v(0., -1., -t),
+        v(0., 1., -t),
+        v(t, 0., -1.),
+        v(t, 0., 1.),
+        v(-t, 0., -1.),
+        v(-t, 0., 1.),
     ];
     let faces = [
-        [0u32, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
-        [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-        [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        [0u32, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
     ];
     build(raw.iter().map(|p| p.normalize()).collect(), FaceList::from_faces(faces))
 }
@@ -132,10 +157,12 @@ pub fn prism(n: usize) -> Mesh {
 /// Pyramid over a regular `n`-gon: the apex has valence `n` (a "fan").
 pub fn pyramid(n: usize) -> Mesh {
     assert!(n >= 3, "pyramid needs an n-gon base with n ≥ 3");
-    let mut p: Vec<DVec3> = (0..n).map(|k| {
-        let a = TAU * k as f64 / n as f64;
-        v(a.cos(), a.sin(), 0.)
-    }).collect();
+    let mut p: Vec<DVec3> = (0..n)
+        .map(|k| {
+            let a = TAU * k as f64 / n as f64;
+            v(a.cos(), a.sin(), 0.)
+        })
+        .collect();
     p.push(v(0., 0., 1.));
     let n32 = n as u32;
     let mut faces = FaceList::new();

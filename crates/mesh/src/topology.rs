@@ -108,7 +108,11 @@ impl Topology {
         // Fans: walk h ← twin(prev(h)) from the boundary half-edge (or any one).
         let prev = |h: usize| -> usize {
             let f = he_face[h] as usize;
-            if h == offsets[f] as usize { offsets[f + 1] as usize - 1 } else { h - 1 }
+            if h == offsets[f] as usize {
+                offsets[f + 1] as usize - 1
+            } else {
+                h - 1
+            }
         };
         let mut fan = Vec::with_capacity(nh);
         let mut fan_offsets = Vec::with_capacity(nv + 1);
@@ -534,12 +538,7 @@ fn same_direction_error(
         let (lo, hi) = (a.min(b), a.max(b));
         MeshError::NonManifoldEdge { a: lo, b: hi, faces }
     } else {
-        MeshError::InconsistentOrientation {
-            a,
-            b,
-            face_a: he_face[first as usize],
-            face_b: he_face[second as usize],
-        }
+        MeshError::InconsistentOrientation { a, b, face_a: he_face[first as usize], face_b: he_face[second as usize] }
     }
 }
 

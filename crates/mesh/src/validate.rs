@@ -76,7 +76,11 @@ pub fn diagnose(soup: &PolygonSoup) -> Diagnosis {
         for k in 0..face.len() {
             let (a, b) = (face[k], face[(k + 1) % face.len()]);
             let entry = edges.entry((a.min(b), a.max(b))).or_default();
-            if a < b { entry.0.push(f as u32) } else { entry.1.push(f as u32) }
+            if a < b {
+                entry.0.push(f as u32)
+            } else {
+                entry.1.push(f as u32)
+            }
         }
     }
     d.edges = edges.len();

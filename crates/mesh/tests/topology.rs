@@ -1,9 +1,9 @@
 //! Topology invariants on procedural shapes, error detection, and property tests.
 
+use glam::DVec3;
 use proptest::prelude::*;
 use subdiv_mesh::shapes::{self, polygon_mix};
 use subdiv_mesh::{FaceList, Mesh, MeshError, PolygonSoup, Topology, VertexId, Warning};
-use glam::DVec3;
 
 /// Checks every structural invariant a consumer relies on.
 fn assert_invariants(t: &Topology) {
@@ -147,7 +147,7 @@ fn soup(positions: usize, faces: &[&[u32]]) -> PolygonSoup {
 #[test]
 fn every_error_names_its_element() {
     let tet: [&[u32]; 4] = [&[0, 1, 2], &[0, 2, 3], &[0, 3, 1], &[1, 3, 2]];
-    let err = |s: PolygonSoup| Mesh::from_soup(s).err().expect("must be rejected");
+    let err = |s: PolygonSoup| Mesh::from_soup(s).expect_err("must be rejected");
 
     assert_eq!(err(soup(4, &[])), MeshError::NoFaces);
     assert_eq!(err(soup(4, &[&[0, 1]])), MeshError::FaceTooSmall { face: 0, size: 2 });
@@ -169,7 +169,8 @@ fn every_error_names_its_element() {
     let two_tets: [&[u32]; 8] =
         [&[0, 1, 2], &[0, 2, 3], &[0, 3, 1], &[1, 3, 2], &[0, 4, 5], &[0, 5, 6], &[0, 6, 4], &[4, 6, 5]];
     assert_eq!(err(soup(7, &two_tets)), MeshError::NonManifoldVertex { vertex: 0, fans: 2 });
-    for e in [MeshError::NonManifoldEdge { a: 0, b: 1, faces: 3 }, MeshError::NonManifoldVertex { vertex: 0, fans: 2 }] {
+    for e in [MeshError::NonManifoldEdge { a: 0, b: 1, faces: 3 }, MeshError::NonManifoldVertex { vertex: 0, fans: 2 }]
+    {
         assert!(e.to_string().contains('0'));
     }
 }

@@ -1,0 +1,184 @@
+//! `subdiv info MESH [--json] [--strict]`.
+
+use crate::failure::{bad_input, Failure};
+use anyhow::anyhow;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use subdiv_mesh::{diagnose, Mesh, Warning};
+
+/// Arguments of `subdiv info`.
+#[derive(clap::Args, Debug)]
+pub struct InfoArgs {
+    /// Mesh file (.obj, .off, .ply, .stl, .gltf, .glb).
+    mesh: PathBuf,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+    /// Treat warnings (isolated vertices, zero-area faces) as errors: exit 2.
+    #[arg(long)]
+    strict: bool,
+}
+
+/// The summary printed by `info` (SPEC §6 keys, plus a few more).
+#[derive(Serialize, Debug)]
+struct Summary {
+    file: String,
+    vertices: usize,
+    faces: usize,
+    edges: usize,
+    face_sizes: BTreeMap<usize, usize>,
+    /// `null` when the mesh is not a valid manifold (no fans to count).
+    valences: Option<BTreeMap<usize, usize>>,
+    boundary_edges: Option<usize>,
+    boundary_loops: Option<usize>,
+    components: usize,
+    euler_characteristic: Option<i64>,
+    genus: Option<u32>,
+    closed: Option<bool>,
+    manifold: bool,
+    oriented: bool,
+    isolated_vertices: usize,
+    bbox_diagonal: Option<f64>,
+    warnings: Vec<String>,
+    /// Error-level defect counts (all zero for a valid mesh).
+    problems: BTreeMap<&'static str, usize>,
+    /// The first error that makes the mesh unusable, if any.
+    error: Option<String>,
+}
+
+/// Runs `subdiv info`.
+pub fn run(args: &InfoArgs) -> Result<(), Failure> {
+    let soup = subdiv_io::read_mesh(&args.mesh).map_err(bad_input)?;
+    let file = args.mesh.display().to_string();
+    let summary = match Mesh::from_soup(soup.clone()) {
+        Ok((mesh, warnings)) => valid_summary(file.clone(), &mesh, &warnings),
+        Err(_) => invalid_summary(file.clone(), &soup),
+    };
+    if args.json {
+        let text = serde_json::to_string_pretty(&summary).map_err(|e| Failure::Other(e.into()))?;
+        println!("{text}");
+    } else {
+        print_text(&summary);
+    }
+    if let Some(error) = &summary.error {
+        return Err(bad_input(anyhow!("{file}: {error}")));
+    }
+    if args.strict && !summary.warnings.is_empty() {
+        return Err(bad_input(anyhow!("{file}: {} (--strict)", summary.warnings.join("; "))));
+    }
+    Ok(())
+}
+
+fn valid_summary(file: String, mesh: &Mesh, warnings: &[Warning]) -> Summary {
+    let t = mesh.topology();
+    let boundary_edges = t.edges().filter(|&e| t.is_boundary_edge(e)).count();
+    let face_sizes = t.faces().iter().fold(BTreeMap::new(), |mut h, f| {
+        *h.entry(f.len()).or_insert(0) += 1;
+        h
+    });
+    Summary {
+        file,
+        vertices: t.vertex_count(),
+        faces: t.face_count(),
+        edges: t.edge_count(),
+        face_sizes,
+        valences: Some(t.valence_histogram()),
+        boundary_edges: Some(boundary_edges),
+        boundary_loops: Some(t.boundary_loop_count()),
+        components: t.component_count(),
+        euler_characteristic: Some(t.euler_characteristic()),
+        genus: t.genus(),
+        closed: Some(t.is_closed()),
+        manifold: true,
+        oriented: true,
+        isolated_vertices: t.vertices().filter(|&v| t.is_isolated(v)).count(),
+        bbox_diagonal: Some(mesh.bbox_diagonal()),
+        warnings: warnings.iter().map(ToString::to_string).collect(),
+        problems: BTreeMap::new(),
+        error: None,
+    }
+}
+
+fn invalid_summary(file: String, soup: &subdiv_mesh::PolygonSoup) -> Summary {
+    let d = diagnose(soup);
+    let problems: BTreeMap<&'static str, usize> = [
+        ("faces_too_small", d.faces_too_small),
+        ("out_of_range_indices", d.out_of_range_indices),
+        ("faces_with_repeated_index", d.faces_with_repeated_index),
+        ("non_finite_vertices", d.non_finite_vertices),
+        ("non_manifold_edges", d.non_manifold_edges),
+        ("non_manifold_vertices", d.non_manifold_vertices),
+        ("inconsistently_oriented_edges", d.inconsistently_oriented_edges),
+    ]
+    .into_iter()
+    .filter(|&(_, n)| n > 0)
+    .collect();
+    let mut warnings = Vec::new();
+    if d.isolated_vertices > 0 {
+        warnings.push(format!("{} isolated vertices (no face uses them)", d.isolated_vertices));
+    }
+    Summary {
+        file,
+        vertices: d.vertices,
+        faces: d.faces,
+        edges: d.edges,
+        face_sizes: d.face_sizes,
+        valences: None,
+        boundary_edges: None,
+        boundary_loops: None,
+        components: d.components,
+        euler_characteristic: None,
+        genus: None,
+        closed: None,
+        manifold: d.non_manifold_edges == 0 && d.non_manifold_vertices == 0 && d.faces_with_repeated_index == 0,
+        oriented: d.inconsistently_oriented_edges == 0,
+        isolated_vertices: d.isolated_vertices,
+        bbox_diagonal: d.bbox.map(|b| b.diagonal()),
+        warnings,
+        problems,
+        error: d.first_error.map(|e| e.to_string()),
+    }
+}
+
+fn histogram(h: &BTreeMap<usize, usize>) -> String {
+    let parts: Vec<String> = h.iter().map(|(k, n)| format!("{k}:{n}")).collect();
+    if parts.is_empty() {
+        "-".into()
+    } else {
+        parts.join(" ")
+    }
+}
+
+fn print_text(s: &Summary) {
+    let opt = |x: Option<String>| x.unwrap_or_else(|| "undefined".into());
+    println!("file:                 {}", s.file);
+    println!("vertices:             {} ({} isolated)", s.vertices, s.isolated_vertices);
+    println!("faces:                {}", s.faces);
+    println!("edges:                {}", s.edges);
+    println!("face sizes:           {}", histogram(&s.face_sizes));
+    println!("valences:             {}", opt(s.valences.as_ref().map(histogram)));
+    println!(
+        "boundary:             {}",
+        match (s.boundary_loops, s.boundary_edges) {
+            (Some(0), _) => "none (closed)".to_string(),
+            (Some(l), Some(e)) => format!("{l} loops, {e} edges"),
+            _ => "undefined".to_string(),
+        }
+    );
+    println!("components:           {}", s.components);
+    println!("euler characteristic: {}", opt(s.euler_characteristic.map(|x| x.to_string())));
+    println!("genus:                {}", opt(s.genus.map(|x| x.to_string())));
+    println!(
+        "manifold, oriented:   {}, {}",
+        if s.manifold { "yes" } else { "no" },
+        if s.oriented { "yes" } else { "no" }
+    );
+    println!("bbox diagonal:        {}", opt(s.bbox_diagonal.map(|x| format!("{x:.6}"))));
+    for (k, n) in &s.problems {
+        println!("problem:              {n} {}", k.replace('_', " "));
+    }
+    for w in &s.warnings {
+        println!("warning:              {w}");
+    }
+}

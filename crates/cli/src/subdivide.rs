@@ -1,0 +1,150 @@
+//! `subdiv subdivide MESH --scheme S --levels N [--limit] [--beta B] -o OUT`.
+
+use crate::failure::{bad_input, Failure};
+use crate::load::load_mesh;
+use anyhow::anyhow;
+use clap::ValueEnum;
+use std::path::PathBuf;
+use subdiv_io::MeshView;
+use subdiv_mesh::{FaceList, Mesh};
+use subdiv_stencil::{LoopBeta, Scheme, SubdivisionPlan, Tension};
+
+/// Largest number of faces `subdivide` will produce (≈ 10 GB of output data).
+const MAX_OUTPUT_FACES: usize = 100_000_000;
+
+/// Scheme names on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SchemeArg {
+    /// Doo-Sabin (any polygons; Chaikin boundary).
+    DooSabin,
+    /// Catmull-Clark (any polygons; OpenSubdiv EDGE_AND_CORNER boundary).
+    CatmullClark,
+    /// Loop (triangles; same boundary rule).
+    Loop,
+    /// Deng-Ma interpolatory scheme (closed meshes).
+    DengMa,
+}
+
+/// Loop's β.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BetaArg {
+    /// Warren: 3/16 (k = 3), 3/(8k) (k > 3).
+    Warren,
+    /// Loop's original (1/k)[5/8 − (3/8 + ¼cos(2π/k))²].
+    Loop,
+}
+
+/// Arguments of `subdiv subdivide`.
+#[derive(clap::Args, Debug)]
+pub struct SubdivideArgs {
+    /// Input mesh.
+    mesh: PathBuf,
+    /// Subdivision scheme.
+    #[arg(long, value_enum)]
+    scheme: SchemeArg,
+    /// Number of subdivision steps (0 with --limit: the input's limit positions).
+    #[arg(long)]
+    levels: usize,
+    /// Move the final vertices to their limit positions (not for deng-ma, which interpolates).
+    #[arg(long)]
+    limit: bool,
+    /// Loop's β.
+    #[arg(long, value_enum, default_value = "warren")]
+    beta: BetaArg,
+    /// Deng-Ma: global tension ω ∈ (0, 1] (default 1).
+    #[arg(long, conflicts_with = "variable_tension")]
+    omega: Option<f64>,
+    /// Deng-Ma: displacement-safe variable tension with this λ ∈ (0, 1] (report §3.4).
+    #[arg(long)]
+    variable_tension: Option<f64>,
+    /// Loop on a mesh with non-triangles: fan-triangulate every face first.
+    #[arg(long)]
+    triangulate: bool,
+    /// Write angle-weighted vertex normals (formats that store them).
+    #[arg(long)]
+    normals: bool,
+    /// Output mesh (format by extension).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+fn triangulated(mesh: &Mesh) -> Mesh {
+    let t = mesh.topology();
+    let mut faces = FaceList::with_capacity(t.half_edge_count(), 3 * t.half_edge_count());
+    for face in t.faces().iter() {
+        for i in 2..face.len() {
+            faces.push(&[face[0], face[i - 1], face[i]]);
+        }
+    }
+    Mesh::new(mesh.positions().to_vec(), faces).expect("a fan triangulation of a valid mesh is valid")
+}
+
+/// Runs `subdiv subdivide`.
+pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
+    let mut mesh = load_mesh(&args.mesh)?;
+    let scheme = match args.scheme {
+        SchemeArg::DooSabin => Scheme::DooSabin,
+        SchemeArg::CatmullClark => Scheme::CatmullClark,
+        SchemeArg::Loop => Scheme::Loop(match args.beta {
+            BetaArg::Warren => LoopBeta::Warren,
+            BetaArg::Loop => LoopBeta::Loop,
+        }),
+        SchemeArg::DengMa => Scheme::DengMa(match (args.omega, args.variable_tension) {
+            (_, Some(lambda)) => Tension::Variable { lambda },
+            (omega, None) => Tension::Global(omega.unwrap_or(1.0)),
+        }),
+    };
+    if args.scheme != SchemeArg::DengMa && (args.omega.is_some() || args.variable_tension.is_some()) {
+        return Err(bad_input(anyhow!("--omega and --variable-tension apply to --scheme deng-ma only")));
+    }
+    if args.limit && args.scheme == SchemeArg::DengMa {
+        return Err(bad_input(anyhow!(
+            "--limit: the Deng-Ma scheme is interpolatory and has no limit mask; its refined vertices are the surface"
+        )));
+    }
+    if args.triangulate && args.scheme == SchemeArg::Loop {
+        mesh = triangulated(&mesh);
+    }
+    let faces_out = predicted_faces(&mesh, args.scheme, args.levels);
+    if faces_out > MAX_OUTPUT_FACES {
+        return Err(bad_input(anyhow!(
+            "{} levels would produce about {faces_out} faces (limit {MAX_OUTPUT_FACES}); use fewer --levels",
+            args.levels
+        )));
+    }
+    let input = args.mesh.display();
+    let plan = SubdivisionPlan::new(mesh.topology(), scheme, args.levels).map_err(|e| {
+        let hint = if matches!(e, subdiv_stencil::StencilError::NotTriangles { .. }) {
+            " (or pass --triangulate)"
+        } else {
+            ""
+        };
+        bad_input(anyhow!("{input}: {e}{hint}"))
+    })?;
+    let refined = plan.subdivide(&mesh, args.limit);
+    let normals = args.normals.then(|| refined.vertex_normals());
+    let mut view = MeshView::new(refined.positions(), refined.topology().faces());
+    if let Some(n) = &normals {
+        view = view.with_normals(n);
+    }
+    subdiv_io::write_mesh(&args.output, view).map_err(|e| Failure::Other(e.into()))?;
+    Ok(())
+}
+
+/// Face count after `levels` steps (exact: each scheme's counts are known in
+/// closed form after the first step).
+fn predicted_faces(mesh: &Mesh, scheme: SchemeArg, levels: usize) -> usize {
+    let t = mesh.topology();
+    let (mut v, mut e, mut f, mut h) = (t.vertex_count(), t.edge_count(), t.face_count(), t.half_edge_count());
+    for _ in 0..levels {
+        (v, e, f, h) = match scheme {
+            SchemeArg::CatmullClark | SchemeArg::DengMa => (v + f + e, 2 * e + h, h, 4 * h),
+            SchemeArg::Loop => (v + e, 2 * e + 3 * f, 4 * f, 12 * f),
+            SchemeArg::DooSabin => (h, 2 * e + h, f + e + v, 2 * h + 4 * e),
+        };
+        if f > MAX_OUTPUT_FACES {
+            break;
+        }
+    }
+    f
+}

@@ -1,0 +1,131 @@
+//! Which format a file is in, from its extension.
+
+use std::fmt;
+use std::path::Path;
+
+use crate::IoError;
+
+/// A mesh file format.
+///
+/// Reading needs only the family: [`crate::read_mesh`] tells ASCII from
+/// binary PLY and STL, and JSON glTF from GLB, by the content. Writing uses the
+/// exact variant; [`Format::from_path`] picks the binary one for `.ply` and
+/// `.stl`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Format {
+    /// Wavefront OBJ: polygons kept, `f64` positions round-trip exactly.
+    Obj,
+    /// Geomview OFF (ASCII written; ASCII and binary read).
+    Off,
+    /// PLY with an ASCII body.
+    PlyAscii,
+    /// PLY with a binary little-endian body (big-endian is read too).
+    PlyBinary,
+    /// ASCII STL: triangles only, `f64` positions kept in `{:e}` form.
+    StlAscii,
+    /// Binary STL: triangles only, `f32` positions.
+    StlBinary,
+    /// glTF 2.0 JSON with the buffer embedded as a base64 `data:` URI.
+    Gltf,
+    /// glTF 2.0 binary container.
+    Glb,
+}
+
+impl Format {
+    /// Every format, in declaration order.
+    pub const ALL: [Format; 8] = [
+        Format::Obj,
+        Format::Off,
+        Format::PlyAscii,
+        Format::PlyBinary,
+        Format::StlAscii,
+        Format::StlBinary,
+        Format::Gltf,
+        Format::Glb,
+    ];
+
+    /// The format for a file name's extension (case-insensitive): `.obj`,
+    /// `.off`, `.ply` (binary), `.stl` (binary), `.gltf`, `.glb`.
+    ///
+    /// # Errors
+    /// [`IoError::UnknownFormat`] for any other or a missing extension.
+    pub fn from_path(path: &Path) -> Result<Format, IoError> {
+        path.extension()
+            .and_then(|e| e.to_str())
+            .and_then(Format::from_extension)
+            .ok_or_else(|| IoError::UnknownFormat { path: path.to_path_buf() })
+    }
+
+    /// The format for an extension without its dot, case-insensitive.
+    pub fn from_extension(extension: &str) -> Option<Format> {
+        Some(match extension.to_ascii_lowercase().as_str() {
+            "obj" => Format::Obj,
+            "off" => Format::Off,
+            "ply" => Format::PlyBinary,
+            "stl" => Format::StlBinary,
+            "gltf" => Format::Gltf,
+            "glb" => Format::Glb,
+            _ => return None,
+        })
+    }
+
+    /// The usual extension, without its dot.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Obj => "obj",
+            Format::Off => "off",
+            Format::PlyAscii | Format::PlyBinary => "ply",
+            Format::StlAscii | Format::StlBinary => "stl",
+            Format::Gltf => "gltf",
+            Format::Glb => "glb",
+        }
+    }
+
+    /// True when writing splits polygons into triangles (STL, glTF).
+    pub fn triangulates(self) -> bool {
+        matches!(self, Format::StlAscii | Format::StlBinary | Format::Gltf | Format::Glb)
+    }
+
+    /// True when written `f64` positions read back bit-exactly (all but
+    /// binary STL and glTF, which store `f32`).
+    pub fn keeps_f64(self) -> bool {
+        !matches!(self, Format::StlBinary | Format::Gltf | Format::Glb)
+    }
+
+    /// True when vertex order and unreferenced vertices survive a write and
+    /// read (all but STL, which stores corners per triangle and is welded on read).
+    pub fn keeps_vertices(self) -> bool {
+        !matches!(self, Format::StlAscii | Format::StlBinary)
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Format::Obj => "OBJ",
+            Format::Off => "OFF",
+            Format::PlyAscii => "PLY (ASCII)",
+            Format::PlyBinary => "PLY (binary)",
+            Format::StlAscii => "STL (ASCII)",
+            Format::StlBinary => "STL (binary)",
+            Format::Gltf => "glTF",
+            Format::Glb => "GLB",
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extensions_are_case_insensitive_and_round_trip() {
+        assert_eq!(Format::from_path(Path::new("a/B.PLY")).unwrap(), Format::PlyBinary);
+        assert!(matches!(Format::from_path(Path::new("mesh")), Err(IoError::UnknownFormat { .. })));
+        assert!(matches!(Format::from_path(Path::new("mesh.xyz")), Err(IoError::UnknownFormat { .. })));
+        for f in Format::ALL {
+            let back = Format::from_extension(f.extension()).unwrap();
+            assert_eq!(back.extension(), f.extension());
+        }
+    }
+}

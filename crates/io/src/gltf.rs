@@ -1,0 +1,418 @@
+//! glTF 2.0 (`.gltf` JSON) and GLB (binary container).
+//!
+//! Read: the JSON is parsed and validated by the `gltf` crate; the GLB
+//! container, the buffers and the accessors are read here with every offset
+//! checked, so a corrupt file is an error, never a panic. Buffers come from
+//! the GLB `BIN` chunk, from `data:` URIs, or from files relative to the glTF
+//! file's directory; nothing is ever fetched from the network. Every
+//! triangle-mode primitive (`TRIANGLES`, `TRIANGLE_STRIP`, `TRIANGLE_FAN`) of
+//! every mesh is read as stored, without node transforms, and concatenated
+//! with its indices offset; non-indexed primitives take consecutive vertices.
+//! Points and lines are skipped. Positions are `f32` in glTF. Because
+//! primitives are concatenated, an index past its own primitive's vertices
+//! is an error here rather than passed through.
+//!
+//! Write: faces triangulated as fans from their first corner, positions as
+//! `f32` (rounded from `f64`: relative error up to 2⁻²⁴; coordinates must be
+//! finite and within `f32` range), `NORMAL` when normals are given
+//! (normalised, as glTF requires; a zero normal is written as +Z), `u32`
+//! indices, and the `min`/`max` bounds the spec requires on `POSITION`.
+//! `.glb` holds the buffer in its `BIN` chunk, `.gltf` embeds it as a base64
+//! `data:` URI, so either output is a single file.
+
+use glam::{DVec3, Vec3};
+use serde_json::json;
+use std::borrow::Cow;
+use std::path::Path;
+use subdiv_mesh::{FaceList, PolygonSoup};
+
+use ::gltf::accessor::{DataType, Dimensions};
+use ::gltf::buffer::Source;
+use ::gltf::mesh::{Mode, Semantic};
+use ::gltf::{Accessor, Document};
+
+use crate::error::{Ctx, IoError};
+use crate::text::is_blank;
+use crate::{base64, fan, MeshView};
+
+const GLB_MAGIC: &[u8; 4] = b"glTF";
+const CHUNK_JSON: u32 = 0x4E4F_534A;
+const CHUNK_BIN: u32 = 0x004E_4942;
+
+fn u32_at(bytes: &[u8], at: usize) -> Option<u32> {
+    let b = bytes.get(at..at.checked_add(4)?)?;
+    Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+}
+
+/// Splits a GLB container into its JSON and optional BIN chunks.
+fn split_glb<'a>(bytes: &'a [u8], ctx: Ctx<'_>) -> Result<(&'a [u8], Option<&'a [u8]>), IoError> {
+    let (Some(version), Some(length)) = (u32_at(bytes, 4), u32_at(bytes, 8)) else {
+        return Err(ctx.truncated(None, "GLB header needs 12 bytes"));
+    };
+    if version != 2 {
+        return Err(ctx.unsupported(format!("GLB container version {version} (only 2 is read)")));
+    }
+    let data = bytes
+        .get(..length as usize)
+        .ok_or_else(|| ctx.truncated(None, format!("GLB header says {length} bytes, the file has {}", bytes.len())))?;
+    let mut at = 12;
+    let mut json = None;
+    let mut bin = None;
+    while at < data.len() {
+        let (Some(len), Some(kind)) = (u32_at(data, at), u32_at(data, at + 4)) else {
+            return Err(ctx.truncated(None, format!("GLB chunk header at byte {at} is cut off")));
+        };
+        let start = at + 8;
+        let chunk = data
+            .get(start..start + len as usize)
+            .ok_or_else(|| ctx.truncated(None, format!("GLB chunk at byte {at} claims {len} bytes")))?;
+        match kind {
+            CHUNK_JSON if json.is_none() => json = Some(chunk),
+            CHUNK_BIN if bin.is_none() => bin = Some(chunk),
+            _ => {}
+        }
+        at = start + len as usize;
+    }
+    let json = json.ok_or_else(|| ctx.parse(None, "GLB file has no JSON chunk"))?;
+    Ok((json, bin))
+}
+
+/// Decodes `%XX` escapes of a URI path.
+fn percent_decode(uri: &str) -> Vec<u8> {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = |b: u8| (b as char).to_digit(16);
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
+            if let (Some(h), Some(l)) = (hex(bytes[i + 1]), hex(bytes[i + 2])) {
+                out.push((h * 16 + l) as u8);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(bytes[i]);
+        i += 1;
+    }
+    out
+}
+
+/// The bytes a buffer URI points to.
+fn uri_data(uri: &str, base_dir: Option<&Path>, ctx: Ctx<'_>) -> Result<Vec<u8>, IoError> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (meta, payload) =
+            rest.split_once(',').ok_or_else(|| ctx.parse(None, "data: URI without a ',' before its payload"))?;
+        return if meta.ends_with(";base64") {
+            base64::decode(payload.as_bytes()).ok_or_else(|| ctx.parse(None, "data: URI payload is not valid base64"))
+        } else {
+            Ok(percent_decode(payload))
+        };
+    }
+    let scheme = uri.find(':').is_some_and(|colon| !uri[..colon].contains('/'));
+    if scheme {
+        return Err(ctx.unsupported(format!(
+            "buffer URI '{uri}' is not a relative file path (nothing is fetched from the network)"
+        )));
+    }
+    let Some(dir) = base_dir else {
+        return Err(ctx.unsupported(format!("external buffer '{uri}' cannot be resolved without the file's directory")));
+    };
+    let decoded = percent_decode(uri);
+    let relative = String::from_utf8_lossy(&decoded);
+    let path = dir.join(relative.as_ref());
+    std::fs::read(&path).map_err(|source| IoError::Io { path, source })
+}
+
+/// Every buffer's bytes, each at least as long as its declared `byteLength`.
+fn load_buffers<'a>(
+    doc: &Document,
+    bin: Option<&'a [u8]>,
+    base_dir: Option<&Path>,
+    ctx: Ctx<'_>,
+) -> Result<Vec<Cow<'a, [u8]>>, IoError> {
+    doc.buffers()
+        .map(|buffer| {
+            let data: Cow<'a, [u8]> = match buffer.source() {
+                Source::Bin => Cow::Borrowed(bin.ok_or_else(|| {
+                    ctx.parse(None, format!("buffer {} refers to a missing BIN chunk", buffer.index()))
+                })?),
+                Source::Uri(uri) => Cow::Owned(uri_data(uri, base_dir, ctx)?),
+            };
+            if data.len() < buffer.length() {
+                return Err(ctx.truncated(
+                    None,
+                    format!("buffer {} declares {} bytes but holds {}", buffer.index(), buffer.length(), data.len()),
+                ));
+            }
+            Ok(data)
+        })
+        .collect()
+}
+
+/// The bytes of an accessor's elements and their stride.
+fn accessor_data<'b>(
+    accessor: &Accessor<'_>,
+    buffers: &'b [Cow<'_, [u8]>],
+    ctx: Ctx<'_>,
+) -> Result<(&'b [u8], usize), IoError> {
+    let i = accessor.index();
+    if accessor.sparse().is_some() {
+        return Err(ctx.unsupported(format!("sparse accessor {i}")));
+    }
+    let Some(view) = accessor.view() else {
+        return Err(ctx.unsupported(format!("accessor {i} without a buffer view")));
+    };
+    let element = accessor.size();
+    let stride = view.stride().unwrap_or(element);
+    if stride < element {
+        return Err(
+            ctx.parse(None, format!("accessor {i}: stride {stride} is smaller than its element size {element}"))
+        );
+    }
+    let buffer = buffers.get(view.buffer().index()).map_or(&[][..], |b| &b[..]);
+    let view_data = view
+        .offset()
+        .checked_add(view.length())
+        .and_then(|end| buffer.get(view.offset()..end))
+        .ok_or_else(|| ctx.truncated(None, format!("buffer view {} lies outside its buffer", view.index())))?;
+    let count = accessor.count();
+    if count == 0 {
+        return Ok((&[], stride));
+    }
+    let end = stride
+        .checked_mul(count - 1)
+        .and_then(|b| b.checked_add(element))
+        .and_then(|b| b.checked_add(accessor.offset()));
+    let data = end
+        .and_then(|end| view_data.get(accessor.offset()..end))
+        .ok_or_else(|| ctx.truncated(None, format!("accessor {i} reaches past its buffer view")))?;
+    Ok((data, stride))
+}
+
+fn read_positions(accessor: &Accessor<'_>, buffers: &[Cow<'_, [u8]>], ctx: Ctx<'_>) -> Result<Vec<DVec3>, IoError> {
+    if accessor.dimensions() != Dimensions::Vec3 || accessor.data_type() != DataType::F32 || accessor.normalized() {
+        return Err(ctx.unsupported(format!(
+            "POSITION accessor {} is {:?} {:?} (only VEC3 FLOAT is read)",
+            accessor.index(),
+            accessor.dimensions(),
+            accessor.data_type()
+        )));
+    }
+    let (data, stride) = accessor_data(accessor, buffers, ctx)?;
+    Ok((0..accessor.count())
+        .map(|k| {
+            let at = k * stride;
+            let c = [0, 4, 8].map(|o| {
+                let b = &data[at + o..at + o + 4];
+                f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            });
+            DVec3::from(c)
+        })
+        .collect())
+}
+
+fn read_indices(accessor: &Accessor<'_>, buffers: &[Cow<'_, [u8]>], ctx: Ctx<'_>) -> Result<Vec<u32>, IoError> {
+    let size = match (accessor.dimensions(), accessor.data_type()) {
+        (Dimensions::Scalar, DataType::U8) => 1,
+        (Dimensions::Scalar, DataType::U16) => 2,
+        (Dimensions::Scalar, DataType::U32) => 4,
+        (d, t) => {
+            return Err(ctx.parse(
+                None,
+                format!("index accessor {} is {d:?} {t:?} (must be an unsigned integer SCALAR)", accessor.index()),
+            ))
+        }
+    };
+    let (data, stride) = accessor_data(accessor, buffers, ctx)?;
+    Ok((0..accessor.count())
+        .map(|k| {
+            let b = &data[k * stride..k * stride + size];
+            match size {
+                1 => u32::from(b[0]),
+                2 => u32::from(u16::from_le_bytes([b[0], b[1]])),
+                _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+            }
+        })
+        .collect())
+}
+
+pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Result<PolygonSoup, IoError> {
+    if is_blank(bytes) {
+        return Err(ctx.empty());
+    }
+    let glb = bytes.starts_with(GLB_MAGIC);
+    let (json, bin) = if glb { split_glb(bytes, ctx)? } else { (bytes, None) };
+    let root: ::gltf::json::Root = ::gltf::json::deserialize::from_slice(json).map_err(|e| {
+        let line = (!glb && e.line() > 0).then_some(e.line());
+        ctx.parse(line, format!("invalid glTF JSON: {e}"))
+    })?;
+    // gltf-json 1.4.1 looks up the POSITION accessor without a bounds check
+    // while validating (a panic on a dangling index): check indices first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some((semantic, index)) =
+                primitive.attributes.iter().find(|(_, index)| index.value() >= root.accessors.len())
+            {
+                return Err(ctx.parse(
+                    None,
+                    format!("mesh {m} primitive {p}: attribute {semantic:?} refers to missing accessor {index}"),
+                ));
+            }
+        }
+    }
+    let doc = Document::from_json(root).map_err(|e| ctx.parse(None, format!("invalid glTF: {e}")))?;
+    let buffers = load_buffers(&doc, bin, base_dir, ctx)?;
+
+    let mut positions: Vec<DVec3> = Vec::new();
+    let mut faces = FaceList::new();
+    for mesh in doc.meshes() {
+        for primitive in mesh.primitives() {
+            let mode = primitive.mode();
+            if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+                continue;
+            }
+            let Some(accessor) = primitive.get(&Semantic::Positions) else { continue };
+            let where_ = format!("mesh {} primitive {}", mesh.index(), primitive.index());
+            let points = read_positions(&accessor, &buffers, ctx)?;
+            let n = points.len();
+            let indices = match primitive.indices() {
+                Some(accessor) => read_indices(&accessor, &buffers, ctx)?,
+                None => (0..n as u32).collect(),
+            };
+            if let Some(&bad) = indices.iter().find(|&&v| v as usize >= n) {
+                return Err(ctx.parse(None, format!("{where_}: index {bad} is out of range ({n} vertices)")));
+            }
+            let base = u32::try_from(positions.len() + n)
+                .map(|_| positions.len() as u32)
+                .map_err(|_| ctx.unsupported("more than 2^32 vertices"))?;
+            let triangle_count = match mode {
+                Mode::Triangles if indices.len() % 3 != 0 => {
+                    return Err(ctx.parse(None, format!("{where_}: {} indices is not a multiple of 3", indices.len())))
+                }
+                Mode::Triangles => indices.len() / 3,
+                _ => indices.len().saturating_sub(2),
+            };
+            for t in 0..triangle_count {
+                let corners = match mode {
+                    Mode::Triangles => [3 * t, 3 * t + 1, 3 * t + 2],
+                    // glTF 2.0 §3.7.2.1: strip triangle i is (p_i, p_{i+1+i%2}, p_{i+2-i%2}).
+                    Mode::TriangleStrip => [t, t + 1 + t % 2, t + 2 - t % 2],
+                    // Fan triangle i is (p_{i+1}, p_{i+2}, p_0).
+                    _ => [t + 1, t + 2, 0],
+                };
+                faces.push(&corners.map(|k| base + indices[k]));
+            }
+            positions.extend(points);
+        }
+    }
+    Ok(PolygonSoup::new(positions, faces))
+}
+
+pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, ctx: Ctx<'_>) -> Result<Vec<u8>, IoError> {
+    let positions: Vec<Vec3> = mesh.positions.iter().map(|p| p.as_vec3()).collect();
+    if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+        return Err(
+            ctx.invalid(format!("glTF needs finite coordinates within f32 range; vertex {i} is {}", mesh.positions[i]))
+        );
+    }
+    let normals: Option<Vec<Vec3>> =
+        mesh.normals.map(|ns| ns.iter().map(|n| n.as_vec3().try_normalize().unwrap_or(Vec3::Z)).collect());
+    let indices: Vec<u32> = mesh.faces.iter().flat_map(fan).flatten().collect();
+
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut attributes = serde_json::Map::new();
+    let mut primitive = serde_json::Map::new();
+    if !positions.is_empty() {
+        let (min, max) =
+            positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let mut add_view = |bytes: &[u8], target: u32| {
+            views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len(), "target": target}));
+            bin.extend_from_slice(bytes);
+            views.len() - 1
+        };
+        let vec3_bytes =
+            |v: &[Vec3]| v.iter().flat_map(|p| p.to_array()).flat_map(f32::to_le_bytes).collect::<Vec<u8>>();
+        let view = add_view(&vec3_bytes(&positions), 34962);
+        accessors.push(json!({"bufferView": view, "componentType": 5126, "count": positions.len(), "type": "VEC3",
+            "min": min.to_array(), "max": max.to_array()}));
+        attributes.insert("POSITION".into(), json!(accessors.len() - 1));
+        if let Some(normals) = &normals {
+            let view = add_view(&vec3_bytes(normals), 34962);
+            accessors.push(json!({"bufferView": view, "componentType": 5126, "count": normals.len(), "type": "VEC3"}));
+            attributes.insert("NORMAL".into(), json!(accessors.len() - 1));
+        }
+        if indices.is_empty() {
+            // No faces: keep the points (glTF has no empty index accessors).
+            primitive.insert("mode".into(), json!(0));
+        } else {
+            let bytes: Vec<u8> = indices.iter().flat_map(|v| v.to_le_bytes()).collect();
+            let view = add_view(&bytes, 34963);
+            accessors
+                .push(json!({"bufferView": view, "componentType": 5125, "count": indices.len(), "type": "SCALAR"}));
+            primitive.insert("indices".into(), json!(accessors.len() - 1));
+            primitive.insert("mode".into(), json!(4));
+        }
+        primitive.insert("attributes".into(), serde_json::Value::Object(attributes));
+    }
+
+    let mut root = json!({"asset": {"version": "2.0", "generator": "subdiv-io"}});
+    if !bin.is_empty() {
+        let mut buffer = json!({"byteLength": bin.len()});
+        if !binary {
+            buffer["uri"] = json!(format!("data:application/octet-stream;base64,{}", base64::encode(&bin)));
+        }
+        root["buffers"] = json!([buffer]);
+        root["bufferViews"] = json!(views);
+        root["accessors"] = json!(accessors);
+        root["meshes"] = json!([{"primitives": [primitive]}]);
+        root["nodes"] = json!([{"mesh": 0}]);
+        root["scenes"] = json!([{"nodes": [0]}]);
+        root["scene"] = json!(0);
+    }
+    let mut text = serde_json::to_vec(&root).map_err(|e| ctx.invalid(format!("glTF JSON: {e}")))?;
+    if !binary {
+        text.push(b'\n');
+        return Ok(text);
+    }
+
+    // GLB: 12-byte header, JSON chunk padded with spaces, BIN chunk padded with zeros.
+    text.resize(text.len().next_multiple_of(4), b' ');
+    bin.resize(bin.len().next_multiple_of(4), 0);
+    let bin_chunk = if bin.is_empty() { 0 } else { 8 + bin.len() };
+    let total = 12 + 8 + text.len() + bin_chunk;
+    let total = u32::try_from(total).map_err(|_| ctx.invalid("GLB output would exceed 4 GiB"))?;
+    let mut out = Vec::with_capacity(total as usize);
+    out.extend_from_slice(GLB_MAGIC);
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&total.to_le_bytes());
+    out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    out.extend_from_slice(&CHUNK_JSON.to_le_bytes());
+    out.extend_from_slice(&text);
+    if !bin.is_empty() {
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(&CHUNK_BIN.to_le_bytes());
+        out.extend_from_slice(&bin);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percent_decoding() {
+        assert_eq!(percent_decode("a%20b%2"), b"a b%2");
+        assert_eq!(percent_decode("%zz%41"), b"%zzA");
+    }
+
+    #[test]
+    fn network_uris_are_refused() {
+        let ctx = Ctx::new(Path::new("t.gltf"));
+        let e = uri_data("https://example.com/x.bin", Some(Path::new(".")), ctx).unwrap_err();
+        assert!(matches!(e, IoError::Unsupported { .. }), "{e}");
+        assert_eq!(uri_data("data:application/octet-stream;base64,AAEC", None, ctx).unwrap(), vec![0, 1, 2]);
+    }
+}

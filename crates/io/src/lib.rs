@@ -1,0 +1,245 @@
+//! Mesh files for subdiv: the only library crate that touches the file system.
+//!
+//! Reads OBJ, OFF, PLY, STL, glTF and GLB into an unvalidated
+//! [`PolygonSoup`], and writes any of them from a [`MeshView`]. One file per
+//! format: `obj.rs`, `off.rs`, `ply.rs`, `stl.rs`, `gltf.rs`.
+//!
+//! - [`read_mesh`] picks the reader by extension ([`Format::from_path`]) and
+//!   tells ASCII from binary (PLY, STL) and JSON from GLB by content.
+//! - [`write_mesh`] / [`write_mesh_as`] write atomically: a temporary file in
+//!   the same directory is renamed over the target, so a failed write never
+//!   leaves a partial file. [`write_mesh_to_vec`] encodes in memory.
+//! - [`IoError`] names the file, and the 1-based line for text formats:
+//!   `mesh.obj:12: face index 'x' is not an integer`.
+//!
+//! What it does **not** do: validate topology. Out-of-range and repeated
+//! indices, faces with fewer than three corners and NaN/infinite coordinates
+//! are read as they are, so that `subdiv_mesh`'s validator can report them.
+//! The one exception is what a `u32` cannot hold (an OBJ index 0, a relative
+//! index before the first vertex, a negative index), which is a parse error.
+//!
+//! Precision: OBJ, OFF, PLY (doubles) and ASCII STL write the shortest
+//! decimal (or the bits) that reads back to the same `f64`; binary STL and
+//! glTF store `f32`. STL and glTF triangulate polygons as fans on write.
+//!
+//! ```
+//! use subdiv_io::{read_mesh_from_bytes, write_mesh_to_vec, Format, MeshView};
+//! use subdiv_mesh::{DVec3, FaceList};
+//!
+//! // A unit square and a triangle on top of it, written as OBJ and read back.
+//! let positions = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y, DVec3::new(0.5, 2.0, 0.1)];
+//! let faces = FaceList::from_faces([vec![0u32, 1, 2, 3], vec![3, 2, 4]]);
+//! let bytes = write_mesh_to_vec(MeshView::new(&positions, &faces), Format::Obj)?;
+//! let soup = read_mesh_from_bytes(&bytes, Format::Obj, "square.obj")?;
+//! assert_eq!(soup.positions, positions);
+//! assert_eq!(soup.faces, faces);
+//!
+//! // STL keeps triangles only: the square becomes two.
+//! let bytes = write_mesh_to_vec(MeshView::new(&positions, &faces), Format::StlBinary)?;
+//! let soup = read_mesh_from_bytes(&bytes, Format::StlBinary, "square.stl")?;
+//! assert_eq!(soup.faces.len(), 3);
+//!
+//! // Errors name the file and the line.
+//! let err = read_mesh_from_bytes(b"v 0 0 0\nf 1 x 1\n", Format::Obj, "bad.obj").unwrap_err();
+//! assert_eq!(err.to_string(), "bad.obj:2: face index 'x' is not an integer");
+//! # Ok::<(), subdiv_io::IoError>(())
+//! ```
+#![warn(missing_docs)]
+
+mod atomic;
+mod base64;
+mod error;
+mod format;
+mod gltf;
+mod obj;
+mod off;
+mod ply;
+mod stl;
+mod text;
+
+use glam::DVec3;
+use std::path::Path;
+
+pub use error::IoError;
+pub use format::Format;
+pub use subdiv_mesh::{FaceGroups, FaceList, PolygonSoup};
+
+use error::Ctx;
+
+/// Reads a mesh file; the format comes from the extension, ASCII or binary
+/// from the content.
+///
+/// # Errors
+/// [`IoError::UnknownFormat`] for an unknown extension, [`IoError::Io`] when
+/// the file cannot be read, and the parse errors of
+/// [`read_mesh_from_bytes`]. External glTF buffers are looked up relative to
+/// the file's directory.
+pub fn read_mesh(path: &Path) -> Result<PolygonSoup, IoError> {
+    let format = Format::from_path(path)?;
+    let bytes = std::fs::read(path).map_err(|source| IoError::Io { path: path.to_path_buf(), source })?;
+    read_bytes(&bytes, format, path, Some(path.parent().unwrap_or(Path::new("."))))
+}
+
+/// Reads a mesh from memory. `format_hint` picks the reader family (ASCII or
+/// binary is still detected from the content); `name` stands for the file in
+/// error messages. A glTF file that refers to external buffer files cannot be
+/// read this way ([`IoError::Unsupported`]).
+///
+/// # Errors
+/// [`IoError::Empty`] when there are no vertices and no faces,
+/// [`IoError::Parse`], [`IoError::Truncated`] or [`IoError::Unsupported`]
+/// when the bytes do not follow the format.
+pub fn read_mesh_from_bytes(bytes: &[u8], format_hint: Format, name: &str) -> Result<PolygonSoup, IoError> {
+    read_bytes(bytes, format_hint, Path::new(name), None)
+}
+
+fn read_bytes(bytes: &[u8], format: Format, path: &Path, base_dir: Option<&Path>) -> Result<PolygonSoup, IoError> {
+    let ctx = Ctx::new(path);
+    let soup = match format {
+        Format::Obj => obj::read(bytes, ctx),
+        Format::Off => off::read(bytes, ctx),
+        Format::PlyAscii | Format::PlyBinary => ply::read(bytes, ctx),
+        Format::StlAscii | Format::StlBinary => stl::read(bytes, ctx),
+        Format::Gltf | Format::Glb => gltf::read(bytes, ctx, base_dir),
+    }?;
+    if soup.positions.is_empty() && soup.faces.is_empty() {
+        return Err(ctx.empty());
+    }
+    Ok(soup)
+}
+
+/// A mesh to write: borrowed positions, faces and optional per-vertex normals.
+///
+/// Faces index `positions`; `normals`, when given, has one entry per position.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshView<'a> {
+    /// Vertex positions.
+    pub positions: &'a [DVec3],
+    /// Faces as 0-based indices into `positions`.
+    pub faces: &'a FaceList,
+    /// Optional per-vertex normals (written by OBJ, OFF, PLY and glTF; STL
+    /// computes facet normals instead).
+    pub normals: Option<&'a [DVec3]>,
+}
+
+impl<'a> MeshView<'a> {
+    /// A view of positions and faces, without normals.
+    pub fn new(positions: &'a [DVec3], faces: &'a FaceList) -> Self {
+        Self { positions, faces, normals: None }
+    }
+
+    /// The same view with per-vertex normals.
+    pub fn with_normals(self, normals: &'a [DVec3]) -> Self {
+        Self { normals: Some(normals), ..self }
+    }
+}
+
+impl<'a> From<&'a PolygonSoup> for MeshView<'a> {
+    fn from(soup: &'a PolygonSoup) -> Self {
+        MeshView::new(&soup.positions, &soup.faces)
+    }
+}
+
+/// The fan triangulation of a face from its first corner:
+/// `(v0, v1, v2), (v0, v2, v3), …`; nothing for fewer than three corners.
+pub(crate) fn fan(face: &[u32]) -> impl Iterator<Item = [u32; 3]> + '_ {
+    (2..face.len()).map(move |i| [face[0], face[i - 1], face[i]])
+}
+
+/// Writes a mesh in the format of the path's extension (binary for `.ply`
+/// and `.stl`), atomically.
+///
+/// # Errors
+/// [`IoError::UnknownFormat`], [`IoError::InvalidMesh`] (see
+/// [`write_mesh_to_vec`]) or [`IoError::Io`]; on any error the target file is
+/// left as it was.
+pub fn write_mesh(path: &Path, mesh: MeshView<'_>) -> Result<(), IoError> {
+    write_mesh_as(path, mesh, Format::from_path(path)?)
+}
+
+/// Writes a mesh in the given format, atomically: the data goes to a
+/// temporary file in the target's directory, which is then renamed over the
+/// target.
+///
+/// # Errors
+/// [`IoError::InvalidMesh`] (see [`write_mesh_to_vec`]) or [`IoError::Io`];
+/// on any error the target file is left as it was.
+pub fn write_mesh_as(path: &Path, mesh: MeshView<'_>, format: Format) -> Result<(), IoError> {
+    let bytes = encode(mesh, format, Path::new("<memory>")).map_err(|e| e.with_path(path))?;
+    atomic::write(path, &bytes)
+}
+
+/// Encodes a mesh in memory.
+///
+/// # Errors
+/// [`IoError::InvalidMesh`] (with path `<memory>`) when a face index is out
+/// of range, the normals do not match the positions in number, a face has
+/// fewer than three corners for a triangulating format (STL, glTF), or glTF
+/// gets coordinates that are not finite in `f32`.
+pub fn write_mesh_to_vec(mesh: MeshView<'_>, format: Format) -> Result<Vec<u8>, IoError> {
+    encode(mesh, format, Path::new("<memory>"))
+}
+
+fn encode(mesh: MeshView<'_>, format: Format, path: &Path) -> Result<Vec<u8>, IoError> {
+    let ctx = Ctx::new(path);
+    check(&mesh, format, ctx)?;
+    let mut out = Vec::new();
+    match format {
+        Format::Obj => obj::write(&mesh, &mut out),
+        Format::Off => off::write(&mesh, &mut out),
+        Format::PlyAscii => ply::write(&mesh, false, &mut out),
+        Format::PlyBinary => ply::write(&mesh, true, &mut out),
+        Format::StlAscii => stl::write(&mesh, false, &mut out),
+        Format::StlBinary => stl::write(&mesh, true, &mut out),
+        Format::Gltf => out = gltf::write(&mesh, false, ctx)?,
+        Format::Glb => out = gltf::write(&mesh, true, ctx)?,
+    }
+    Ok(out)
+}
+
+/// What every writer relies on: indices in range, one normal per position,
+/// and at least three corners per face where faces become triangles.
+fn check(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>) -> Result<(), IoError> {
+    let n = mesh.positions.len();
+    if let Some(normals) = mesh.normals {
+        if normals.len() != n {
+            return Err(ctx.invalid(format!("{} normals for {n} vertices", normals.len())));
+        }
+    }
+    for (f, face) in mesh.faces.iter().enumerate() {
+        if let Some(&v) = face.iter().find(|&&v| v as usize >= n) {
+            return Err(ctx.invalid(format!("face {f} refers to vertex {v}, but there are {n} vertices")));
+        }
+        if format.triangulates() && face.len() < 3 {
+            return Err(ctx.invalid(format!("face {f} has {} corners; {format} needs at least 3", face.len())));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fan_triangulation() {
+        let t: Vec<_> = fan(&[4, 5, 6, 7, 8]).collect();
+        assert_eq!(t, vec![[4, 5, 6], [4, 6, 7], [4, 7, 8]]);
+        assert_eq!(fan(&[1, 2]).count(), 0);
+        assert_eq!(fan(&[]).count(), 0);
+    }
+
+    #[test]
+    fn writers_reject_out_of_range_indices_and_mismatched_normals() {
+        let positions = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        let faces = FaceList::from_faces([[0u32, 1, 3]]);
+        let e = write_mesh_to_vec(MeshView::new(&positions, &faces), Format::Obj).unwrap_err();
+        assert!(matches!(e, IoError::InvalidMesh { .. }), "{e}");
+        let faces = FaceList::from_faces([[0u32, 1, 2]]);
+        let view = MeshView::new(&positions, &faces).with_normals(&positions[..2]);
+        assert!(write_mesh_to_vec(view, Format::Off).is_err());
+        let two = FaceList::from_faces([[0u32, 1]]);
+        assert!(write_mesh_to_vec(MeshView::new(&positions, &two), Format::Glb).is_err());
+        assert!(write_mesh_to_vec(MeshView::new(&positions, &two), Format::Obj).is_ok());
+    }
+}

@@ -1,0 +1,498 @@
+//! Stanford PLY, ASCII and binary (both byte orders), read and written by hand.
+//!
+//! Read: the `vertex` element's `x`, `y`, `z` properties of any scalar type
+//! (`char`…`double` and the `int8`…`float64` aliases), other vertex
+//! properties skipped by their size; the `face` element's list property
+//! `vertex_indices` (or `vertex_index`) with any count and item types; every
+//! other element skipped (a line per record in ASCII, the property sizes in
+//! binary, lists included).
+//!
+//! Write: `binary_little_endian` ([`Format::PlyBinary`](crate::Format::PlyBinary))
+//! or `ascii` ([`Format::PlyAscii`](crate::Format::PlyAscii)); `double x y z`,
+//! `double nx ny nz` when normals are given, and `list uchar int
+//! vertex_indices` (`uint` counts when a face has more than 255 corners,
+//! `uint` indices beyond `i32::MAX`). Doubles keep every bit of the positions.
+
+use glam::DVec3;
+use subdiv_mesh::{FaceList, PolygonSoup};
+
+use crate::error::{Ctx, IoError};
+use crate::text::{is_blank, parse_f64, push_f64, show, tokens, Lines};
+use crate::MeshView;
+
+/// A PLY scalar type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    fn parse(name: &[u8]) -> Option<Self> {
+        Some(match name {
+            b"char" | b"int8" => Scalar::I8,
+            b"uchar" | b"uint8" => Scalar::U8,
+            b"short" | b"int16" => Scalar::I16,
+            b"ushort" | b"uint16" => Scalar::U16,
+            b"int" | b"int32" => Scalar::I32,
+            b"uint" | b"uint32" => Scalar::U32,
+            b"float" | b"float32" => Scalar::F32,
+            b"double" | b"float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+}
+
+/// What a property means to us.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Role {
+    Skip,
+    Coordinate(usize),
+    Indices,
+}
+
+#[derive(Clone, Debug)]
+struct Property {
+    name: String,
+    /// `Some(count type)` for a list property.
+    list: Option<Scalar>,
+    ty: Scalar,
+    role: Role,
+}
+
+#[derive(Clone, Debug)]
+struct Element {
+    name: String,
+    count: usize,
+    properties: Vec<Property>,
+    line: usize,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Encoding {
+    Ascii,
+    LittleEndian,
+    BigEndian,
+}
+
+struct Header {
+    encoding: Encoding,
+    elements: Vec<Element>,
+    body_offset: usize,
+    body_line: usize,
+}
+
+fn parse_header(bytes: &[u8], ctx: Ctx<'_>) -> Result<Header, IoError> {
+    let mut lines = Lines::new(bytes);
+    match lines.next() {
+        Some((_, magic)) if magic.trim_ascii() == b"ply" => {}
+        _ => return Err(ctx.parse(1, "missing the 'ply' magic line")),
+    }
+    let mut encoding = None;
+    let mut elements: Vec<Element> = Vec::new();
+    loop {
+        let Some((n, line)) = lines.next() else {
+            return Err(ctx.truncated(lines.line(), "header has no end_header line"));
+        };
+        let t: Vec<&[u8]> = tokens(line).collect();
+        match t.first().copied() {
+            None | Some(b"comment" | b"obj_info") => {}
+            Some(b"end_header") => break,
+            Some(b"format") => {
+                encoding = Some(match t.get(1).copied() {
+                    Some(b"ascii") => Encoding::Ascii,
+                    Some(b"binary_little_endian") => Encoding::LittleEndian,
+                    Some(b"binary_big_endian") => Encoding::BigEndian,
+                    other => return Err(ctx.parse(n, format!("unknown format '{}'", show(other.unwrap_or(b""))))),
+                });
+            }
+            Some(b"element") => {
+                let (Some(name), Some(count)) = (t.get(1), t.get(2)) else {
+                    return Err(ctx.parse(n, "element line needs a name and a count"));
+                };
+                let count = std::str::from_utf8(count).ok().and_then(|c| c.parse::<usize>().ok()).ok_or_else(|| {
+                    ctx.parse(n, format!("element count '{}' is not a non-negative integer", show(count)))
+                })?;
+                let name = String::from_utf8_lossy(name).into_owned();
+                elements.push(Element { name, count, properties: Vec::new(), line: n });
+            }
+            Some(b"property") => {
+                let Some(element) = elements.last_mut() else {
+                    return Err(ctx.parse(n, "property before any element"));
+                };
+                let ty = |i: usize| -> Result<Scalar, IoError> {
+                    let name = t.get(i).copied().unwrap_or(b"");
+                    Scalar::parse(name).ok_or_else(|| ctx.parse(n, format!("unknown property type '{}'", show(name))))
+                };
+                let (list, ty, name) = if t.get(1).copied() == Some(b"list") {
+                    (Some(ty(2)?), ty(3)?, t.get(4))
+                } else {
+                    (None, ty(1)?, t.get(2))
+                };
+                let name = name.ok_or_else(|| ctx.parse(n, "property has no name"))?;
+                let name = String::from_utf8_lossy(name).into_owned();
+                element.properties.push(Property { name, list, ty, role: Role::Skip });
+            }
+            Some(other) => return Err(ctx.parse(n, format!("unknown header keyword '{}'", show(other)))),
+        }
+    }
+    let encoding = encoding.ok_or_else(|| ctx.parse(None, "header has no format line"))?;
+
+    for element in &mut elements {
+        match element.name.as_str() {
+            "vertex" => {
+                for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+                    let p = element.properties.iter_mut().find(|p| p.name == name && p.list.is_none());
+                    let p =
+                        p.ok_or_else(|| ctx.parse(element.line, format!("vertex element has no '{name}' property")))?;
+                    p.role = Role::Coordinate(axis);
+                }
+            }
+            "face" => {
+                let p = element
+                    .properties
+                    .iter_mut()
+                    .find(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"));
+                let p = p.ok_or_else(|| ctx.unsupported("face element without a 'vertex_indices' list property"))?;
+                p.role = Role::Indices;
+            }
+            _ => {}
+        }
+    }
+    Ok(Header { encoding, elements, body_offset: lines.offset(), body_line: lines.line() + 1 })
+}
+
+/// Converts a list count or index read as `f64` (exact for every PLY integer
+/// type) to an integer; `None` when negative, fractional or too large.
+fn to_u32(x: f64) -> Option<u32> {
+    (x >= 0.0 && x <= f64::from(u32::MAX) && x.fract() == 0.0).then_some(x as u32)
+}
+
+/// What stopped a record from being read.
+enum Stop {
+    /// The data ended (binary) — or the file ended (ASCII, at this line).
+    Ends(Option<usize>),
+    /// A value is wrong; the message names it.
+    Bad(Option<usize>, String),
+}
+
+/// A source of property values: binary words or ASCII tokens.
+trait Values {
+    fn value(&mut self, ty: Scalar) -> Result<f64, Stop>;
+    fn skip(&mut self, ty: Scalar, n: usize) -> Result<(), Stop>;
+    /// Upper bound on how many more values of this type can follow (caps allocations).
+    fn room(&self, ty: Scalar) -> usize;
+    /// Line of the last value (ASCII only).
+    fn line(&self) -> Option<usize>;
+}
+
+struct Binary<'a> {
+    data: &'a [u8],
+    pos: usize,
+    big_endian: bool,
+}
+
+impl Binary<'_> {
+    fn take<const N: usize>(&mut self) -> Result<[u8; N], Stop> {
+        let end = self.pos + N;
+        let bytes = self.data.get(self.pos..end).ok_or(Stop::Ends(None))?;
+        let mut a: [u8; N] = bytes.try_into().map_err(|_| Stop::Ends(None))?;
+        if self.big_endian {
+            a.reverse();
+        }
+        self.pos = end;
+        Ok(a)
+    }
+}
+
+impl Values for Binary<'_> {
+    fn value(&mut self, ty: Scalar) -> Result<f64, Stop> {
+        Ok(match ty {
+            Scalar::I8 => f64::from(i8::from_le_bytes(self.take()?)),
+            Scalar::U8 => f64::from(u8::from_le_bytes(self.take()?)),
+            Scalar::I16 => f64::from(i16::from_le_bytes(self.take()?)),
+            Scalar::U16 => f64::from(u16::from_le_bytes(self.take()?)),
+            Scalar::I32 => f64::from(i32::from_le_bytes(self.take()?)),
+            Scalar::U32 => f64::from(u32::from_le_bytes(self.take()?)),
+            Scalar::F32 => f64::from(f32::from_le_bytes(self.take()?)),
+            Scalar::F64 => f64::from_le_bytes(self.take()?),
+        })
+    }
+
+    fn skip(&mut self, ty: Scalar, n: usize) -> Result<(), Stop> {
+        let end = n.checked_mul(ty.size()).and_then(|b| self.pos.checked_add(b)).ok_or(Stop::Ends(None))?;
+        if end > self.data.len() {
+            return Err(Stop::Ends(None));
+        }
+        self.pos = end;
+        Ok(())
+    }
+
+    fn room(&self, ty: Scalar) -> usize {
+        (self.data.len() - self.pos) / ty.size()
+    }
+
+    fn line(&self) -> Option<usize> {
+        None
+    }
+}
+
+/// Whitespace-separated ASCII tokens with line numbers.
+struct Ascii<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+    line: usize,
+}
+
+impl<'a> Ascii<'a> {
+    fn token(&mut self) -> Result<&'a [u8], Stop> {
+        while let Some(&b) = self.bytes.get(self.pos) {
+            if !b.is_ascii_whitespace() {
+                break;
+            }
+            if b == b'\n' {
+                self.line += 1;
+            }
+            self.pos += 1;
+        }
+        let start = self.pos;
+        while self.bytes.get(self.pos).is_some_and(|b| !b.is_ascii_whitespace()) {
+            self.pos += 1;
+        }
+        if start == self.pos {
+            // Report the last line that has content.
+            let last = self.line - usize::from(self.bytes.last() == Some(&b'\n'));
+            return Err(Stop::Ends(Some(last.max(1))));
+        }
+        Ok(&self.bytes[start..self.pos])
+    }
+}
+
+impl Values for Ascii<'_> {
+    fn value(&mut self, _ty: Scalar) -> Result<f64, Stop> {
+        let t = self.token()?;
+        parse_f64(t).ok_or_else(|| Stop::Bad(Some(self.line), format!("'{}' is not a number", show(t))))
+    }
+
+    fn skip(&mut self, _ty: Scalar, n: usize) -> Result<(), Stop> {
+        for _ in 0..n {
+            self.token()?;
+        }
+        Ok(())
+    }
+
+    fn room(&self, _ty: Scalar) -> usize {
+        (self.bytes.len() - self.pos) / 2
+    }
+
+    fn line(&self) -> Option<usize> {
+        Some(self.line)
+    }
+}
+
+/// Reads one record of `element`, storing coordinates in `xyz` and indices in `corners`.
+fn record(src: &mut impl Values, element: &Element, xyz: &mut [f64; 3], corners: &mut Vec<u32>) -> Result<(), Stop> {
+    for p in &element.properties {
+        match (p.list, p.role) {
+            (None, Role::Coordinate(axis)) => xyz[axis] = src.value(p.ty)?,
+            (None, _) => src.skip(p.ty, 1)?,
+            (Some(count_ty), role) => {
+                let count = src.value(count_ty)?;
+                let count = to_u32(count)
+                    .ok_or_else(|| Stop::Bad(src.line(), format!("list '{}' has an invalid length {count}", p.name)))?
+                    as usize;
+                if role != Role::Indices {
+                    src.skip(p.ty, count)?;
+                    continue;
+                }
+                if count > src.room(p.ty) {
+                    return Err(Stop::Ends(src.line()));
+                }
+                corners.clear();
+                for _ in 0..count {
+                    let v = src.value(p.ty)?;
+                    let index = to_u32(v).ok_or_else(|| {
+                        Stop::Bad(src.line(), format!("vertex index {v} is not a valid vertex index"))
+                    })?;
+                    corners.push(index);
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn read_body(
+    src: &mut impl Values,
+    elements: &[Element],
+    body_len: usize,
+    ctx: Ctx<'_>,
+) -> Result<PolygonSoup, IoError> {
+    let mut positions = Vec::new();
+    let mut faces = FaceList::new();
+    let mut corners = Vec::new();
+    for element in elements {
+        // Every record takes at least one byte: cap preallocation by the data size.
+        let capacity = element.count.min(body_len);
+        match element.name.as_str() {
+            "vertex" => positions.reserve(capacity),
+            "face" => faces = FaceList::with_capacity(capacity, 0),
+            _ => {}
+        }
+        let is_face = element.properties.iter().any(|p| p.role == Role::Indices);
+        let is_vertex = element.properties.iter().any(|p| matches!(p.role, Role::Coordinate(_)));
+        for r in 0..element.count {
+            let mut xyz = [0.0; 3];
+            record(src, element, &mut xyz, &mut corners).map_err(|stop| match stop {
+                Stop::Ends(line) => {
+                    ctx.truncated(line, format!("data ends inside {} {r} of {}", element.name, element.count))
+                }
+                Stop::Bad(line, message) => ctx.parse(line, format!("{} {r}: {message}", element.name)),
+            })?;
+            if is_vertex {
+                positions.push(DVec3::from(xyz));
+            }
+            if is_face {
+                faces.push(&corners);
+            }
+        }
+    }
+    Ok(PolygonSoup::new(positions, faces))
+}
+
+pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
+    if is_blank(bytes) {
+        return Err(ctx.empty());
+    }
+    let header = parse_header(bytes, ctx)?;
+    let body = &bytes[header.body_offset..];
+    match header.encoding {
+        Encoding::Ascii => {
+            let mut src = Ascii { bytes: body, pos: 0, line: header.body_line };
+            read_body(&mut src, &header.elements, body.len(), ctx)
+        }
+        Encoding::LittleEndian | Encoding::BigEndian => {
+            let big_endian = header.encoding == Encoding::BigEndian;
+            let mut src = Binary { data: body, pos: 0, big_endian };
+            read_body(&mut src, &header.elements, body.len(), ctx)
+        }
+    }
+}
+
+pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut Vec<u8>) {
+    use std::io::Write;
+    // Writes to a Vec<u8> cannot fail.
+    let big_faces = mesh.faces.iter().any(|f| f.len() > 255);
+    let big_indices = mesh.faces.indices().iter().any(|&v| v > i32::MAX as u32);
+    let format = if binary { "binary_little_endian" } else { "ascii" };
+    let mut header = format!(
+        "ply\nformat {format} 1.0\ncomment written by subdiv-io\nelement vertex {}\n\
+         property double x\nproperty double y\nproperty double z\n",
+        mesh.positions.len()
+    );
+    if mesh.normals.is_some() {
+        header.push_str("property double nx\nproperty double ny\nproperty double nz\n");
+    }
+    header.push_str(&format!(
+        "element face {}\nproperty list {} {} vertex_indices\nend_header\n",
+        mesh.faces.len(),
+        if big_faces { "uint" } else { "uchar" },
+        if big_indices { "uint" } else { "int" },
+    ));
+    out.extend_from_slice(header.as_bytes());
+
+    let vertex = |i: usize| {
+        let normal = mesh.normals.map(|n| n[i].to_array());
+        mesh.positions[i].to_array().into_iter().chain(normal.into_iter().flatten())
+    };
+    if binary {
+        for i in 0..mesh.positions.len() {
+            for x in vertex(i) {
+                out.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        for face in mesh.faces.iter() {
+            if big_faces {
+                out.extend_from_slice(&(face.len() as u32).to_le_bytes());
+            } else {
+                out.push(face.len() as u8);
+            }
+            for &v in face {
+                // `int` and `uint` share their bits for every index ≤ i32::MAX.
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    } else {
+        for i in 0..mesh.positions.len() {
+            for (k, x) in vertex(i).enumerate() {
+                if k > 0 {
+                    out.push(b' ');
+                }
+                push_f64(out, x);
+            }
+            out.push(b'\n');
+        }
+        for face in mesh.faces.iter() {
+            let _ = write!(out, "{}", face.len());
+            for &v in face {
+                let _ = write!(out, " {v}");
+            }
+            out.push(b'\n');
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn read_bytes(b: &[u8]) -> Result<PolygonSoup, IoError> {
+        read(b, Ctx::new(Path::new("t.ply")))
+    }
+
+    #[test]
+    fn other_elements_and_list_properties_are_skipped() {
+        let src = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty list uchar int junk\n\
+            property float y\nproperty float z\nelement edge 1\nproperty int a\nproperty int b\n\
+            element face 1\nproperty uchar flags\nproperty list uint8 uint32 vertex_index\nend_header\n\
+            0 2 7 8 0 0\n1 0 0 0\n0 1 9 1 0\n0 1\n5 3 0 1 2\n";
+        let soup = read_bytes(src).unwrap();
+        assert_eq!(soup.positions, vec![DVec3::ZERO, DVec3::X, DVec3::Y]);
+        assert_eq!(soup.faces.face(0), &[0, 1, 2]);
+    }
+
+    #[test]
+    fn ascii_errors_name_the_line() {
+        let src = b"ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n\
+            property float z\nend_header\n0 0 0\n1 q 0\n";
+        let e = read_bytes(src).unwrap_err();
+        assert_eq!(e.line(), Some(9), "{e}");
+        let src = b"ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n\
+            property float z\nend_header\n0 0 0\n1 1\n";
+        let e = read_bytes(src).unwrap_err();
+        assert!(matches!(e, IoError::Truncated { line: Some(9), .. }), "{e}");
+    }
+
+    #[test]
+    fn huge_counts_do_not_allocate() {
+        let src = b"ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n\
+            property float y\nproperty float z\nend_header\n";
+        assert!(matches!(read_bytes(src), Err(IoError::Truncated { .. })));
+    }
+}

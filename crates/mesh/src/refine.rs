@@ -1,0 +1,234 @@
+//! Refinement topology: the connectivity of one subdivision step, computed once
+//! per level and independent of positions. The numbering of new vertices is a
+//! contract with `subdiv-stencil`, which builds the matching stencil matrices.
+//!
+//! | split | new vertices, in this order | new faces |
+//! |---|---|---|
+//! | [`quad_split`] (Catmull-Clark, Deng-Ma) | old vertices `0..V`, face points `V..V+F`, edge points `V+F..V+F+E` | one quad per old corner `h`: face id `h` |
+//! | [`triangle_split`] (Loop) | old vertices `0..V`, edge points `V..V+E` | per triangle `f`: corner triangles `4f..4f+3`, centre `4f+3` |
+//! | [`dual_split`] (Doo-Sabin) | one per old corner `h` (`0..H`), then two Chaikin points per boundary half-edge | F-faces, E-faces, V-faces (see [`DualProvenance`]) |
+//!
+//! Isolated vertices of the input stay isolated vertices (quad and triangle
+//! split) or disappear (dual split, which keeps no old vertex).
+
+use crate::error::MeshError;
+use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
+use crate::soup::FaceList;
+use crate::topology::Topology;
+
+/// Catmull-Clark connectivity: every `m`-gon becomes `m` quads
+/// `(vₖ, e(vₖvₖ₊₁), f, e(vₖ₋₁vₖ))`, keeping the orientation.
+pub fn quad_split(t: &Topology) -> Topology {
+    let nv = t.vertex_count() as u32;
+    let nf = t.face_count() as u32;
+    let face_point = |f: FaceId| nv + f.0;
+    let edge_point = |e: EdgeId| nv + nf + e.0;
+    let mut quads = Vec::with_capacity(4 * t.half_edge_count());
+    for f in t.face_ids() {
+        for h in t.face_half_edges(f) {
+            quads.extend_from_slice(&[
+                t.he_from(h).0,
+                edge_point(t.he_edge(h)),
+                face_point(f),
+                edge_point(t.he_edge(t.he_prev(h))),
+            ]);
+        }
+    }
+    let n_new = (nv + nf) as usize + t.edge_count();
+    Topology::new(FaceList::from_uniform(4, quads), n_new).expect("the quad split of a valid mesh is valid")
+}
+
+/// Loop connectivity: every triangle becomes four. Fails when a face is not a triangle.
+pub fn triangle_split(t: &Topology) -> Result<Topology, MeshError> {
+    if let Some(f) = t.face_ids().find(|&f| t.face_size(f) != 3) {
+        return Err(MeshError::NotTriangles { face: f.0, size: t.face_size(f) });
+    }
+    let nv = t.vertex_count() as u32;
+    let edge_point = |h: HalfEdgeId| nv + t.he_edge(h).0;
+    let mut tris = Vec::with_capacity(12 * t.face_count());
+    for f in t.face_ids() {
+        let h: Vec<HalfEdgeId> = t.face_half_edges(f).collect();
+        for k in 0..3 {
+            tris.extend_from_slice(&[t.he_from(h[k]).0, edge_point(h[k]), edge_point(h[(k + 2) % 3])]);
+        }
+        tris.extend_from_slice(&[edge_point(h[0]), edge_point(h[1]), edge_point(h[2])]);
+    }
+    let n_new = nv as usize + t.edge_count();
+    Ok(Topology::new(FaceList::from_uniform(3, tris), n_new).expect("the triangle split of a valid mesh is valid"))
+}
+
+/// Where a vertex of a Doo-Sabin refinement comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DualVertex {
+    /// The image of old vertex `vertex` in old face `face` (corner `corner` of it).
+    Corner {
+        /// The old face.
+        face: FaceId,
+        /// The old vertex.
+        vertex: VertexId,
+        /// Position of the vertex in the face.
+        corner: u32,
+    },
+    /// A Chaikin point on boundary half-edge `half_edge` (a→b), at ¾a + ¼b
+    /// (`near_start`) or ¼a + ¾b.
+    Boundary {
+        /// The old boundary half-edge.
+        half_edge: HalfEdgeId,
+        /// True for the point nearer the half-edge's start.
+        near_start: bool,
+    },
+}
+
+/// Where a face of a Doo-Sabin refinement comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DualFace {
+    /// F-face: the shrunken copy of an old face (same size).
+    F(FaceId),
+    /// E-face: the quad across an old edge (interior edge, or a boundary edge
+    /// joined to its two Chaikin points).
+    E(EdgeId),
+    /// V-face: around an old vertex (valence-gon; on the boundary its corners
+    /// plus the two Chaikin points next to it).
+    V(VertexId),
+}
+
+/// Provenance of a Doo-Sabin refinement ([`dual_split`]).
+///
+/// New vertex `h < H` is the image of corner `h` (old half-edge `h` starts at
+/// it), so "the image of V in face f" is the half-edge of `f` leaving V. Faces
+/// come in the order F-faces (one per old face, id = old face id), E-faces (one
+/// per old edge, in edge order), V-faces (one per non-isolated old vertex of
+/// valence ≥ 3 or on the boundary, in vertex order). The V-face of an interior vertex lists its corners in fan
+/// order; the boundary rule is described in `subdiv-stencil`'s Doo-Sabin module.
+#[derive(Clone, Debug)]
+pub struct DualProvenance {
+    /// Provenance of every new vertex.
+    pub vertex_origin: Vec<DualVertex>,
+    /// Provenance of every new face.
+    pub face_origin: Vec<DualFace>,
+    /// For every old vertex, its V-face (`None` for isolated vertices and for
+    /// interior vertices of valence 2, whose V-face would be a digon).
+    pub vertex_face: Vec<Option<FaceId>>,
+    /// For every old boundary half-edge, the index of its first Chaikin point
+    /// (`u32::MAX` for interior half-edges).
+    pub boundary_point: Vec<u32>,
+}
+
+/// Doo-Sabin connectivity: F-, E- and V-faces (module table). On the boundary,
+/// each boundary half-edge a→b of face f gets two Chaikin points c_a, c_b and
+/// the E-face (b_f, a_f, c_a, c_b); each boundary vertex v gets the V-face
+/// (c on its outgoing boundary edge, its corners in fan order, c on its
+/// incoming boundary edge). The new boundary polygon is thus exactly the
+/// Chaikin refinement of the old one.
+pub fn dual_split(t: &Topology) -> (Topology, DualProvenance) {
+    let nh = t.half_edge_count();
+    let mut vertex_origin: Vec<DualVertex> = Vec::with_capacity(nh);
+    for f in t.face_ids() {
+        for (k, &v) in t.face(f).iter().enumerate() {
+            vertex_origin.push(DualVertex::Corner { face: f, vertex: VertexId(v), corner: k as u32 });
+        }
+    }
+    let mut boundary_point = vec![u32::MAX; nh];
+    for lp in t.boundary_loops() {
+        for &h in lp {
+            boundary_point[h.index()] = vertex_origin.len() as u32;
+            vertex_origin.push(DualVertex::Boundary { half_edge: h, near_start: true });
+            vertex_origin.push(DualVertex::Boundary { half_edge: h, near_start: false });
+        }
+    }
+    let mut faces = FaceList::with_capacity(t.face_count() + t.edge_count() + t.vertex_count(), 4 * nh);
+    let mut face_origin = Vec::with_capacity(faces.len());
+    for f in t.face_ids() {
+        faces.push(&t.face_half_edges(f).map(|h| h.0).collect::<Vec<_>>());
+        face_origin.push(DualFace::F(f));
+    }
+    for e in t.edges() {
+        let h = t.edge_half_edge(e);
+        let quad = match t.he_twin(h) {
+            Some(g) => [t.he_next(h).0, h.0, t.he_next(g).0, g.0],
+            None => {
+                let c = boundary_point[h.index()];
+                [t.he_next(h).0, h.0, c, c + 1]
+            }
+        };
+        faces.push(&quad);
+        face_origin.push(DualFace::E(e));
+    }
+    let mut vertex_face = vec![None; t.vertex_count()];
+    let mut corners = Vec::new();
+    for v in t.vertices() {
+        let fan = t.vertex_fan(v);
+        if fan.is_empty() {
+            continue;
+        }
+        corners.clear();
+        if t.is_boundary_vertex(v) {
+            corners.push(boundary_point[fan[0].index()]);
+            corners.extend(fan.iter().map(|h| h.0));
+            let incoming = t.he_prev(fan[fan.len() - 1]);
+            corners.push(boundary_point[incoming.index()] + 1);
+        } else if fan.len() == 2 {
+            // Valence 2: the V-face would be a digon; its two E-faces already
+            // share the edge between v's two images, so it is left out.
+            continue;
+        } else {
+            corners.extend(fan.iter().map(|h| h.0));
+        }
+        vertex_face[v.index()] = Some(FaceId(faces.len() as u32));
+        faces.push(&corners);
+        face_origin.push(DualFace::V(v));
+    }
+    let topology = Topology::new(faces, vertex_origin.len()).expect("the Doo-Sabin split of a valid mesh is valid");
+    (topology, DualProvenance { vertex_origin, face_origin, vertex_face, boundary_point })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes;
+
+    #[test]
+    fn counts_follow_the_split_rules() {
+        // pmp-library style exact combinatorics.
+        let cube = shapes::cube();
+        let q = quad_split(cube.topology());
+        assert_eq!((q.vertex_count(), q.edge_count(), q.face_count()), (26, 48, 24));
+        let ico = shapes::icosahedron();
+        let l = triangle_split(ico.topology()).unwrap();
+        assert_eq!((l.vertex_count(), l.face_count()), (42, 80));
+        assert!(matches!(triangle_split(cube.topology()), Err(MeshError::NotTriangles { face: 0, size: 4 })));
+        let (d, _) = dual_split(cube.topology());
+        assert_eq!((d.vertex_count(), d.face_count()), (24, 6 + 12 + 8));
+        assert!(d.vertices().all(|v| d.valence(v) == 4));
+    }
+
+    #[test]
+    fn splits_keep_euler_characteristic_and_boundary_loops() {
+        let holes = [(1, 1), (3, 2)];
+        for closed in [true, false] {
+            let base = shapes::plate_with_holes(6, 5, &holes, closed);
+            let mixed = shapes::polygon_mix(&base, 7, 0.3, 0.3, 0.0);
+            let t = mixed.topology();
+            for refined in [quad_split(t), dual_split(t).0] {
+                assert_eq!(refined.euler_characteristic(), t.euler_characteristic());
+                assert_eq!(refined.boundary_loop_count(), t.boundary_loop_count());
+                assert_eq!(refined.genus(), t.genus());
+            }
+        }
+    }
+
+    #[test]
+    fn dual_split_boundary_doubles_the_boundary_polygon() {
+        let grid = shapes::quad_grid(3, 2);
+        let (refined, d) = dual_split(grid.topology());
+        let old: usize = grid.topology().boundary_loops().map(<[_]>::len).sum();
+        let new: Vec<_> = refined.boundary_loops().collect();
+        assert_eq!(new.len(), 1);
+        assert_eq!(new[0].len(), 2 * old);
+        // Every new boundary vertex is a Chaikin point.
+        for &h in new[0] {
+            let v = refined.he_from(h);
+            assert!(matches!(d.vertex_origin[v.index()], DualVertex::Boundary { .. }));
+        }
+    }
+}

@@ -1,0 +1,163 @@
+//! Catmull-Clark masks: face, edge and vertex points with OpenSubdiv's
+//! `EDGE_AND_CORNER` boundary rules, the limit masks, and Cheng's general-mesh
+//! limit stencil.
+//!
+//! Source: `seeds/cheng-catmull-clark-progressive-interpolation.txt`,
+//! Appendix Eq. 4 (the step) and Eq. 5 (the limit stencil), with ERRATA C1
+//! (the factor 4/(n(n+5)) multiplies all three groups of Eq. 5) and C2 (the
+//! edge point of edge VEᵢ uses faces fᵢ₋₁ and fᵢ). Limit masks: SPEC §1.
+//!
+//! Neighbourhood convention ([`crate::mask`]): vertex V of valence n has
+//! neighbours E₁…Eₙ and faces fᵢ = (V, Eᵢ, F₁ⁱ, …, F_{mᵢ−3}ⁱ, Eᵢ₊₁) of sizes
+//! mᵢ; the F's are the *far corners* of face i.
+//!
+//! | new point | interior | boundary | corner (1 face) |
+//! |---|---|---|---|
+//! | face point | mean of the m corners | same | same |
+//! | edge point | (V + E + f_left + f_right)/4 | midpoint | — |
+//! | vertex point | (n−2)/n V + Σ Eᵢ/n² + Σ fᵢ/n² | (E₋ + 6V + E₊)/8 | V |
+//! | limit, all quads | (n²V + 4ΣEᵢ + ΣFᵢ)/(n(n+5)) | (E₋ + 4V + E₊)/6 | V |
+//!
+//! The interior limit mask needs all faces around V to be quads (true after
+//! one step); [`limit_stencil`] is the same limit expressed on the unrefined
+//! mesh (Eq. 5). The boundary limit mask holds at every level because the
+//! boundary rules only involve boundary vertices: the boundary is the cubic
+//! B-spline of the boundary polygon.
+
+use crate::mask::{EdgeMask, VertexKind, VertexMask};
+
+/// Weight of each corner in the face point of an m-sided face: 1/m
+/// (Appendix Eq. 4, third line).
+///
+/// # Panics
+/// If `m < 3`.
+pub fn face_point_weight(m: usize) -> f64 {
+    assert!(m >= 3, "a face has at least 3 corners, got {m}");
+    1.0 / m as f64 // Eq. (4): f_i = (V + E_i + E_{i+1} + F_1^i + … + F_{m_i−3}^i)/m_i
+}
+
+/// Edge-point mask over the endpoints and the corners of the edge's faces,
+/// with the face points expanded: for an interior edge between faces of sizes
+/// `m_left` and `m_right`, (A + B + f_left + f_right)/4 gives each endpoint
+/// ¼ + 1/(4m_left) + 1/(4m_right) and every other corner of a face 1/(4m) of
+/// that face (Appendix Eq. 4 as corrected by ERRATA C2). A boundary edge
+/// (`m_right = None`) gets the midpoint.
+///
+/// ```
+/// use subdiv_rules::catmull_clark::edge_point_mask;
+/// let quad = edge_point_mask(4, Some(4));
+/// assert_eq!((quad.end, quad.left, quad.right), (0.375, 0.0625, 0.0625));
+/// assert_eq!(edge_point_mask(4, None).end, 0.5);
+/// ```
+///
+/// # Panics
+/// If a face size is below 3.
+pub fn edge_point_mask(m_left: usize, m_right: Option<usize>) -> EdgeMask {
+    let Some(m_right) = m_right else {
+        return EdgeMask::MIDPOINT;
+    };
+    let (fl, fr) = (face_point_weight(m_left), face_point_weight(m_right));
+    // ERRATA C2: e_i = (V + E_i + f_{i−1} + f_i)/4, each face point expanded over its corners.
+    EdgeMask { end: 0.25 * (1.0 + fl + fr), left: 0.25 * fl, right: 0.25 * fr }
+}
+
+/// Vertex-point mask. Interior vertex of valence n:
+/// v = (n−2)/n V + (1/n²)ΣEᵢ + (1/n²)Σfᵢ, where the face term is the new
+/// **face point** fᵢ of each face (Appendix Eq. 4, first line); the caller
+/// composes it with [`face_point_weight`]. Boundary vertex:
+/// (E₋ + 6V + E₊)/8 over its two boundary neighbours. Corner: V.
+///
+/// # Panics
+/// If an interior vertex has valence below 2.
+pub fn vertex_point_mask(kind: VertexKind, valence: usize) -> VertexMask {
+    match kind {
+        VertexKind::Interior => {
+            assert!(valence >= 2, "interior vertex of valence {valence}");
+            let n = valence as f64;
+            let w = 1.0 / (n * n);
+            VertexMask {
+                vertex: (n - 2.0) / n, // Eq. (4): v = (n−2)/n V + 1/n² Σ E_i + 1/n² Σ f_i
+                interior_neighbor: w,
+                boundary_neighbor: 0.0,
+                face: w,
+            }
+        }
+        VertexKind::Boundary => {
+            VertexMask { vertex: 0.75, interior_neighbor: 0.0, boundary_neighbor: 0.125, face: 0.0 }
+        }
+        VertexKind::Corner => VertexMask::IDENTITY,
+    }
+}
+
+/// Limit-point mask. Interior vertex of valence n **whose faces are all
+/// quads** (any mesh after one step): (n²V + 4ΣEᵢ + ΣFᵢ)/(n(n+5)), the face
+/// term being the corner of each quad diagonal to V. Boundary vertex:
+/// (E₋ + 4V + E₊)/6. Corner: V. (SPEC §1; Cheng Appendix, the line before
+/// Eq. 5.)
+///
+/// # Panics
+/// If an interior vertex has valence below 2.
+pub fn limit_mask(kind: VertexKind, valence: usize) -> VertexMask {
+    match kind {
+        VertexKind::Interior => {
+            assert!(valence >= 2, "interior vertex of valence {valence}");
+            let n = valence as f64;
+            let d = 1.0 / (n * (n + 5.0));
+            VertexMask {
+                vertex: n * n * d, // v∞ = n²/(n(n+5)) v + 4/(n(n+5)) Σ e_i + 1/(n(n+5)) Σ f_i
+                interior_neighbor: 4.0 * d,
+                boundary_neighbor: 0.0,
+                face: d,
+            }
+        }
+        VertexKind::Boundary => {
+            VertexMask { vertex: 4.0 / 6.0, interior_neighbor: 0.0, boundary_neighbor: 1.0 / 6.0, face: 0.0 }
+        }
+        VertexKind::Corner => VertexMask::IDENTITY,
+    }
+}
+
+/// Cheng's limit stencil of an interior vertex on an arbitrary polygon mesh
+/// (Appendix Eq. 5 with ERRATA C1/C2): one Catmull-Clark step followed by the
+/// quad limit mask, expressed on the unrefined mesh. With D = 4/(n(n+5)):
+///
+/// v∞ = D [ (n(n−1)/4 + Σ1/mᵢ) V + Σ(½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ + Σᵢ (F₁ⁱ + … + F_{mᵢ−3}ⁱ)/mᵢ ]
+///
+/// `face_sizes[i]` = mᵢ of face i = (V, Eᵢ, …, Eᵢ₊₁) (indices mod n, so Eᵢ
+/// lies in faces i−1 and i). Fills `edge_weights[i]` with the weight of Eᵢ and
+/// `far_corner_weights[i]` with the weight of **each** far corner of face i,
+/// D/mᵢ, and returns the weight of V. Row i of Cheng's A = D·S: the entries
+/// divided by D are the symmetric S.
+///
+/// ```
+/// // Regular vertex: the quad limit mask of a B-spline surface.
+/// let (mut e, mut f) = ([0.0; 4], [0.0; 4]);
+/// let v = subdiv_rules::catmull_clark::limit_stencil(&[4; 4], &mut e, &mut f);
+/// assert!((v - 4.0 / 9.0).abs() < 1e-15);
+/// assert!((e[0] - 1.0 / 9.0).abs() < 1e-15 && (f[0] - 1.0 / 36.0).abs() < 1e-15);
+/// ```
+///
+/// # Panics
+/// If `face_sizes` has fewer than 2 entries, a size is below 3, or a buffer
+/// length differs from `face_sizes.len()`.
+pub fn limit_stencil(face_sizes: &[usize], edge_weights: &mut [f64], far_corner_weights: &mut [f64]) -> f64 {
+    let n = face_sizes.len();
+    assert!(n >= 2, "interior vertex of valence {n}");
+    assert_eq!(edge_weights.len(), n, "one edge weight per neighbour");
+    assert_eq!(far_corner_weights.len(), n, "one far-corner weight per face");
+    let nf = n as f64;
+    let d = 4.0 / (nf * (nf + 5.0)); // ERRATA C1: D = 4/(n(n+5)) multiplies every group
+    let mut inv_sum = 0.0;
+    for i in 0..n {
+        let inv = face_point_weight(face_sizes[i]);
+        let inv_prev = face_point_weight(face_sizes[(i + n - 1) % n]);
+        inv_sum += inv;
+        edge_weights[i] = d * (0.5 + inv + inv_prev); // Eq. (5): Σ(½ + 1/m_i + 1/m_{i−1}) E_i
+        far_corner_weights[i] = d * inv; // Eq. (5): Σ_i (F_1^i + … + F_{m_i−3}^i)/m_i
+    }
+    d * (nf * (nf - 1.0) / 4.0 + inv_sum) // Eq. (5): (n(n−1)/4 + Σ 1/m_i) V
+}
+
+#[cfg(test)]
+#[path = "catmull_clark_tests.rs"]
+mod tests;

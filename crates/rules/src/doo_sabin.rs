@@ -1,0 +1,193 @@
+//! Doo-Sabin masks: the face-corner rule, the first-step variants of the
+//! interpolation methods, and the boundary rule.
+//!
+//! # Face-corner rule
+//!
+//! In a face V₀…V_{m−1} the new vertex of corner i is V'ᵢ = Σⱼ αᵢⱼVⱼ with
+//! αᵢᵢ = (m+5)/(4m) and αᵢⱼ = (3 + 2cos(2π(i−j)/m))/(4m)
+//! (`seeds/zheng-cai-2005-doo-sabin-interpolation.txt`, §2, Eq. 1; the same
+//! weights are Fan-Cheng-Lai §2 and Deng-Ma §3.2 step 1, ERRATA D3). The
+//! weights depend only on the offset k = (j − i) mod m, so one row
+//! `w[k]` describes the whole face: the image of corner i is
+//! `Σₖ w[k]·V_{(i+k) mod m}` ([`doo_sabin_weights`]). The face matrix is the
+//! circulant `Circ(w)`; its eigenvalues are 1, ½ (the first harmonic pair) and
+//! ¼ (all others), ERRATA Z8 ([`doo_sabin_eigenvalue`]).
+//!
+//! # First-step variants
+//!
+//! Zheng-Cai Eq. 4, V'ᵢ = (Vᵢ + A)/2 with A the face centroid, and Fan-Cheng-Lai
+//! Eq. 1, V'ᵢ = λVᵢ + (1−λ)A with one λ ∈ (0, 1) per face
+//! (`seeds/fan-cheng-lai-two-phase-doo-sabin.txt` §2). Eq. 4 is λ = ½
+//! ([`two_phase_weights`], [`zheng_cai_weights`]). Their face matrix
+//! λI + (1−λ)J/m has eigenvalues 1 and λ (ERRATA F6).
+//!
+//! # Boundary rule
+//!
+//! Open meshes need a rule under which the boundary converges to the quadratic
+//! B-spline (Chaikin curve) of each boundary loop (SPEC §2). We use:
+//!
+//! 1. **Face corners: unchanged.** Every corner of every face, boundary faces
+//!    included, gets the face-corner rule above (Eq. 1).
+//! 2. **Boundary points: two new vertices per boundary edge.** For a boundary
+//!    edge A→B, `a = ¾A + ¼B` (near A) and `b = ¼A + ¾B` (near B)
+//!    ([`BOUNDARY_EDGE_POINT`]).
+//! 3. **Faces.** F-faces as usual; an E-face for every edge — on a boundary
+//!    edge it is the quad (A_f, B_f, b, a) of the face's two images and the two
+//!    boundary points; a V-face for every vertex — at a boundary vertex V with
+//!    faces f₁…f_k (fan order) it is (a₋, V_{f₁}, …, V_{f_k}, a₊), the k images
+//!    closed by the boundary points near V on its two boundary edges, so it has
+//!    k + 2 corners (a triangle at a corner vertex, k = 1).
+//!
+//! Consequences, all tested below:
+//! - The new boundary loop is a₀b₀a₁b₁… over the old loop's edges: exactly the
+//!   closed Chaikin refinement of the old loop (`curves::chaikin`). Hence the
+//!   boundary of the limit surface is the uniform quadratic B-spline of each
+//!   boundary loop, and the point of that curve at boundary vertex V is
+//!   (B₋ + 6V + B₊)/8 ([`BOUNDARY_CURVE_POINT`]).
+//! - No face-corner image is modified, so every face, boundary faces included,
+//!   keeps its centroid: face centroids are limit points at every level, on
+//!   open meshes too (SPEC §1).
+//! - On a regular quad mesh the rule is the tensor-product biquadratic
+//!   B-spline with the boundary row of control points repeated: attaching the
+//!   degenerate quad (A, B, B, A) to each boundary edge, Eq. 1 with m = 4 gives
+//!   for corner A (9A + 3B + 3A + B)/16 = ¾A + ¼B = a.
+//! - After one step every vertex has valence 4 except the boundary points,
+//!   which have valence 3 and lie in two faces.
+//!
+//! **Source.** The requirement — boundary curve = quadratic B-spline of the
+//! boundary polygon — is the property Nasri established for his Doo-Sabin
+//! boundary rules (A. H. Nasri, *Polyhedral subdivision methods for free-form
+//! surfaces*, ACM TOG 6(1):29–73, 1987, reference [8] of the Zheng-Cai seed).
+//! Nasri's text is not among the seeds and we could not consult it, so we do
+//! not claim these are his exact masks; the rule above is the classical
+//! repeated-boundary-row end condition of tensor-product B-splines carried to
+//! arbitrary topology through the degenerate quad, and its Chaikin property is
+//! proved by the tests of this module rather than by citation.
+
+use std::f64::consts::PI;
+
+/// Weight of corner (i + k) mod m in the Doo-Sabin image of corner i of an
+/// m-sided face (Zheng-Cai Eq. 1).
+///
+/// # Panics
+/// If `m < 3` or `k >= m`.
+pub fn doo_sabin_weight(m: usize, k: usize) -> f64 {
+    assert!(m >= 3, "a face has at least 3 corners, got {m}");
+    assert!(k < m, "offset {k} out of range for a face of {m} corners");
+    let mf = m as f64;
+    // cos(2πk/m) = cos(2π(m−k)/m): evaluate at the smaller offset so that
+    // rows are exactly symmetric (the face matrices stay exactly symmetric).
+    let k = k.min(m - k);
+    if k == 0 {
+        (mf + 5.0) / (4.0 * mf) // Eq. (1): α_ii = (m+5)/(4m)
+    } else {
+        (3.0 + 2.0 * (2.0 * PI * k as f64 / mf).cos()) / (4.0 * mf) // Eq. (1): α_ij = (3 + 2cos(2π(i−j)/m))/(4m)
+    }
+}
+
+/// Fills `out` (length m) with the Doo-Sabin row of an m-sided face:
+/// `out[k]` is the weight of corner (i + k) mod m in the image of corner i
+/// (Zheng-Cai Eq. 1). The row is the same for every corner i.
+///
+/// ```
+/// let mut w = [0.0; 4];
+/// subdiv_rules::doo_sabin_weights(4, &mut w);
+/// assert_eq!(w, [9.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0, 3.0 / 16.0]);
+/// ```
+///
+/// # Panics
+/// If `m < 3` or `out.len() != m`.
+pub fn doo_sabin_weights(m: usize, out: &mut [f64]) {
+    assert_eq!(out.len(), m, "weight buffer length must equal the face size");
+    if m == 4 {
+        // Exact dyadic values (the biquadratic B-spline mask); cos(3π/2)
+        // would give 3/16 − 3e-17 for the last one.
+        out.copy_from_slice(&[9.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0, 3.0 / 16.0]);
+        return;
+    }
+    for (k, w) in out.iter_mut().enumerate() {
+        *w = doo_sabin_weight(m, k);
+    }
+}
+
+/// Eigenvalue k (k = 0…m−1) of the Doo-Sabin face circulant, in closed form:
+/// 1 for k = 0, ½ for the first harmonic pair k = 1, m−1, ¼ otherwise
+/// (ERRATA Z8).
+///
+/// # Panics
+/// If `m < 3` or `k >= m`.
+pub fn doo_sabin_eigenvalue(m: usize, k: usize) -> f64 {
+    assert!(m >= 3 && k < m, "need m >= 3 and k < m, got m = {m}, k = {k}");
+    if k == 0 {
+        1.0
+    } else if k == 1 || k == m - 1 {
+        0.5
+    } else {
+        0.25
+    }
+}
+
+/// Eigenvalue k of the circulant matrix whose first row is `row`
+/// (row[j] = weight of offset j), for a symmetric row (row[j] = row[m−j]):
+/// Σⱼ row[j]·cos(2πjk/m). Applies to [`doo_sabin_weights`] and
+/// [`two_phase_weights`].
+pub fn circulant_eigenvalue(row: &[f64], k: usize) -> f64 {
+    let m = row.len() as f64;
+    row.iter().enumerate().map(|(j, w)| w * (2.0 * PI * (j * k) as f64 / m).cos()).sum()
+}
+
+/// Fills `out` (length m) with the first-step row of Fan-Cheng-Lai Eq. 1,
+/// V'ᵢ = λVᵢ + (1−λ)A, A the face centroid: `out[0] = λ + (1−λ)/m`,
+/// `out[k] = (1−λ)/m` for k ≥ 1. The paper takes λ ∈ (0, 1) per face; λ = ½ is
+/// Zheng-Cai Eq. 4.
+///
+/// ```
+/// let mut w = [0.0; 4];
+/// subdiv_rules::two_phase_weights(4, 0.5, &mut w);
+/// assert_eq!(w, [0.625, 0.125, 0.125, 0.125]);
+/// ```
+///
+/// # Panics
+/// If `m < 3` or `out.len() != m`.
+pub fn two_phase_weights(m: usize, lambda: f64, out: &mut [f64]) {
+    assert!(m >= 3, "a face has at least 3 corners, got {m}");
+    assert_eq!(out.len(), m, "weight buffer length must equal the face size");
+    let share = (1.0 - lambda) / m as f64; // Fan Eq. (1): (1−λ)A = Σ (1−λ)/m V_j
+    out.fill(share);
+    out[0] = lambda + share; // Fan Eq. (1): λV_i
+}
+
+/// Fills `out` with Zheng-Cai's first-step row, Eq. 4: V'ᵢ = (Vᵢ + A)/2, i.e.
+/// [`two_phase_weights`] with λ = ½.
+///
+/// # Panics
+/// If `m < 3` or `out.len() != m`.
+pub fn zheng_cai_weights(m: usize, out: &mut [f64]) {
+    two_phase_weights(m, 0.5, out); // Zheng-Cai Eq. (4)
+}
+
+/// Weights of a new boundary point on a boundary edge, over the edge's end
+/// near the point and its far end.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundaryEdgePoint {
+    /// Weight of the nearer endpoint.
+    pub near: f64,
+    /// Weight of the farther endpoint.
+    pub far: f64,
+}
+
+/// The Doo-Sabin boundary rule: each boundary edge A→B gets the two new
+/// vertices ¾A + ¼B and ¼A + ¾B (Chaikin's points). See the module docs for
+/// the faces they close and why the boundary converges to the quadratic
+/// B-spline of the boundary loop.
+pub const BOUNDARY_EDGE_POINT: BoundaryEdgePoint = BoundaryEdgePoint { near: 0.75, far: 0.25 };
+
+/// Weights `[B₋, V, B₊]` of the point of the limit boundary curve associated
+/// with boundary vertex V (B₋, B₊ its boundary neighbours): the uniform
+/// quadratic B-spline of the boundary loop at the middle of V's span,
+/// (B₋ + 6V + B₊)/8.
+pub const BOUNDARY_CURVE_POINT: [f64; 3] = [0.125, 0.75, 0.125];
+
+#[cfg(test)]
+#[path = "doo_sabin_tests.rs"]
+mod tests;

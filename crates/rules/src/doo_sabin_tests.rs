@@ -1,0 +1,200 @@
+use proptest::prelude::*;
+
+use super::*;
+use crate::curves::chaikin;
+use crate::test_util::{combine, max_dist, Rng, UniformBSpline};
+use crate::vec3::{dist, lin2};
+
+fn row(m: usize, f: impl Fn(usize, &mut [f64])) -> Vec<f64> {
+    let mut w = vec![f64::NAN; m];
+    f(m, &mut w);
+    w
+}
+
+#[test]
+fn weights_sum_to_one() {
+    for m in 3..=12 {
+        let ds: f64 = row(m, doo_sabin_weights).iter().sum();
+        assert!((ds - 1.0).abs() < 1e-15, "Doo-Sabin m = {m}: {ds}");
+        let zc: f64 = row(m, zheng_cai_weights).iter().sum();
+        assert!((zc - 1.0).abs() < 1e-15, "Zheng-Cai m = {m}: {zc}");
+        for lambda in [0.1, 0.4, 0.5, 0.85, 1.0] {
+            let tp: f64 = row(m, |m, w| two_phase_weights(m, lambda, w)).iter().sum();
+            assert!((tp - 1.0).abs() < 1e-15, "two-phase m = {m}, λ = {lambda}: {tp}");
+        }
+    }
+}
+
+#[test]
+fn weights_match_eq1_elementwise() {
+    // α_ii = (m+5)/(4m), α_ij = (3 + 2cos(2π(i−j)/m))/(4m), symmetric in i − j.
+    for m in 3..=12 {
+        let w = row(m, doo_sabin_weights);
+        assert_eq!(w[0], (m as f64 + 5.0) / (4.0 * m as f64));
+        for k in 1..m {
+            let expect = (3.0 + 2.0 * (2.0 * std::f64::consts::PI * k as f64 / m as f64).cos()) / (4.0 * m as f64);
+            assert!((w[k] - expect).abs() < 1e-15, "m = {m}, k = {k}");
+            assert_eq!(w[k], w[m - k], "row not symmetric: m = {m}, k = {k}");
+        }
+    }
+}
+
+#[test]
+fn quad_row_is_the_biquadratic_tensor_product() {
+    // (¾, ¼) ⊗ (¾, ¼) on the quad (V, next, opposite, previous).
+    let w = row(4, doo_sabin_weights);
+    assert_eq!(w, [0.75 * 0.75, 0.75 * 0.25, 0.25 * 0.25, 0.25 * 0.75]);
+}
+
+#[test]
+fn circulant_eigenvalues_are_one_half_quarter() {
+    // ERRATA Z8: spectrum of the Doo-Sabin face circulant.
+    for m in 3..=10 {
+        let w = row(m, doo_sabin_weights);
+        for k in 0..m {
+            let dft = circulant_eigenvalue(&w, k);
+            let expect = doo_sabin_eigenvalue(m, k);
+            assert!((dft - expect).abs() < 1e-14, "m = {m}, k = {k}: DFT {dft}, expected {expect}");
+        }
+        let lambdas: Vec<f64> = (0..m).map(|k| circulant_eigenvalue(&w, k)).collect();
+        assert!((lambdas[1] - 0.5).abs() < 1e-14 && (lambdas[m - 1] - 0.5).abs() < 1e-14);
+        assert!(lambdas[2..m - 1].iter().all(|l| (l - 0.25).abs() < 1e-14));
+    }
+}
+
+#[test]
+fn circulant_eigenvalue_matches_a_real_eigenvector() {
+    // Independent of the DFT formula: Circ(w)·v = λv for v_j = cos(2πjk/m).
+    let m = 7;
+    let w = row(m, doo_sabin_weights);
+    for k in 0..m {
+        let v: Vec<f64> = (0..m).map(|j| (2.0 * std::f64::consts::PI * (j * k) as f64 / m as f64).cos()).collect();
+        let lambda = doo_sabin_eigenvalue(m, k);
+        for i in 0..m {
+            let cv: f64 = (0..m).map(|j| w[(j + m - i) % m] * v[j]).sum();
+            assert!((cv - lambda * v[i]).abs() < 1e-14, "k = {k}, row {i}");
+        }
+    }
+}
+
+#[test]
+fn two_phase_eigenvalues_are_one_and_lambda() {
+    // ERRATA F6: λI + (1−λ)J/m has eigenvalues 1 (constant vector) and λ.
+    for m in 3..=12 {
+        for lambda in [0.2, 0.5, 0.85] {
+            let w = row(m, |m, w| two_phase_weights(m, lambda, w));
+            assert!((circulant_eigenvalue(&w, 0) - 1.0).abs() < 1e-15);
+            for k in 1..m {
+                assert!((circulant_eigenvalue(&w, k) - lambda).abs() < 1e-14, "m = {m}, λ = {lambda}, k = {k}");
+            }
+        }
+    }
+}
+
+#[test]
+fn zheng_cai_is_vertex_plus_centroid_over_two() {
+    // Eq. 4 written out: V' = (V + A)/2.
+    let mut rng = Rng::new(4);
+    for m in 3..=9 {
+        let face = rng.points(m, 1.0);
+        let w = row(m, zheng_cai_weights);
+        let a = crate::centroid(&face);
+        let image = combine(&w, &face); // image of corner 0
+        assert!(dist(image, lin2(0.5, face[0], 0.5, a)) < 1e-15);
+    }
+}
+
+#[test]
+fn boundary_point_is_the_doo_sabin_image_in_a_degenerate_quad() {
+    // The boundary rule is the tensor-product end condition "boundary row
+    // repeated": Eq. 1 (m = 4) applied to the quad (A, B, B, A) attached to the
+    // boundary edge A→B gives, for corner A, exactly Chaikin's point.
+    let mut rng = Rng::new(11);
+    let w = row(4, doo_sabin_weights);
+    for _ in 0..20 {
+        let (a, b) = (rng.point(1.0), rng.point(1.0));
+        let from_quad = combine(&w, &[a, b, b, a]);
+        let rule = lin2(BOUNDARY_EDGE_POINT.near, a, BOUNDARY_EDGE_POINT.far, b);
+        assert!(dist(from_quad, rule) < 1e-15);
+    }
+}
+
+/// The new boundary loop of one Doo-Sabin step under the boundary rule: for
+/// each old boundary edge A→B in loop order, the point near A then the point
+/// near B (module docs, construction item 3).
+fn boundary_step(boundary_loop: &[crate::Point3]) -> Vec<crate::Point3> {
+    let n = boundary_loop.len();
+    let BoundaryEdgePoint { near, far } = BOUNDARY_EDGE_POINT;
+    (0..n)
+        .flat_map(|i| {
+            let (a, b) = (boundary_loop[i], boundary_loop[(i + 1) % n]);
+            [lin2(near, a, far, b), lin2(near, b, far, a)]
+        })
+        .collect()
+}
+
+#[test]
+fn boundary_loop_is_refined_by_chaikin() {
+    let mut rng = Rng::new(7);
+    for n in 3..=12 {
+        let mut ds = rng.points(n, 1.0);
+        let mut ck = ds.clone();
+        for _ in 0..4 {
+            ds = boundary_step(&ds);
+            ck = chaikin(&ck, true);
+            assert!(max_dist(&ds, &ck) < 1e-15, "n = {n}");
+        }
+    }
+}
+
+#[test]
+fn boundary_converges_to_the_quadratic_bspline() {
+    // Independent evaluation: the explicit uniform quadratic B-spline basis.
+    let mut rng = Rng::new(8);
+    let polygon = rng.points(7, 1.0);
+    let curve = UniformBSpline::closed(2, &polygon);
+    let mut refined = polygon.clone();
+    let mut previous = f64::INFINITY;
+    for level in 1..=8 {
+        refined = boundary_step(&refined);
+        let d = refined.iter().map(|&p| curve.distance(p)).fold(0.0, f64::max);
+        if level >= 3 {
+            let ratio = previous / d;
+            assert!((3.5..4.5).contains(&ratio), "level {level}: ratio {ratio}");
+        }
+        previous = d;
+    }
+    assert!(previous < 1e-4, "distance after 8 levels: {previous}");
+}
+
+#[test]
+fn boundary_curve_point_is_the_bspline_at_the_vertex() {
+    // (B₋ + 6V + B₊)/8 is the quadratic B-spline at the middle of V's span.
+    let mut rng = Rng::new(9);
+    let polygon = rng.points(6, 1.0);
+    let curve = UniformBSpline::closed(2, &polygon);
+    for i in 0..6 {
+        let stencil = combine(&BOUNDARY_CURVE_POINT, &[polygon[(i + 5) % 6], polygon[i], polygon[(i + 1) % 6]]);
+        assert!(dist(stencil, curve.eval(i, 0.5)) < 1e-15);
+    }
+}
+
+proptest! {
+    #[test]
+    fn two_phase_row_is_convex_and_eq1_shaped(m in 3usize..40, lambda in 0.0f64..=1.0) {
+        let w = row(m, |m, w| two_phase_weights(m, lambda, w));
+        prop_assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+        prop_assert!(w.iter().all(|&x| x >= 0.0));
+        prop_assert!((w[0] - w[1] - lambda).abs() < 1e-15);
+        for k in 1..m {
+            prop_assert!((circulant_eigenvalue(&w, k) - lambda).abs() < 1e-13);
+        }
+    }
+
+    #[test]
+    fn doo_sabin_row_is_positive_and_sums_to_one(m in 3usize..64) {
+        let w = row(m, doo_sabin_weights);
+        prop_assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+        prop_assert!(w.iter().all(|&x| x > 0.0));
+    }
+}

@@ -1,0 +1,138 @@
+//! Doo-Sabin operators: the refinement stencil R of the standard step and of
+//! the first-step variants, and the limit stencil.
+//!
+//! Corner rule: Zheng-Cai Eq. 1 (standard), Eq. 4 (V' = (V + A)/2) or the
+//! two-phase Eq. 1 of Fan-Cheng-Lai (V' = λ_f V + (1 − λ_f)A, one λ per face),
+//! all from `subdiv_rules`. Boundary: every boundary edge a→b gets the two
+//! Chaikin points ¾a + ¼b and ¼a + ¾b, and the faces of
+//! [`subdiv_mesh::refine::dual_split`] close them, so the boundary converges to
+//! the quadratic B-spline of the boundary polygon (rule and its justification:
+//! `subdiv_rules::doo_sabin`, "Boundary rule").
+//!
+//! Row order of R is [`dual_split`]'s numbering: one row per old corner
+//! (= old half-edge id), then two per boundary half-edge.
+
+use crate::{RowBuilder, SparseMatrix, StencilError};
+use subdiv_mesh::refine::{dual_split, DualProvenance};
+use subdiv_mesh::Topology;
+use subdiv_rules::doo_sabin::{BOUNDARY_CURVE_POINT, BOUNDARY_EDGE_POINT};
+use subdiv_rules::{doo_sabin_weights, two_phase_weights};
+
+/// Which corner rule the step uses.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CornerRule<'a> {
+    /// Standard Doo-Sabin weights (Zheng-Cai Eq. 1).
+    Standard,
+    /// V' = λV + (1 − λ)A with one λ ∈ (0, 1) for every face (λ = ½ is
+    /// Zheng-Cai Eq. 4).
+    Uniform(f64),
+    /// V' = λ_f V + (1 − λ_f)A with λ_f per face (Fan-Cheng-Lai Eq. 1).
+    PerFace(&'a [f64]),
+}
+
+impl CornerRule<'_> {
+    /// Fills `out` with the row of a face of size `out.len()`.
+    fn weights(&self, face: usize, out: &mut [f64]) {
+        let m = out.len();
+        match *self {
+            CornerRule::Standard => doo_sabin_weights(m, out), // Zheng-Cai Eq. (1)
+            CornerRule::Uniform(lambda) => two_phase_weights(m, lambda, out), // Eq. (4) / Fan Eq. (1)
+            CornerRule::PerFace(lambdas) => two_phase_weights(m, lambdas[face], out), // Fan Eq. (1)
+        }
+    }
+
+    /// Checks the parameters against the mesh: λ ∈ (0, 1), one per face.
+    pub fn validate(&self, t: &Topology) -> Result<(), StencilError> {
+        let check = |face: Option<usize>, l: f64| {
+            if l > 0.0 && l < 1.0 {
+                Ok(())
+            } else {
+                let at = face.map(|f| format!(" of face {f}")).unwrap_or_default();
+                Err(StencilError::InvalidParameter(format!("λ{at} = {l} is outside (0, 1)")))
+            }
+        };
+        match *self {
+            CornerRule::Standard => Ok(()),
+            CornerRule::Uniform(l) => check(None, l),
+            CornerRule::PerFace(ls) if ls.len() != t.face_count() => {
+                Err(StencilError::InvalidParameter(format!("{} λ values for {} faces", ls.len(), t.face_count())))
+            }
+            CornerRule::PerFace(ls) => ls.iter().enumerate().try_for_each(|(f, &l)| check(Some(f), l)),
+        }
+    }
+}
+
+/// (H + 2B) × V refinement stencil on [`dual_split`]'s numbering (H corners,
+/// B boundary half-edges).
+pub fn refinement_stencil(t: &Topology, rule: CornerRule<'_>) -> Result<SparseMatrix, StencilError> {
+    rule.validate(t)?;
+    let nh = t.half_edge_count();
+    let nb: usize = t.boundary_loops().map(<[_]>::len).sum();
+    let mut rows = RowBuilder::with_capacity(nh + 2 * nb, 4 * nh + 4 * nb);
+    let mut w = Vec::new();
+    for f in t.face_ids() {
+        let face = t.face(f);
+        let m = face.len();
+        w.resize(m, 0.0);
+        rule.weights(f.index(), &mut w);
+        for k in 0..m {
+            // Image of corner k: Σⱼ w[j]·V_{(k+j) mod m}.
+            for j in 0..m {
+                rows.add(face[(k + j) % m], w[j]);
+            }
+            rows.finish_row();
+        }
+    }
+    // Boundary Chaikin points in dual_split's order (loop by loop).
+    for lp in t.boundary_loops() {
+        for &h in lp {
+            let (a, b) = (t.he_from(h).0, t.he_to(h).0);
+            for (near, far) in [(a, b), (b, a)] {
+                rows.add(near, BOUNDARY_EDGE_POINT.near);
+                rows.add(far, BOUNDARY_EDGE_POINT.far);
+                rows.finish_row();
+            }
+        }
+    }
+    Ok(rows.build(t.vertex_count()))
+}
+
+/// One Doo-Sabin step: the refined topology with provenance and its stencil.
+pub fn refine(t: &Topology, rule: CornerRule<'_>) -> Result<(Topology, DualProvenance, SparseMatrix), StencilError> {
+    let stencil = refinement_stencil(t, rule)?;
+    let (topology, provenance) = dual_split(t);
+    Ok((topology, provenance, stencil))
+}
+
+/// V × V limit stencil of the standard scheme (SPEC §1): row v is the centroid
+/// of v's V-face after one step, (1/n)Σ over v's faces of that face's Eq. 1
+/// row; for a boundary vertex, the point of the boundary quadratic B-spline at
+/// v, (B₋ + 6V + B₊)/8 (`BOUNDARY_CURVE_POINT`). Isolated vertices map to themselves.
+pub fn limit_stencil(t: &Topology) -> SparseMatrix {
+    let nv = t.vertex_count();
+    let mut rows = RowBuilder::with_capacity(nv, 8 * nv);
+    let mut w = Vec::new();
+    for v in t.vertices() {
+        if t.is_isolated(v) {
+            rows.add(v.0, 1.0);
+        } else if let Some((prev, next)) = t.boundary_neighbors(v) {
+            let [wp, wv, wn] = BOUNDARY_CURVE_POINT;
+            rows.add(prev.0, wp);
+            rows.add(v.0, wv);
+            rows.add(next.0, wn);
+        } else {
+            let n = t.vertex_face_count(v) as f64;
+            for c in t.vertex_corners(v) {
+                let face = t.face(c.face);
+                let m = face.len();
+                w.resize(m, 0.0);
+                doo_sabin_weights(m, &mut w);
+                for j in 0..m {
+                    rows.add(face[(c.index as usize + j) % m], w[j] / n);
+                }
+            }
+        }
+        rows.finish_row();
+    }
+    rows.build(nv)
+}

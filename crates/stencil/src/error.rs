@@ -1,0 +1,33 @@
+//! The crate's error type.
+
+use thiserror::Error;
+
+/// Why an operator cannot be built for a mesh.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum StencilError {
+    /// The scheme needs triangles (Loop) and the mesh has another polygon.
+    #[error(
+        "face {face} has {size} vertices; Loop subdivision needs a triangle mesh (use Catmull-Clark or Doo-Sabin)"
+    )]
+    NotTriangles {
+        /// Offending face.
+        face: u32,
+        /// Its size.
+        size: usize,
+    },
+    /// The scheme needs a closed mesh.
+    #[error("{scheme} needs a closed mesh, but this one has {loops} boundary loop(s) (use Catmull-Clark, Loop or Doo-Sabin, which handle boundaries)")]
+    NotClosed {
+        /// Scheme name.
+        scheme: &'static str,
+        /// Number of boundary loops.
+        loops: usize,
+    },
+    /// A per-face parameter array has the wrong length or an out-of-range value.
+    #[error("invalid shape parameter: {0}")]
+    InvalidParameter(String),
+    /// The refined mesh would exceed the `u32` index range.
+    #[error("the refined mesh would have more than 2³² elements")]
+    TooLarge,
+}

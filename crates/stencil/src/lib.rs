@@ -1,0 +1,55 @@
+//! Sparse subdivision operators built from topology alone.
+//!
+//! Every scheme is split into **topology refinement** — computed once per
+//! level: the refined [`Topology`] and a sparse stencil matrix R with
+//! P_{k+1} = R·P_k — and **geometry**, one sparse product ([`apply`]) over any
+//! per-vertex data. Positions never enter a stencil (the one exception,
+//! Deng-Ma's variable tension, is a documented geometric step in [`deng_ma`]).
+//!
+//! | module | operator |
+//! |---|---|
+//! | [`catmull_clark`] | refinement R and limit stencil (OpenSubdiv `EDGE_AND_CORNER` boundaries) |
+//! | [`loop_subdivision`] | refinement R and limit stencil, Warren's or Loop's β |
+//! | [`doo_sabin`] | refinement R for the standard step and the first-step variants (Zheng-Cai Eq. 4, two-phase Eq. 1), Chaikin boundary |
+//! | [`deng_ma`] | the interpolatory Deng-Ma step |
+//! | [`subdivide`] | multi-level plans: topology once, geometry as repeated products |
+//!
+//! ```
+//! use subdiv_mesh::shapes;
+//! use subdiv_stencil::{Scheme, SubdivisionPlan};
+//! let cube = shapes::cube();
+//! let plan = SubdivisionPlan::new(cube.topology(), Scheme::CatmullClark, 2).unwrap();
+//! assert_eq!(plan.topology().face_count(), 6 * 16);
+//! let refined = plan.apply(cube.positions());
+//! // Catmull-Clark pulls the cube's corners inward.
+//! assert!(refined[0].length() > 0.1 && refined[0].x > 0.0);
+//! ```
+#![warn(missing_docs)]
+
+mod apply;
+pub mod catmull_clark;
+pub mod deng_ma;
+pub mod doo_sabin;
+mod error;
+pub mod loop_subdivision;
+mod rows;
+pub mod subdivide;
+
+pub use apply::{apply, apply_columns, row_sums};
+pub use error::StencilError;
+pub use rows::RowBuilder;
+pub use subdiv_rules::deng_ma::Tension;
+pub use subdiv_rules::LoopBeta;
+pub use subdivide::{subdivide, Refinement, Scheme, SubdivisionPlan};
+
+/// Sparse matrix type of the workspace: CSR, `f64` values, `u32` indices
+/// (half the index bandwidth of `usize` in every sparse product).
+pub type SparseMatrix = sprs::CsMatI<f64, u32>;
+
+use subdiv_mesh::Topology;
+use subdiv_rules::VertexKind;
+
+/// The rule class of a vertex (OpenSubdiv `EDGE_AND_CORNER`).
+pub(crate) fn vertex_kind(t: &Topology, v: subdiv_mesh::VertexId) -> VertexKind {
+    VertexKind::classify(t.is_boundary_vertex(v), t.vertex_face_count(v))
+}

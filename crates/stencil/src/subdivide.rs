@@ -1,0 +1,175 @@
+//! Multi-level subdivision: topology once, geometry as one sparse product per level.
+
+use crate::{apply, catmull_clark, deng_ma, doo_sabin, loop_subdivision, SparseMatrix, StencilError};
+use glam::DVec3;
+use subdiv_mesh::refine::{quad_split, DualProvenance};
+use subdiv_mesh::{Mesh, Topology};
+use subdiv_rules::deng_ma::Tension;
+use subdiv_rules::LoopBeta;
+
+/// A subdivision scheme with the options that change its surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scheme {
+    /// Catmull-Clark (any polygons; quads after one step).
+    CatmullClark,
+    /// Loop (triangles only), with Warren's or Loop's β.
+    Loop(LoopBeta),
+    /// Standard Doo-Sabin (any polygons).
+    DooSabin,
+    /// Deng-Ma's interpolatory scheme (closed meshes), global or variable tension.
+    DengMa(Tension),
+}
+
+impl Scheme {
+    /// Short name, as on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Scheme::CatmullClark => "catmull-clark",
+            Scheme::Loop(_) => "loop",
+            Scheme::DooSabin => "doo-sabin",
+            Scheme::DengMa(_) => "deng-ma",
+        }
+    }
+}
+
+/// One level of a plan: the refined connectivity and the operator producing
+/// its positions from the previous level's.
+#[derive(Clone, Debug)]
+pub struct Refinement {
+    /// Connectivity after this level.
+    pub topology: Topology,
+    /// New × old stencil (P_{k+1} = R·P_k); `None` only for Deng-Ma's variable
+    /// tension, which is nonlinear in the positions.
+    pub stencil: Option<SparseMatrix>,
+    /// Doo-Sabin provenance of the new faces and vertices.
+    pub dual: Option<DualProvenance>,
+}
+
+/// The topology of `levels` steps of a scheme, computed once; [`Self::apply`]
+/// maps any positions through them.
+#[derive(Clone, Debug)]
+pub struct SubdivisionPlan {
+    scheme: Scheme,
+    base: Topology,
+    levels: Vec<Refinement>,
+}
+
+/// Largest element count a refined mesh may have (ids are `u32`).
+const MAX_ELEMENTS: usize = u32::MAX as usize - 1;
+
+fn check_size(t: &Topology, scheme: Scheme) -> Result<(), StencilError> {
+    let (v, f, e, h) = (t.vertex_count(), t.face_count(), t.edge_count(), t.half_edge_count());
+    let (new_vertices, new_corners) = match scheme {
+        Scheme::CatmullClark | Scheme::DengMa(_) => (v + f + e, 4 * h),
+        Scheme::Loop(_) => (v + e, 12 * f),
+        Scheme::DooSabin => (h + 2 * e, 2 * h + 4 * e),
+    };
+    if new_vertices.max(new_corners) > MAX_ELEMENTS {
+        return Err(StencilError::TooLarge);
+    }
+    Ok(())
+}
+
+impl SubdivisionPlan {
+    /// Plans `levels` steps of `scheme` on `t`. Fails when the scheme cannot
+    /// take the mesh (Loop on non-triangles, Deng-Ma on an open mesh), on a bad
+    /// parameter, or when the result would not fit `u32` ids.
+    pub fn new(t: &Topology, scheme: Scheme, levels: usize) -> Result<Self, StencilError> {
+        let mut out: Vec<Refinement> = Vec::with_capacity(levels);
+        for _ in 0..levels {
+            let current = out.last().map_or(t, |r| &r.topology);
+            check_size(current, scheme)?;
+            let level = match scheme {
+                Scheme::CatmullClark => {
+                    let (topology, stencil) = catmull_clark::refine(current);
+                    Refinement { topology, stencil: Some(stencil), dual: None }
+                }
+                Scheme::Loop(beta) => {
+                    let (topology, stencil) = loop_subdivision::refine(current, beta)?;
+                    Refinement { topology, stencil: Some(stencil), dual: None }
+                }
+                Scheme::DooSabin => {
+                    let (topology, dual, stencil) = doo_sabin::refine(current, doo_sabin::CornerRule::Standard)?;
+                    Refinement { topology, stencil: Some(stencil), dual: Some(dual) }
+                }
+                Scheme::DengMa(tension) => {
+                    deng_ma::require_closed(current)?;
+                    deng_ma::check_tension(tension)?;
+                    let stencil = match tension {
+                        Tension::Global(omega) => Some(deng_ma::stencil(current, omega)?),
+                        Tension::Variable { .. } => None,
+                    };
+                    Refinement { topology: quad_split(current), stencil, dual: None }
+                }
+            };
+            out.push(level);
+        }
+        Ok(Self { scheme, base: t.clone(), levels: out })
+    }
+
+    /// The scheme.
+    pub fn scheme(&self) -> Scheme {
+        self.scheme
+    }
+    /// The levels, coarse to fine.
+    pub fn levels(&self) -> &[Refinement] {
+        &self.levels
+    }
+    /// The input connectivity.
+    pub fn base(&self) -> &Topology {
+        &self.base
+    }
+    /// Connectivity after the last level (the input for zero levels).
+    pub fn topology(&self) -> &Topology {
+        self.levels.last().map_or(&self.base, |r| &r.topology)
+    }
+
+    /// Positions after every level, from positions of the input's vertices.
+    ///
+    /// # Panics
+    /// If `positions.len()` differs from the input's vertex count (a caller bug).
+    pub fn apply(&self, positions: &[DVec3]) -> Vec<DVec3> {
+        assert_eq!(positions.len(), self.base.vertex_count(), "one position per input vertex");
+        let mut current = positions.to_vec();
+        let mut coarse = &self.base;
+        for level in &self.levels {
+            current = match (&level.stencil, self.scheme) {
+                (Some(r), _) => apply(r, &current),
+                (None, Scheme::DengMa(tension)) => deng_ma::step_positions(coarse, &current, tension)
+                    .expect("closedness and tension were checked when planning"),
+                (None, _) => unreachable!("only Deng-Ma's variable tension has no stencil"),
+            };
+            coarse = &level.topology;
+        }
+        current
+    }
+
+    /// Limit stencil of the final level's vertices (`None` for Deng-Ma,
+    /// an interpolatory scheme whose refined vertices already lie on the surface).
+    pub fn limit_stencil(&self) -> Option<SparseMatrix> {
+        let t = self.topology();
+        match self.scheme {
+            Scheme::CatmullClark => Some(catmull_clark::limit_stencil(t)),
+            Scheme::Loop(beta) => Some(loop_subdivision::limit_stencil(t, beta).expect("Loop levels stay triangular")),
+            Scheme::DooSabin => Some(doo_sabin::limit_stencil(t)),
+            Scheme::DengMa(_) => None,
+        }
+    }
+
+    /// Subdivides a mesh: positions after every level, moved to their limit
+    /// positions when `limit` is set and the scheme has a limit mask.
+    pub fn subdivide(&self, mesh: &Mesh, limit: bool) -> Mesh {
+        let mut positions = self.apply(mesh.positions());
+        if limit {
+            if let Some(l) = self.limit_stencil() {
+                positions = apply(&l, &positions);
+            }
+        }
+        Mesh::from_topology(self.topology().clone(), positions)
+    }
+}
+
+/// Convenience: plans and applies `levels` steps of `scheme` to `mesh`.
+pub fn subdivide(mesh: &Mesh, scheme: Scheme, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
+    Ok(SubdivisionPlan::new(mesh.topology(), scheme, levels)?.subdivide(mesh, limit))
+}
