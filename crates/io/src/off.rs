@@ -136,7 +136,7 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
             return Err(ctx.truncated(lines.line(), format!("expected {nf} faces, file ends after {}", faces.len())));
         };
         let mut t = tokens(line);
-        let Some(size_token) = t.next() else { unreachable!("content lines have a token") };
+        let Some(size_token) = t.next() else { continue }; // never: content lines have a token
         let size = parse_i64(size_token).filter(|&s| s >= 0).ok_or_else(|| {
             ctx.parse(n, format!("face corner count '{}' is not a non-negative integer", show(size_token)))
         })?;

@@ -7,7 +7,7 @@
 //! (the factor 4/(n(n+5)) multiplies all three groups of Eq. 5) and C2 (the
 //! edge point of edge VEᵢ uses faces fᵢ₋₁ and fᵢ). Limit masks: SPEC §1.
 //!
-//! Neighbourhood convention ([`crate::mask`]): vertex V of valence n has
+//! Neighbourhood convention (as for [`VertexMask`]): vertex V of valence n has
 //! neighbours E₁…Eₙ and faces fᵢ = (V, Eᵢ, F₁ⁱ, …, F_{mᵢ−3}ⁱ, Eᵢ₊₁) of sizes
 //! mᵢ; the F's are the *far corners* of face i.
 //!

@@ -57,7 +57,7 @@
 //! **Source.** The requirement — boundary curve = quadratic B-spline of the
 //! boundary polygon — is the property Nasri established for his Doo-Sabin
 //! boundary rules (A. H. Nasri, *Polyhedral subdivision methods for free-form
-//! surfaces*, ACM TOG 6(1):29–73, 1987, reference [8] of the Zheng-Cai seed).
+//! surfaces*, ACM TOG 6(1):29–73, 1987, reference \[8\] of the Zheng-Cai seed).
 //! Nasri's text is not among the seeds and we could not consult it, so we do
 //! not claim these are his exact masks; the rule above is the classical
 //! repeated-boundary-row end condition of tensor-product B-splines carried to
@@ -128,8 +128,8 @@ pub fn doo_sabin_eigenvalue(m: usize, k: usize) -> f64 {
 }
 
 /// Eigenvalue k of the circulant matrix whose first row is `row`
-/// (row[j] = weight of offset j), for a symmetric row (row[j] = row[m−j]):
-/// Σⱼ row[j]·cos(2πjk/m). Applies to [`doo_sabin_weights`] and
+/// (`row[j]` = weight of offset j), for a symmetric row (`row[j] == row[m−j]`):
+/// Σⱼ `row[j]`·cos(2πjk/m). Applies to [`doo_sabin_weights`] and
 /// [`two_phase_weights`].
 pub fn circulant_eigenvalue(row: &[f64], k: usize) -> f64 {
     let m = row.len() as f64;

@@ -6,11 +6,7 @@
 //! members of a role (all interior edge neighbours get the same weight, …), so
 //! a mask is a handful of numbers.
 //!
-//! Neighbourhood convention (the same as `subdiv-mesh`'s vertex fan): a vertex
-//! V has neighbours E₁…Eₙ and faces f₁…f_k with fᵢ = (V, Eᵢ, …, Eᵢ₊₁), so the
-//! edge VEᵢ lies in faces fᵢ₋₁ and fᵢ. On the boundary the fan is open: E₁ and
-//! Eₙ are the two *boundary neighbours* (joined to V by boundary edges) and
-//! k = n − 1.
+//! The neighbourhood convention is in the docs of [`VertexMask`].
 
 /// Where a vertex sits, which decides the rule applied to it.
 ///
@@ -57,6 +53,12 @@ impl VertexKind {
 ///
 /// where the "face term" of each face is named by the function that returns
 /// the mask (a Catmull-Clark face point, or the far corner of a quad).
+///
+/// Neighbourhood convention (the same as `subdiv-mesh`'s vertex fan): a vertex
+/// V has neighbours E₁…Eₙ and faces f₁…f_k with fᵢ = (V, Eᵢ, …, Eᵢ₊₁), so the
+/// edge VEᵢ lies in faces fᵢ₋₁ and fᵢ. On the boundary the fan is open: E₁ and
+/// Eₙ are the two *boundary neighbours* (joined to V by boundary edges) and
+/// k = n − 1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VertexMask {
     /// Weight of the vertex V itself.
