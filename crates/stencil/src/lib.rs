@@ -13,6 +13,7 @@
 //! | [`doo_sabin`] | refinement R for the standard step and the first-step variants (Zheng-Cai Eq. 4, two-phase Eq. 1), Chaikin boundary |
 //! | [`deng_ma`] | the interpolatory Deng-Ma step |
 //! | [`subdivide`] | multi-level plans: topology once, geometry as repeated products |
+//! | [`limit_matrix`] | the methods' limit matrices A = D·S (Nasri C, Zheng-Cai Z, two-phase B(λ), Cheng A, Loop L) |
 //!
 //! ```
 //! use subdiv_mesh::shapes;
@@ -31,13 +32,18 @@ pub mod catmull_clark;
 pub mod deng_ma;
 pub mod doo_sabin;
 mod error;
+pub mod limit_matrix;
 pub mod loop_subdivision;
 mod rows;
 pub mod subdivide;
 
 pub use apply::{apply, apply_columns, row_sums};
 pub use error::StencilError;
-pub use rows::RowBuilder;
+pub use limit_matrix::{
+    catmull_clark_degeneracy, limit_matrix_catmull_clark, limit_matrix_loop, limit_matrix_nasri,
+    limit_matrix_two_phase, limit_matrix_zheng_cai, Degeneracy, LimitMatrix,
+};
+pub use rows::{RowBuilder, SymmetricAssembler};
 pub use subdiv_rules::deng_ma::Tension;
 pub use subdiv_rules::LoopBeta;
 pub use subdivide::{subdivide, Refinement, Scheme, SubdivisionPlan};

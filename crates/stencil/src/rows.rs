@@ -41,7 +41,15 @@ impl RowBuilder {
 
     /// Closes the current row: sorts its entries and sums repeated columns.
     pub fn finish_row(&mut self) {
-        self.pending.sort_unstable_by_key(|&(c, _)| c);
+        // Stable, so repeated columns are summed in the order they were added.
+        self.pending.sort_by_key(|&(c, _)| c);
+        self.finish_row_presorted();
+    }
+
+    /// Closes the current row whose entries were added in ascending column
+    /// order; equal columns are summed in the order they were added.
+    pub fn finish_row_presorted(&mut self) {
+        debug_assert!(self.pending.windows(2).all(|w| w[0].0 <= w[1].0), "columns must ascend");
         let mut last = u32::MAX;
         for &(c, w) in &self.pending {
             if c == last {
@@ -71,5 +79,83 @@ impl RowBuilder {
         SparseMatrix::try_new((rows, columns), self.indptr, self.indices, self.data)
             .map_err(|(_, _, _, e)| e)
             .expect("rows are sorted and in range by construction")
+    }
+}
+
+/// Assembles a symmetric matrix from symmetric contributions so that
+/// S\[i\]\[j\] and S\[j\]\[i\] are equal **bit for bit**: every off-diagonal
+/// contribution is recorded for both (i, j) and (j, i), and each entry sums its
+/// contributions in recording order (stable sorts only), so both see the same
+/// sequence of additions.
+#[derive(Debug, Default)]
+pub struct SymmetricAssembler {
+    n: usize,
+    triplets: Vec<(u32, u32, f64)>,
+}
+
+impl SymmetricAssembler {
+    /// An n × n assembler.
+    pub fn new(n: usize) -> Self {
+        Self { n, triplets: Vec::new() }
+    }
+
+    /// Adds `w` at (i, j) and, when i ≠ j, at (j, i).
+    #[inline]
+    pub fn add(&mut self, i: u32, j: u32, w: f64) {
+        self.triplets.push((i, j, w));
+        if i != j {
+            self.triplets.push((j, i, w));
+        }
+    }
+
+    /// Adds `w` at (i, i).
+    #[inline]
+    pub fn add_diagonal(&mut self, i: u32, w: f64) {
+        self.triplets.push((i, i, w));
+    }
+
+    /// The assembled CSR matrix; rows listed in `replaced` are dropped and
+    /// replaced by the given explicit rows (e.g. boundary rules), which makes
+    /// the result unsymmetric in those rows.
+    pub fn build_with_rows(self, replaced: &[(u32, Vec<(u32, f64)>)]) -> SparseMatrix {
+        let n = self.n;
+        let mut skip = vec![false; n];
+        for (r, _) in replaced {
+            skip[*r as usize] = true;
+        }
+        let mut counts = vec![0u32; n + 1];
+        for &(i, _, _) in &self.triplets {
+            counts[i as usize + 1] += u32::from(!skip[i as usize]);
+        }
+        for (r, row) in replaced {
+            counts[*r as usize + 1] += row.len() as u32;
+        }
+        for i in 0..n {
+            counts[i + 1] += counts[i];
+        }
+        let mut cursor = counts[..n].to_vec();
+        let mut by_row = vec![(0u32, 0.0f64); counts[n] as usize];
+        for &(i, j, w) in &self.triplets {
+            if !skip[i as usize] {
+                by_row[cursor[i as usize] as usize] = (j, w);
+                cursor[i as usize] += 1;
+            }
+        }
+        for (r, row) in replaced {
+            for &(j, w) in row {
+                by_row[cursor[*r as usize] as usize] = (j, w);
+                cursor[*r as usize] += 1;
+            }
+        }
+        let mut rows = RowBuilder::with_capacity(n, by_row.len());
+        for i in 0..n {
+            let entries = &mut by_row[counts[i] as usize..counts[i + 1] as usize];
+            entries.sort_by_key(|&(j, _)| j); // stable: keeps recording order per entry
+            for &(j, w) in entries.iter() {
+                rows.add(j, w);
+            }
+            rows.finish_row_presorted();
+        }
+        rows.build(n)
     }
 }

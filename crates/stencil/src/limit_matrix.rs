@@ -1,0 +1,275 @@
+//! Limit-point matrices in the factored form **A = D·S** (SPEC §3).
+//!
+//! Row v of A maps the control points X to the limit point that the method
+//! associates with vertex v; interpolation solves A·X = P. Every matrix is
+//! built directly from the topology as a diagonal D (positive) and a sparse S
+//! that is **exactly symmetric** (entry by entry, bit for bit) on closed
+//! meshes — assembled from symmetric per-face / per-edge contributions
+//! ([`SymmetricAssembler`]), never by symmetrising afterwards.
+//!
+//! | builder | method, first step | D | S (interior vertex v, valence n, faces fᵢ of size mᵢ) |
+//! |---|---|---|---|
+//! | [`limit_matrix_nasri`] | Nasri, standard Doo-Sabin | 1/n | Σ_f Circ(α_{m_f}) (Zheng-Cai Eq. 1; ERRATA Z8) |
+//! | [`limit_matrix_zheng_cai`] | Zheng-Cai Eq. 4 | 1/n | B(½): Eq. 6 divided by 2n (ERRATA Z7) |
+//! | [`limit_matrix_two_phase`] | Fan-Cheng-Lai Eq. 1, λ per face | 1/n | Σ_f [λ_f I + (1 − λ_f) J/m_f] (Eq. 2 with ERRATA F1, Eq. 5) |
+//! | [`limit_matrix_catmull_clark`] | Cheng, Catmull-Clark | 4/(n(n+5)) | appendix Eq. 5 bracket (ERRATA C1, C2) |
+//! | [`limit_matrix_loop`] | Loop | γ = 1/(k + 3/(8β)) | 3/(8β) on the diagonal, 1 per neighbour (Deng-Wang Eq. 5-6, ERRATA W4) |
+//!
+//! **Boundaries.** On open meshes the rows of boundary vertices follow the
+//! boundary curve, which depends on boundary vertices only: Catmull-Clark and
+//! Loop (p₋ + 4p + p₊)/6 (D = 1/6, S = (1, 4, 1)), corners p (D = S = 1);
+//! Doo-Sabin (B₋ + 6V + B₊)/8 (D = 1/8, S = (1, 6, 1)) — the point of the
+//! quadratic B-spline boundary at V, which the Chaikin boundary rule of
+//! [`crate::doo_sabin`] produces for the standard and the two-phase first
+//! steps alike. Such rows are listed in [`LimitMatrix::boundary_rows`]; they
+//! make S unsymmetric only in the coupling *from* interior rows *to*
+//! boundary columns, so A is block lower-triangular after ordering boundary
+//! vertices first: the boundary block and the interior block are each of the
+//! symmetric D·S form, and solvers handle open meshes in two symmetric stages
+//! (boundary first, then the interior with the boundary known).
+
+use crate::doo_sabin::CornerRule;
+use crate::rows::SymmetricAssembler;
+use crate::{apply, SparseMatrix, StencilError};
+use glam::DVec3;
+use subdiv_mesh::{Topology, VertexId};
+use subdiv_rules::doo_sabin::BOUNDARY_CURVE_POINT;
+use subdiv_rules::{doo_sabin_weights, two_phase_weights, LoopBeta};
+
+/// A limit matrix A = D·S with its boundary rows marked.
+#[derive(Clone, Debug)]
+pub struct LimitMatrix {
+    /// The positive diagonal D, one entry per vertex.
+    pub d: Vec<f64>,
+    /// S: symmetric among rows not listed in `boundary_rows`.
+    pub s: SparseMatrix,
+    /// Vertices (ascending) whose rows are boundary, corner or isolated-vertex
+    /// rules rather than the symmetric assembly.
+    pub boundary_rows: Vec<u32>,
+}
+
+impl LimitMatrix {
+    /// Number of rows (= vertices).
+    pub fn size(&self) -> usize {
+        self.d.len()
+    }
+    /// The materialised A = D·S (CSR).
+    pub fn to_csr(&self) -> SparseMatrix {
+        let indptr = self.s.indptr().raw_storage().to_vec();
+        let mut data = self.s.data().to_vec();
+        for i in 0..self.size() {
+            data[indptr[i] as usize..indptr[i + 1] as usize].iter_mut().for_each(|x| *x *= self.d[i]);
+        }
+        SparseMatrix::new(self.s.shape(), indptr, self.s.indices().to_vec(), data)
+    }
+    /// A·X: the limit points of control points `x`.
+    pub fn apply(&self, x: &[DVec3]) -> Vec<DVec3> {
+        let mut y = apply(&self.s, x);
+        y.iter_mut().zip(&self.d).for_each(|(p, d)| *p *= *d);
+        y
+    }
+    /// True when S equals its transpose entry by entry (exactly).
+    pub fn is_symmetric(&self) -> bool {
+        let t = self.s.transpose_view().to_csr();
+        t.indptr().raw_storage() == self.s.indptr().raw_storage()
+            && t.indices() == self.s.indices()
+            && t.data().iter().zip(self.s.data()).all(|(a, b)| a.to_bits() == b.to_bits())
+    }
+}
+
+/// Rows that do not come from the symmetric assembly, with their D entry.
+struct SpecialRows {
+    d: Vec<(u32, f64)>,
+    rows: Vec<(u32, Vec<(u32, f64)>)>,
+}
+
+/// Boundary rows (w₋, w, w₊)·scale with D = 1/scale, corners (when
+/// `corner_fixed`) and isolated vertices as identity rows.
+fn special_rows(t: &Topology, curve: [f64; 3], curve_d: f64, corner_fixed: bool) -> SpecialRows {
+    let mut out = SpecialRows { d: Vec::new(), rows: Vec::new() };
+    for v in t.vertices() {
+        let identity = t.is_isolated(v) || (corner_fixed && t.is_boundary_vertex(v) && t.vertex_face_count(v) == 1);
+        if identity {
+            out.d.push((v.0, 1.0));
+            out.rows.push((v.0, vec![(v.0, 1.0)]));
+        } else if let Some((prev, next)) = t.boundary_neighbors(v) {
+            out.d.push((v.0, curve_d));
+            let mut row = vec![(prev.0, curve[0]), (v.0, curve[1]), (next.0, curve[2])];
+            row.sort_by_key(|&(c, _)| c);
+            out.rows.push((v.0, row));
+        }
+    }
+    out
+}
+
+fn finish(assembler: SymmetricAssembler, mut d: Vec<f64>, special: SpecialRows) -> LimitMatrix {
+    for &(v, dv) in &special.d {
+        d[v as usize] = dv;
+    }
+    let boundary_rows = special.rows.iter().map(|(v, _)| *v).collect();
+    LimitMatrix { d, s: assembler.build_with_rows(&special.rows), boundary_rows }
+}
+
+/// Doo-Sabin family: row v = (1/n)·Σ over v's faces of that face's first-step
+/// row at v's corner, i.e. the centroid of v's V-face after the first step.
+fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMatrix, StencilError> {
+    rule.validate(t)?;
+    let nv = t.vertex_count();
+    let mut s = SymmetricAssembler::new(nv);
+    let mut w = Vec::new();
+    for f in t.face_ids() {
+        let face = t.face(f);
+        let m = face.len();
+        w.resize(m, 0.0);
+        match rule {
+            CornerRule::Standard => doo_sabin_weights(m, &mut w), // Zheng-Cai Eq. (1)
+            CornerRule::Uniform(l) => two_phase_weights(m, l, &mut w), // Eq. (4) / Fan Eq. (1)
+            CornerRule::PerFace(ls) => two_phase_weights(m, ls[f.index()], &mut w), // Fan Eq. (1)
+        }
+        // Face block: symmetric because w[k] = w[m − k] (α depends on cos only).
+        for k in 0..m {
+            s.add_diagonal(face[k], w[0]);
+            for l in k + 1..m {
+                s.add(face[k], face[l], w[l - k]);
+            }
+        }
+    }
+    let d = t.vertices().map(|v| 1.0 / t.vertex_face_count(v).max(1) as f64).collect(); // Σ = diag(1/n)
+    let [a, b, c] = BOUNDARY_CURVE_POINT;
+    let special = special_rows(t, [a * 8.0, b * 8.0, c * 8.0], 0.125, false);
+    Ok(finish(s, d, special))
+}
+
+/// Nasri's C: standard Doo-Sabin, limit of vertex v = centroid of its V-face
+/// after one step. Spectrum ⊂ [¼, 1] on closed manifold meshes (ERRATA Z8).
+pub fn limit_matrix_nasri(t: &Topology) -> LimitMatrix {
+    limit_matrix_doo_sabin(t, CornerRule::Standard).expect("the standard rule has no parameters")
+}
+
+/// Zheng-Cai's Z: first step Eq. 4, V' = (V + A)/2; Eq. 6 divided by 2n,
+/// equal to B(½). Strictly diagonally dominant, spectrum ⊂ [½, 1] (ERRATA Z7).
+pub fn limit_matrix_zheng_cai(t: &Topology) -> LimitMatrix {
+    limit_matrix_doo_sabin(t, CornerRule::Uniform(0.5)).expect("λ = ½ is valid")
+}
+
+/// Fan-Cheng-Lai's B(λ): two-phase first step with λ per face (Eq. 2, Eq. 5).
+/// Spectrum ⊂ [min λ, 1] (ERRATA F6).
+pub fn limit_matrix_two_phase(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMatrix, StencilError> {
+    limit_matrix_doo_sabin(t, rule)
+}
+
+/// Cheng's Catmull-Clark A: D = 4/(n(n+5)), S from appendix Eq. 5 (ERRATA C1,
+/// C2), assembled as the quadratic form Σ_faces (Σx)²/m + Σ_edges
+/// (xᵢ + xⱼ)²/2 + Σ_v n(n−3)/4 x_v² (ERRATA, "correct as printed").
+/// Spectrum ⊂ [0, 1] only when every valence is ≥ 3 ([`catmull_clark_degeneracy`]).
+pub fn limit_matrix_catmull_clark(t: &Topology) -> LimitMatrix {
+    let nv = t.vertex_count();
+    let mut s = SymmetricAssembler::new(nv);
+    for f in t.face_ids() {
+        let face = t.face(f);
+        let inv_m = 1.0 / face.len() as f64;
+        for k in 0..face.len() {
+            s.add_diagonal(face[k], inv_m);
+            for l in k + 1..face.len() {
+                s.add(face[k], face[l], inv_m); // Eq. (5): Σᵢ (Fⁱ…)/mᵢ and the 1/mᵢ in the E and V terms
+            }
+        }
+    }
+    for e in t.edges() {
+        let (a, b) = t.edge_vertices(e);
+        s.add_diagonal(a.0, 0.5);
+        s.add_diagonal(b.0, 0.5);
+        s.add(a.0, b.0, 0.5); // Eq. (5): the ½ of (½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ
+    }
+    let mut d = vec![1.0; nv];
+    for v in t.vertices() {
+        let n = t.valence(v) as f64;
+        s.add_diagonal(v.0, n * (n - 3.0) / 4.0); // Eq. (5): n(n−1)/4 = n(n−3)/4 + n·½
+        if n > 0.0 {
+            d[v.index()] = 4.0 / (n * (n + 5.0)); // D = diag(4/(n(n+5)))
+        }
+    }
+    let special = special_rows(t, [1.0, 4.0, 1.0], 1.0 / 6.0, true);
+    finish(s, d, special)
+}
+
+/// The Loop limit matrix L: (1 − kγ) on the diagonal, γ per neighbour, with
+/// γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, ERRATA W4): D = γ, S = 3/(8β) on the
+/// diagonal and 1 per edge.
+pub fn limit_matrix_loop(t: &Topology, beta: LoopBeta) -> Result<LimitMatrix, StencilError> {
+    if let Some(f) = t.face_ids().find(|&f| t.face_size(f) != 3) {
+        return Err(StencilError::NotTriangles { face: f.0, size: t.face_size(f) });
+    }
+    let nv = t.vertex_count();
+    let mut s = SymmetricAssembler::new(nv);
+    for e in t.edges() {
+        let (a, b) = t.edge_vertices(e);
+        s.add(a.0, b.0, 1.0);
+    }
+    let mut d = vec![1.0; nv];
+    for v in t.vertices() {
+        let k = t.valence(v);
+        if k > 0 {
+            let b = beta.beta(k);
+            s.add_diagonal(v.0, 3.0 / (8.0 * b)); // (1 − kγ)/γ = 3/(8β)
+            d[v.index()] = beta.gamma(k); // W4: γ = 1/(k + 3/(8β))
+        }
+    }
+    let special = special_rows(t, [1.0, 4.0, 1.0], 1.0 / 6.0, true);
+    Ok(finish(s, d, special))
+}
+
+/// Why Cheng's A cannot be inverted safely on a mesh (SPEC §3, ERRATA C3).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Degeneracy {
+    /// A closed component whose vertices all have valence 3 and whose vertex
+    /// graph is bipartite (the cube, even prisms): the ±1 checkerboard vector
+    /// on that component is in the kernel of A, exactly.
+    Singular {
+        /// A vertex of the component.
+        vertex: VertexId,
+    },
+    /// An interior vertex of valence 2: the term n(n−3)/4 of S is negative
+    /// there and A is indefinite in general (the pillow: λ_min = −1/7).
+    Indefinite {
+        /// The valence-2 vertex.
+        vertex: VertexId,
+    },
+}
+
+/// Structural test for the two known ways Cheng's A fails to be positive
+/// definite. `None` means every interior valence is ≥ 3 and no closed
+/// component is an all-valence-3 bipartite mesh (A is then nonsingular in
+/// every case we know; its spectrum lies in (0, 1]).
+pub fn catmull_clark_degeneracy(t: &Topology) -> Option<Degeneracy> {
+    if let Some(v) = t.vertices().find(|&v| !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2) {
+        return Some(Degeneracy::Indefinite { vertex: v });
+    }
+    // Per component: closed, all valence 3, 2-colourable.
+    let mut colour = vec![u8::MAX; t.vertex_count()];
+    let mut stack = Vec::new();
+    for start in t.vertices() {
+        if colour[start.index()] != u8::MAX || t.is_isolated(start) {
+            continue;
+        }
+        let (mut all_three, mut closed, mut bipartite) = (true, true, true);
+        colour[start.index()] = 0;
+        stack.push(start);
+        while let Some(v) = stack.pop() {
+            all_three &= t.valence(v) == 3;
+            closed &= !t.is_boundary_vertex(v);
+            for w in t.vertex_neighbors(v) {
+                if colour[w.index()] == u8::MAX {
+                    colour[w.index()] = 1 - colour[v.index()];
+                    stack.push(w);
+                } else if colour[w.index()] == colour[v.index()] {
+                    bipartite = false;
+                }
+            }
+        }
+        if all_three && closed && bipartite {
+            return Some(Degeneracy::Singular { vertex: start });
+        }
+    }
+    None
+}

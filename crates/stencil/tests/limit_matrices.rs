@@ -1,0 +1,338 @@
+//! The limit matrices A = D·S (SPEC §3): theorems of the papers (row sums,
+//! exact symmetry, diagonal dominance, spectra) and brute force (subdivide
+//! 8 levels and watch the tracked points converge to A·P).
+
+mod common;
+use common::fixture;
+use glam::DVec3;
+use nalgebra::{DMatrix, SymmetricEigen};
+use subdiv_mesh::refine::DualFace;
+use subdiv_mesh::{shapes, Mesh, Topology};
+use subdiv_stencil::doo_sabin::{self, CornerRule};
+use subdiv_stencil::{
+    apply, catmull_clark_degeneracy, limit_matrix_catmull_clark, limit_matrix_loop, limit_matrix_nasri,
+    limit_matrix_two_phase, limit_matrix_zheng_cai, Degeneracy, LimitMatrix, LoopBeta, Scheme, SubdivisionPlan,
+};
+
+fn closed_polygon_meshes() -> Vec<(&'static str, Mesh)> {
+    vec![
+        ("cube_quad", fixture("cube_quad")),
+        ("pyramid_mixed", fixture("pyramid_mixed")),
+        ("mpi", fixture("mpi")),
+        ("P", fixture("P")),
+        ("spot_control_mesh", fixture("spot_control_mesh")),
+        ("torus mix", shapes::polygon_mix(&shapes::torus(8, 6), 3, 0.2, 0.2, 0.05)),
+    ]
+}
+
+fn open_meshes() -> Vec<(&'static str, Mesh)> {
+    vec![
+        ("halftunnel", fixture("halftunnel")),
+        ("mesh_with_colors", fixture("mesh_with_colors")),
+        ("plate mix", shapes::polygon_mix(&shapes::plate_with_holes(7, 5, &[(2, 2)], false), 5, 0.2, 0.2, 0.05)),
+    ]
+}
+
+fn tri_meshes() -> Vec<(&'static str, Mesh)> {
+    vec![("icosphere_2", fixture("icosphere_2")), ("eight", fixture("eight")), ("grid (open)", fixture("grid"))]
+}
+
+/// Every matrix applicable to a mesh, with its name.
+fn matrices(mesh: &Mesh) -> Vec<(&'static str, LimitMatrix)> {
+    let t = mesh.topology();
+    let lambdas: Vec<f64> = (0..t.face_count()).map(|f| 0.3 + 0.5 * ((f * 7919) % 13) as f64 / 13.0).collect();
+    let mut out = vec![
+        ("C", limit_matrix_nasri(t)),
+        ("Z", limit_matrix_zheng_cai(t)),
+        ("B(λ)", limit_matrix_two_phase(t, CornerRule::PerFace(&lambdas)).unwrap()),
+        ("A", limit_matrix_catmull_clark(t)),
+    ];
+    for beta in [LoopBeta::Warren, LoopBeta::Loop] {
+        if let Ok(l) = limit_matrix_loop(t, beta) {
+            out.push(("L", l));
+        }
+    }
+    out
+}
+
+fn all_meshes() -> Vec<(&'static str, Mesh)> {
+    let mut all = closed_polygon_meshes();
+    all.extend(open_meshes());
+    all.extend(tri_meshes());
+    all
+}
+
+#[test]
+fn rows_sum_to_one() {
+    for (name, mesh) in all_meshes() {
+        for (m, a) in matrices(&mesh) {
+            let csr = a.to_csr();
+            for (i, row) in csr.outer_iterator().enumerate() {
+                let sum: f64 = row.data().iter().sum();
+                assert!((sum - 1.0).abs() < 1e-14, "{m} on {name}: row {i} sums to {sum}");
+            }
+        }
+    }
+}
+
+#[test]
+fn s_is_exactly_symmetric_on_closed_meshes_and_in_the_interior_block() {
+    for (name, mesh) in all_meshes() {
+        for (m, a) in matrices(&mesh) {
+            if mesh.topology().is_closed() {
+                assert!(a.is_symmetric(), "{m} on {name}");
+            }
+            // Interior × interior block: symmetric bit for bit.
+            let boundary: std::collections::HashSet<u32> = a.boundary_rows.iter().copied().collect();
+            for (i, row) in a.s.outer_iterator().enumerate() {
+                if boundary.contains(&(i as u32)) {
+                    continue;
+                }
+                for (j, &x) in row.iter() {
+                    if !boundary.contains(&(j as u32)) {
+                        let y = *a.s.get(j, i).expect("symmetric pattern");
+                        assert_eq!(x.to_bits(), y.to_bits(), "{m} on {name}: S[{i}][{j}]");
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn zheng_cai_z_is_strictly_diagonally_dominant() {
+    for (name, mesh) in all_meshes() {
+        let z = limit_matrix_zheng_cai(mesh.topology()).to_csr();
+        for (i, row) in z.outer_iterator().enumerate() {
+            let diag = *row.get(i).unwrap();
+            let off: f64 = row.iter().filter(|(j, _)| *j != i).map(|(_, x)| x.abs()).sum();
+            assert!(diag > off, "{name}: row {i}: {diag} vs {off}");
+        }
+    }
+}
+
+/// Eigenvalues of A = D·S on a closed mesh, via the similar symmetric D^½ S D^½.
+fn eigenvalues(a: &LimitMatrix) -> Vec<f64> {
+    let n = a.size();
+    let mut m = DMatrix::zeros(n, n);
+    for (i, row) in a.s.outer_iterator().enumerate() {
+        for (j, &x) in row.iter() {
+            m[(i, j)] = a.d[i].sqrt() * x * a.d[j].sqrt();
+        }
+    }
+    let mut ev: Vec<f64> = SymmetricEigen::new(m).eigenvalues.iter().copied().collect();
+    ev.sort_by(f64::total_cmp);
+    ev
+}
+
+#[test]
+fn spectra_lie_where_the_theorems_say() {
+    const EPS: f64 = 1e-12;
+    for (name, mesh) in closed_polygon_meshes().into_iter().chain(tri_meshes().into_iter().take(2)) {
+        let t = mesh.topology();
+        if t.vertex_count() > 400 {
+            continue;
+        }
+        let c = eigenvalues(&limit_matrix_nasri(t));
+        assert!(
+            c[0] >= 0.25 - EPS && *c.last().unwrap() <= 1.0 + EPS,
+            "C on {name}: [{}, {}]",
+            c[0],
+            c.last().unwrap()
+        );
+        let z = eigenvalues(&limit_matrix_zheng_cai(t));
+        assert!(z[0] >= 0.5 - EPS && *z.last().unwrap() <= 1.0 + EPS, "Z on {name}");
+        let lambdas: Vec<f64> = (0..t.face_count()).map(|f| 0.2 + 0.7 * ((f * 31) % 11) as f64 / 11.0).collect();
+        let lmin = lambdas.iter().copied().fold(1.0, f64::min);
+        let b = eigenvalues(&limit_matrix_two_phase(t, CornerRule::PerFace(&lambdas)).unwrap());
+        assert!(b[0] >= lmin - EPS && *b.last().unwrap() <= 1.0 + EPS, "B(λ) on {name}: {} < {lmin}", b[0]);
+        let a = eigenvalues(&limit_matrix_catmull_clark(t));
+        if t.vertices().all(|v| t.valence(v) >= 3) {
+            assert!(a[0] >= -EPS && *a.last().unwrap() <= 1.0 + EPS, "A on {name}: [{}, {}]", a[0], a.last().unwrap());
+        }
+        if let Ok(l) = limit_matrix_loop(t, LoopBeta::Warren) {
+            let l = eigenvalues(&l);
+            assert!(l[0] > 0.0 && *l.last().unwrap() <= 1.0 + EPS, "L on {name}");
+        }
+    }
+}
+
+#[test]
+fn cube_is_singular_and_pillow_indefinite_and_both_are_detected() {
+    let cube = shapes::cube();
+    let ev = eigenvalues(&limit_matrix_catmull_clark(cube.topology()));
+    assert!(ev[0].abs() < 1e-14, "cube: λ_min = {}", ev[0]);
+    assert!(matches!(catmull_clark_degeneracy(cube.topology()), Some(Degeneracy::Singular { .. })));
+    for n in [4, 6, 8] {
+        let prism = shapes::prism(n);
+        assert!(eigenvalues(&limit_matrix_catmull_clark(prism.topology()))[0].abs() < 1e-14, "prism {n}");
+        assert!(matches!(catmull_clark_degeneracy(prism.topology()), Some(Degeneracy::Singular { .. })));
+    }
+    // Odd prisms are not bipartite: nonsingular, and not flagged.
+    let prism5 = shapes::prism(5);
+    assert!(eigenvalues(&limit_matrix_catmull_clark(prism5.topology()))[0] > 1e-3);
+    assert_eq!(catmull_clark_degeneracy(prism5.topology()), None);
+    let pillow = shapes::pillow();
+    let ev = eigenvalues(&limit_matrix_catmull_clark(pillow.topology()));
+    assert!((ev[0] + 1.0 / 7.0).abs() < 1e-12, "pillow: λ_min = {} (ERRATA C3: −1/7)", ev[0]);
+    assert!(matches!(catmull_clark_degeneracy(pillow.topology()), Some(Degeneracy::Indefinite { .. })));
+    // Fixtures with every valence ≥ 3 and not bipartite-cubic are not flagged.
+    for stem in ["spot_control_mesh", "mpi", "torus_quad_16x8"] {
+        assert_eq!(catmull_clark_degeneracy(fixture(stem).topology()), None, "{stem}");
+    }
+}
+
+/// Gaps of the tracked points from the prediction after each level, relative to d.
+fn assert_geometric(name: &str, gaps: &[f64], ratio: f64, final_tol: f64) {
+    for w in gaps.windows(2).skip(1) {
+        if w[0] > 1e-13 {
+            assert!(w[1] <= ratio * w[0] + 1e-15, "{name}: gaps {:.3e} do not shrink by {ratio}", Gaps(gaps));
+        }
+    }
+    assert!(*gaps.last().unwrap() <= final_tol, "{name}: final gap {:.3e}", gaps.last().unwrap());
+}
+
+fn jittered(mesh: &Mesh, seed: u64) -> Mesh {
+    let mut rng = shapes::SplitMix64(seed);
+    let scale = shapes::mean_edge_length(mesh) * 0.2;
+    let p = mesh
+        .positions()
+        .iter()
+        .map(|&p| p + scale * DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5))
+        .collect();
+    mesh.with_positions(p)
+}
+
+/// Primal schemes: input vertex v keeps index v at every level; its position
+/// converges to row v of A·P.
+#[test]
+fn brute_force_primal_limits() {
+    const LEVELS: usize = 9;
+    let cases: Vec<(String, Mesh, Scheme, LimitMatrix)> = {
+        let mut v = Vec::new();
+        for stem in ["pyramid_mixed", "cube_poly", "corner_poly"] {
+            let m = jittered(&fixture(stem), 1);
+            let a = limit_matrix_catmull_clark(m.topology());
+            v.push((format!("A on {stem}"), m, Scheme::CatmullClark, a));
+        }
+        let open = jittered(&shapes::polygon_mix(&shapes::quad_grid(3, 2), 9, 0.0, 0.0, 0.1), 2);
+        let a = limit_matrix_catmull_clark(open.topology());
+        v.push(("A on open grid".into(), open, Scheme::CatmullClark, a));
+        for (stem, m) in [
+            ("octahedron", fixture("octahedron")),
+            ("tetrahedron", fixture("tetrahedron")),
+            ("open tri grid", shapes::triangle_grid(2, 2)),
+        ] {
+            let m = jittered(&m, 3);
+            for beta in [LoopBeta::Warren, LoopBeta::Loop] {
+                let l = limit_matrix_loop(m.topology(), beta).unwrap();
+                v.push((format!("L({beta:?}) on {stem}"), m.clone(), Scheme::Loop(beta), l));
+            }
+        }
+        v
+    };
+    for (name, mesh, scheme, a) in cases {
+        let d = mesh.bbox_diagonal();
+        let predicted = a.apply(mesh.positions());
+        let plan = SubdivisionPlan::new(mesh.topology(), scheme, LEVELS).unwrap();
+        let mut positions = mesh.positions().to_vec();
+        let mut gaps = vec![gap(&positions, &predicted, d)];
+        for level in plan.levels() {
+            positions = apply(level.stencil.as_ref().unwrap(), &positions);
+            gaps.push(gap(&positions, &predicted, d));
+        }
+        eprintln!("{name}: {:.2e}", Gaps(&gaps));
+        assert_geometric(&name, &gaps, 0.6, 1e-6);
+    }
+}
+
+/// Prints a gap sequence in scientific notation.
+struct Gaps<'a>(&'a [f64]);
+
+impl std::fmt::LowerExp for Gaps<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let p = f.precision().unwrap_or(2);
+        let parts: Vec<String> = self.0.iter().map(|g| format!("{g:.p$e}")).collect();
+        write!(f, "[{}]", parts.join(", "))
+    }
+}
+
+fn gap(positions: &[DVec3], predicted: &[DVec3], d: f64) -> f64 {
+    predicted.iter().zip(positions).map(|(p, q)| p.distance(*q)).fold(0.0, f64::max) / d
+}
+
+/// Doo-Sabin family: the limit of v is the centroid of its V-face after the
+/// first step; that face's F-face descendants (same face id at every level)
+/// keep the centroid and shrink onto it. Whole-mesh subdivision for 8 levels,
+/// then the face alone (its F-face rule) until the gap is below 1e-6·d.
+#[test]
+fn brute_force_doo_sabin_limits() {
+    let meshes = vec![
+        ("mpi", jittered(&fixture("mpi"), 4)),
+        ("pyramid_mixed", jittered(&fixture("pyramid_mixed"), 5)),
+        ("open plate", jittered(&shapes::plate_with_holes(5, 4, &[(2, 1)], false), 6)),
+    ];
+    for (name, mesh) in meshes {
+        let t = mesh.topology();
+        let d = mesh.bbox_diagonal();
+        let lambdas: Vec<f64> = (0..t.face_count()).map(|f| 0.25 + 0.5 * ((f * 17) % 7) as f64 / 7.0).collect();
+        for (m, rule, a) in [
+            ("C", CornerRule::Standard, limit_matrix_nasri(t)),
+            ("Z", CornerRule::Uniform(0.5), limit_matrix_zheng_cai(t)),
+            ("B(λ)", CornerRule::PerFace(&lambdas), limit_matrix_two_phase(t, CornerRule::PerFace(&lambdas)).unwrap()),
+        ] {
+            let predicted = a.apply(mesh.positions());
+            // First step with the method's rule, then standard Doo-Sabin.
+            let (t1, prov, r1) = doo_sabin::refine(t, rule).unwrap();
+            let p1 = apply(&r1, mesh.positions());
+            let plan = SubdivisionPlan::new(&t1, Scheme::DooSabin, 7).unwrap();
+            let interior: Vec<usize> = t.vertices().filter(|&v| !t.is_boundary_vertex(v)).map(|v| v.index()).collect();
+            let mut positions = p1;
+            let mut topo = &t1;
+            let mut gaps = Vec::new();
+            let track = |topo: &Topology, positions: &[DVec3]| {
+                let mut worst = 0.0f64;
+                for &v in &interior {
+                    let Some(face) = prov.vertex_face[v] else { continue };
+                    assert!(matches!(prov.face_origin[face.index()], DualFace::V(_)));
+                    let corners: Vec<DVec3> = topo.face(face).iter().map(|&c| positions[c as usize]).collect();
+                    let centroid = corners.iter().sum::<DVec3>() / corners.len() as f64;
+                    assert!(centroid.distance(predicted[v]) <= 1e-12 * d, "{m} on {name}: centroid drifted");
+                    worst = worst.max(corners.iter().map(|c| c.distance(predicted[v])).fold(0.0, f64::max));
+                }
+                worst / d
+            };
+            gaps.push(track(topo, &positions));
+            for level in plan.levels() {
+                positions = apply(level.stencil.as_ref().unwrap(), &positions);
+                topo = &level.topology;
+                gaps.push(track(topo, &positions));
+            }
+            // Continue on each tracked face alone: its F-face is Eq. 1 applied within the face.
+            let mut faces: Vec<Vec<DVec3>> = interior
+                .iter()
+                .filter_map(|&v| {
+                    prov.vertex_face[v].map(|f| topo.face(f).iter().map(|&c| positions[c as usize]).collect())
+                })
+                .collect();
+            let targets: Vec<DVec3> =
+                interior.iter().filter(|&&v| prov.vertex_face[v].is_some()).map(|&v| predicted[v]).collect();
+            for _ in 0..14 {
+                for face in &mut faces {
+                    let m = face.len();
+                    let mut w = vec![0.0; m];
+                    subdiv_rules::doo_sabin_weights(m, &mut w);
+                    *face = (0..m).map(|k| (0..m).map(|j| w[j] * face[(k + j) % m]).sum()).collect();
+                }
+                let worst = faces
+                    .iter()
+                    .zip(&targets)
+                    .map(|(f, t)| f.iter().map(|c| c.distance(*t)).fold(0.0, f64::max))
+                    .fold(0.0, f64::max);
+                gaps.push(worst / d);
+            }
+            eprintln!("{m} on {name}: {:.2e}", Gaps(&gaps));
+            assert_geometric(&format!("{m} on {name}"), &gaps, 0.75, 1e-6);
+        }
+    }
+}
