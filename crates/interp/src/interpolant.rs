@@ -1,0 +1,180 @@
+//! What every method returns, and the independent error measure (SPEC §1).
+
+use crate::{InterpError, Method};
+use glam::DVec3;
+use subdiv_mesh::{FaceId, Mesh, VertexId};
+use subdiv_stencil::{apply, catmull_clark, doo_sabin, loop_subdivision, LoopBeta, Scheme, SubdivisionPlan, Tension};
+
+/// The plain scheme whose limit surface of the control mesh interpolates the data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ControlScheme {
+    /// Standard Doo-Sabin.
+    DooSabin,
+    /// Catmull-Clark.
+    CatmullClark,
+    /// Loop with the given β.
+    Loop(LoopBeta),
+    /// Deng-Ma's interpolatory scheme: the control mesh is the input and the
+    /// scheme itself passes through it.
+    DengMa(Tension),
+}
+
+impl ControlScheme {
+    /// The subdivision scheme that refines the control mesh.
+    pub fn scheme(&self) -> Scheme {
+        match *self {
+            ControlScheme::DooSabin => Scheme::DooSabin,
+            ControlScheme::CatmullClark => Scheme::CatmullClark,
+            ControlScheme::Loop(beta) => Scheme::Loop(beta),
+            ControlScheme::DengMa(t) => Scheme::DengMa(t),
+        }
+    }
+    /// Name for reports (`null` in JSON for Deng-Ma, whose output is no control mesh).
+    pub fn report_name(&self) -> Option<&'static str> {
+        match self {
+            ControlScheme::DooSabin => Some("doo-sabin"),
+            ControlScheme::CatmullClark => Some("catmull-clark"),
+            ControlScheme::Loop(_) => Some("loop"),
+            ControlScheme::DengMa(_) => None,
+        }
+    }
+}
+
+/// Which point of the control mesh's limit surface belongs to input vertex i,
+/// read off by the plain scheme's own rules (never by a method's system matrix).
+#[derive(Clone, Debug, PartialEq)]
+pub enum LimitAssociation {
+    /// Control vertex i, moved to its limit position by the plain scheme's
+    /// limit mask (Catmull-Clark, Loop; Doo-Sabin: the centroid of its V-face
+    /// after one plain step; on the boundary, the boundary curve's point).
+    ControlVertex,
+    /// A Doo-Sabin first refined mesh M¹: interior vertex i ↦ the centroid of
+    /// face `v_face[i]` (a Doo-Sabin limit point at every level); boundary
+    /// vertex i ↦ the midpoint of its two Chaikin points `boundary_pair[i]`
+    /// (the quadratic B-spline boundary's point).
+    DualFace {
+        /// The V-face of every input vertex in the control mesh.
+        v_face: Vec<Option<FaceId>>,
+        /// The two Chaikin points next to every boundary input vertex.
+        boundary_pair: Vec<Option<(VertexId, VertexId)>>,
+    },
+    /// The scheme interpolates: surface vertex i is input vertex i (Deng-Ma).
+    Interpolatory,
+}
+
+/// How the solve went.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SolveSummary {
+    /// Solver name.
+    pub solver: String,
+    /// Iterations (summed over the boundary and interior stages).
+    pub iterations: usize,
+    /// Sparse products.
+    pub matvecs: usize,
+    /// True when the tolerance was reached.
+    pub converged: bool,
+    /// Final max row residual / d of the solved system.
+    pub residual: f64,
+    /// Residual / d per iteration.
+    pub history: Vec<f64>,
+    /// LDLᵀ only: negative pivots (A indefinite).
+    pub negative_pivots: Option<usize>,
+}
+
+/// Interpolation error relative to d (SPEC §1).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ErrorStats {
+    /// max_i |L_i − P_i| / d.
+    pub max_rel: f64,
+    /// mean_i |L_i − P_i| / d.
+    pub mean_rel: f64,
+    /// max_i |L_i − P_i|.
+    pub max_abs: f64,
+    /// mean_i |L_i − P_i|.
+    pub mean_abs: f64,
+    /// Number of vertices measured.
+    pub count: usize,
+}
+
+/// The result of a method: a control mesh whose plain-scheme limit surface
+/// interpolates the data, and how it was obtained.
+#[derive(Clone, Debug)]
+pub struct Interpolant {
+    /// The method.
+    pub method: Method,
+    /// The control mesh (for Deng-Ma: the input mesh itself).
+    pub control: Mesh,
+    /// The control mesh's plain scheme.
+    pub scheme: ControlScheme,
+    /// Where each input vertex's limit point lies.
+    pub association: LimitAssociation,
+    /// Solver diagnostics (`None` for explicit methods).
+    pub solve: Option<SolveSummary>,
+    /// Seconds spent building operators.
+    pub setup_seconds: f64,
+    /// Seconds spent solving / adjusting.
+    pub solve_seconds: f64,
+    /// Things the user should know (non-unique solution, …).
+    pub warnings: Vec<String>,
+    /// The method's parameters, for the report.
+    pub parameters: serde_json::Map<String, serde_json::Value>,
+}
+
+impl Interpolant {
+    /// The limit point associated with every input vertex, computed from the
+    /// control mesh by the plain scheme's rules (SPEC §1).
+    pub fn limit_points(&self, input_vertices: usize) -> Vec<DVec3> {
+        let c = &self.control;
+        let t = c.topology();
+        match (&self.association, self.scheme) {
+            (LimitAssociation::Interpolatory, _) => c.positions()[..input_vertices].to_vec(),
+            (LimitAssociation::DualFace { v_face, boundary_pair }, _) => (0..input_vertices)
+                .map(|i| match (v_face[i], boundary_pair[i]) {
+                    (_, Some((a, b))) => (c.position(a) + c.position(b)) / 2.0,
+                    (Some(f), None) => c.face_centroid(f),
+                    (None, None) => c.positions().get(i).copied().unwrap_or(DVec3::NAN),
+                })
+                .collect(),
+            (LimitAssociation::ControlVertex, scheme) => {
+                let stencil = match scheme {
+                    ControlScheme::CatmullClark => catmull_clark::limit_stencil(t),
+                    ControlScheme::Loop(beta) => {
+                        loop_subdivision::limit_stencil(t, beta).expect("Loop control meshes are triangular")
+                    }
+                    ControlScheme::DooSabin => doo_sabin::limit_stencil(t),
+                    ControlScheme::DengMa(_) => unreachable!("Deng-Ma is interpolatory"),
+                };
+                let mut all = apply(&stencil, c.positions());
+                all.truncate(input_vertices);
+                all
+            }
+        }
+    }
+
+    /// Interpolation error of the vertices flagged in `interpolated` against `data`.
+    pub fn error(&self, data: &[DVec3], interpolated: &[bool], d: f64) -> ErrorStats {
+        let limits = self.limit_points(data.len());
+        let mut stats = ErrorStats::default();
+        for ((l, p), &on) in limits.iter().zip(data).zip(interpolated) {
+            if on {
+                let e = l.distance(*p);
+                stats.max_abs = stats.max_abs.max(e);
+                stats.mean_abs += e;
+                stats.count += 1;
+            }
+        }
+        if stats.count > 0 {
+            stats.mean_abs /= stats.count as f64;
+        }
+        stats.max_rel = stats.max_abs / d;
+        stats.mean_rel = stats.mean_abs / d;
+        stats
+    }
+
+    /// The surface: the control mesh refined `levels` times by its plain
+    /// scheme, vertices moved to their limit positions where a mask exists.
+    pub fn surface(&self, levels: usize) -> Result<Mesh, InterpError> {
+        let plan = SubdivisionPlan::new(self.control.topology(), self.scheme.scheme(), levels)?;
+        Ok(plan.subdivide(&self.control, true))
+    }
+}
