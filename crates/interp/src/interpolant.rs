@@ -62,6 +62,26 @@ pub enum LimitAssociation {
     Interpolatory,
 }
 
+impl LimitAssociation {
+    /// The association of a Doo-Sabin first refined mesh M¹ = `dual_split(t)`
+    /// with provenance `prov`: V-faces for interior vertices, the two Chaikin
+    /// points next to each boundary vertex.
+    pub fn for_dual_split(t: &subdiv_mesh::Topology, prov: &subdiv_mesh::refine::DualProvenance) -> Self {
+        let boundary_pair = t
+            .vertices()
+            .map(|v| {
+                let fan = t.vertex_fan(v);
+                (t.is_boundary_vertex(v) && !fan.is_empty()).then(|| {
+                    let outgoing = prov.boundary_point[fan[0].index()];
+                    let incoming = prov.boundary_point[t.he_prev(fan[fan.len() - 1]).index()] + 1;
+                    (VertexId(outgoing), VertexId(incoming))
+                })
+            })
+            .collect();
+        LimitAssociation::DualFace { v_face: prov.vertex_face.clone(), boundary_pair }
+    }
+}
+
 /// How the solve went.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SolveSummary {

@@ -30,6 +30,7 @@
 
 pub mod cheng;
 mod error;
+pub mod fan_cheng_lai;
 mod interpolant;
 pub mod nasri;
 mod options;
@@ -37,6 +38,7 @@ mod system;
 
 pub use cheng::ChengOptions;
 pub use error::InterpError;
+pub use fan_cheng_lai::{FanChengLaiOptions, Shape};
 pub use interpolant::{ControlScheme, ErrorStats, Interpolant, LimitAssociation, SolveSummary};
 pub use nasri::NasriOptions;
 pub use options::{CommonOptions, SolverChoice, DEFAULT_MAX_ITER, DEFAULT_TOL};
@@ -76,4 +78,3 @@ impl Method {
 pub(crate) fn seconds_since(start: std::time::Instant) -> f64 {
     start.elapsed().as_secs_f64()
 }
-
