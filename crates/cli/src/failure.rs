@@ -7,6 +7,8 @@ use std::process::ExitCode;
 pub enum Failure {
     /// Bad input or usage: exit 2.
     BadInput(anyhow::Error),
+    /// A solver did not reach its tolerance: exit 3 (nothing written).
+    NotConverged(anyhow::Error),
     /// Anything else: exit 1.
     Other(anyhow::Error),
 }
@@ -16,6 +18,7 @@ impl Failure {
     pub fn report(self) -> ExitCode {
         let (code, error) = match self {
             Failure::BadInput(e) => (2, e),
+            Failure::NotConverged(e) => (3, e),
             Failure::Other(e) => (1, e),
         };
         eprintln!("subdiv: error: {error:#}");

@@ -6,7 +6,9 @@
 
 mod failure;
 mod info;
+mod interpolate;
 mod load;
+mod params;
 mod subdivide;
 
 use clap::{Parser, Subcommand};
@@ -26,6 +28,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Subdivide a mesh N levels with Doo-Sabin, Catmull-Clark, Loop or Deng-Ma.
     Subdivide(subdivide::SubdivideArgs),
+    /// Find a control mesh whose subdivision surface passes through the mesh's vertices.
+    Interpolate(Box<interpolate::InterpolateArgs>),
 }
 
 fn main() -> ExitCode {
@@ -33,6 +37,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Subdivide(args) => subdivide::run(&args),
+        Command::Interpolate(args) => interpolate::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

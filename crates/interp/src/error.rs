@@ -29,9 +29,10 @@ pub enum InterpError {
     Solve {
         /// Method id.
         method: &'static str,
-        /// The solver's error, with iterations and residual.
+        /// The solver's error, with iterations and residual (boxed: it carries
+        /// the last iterate).
         #[source]
-        source: SolveError,
+        source: Box<SolveError>,
     },
     /// The system has no solution for these data (a singular matrix with data
     /// outside its range): the solver's diagnostics give the error reached.
@@ -45,7 +46,7 @@ pub enum InterpError {
         suggestion: &'static str,
         /// The solver's error, with the residual reached.
         #[source]
-        source: SolveError,
+        source: Box<SolveError>,
     },
     /// An operator could not be built.
     #[error(transparent)]
@@ -56,13 +57,11 @@ impl InterpError {
     /// True when the failure is the solver not reaching its tolerance (exit 3 on
     /// the command line) rather than an unusable input (exit 2).
     pub fn is_not_converged(&self) -> bool {
-        matches!(
-            self,
-            InterpError::Unsolvable { .. }
-                | InterpError::Solve {
-                    source: SolveError::NotConverged { .. } | SolveError::Diverged { .. } | SolveError::Singular { .. },
-                    ..
-                }
-        )
+        matches!(self, InterpError::Unsolvable { .. })
+            || matches!(
+                self,
+                InterpError::Solve { source, .. }
+                    if matches!(**source, SolveError::NotConverged { .. } | SolveError::Diverged { .. } | SolveError::Singular { .. })
+            )
     }
 }

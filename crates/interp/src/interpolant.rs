@@ -62,6 +62,19 @@ pub enum LimitAssociation {
     Interpolatory,
 }
 
+/// The two Chaikin points of boundary vertex `v` in the first refined mesh of
+/// `dual_split(t)`: on its outgoing boundary edge and on its incoming one,
+/// both next to v. Their midpoint is v's point on the boundary curve.
+pub(crate) fn chaikin_pair(
+    t: &subdiv_mesh::Topology,
+    prov: &subdiv_mesh::refine::DualProvenance,
+    v: VertexId,
+) -> (VertexId, VertexId) {
+    let fan = t.vertex_fan(v);
+    let incoming = t.he_prev(fan[fan.len() - 1]);
+    (VertexId(prov.boundary_point[fan[0].index()]), VertexId(prov.boundary_point[incoming.index()] + 1))
+}
+
 impl LimitAssociation {
     /// The association of a Doo-Sabin first refined mesh M¹ = `dual_split(t)`
     /// with provenance `prov`: V-faces for interior vertices, the two Chaikin
@@ -69,14 +82,7 @@ impl LimitAssociation {
     pub fn for_dual_split(t: &subdiv_mesh::Topology, prov: &subdiv_mesh::refine::DualProvenance) -> Self {
         let boundary_pair = t
             .vertices()
-            .map(|v| {
-                let fan = t.vertex_fan(v);
-                (t.is_boundary_vertex(v) && !fan.is_empty()).then(|| {
-                    let outgoing = prov.boundary_point[fan[0].index()];
-                    let incoming = prov.boundary_point[t.he_prev(fan[fan.len() - 1]).index()] + 1;
-                    (VertexId(outgoing), VertexId(incoming))
-                })
-            })
+            .map(|v| (t.is_boundary_vertex(v) && !t.is_isolated(v)).then(|| chaikin_pair(t, prov, v)))
             .collect();
         LimitAssociation::DualFace { v_face: prov.vertex_face.clone(), boundary_pair }
     }

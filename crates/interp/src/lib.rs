@@ -29,19 +29,26 @@
 #![warn(missing_docs)]
 
 pub mod cheng;
+pub mod deng_ma;
+pub mod deng_wang;
 mod error;
 pub mod fan_cheng_lai;
 mod interpolant;
 pub mod nasri;
 mod options;
 mod system;
+pub mod verify;
+pub mod zheng_cai;
 
 pub use cheng::ChengOptions;
+pub use deng_ma::DengMaOptions;
+pub use deng_wang::DengWangOptions;
 pub use error::InterpError;
 pub use fan_cheng_lai::{FanChengLaiOptions, Shape};
 pub use interpolant::{ControlScheme, ErrorStats, Interpolant, LimitAssociation, SolveSummary};
 pub use nasri::NasriOptions;
 pub use options::{CommonOptions, SolverChoice, DEFAULT_MAX_ITER, DEFAULT_TOL};
+pub use zheng_cai::ZhengCaiOptions;
 
 /// The six methods.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

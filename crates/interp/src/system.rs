@@ -26,8 +26,23 @@ fn is_identity_row(a: &LimitMatrix, v: usize) -> bool {
     a.d[v] == 1.0 && row.nnz() == 1 && row.iter().next() == Some((v, &1.0))
 }
 
+/// The unknowns of the two symmetric stages: interpolated boundary rows
+/// (except identity rows, solved exactly by X = P), then interpolated interior rows.
+pub(crate) fn stages(a: &LimitMatrix, interpolated: &[bool]) -> [Vec<usize>; 2] {
+    let n = a.size();
+    let mut boundary = vec![false; n];
+    for &v in &a.boundary_rows {
+        boundary[v as usize] = true;
+    }
+    [
+        (0..n).filter(|&v| interpolated[v] && boundary[v] && !is_identity_row(a, v)).collect(),
+        (0..n).filter(|&v| interpolated[v] && !boundary[v]).collect(),
+    ]
+}
+
 /// Solves the interpolation system for the flagged vertices; the others keep
 /// their data position. `scale` is the data's bounding-box diagonal.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_limit_system(
     method: &'static str,
     a: &LimitMatrix,
@@ -38,19 +53,10 @@ pub(crate) fn solve_limit_system(
     max_iter: usize,
     scale: f64,
 ) -> Result<SystemSolution, InterpError> {
-    let n = a.size();
-    assert_eq!(data.len(), n, "one data point per row");
+    assert_eq!(data.len(), a.size(), "one data point per row");
     let mut x = data.to_vec();
-    let mut boundary = vec![false; n];
-    for &v in &a.boundary_rows {
-        boundary[v as usize] = true;
-    }
     let mut summary = SolveSummary { solver: solver.name().to_string(), ..SolveSummary::default() };
-    let stages: [Vec<usize>; 2] = [
-        (0..n).filter(|&v| interpolated[v] && boundary[v] && !is_identity_row(a, v)).collect(),
-        (0..n).filter(|&v| interpolated[v] && !boundary[v]).collect(),
-    ];
-    for unknowns in stages.iter().filter(|u| !u.is_empty()) {
+    for unknowns in stages(a, interpolated).iter().filter(|u| !u.is_empty()) {
         let (sub, rhs) = restrict(a, unknowns, &x, data);
         let opts = SolveOptions {
             tol,
@@ -59,7 +65,9 @@ pub(crate) fn solve_limit_system(
             history: true,
             initial: Some(unknowns.iter().map(|&v| data[v].to_array()).collect()),
         };
-        let sol = solver.solve(&sub, &rhs, &opts).map_err(|source| InterpError::Solve { method, source })?;
+        let sol = solver
+            .solve(&sub, &rhs, &opts)
+            .map_err(|source| InterpError::Solve { method, source: Box::new(source) })?;
         for (k, &v) in unknowns.iter().enumerate() {
             x[v] = DVec3::from_array(sol.x[k]);
         }
@@ -74,7 +82,12 @@ pub(crate) fn solve_limit_system(
 }
 
 /// The block A_UU = D_U·S_UU and right-hand side P_U − D_U·S_UK·X_K.
-fn restrict(a: &LimitMatrix, unknowns: &[usize], x: &[DVec3], data: &[DVec3]) -> (FactoredMatrix, Vec<[f64; 3]>) {
+pub(crate) fn restrict(
+    a: &LimitMatrix,
+    unknowns: &[usize],
+    x: &[DVec3],
+    data: &[DVec3],
+) -> (FactoredMatrix, Vec<[f64; 3]>) {
     let n = a.size();
     let mut local = vec![u32::MAX; n];
     for (k, &v) in unknowns.iter().enumerate() {

@@ -266,13 +266,16 @@ impl SplitMix64 {
 /// neighbour across a shared edge (making 5- to 8-gons), about `split_fraction`
 /// of the quads are split into two triangles, and positions are jittered by
 /// `jitter` (relative to the mean edge length). Merges that would create a
-/// repeated vertex or a vertex of valence < 2 are skipped.
+/// repeated vertex or a vertex of valence < 3 are skipped, so the mix has no
+/// valence-2 vertices unless the input had them.
 pub fn polygon_mix(mesh: &Mesh, seed: u64, merge_fraction: f64, split_fraction: f64, jitter: f64) -> Mesh {
     let mut rng = SplitMix64(seed);
     let t = mesh.topology();
     let nf = t.face_count();
     let mut faces: Vec<Option<Vec<u32>>> = t.faces().iter().map(|f| Some(f.to_vec())).collect();
     let mut touched = vec![false; nf];
+    // Current valences: each merge removes an edge and lowers both its ends by one.
+    let mut valence: Vec<usize> = t.vertices().map(|v| t.valence(v)).collect();
     let merges = (merge_fraction * nf as f64) as usize;
     for _ in 0..merges * 4 {
         let e = crate::EdgeId(rng.below(t.edge_count()) as u32);
@@ -282,8 +285,9 @@ pub fn polygon_mix(mesh: &Mesh, seed: u64, merge_fraction: f64, split_fraction: 
         }
         let (a, b) = t.edge_vertices(e);
         // Removing edge ab lowers both valences by one; keep them ≥ 3 so no
-        // vertex ends up with two edges inside a single merged face.
-        if t.valence(a) < 4 || t.valence(b) < 4 {
+        // vertex ends up with valence 2 (a Doo-Sabin digon, an indefinite
+        // Catmull-Clark matrix).
+        if valence[a.index()] < 4 || valence[b.index()] < 4 {
             continue;
         }
         let (fa, fb) = (t.face(f), t.face(g));
@@ -300,6 +304,8 @@ pub fn polygon_mix(mesh: &Mesh, seed: u64, merge_fraction: f64, split_fraction: 
         }
         touched[f.index()] = true;
         touched[g.index()] = true;
+        valence[a.index()] -= 1;
+        valence[b.index()] -= 1;
         faces[f.index()] = Some(merged);
         faces[g.index()] = None;
         if touched.iter().filter(|&&x| x).count() >= 2 * merges {

@@ -253,3 +253,14 @@ proptest! {
         prop_assert_eq!(other.component_count(), t.component_count());
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn polygon_mix_creates_no_valence_two_vertices(seed in any::<u64>(), merge in 0.0f64..0.6) {
+        let base = shapes::torus(10, 8);
+        let mixed = polygon_mix(&base, seed, merge, 0.3, 0.0);
+        let t = mixed.topology();
+        prop_assert!(t.vertices().all(|v| t.valence(v) >= 3));
+    }
+}

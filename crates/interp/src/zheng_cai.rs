@@ -1,0 +1,476 @@
+//! Zheng & Cai 2005: Doo-Sabin interpolation that always works, by a few
+//! sweeps of a diagonally dominant iteration and a local perturbation of the
+//! first refined mesh (`seeds/zheng-cai-2005-doo-sabin-interpolation.txt`,
+//! §3-§4).
+//!
+//! The output control mesh is the **perturbed first refined mesh M¹**; its
+//! plain Doo-Sabin limit surface passes through every interpolated vertex I:
+//! interior I is the centroid of its V-face in M¹ (a Doo-Sabin limit point at
+//! every level, SPEC §1), boundary I the midpoint of its two Chaikin points
+//! (the quadratic B-spline boundary's point). The error is round-off whatever
+//! the iteration count, even with no iteration at all: the perturbation
+//! (step 4) makes it exact, the iteration only keeps the perturbation small.
+//!
+//! # Algorithm (§3.4, with its equations)
+//! 1. M⁰ = I, the input positions (step 1).
+//! 2. Auxiliary mesh (step 2): sweep Eq. 7 over the interpolated vertices SI,
+//!    in storage order (Gauss-Seidel, the paper's choice) or all at once
+//!    (Jacobi, §3.2), at most ITE_MAX times; stop after the first sweep in
+//!    which no vertex moved by more than EPS·d. Eq. 7 is row v of
+//!    Z·M⁰ = I solved for V, where Z = Eq. 6 / 2m
+//!    ([`subdiv_stencil::limit_matrix_zheng_cai`]); the other vertices stay
+//!    at V_j = I_j (§2).
+//! 3. First refined mesh (step 3): one step of Eq. 4, V'ᵢ = (Vᵢ + A)/2, with
+//!    the Chaikin points on boundary edges
+//!    ([`subdiv_stencil::doo_sabin::refine`] with `CornerRule::Uniform(0.5)`).
+//! 4. Perturbation (step 4): for every interpolated interior vertex with
+//!    V-face W₁…W_m, n = the Newell normal of the W's (Eq. 10) or the
+//!    user's normal (§4.1), W_c = their mean, and
+//!    ε_k = [(W_c − W_k)·n]n + (I − W_c) (Eq. 17, final line). Afterwards the
+//!    V-face is planar, ⟂ n, with centroid I: the limit surface passes
+//!    through I with tangent plane ⟂ n. V-faces of distinct vertices share no
+//!    vertex, so the order does not matter.
+//! 5. Shape handles (§4.2, Brunet): W'_k = I + S_k(W_k − I), a homothety
+//!    about the centroid, which keeps the centroid and the plane.
+//! 6. Output M¹ with [`LimitAssociation::DualFace`]. In the
+//!    [`SolveSummary`], `history` is the **max update / d of every sweep**
+//!    (the paper's stopping quantity), `residual` the final
+//!    max |I − Z·M⁰| / d over SI (what the perturbation had to correct), and
+//!    `converged` says whether the EPS rule was met within ITE_MAX sweeps —
+//!    the surface interpolates either way.
+//!
+//! # Deviations from the paper
+//! - Eq. 17 is used in its final form with D ≡ I (ERRATA Z1-Z3: its second
+//!   line has a sign error, D is never defined, and §3.4 prints V for I),
+//!   rearranged as W_k + ε_k = I + P_n(W_k − W_c) (P_n the projection onto
+//!   the plane ⟂ n) so that round-off stays relative to the face size.
+//!   Eq. 10 is Newell's normal with cyclic indices (ERRATA Z5); a V-face with
+//!   zero vector area gets only the translation I − W_c (Eq. 9's solution).
+//! - Stopping rule: the paper's (every update ≤ EPS·d, or ITE_MAX sweeps),
+//!   coded here as a small sweep over the rows of Z, since the solve crate
+//!   stops on the residual (SPEC §4). Reaching ITE_MAX is the paper's design,
+//!   not an error. Any other solver of [`SolverChoice::Use`] (CG, LDLᵀ, …)
+//!   is run on the restricted system Z·M⁰ = I with its own residual rule,
+//!   tol = EPS and at most ITE_MAX iterations, keeping its last iterate; on
+//!   open meshes the boundary block is solved before the interior (as in
+//!   `system.rs`). `CommonOptions::tol` and `max_iter` are not used: EPS and
+//!   ITE_MAX are this method's names for them.
+//! - Open meshes (beyond the paper, which treats closed meshes, §5; SPEC §5):
+//!   Z's boundary rows are the quadratic B-spline point (B₋ + 6V + B₊)/8,
+//!   which is the midpoint of V's two Chaikin points in M¹; step 4 moves
+//!   both Chaikin points by ε = I − midpoint (each Chaikin point belongs to
+//!   one boundary vertex only). Prescribed normals at boundary vertices are
+//!   refused ([`InterpError::InvalidParameter`]): the tangent plane there is
+//!   not set by the V-face alone. Shape handles at boundary vertices scale
+//!   the whole boundary V-face about I, which keeps the midpoint at I.
+//! - Vertices not interpolated keep M⁰ = I and are not perturbed (the
+//!   paper's choice); a shape handle at such a vertex scales its V-face about
+//!   its own limit point, which therefore does not move. A prescribed normal
+//!   at such a vertex is refused.
+//! - Interior vertices of valence 2 are refused: their V-face is a digon,
+//!   which our Doo-Sabin refinement leaves out (`nasri::require_no_digons`).
+//!   Isolated vertices lie on no surface: they are left out of SI with a
+//!   warning.
+//!
+//! ```
+//! use subdiv_interp::{zheng_cai, ZhengCaiOptions};
+//! use subdiv_mesh::shapes;
+//! // A genus-1 polygon mix: quads, triangles and 5- to 8-gons.
+//! let mesh = shapes::polygon_mix(&shapes::torus(12, 8), 9, 0.2, 0.2, 0.1);
+//! assert!(mesh.topology().face_ids().any(|f| mesh.topology().face_size(f) > 4));
+//! let result = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default()).unwrap();
+//! let all = vec![true; mesh.topology().vertex_count()];
+//! let err = result.error(mesh.positions(), &all, mesh.bbox_diagonal());
+//! assert!(err.max_rel <= 1e-12);
+//! // The control mesh is the first refined mesh: one vertex per corner.
+//! assert_eq!(result.control.topology().vertex_count(), mesh.topology().half_edge_count());
+//! ```
+
+use crate::{
+    seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, SolveSummary,
+    SolverChoice,
+};
+use glam::DVec3;
+use subdiv_mesh::{newell_normal, Mesh, Topology, VertexId};
+use subdiv_solve::{SolveError, SolveOptions, Solver, SparseMatrix, SweepOrder};
+use subdiv_stencil::doo_sabin::{self, CornerRule};
+use subdiv_stencil::{apply, limit_matrix_zheng_cai, LimitMatrix};
+
+const METHOD: &str = "zheng-cai";
+
+/// ITE_MAX of the paper's implementation (§3.4: "it is chosen to be 5").
+pub const DEFAULT_ITE_MAX: usize = 5;
+/// EPS of the paper's examples, relative to d (§3.5: "an iterative
+/// termination threshold of 0.3%").
+pub const DEFAULT_EPS: f64 = 0.003;
+
+/// Options of [`interpolate`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ZhengCaiOptions {
+    /// Subset and solver. `solver`: `Auto` (or `Use` of Gauss-Seidel in
+    /// storage order) = Eq. 7 as the paper sweeps it; `Use(Solver::Jacobi)` =
+    /// the Jacobi form of §3.2; any other solver runs on the Z system with
+    /// its residual rule.
+    /// `tol` and `max_iter` are not used (see [`Self::eps`], [`Self::ite_max`]).
+    pub common: CommonOptions,
+    /// ITE_MAX: the most sweeps of Eq. 7 (0 = the auxiliary mesh is the input).
+    pub ite_max: usize,
+    /// EPS relative to d: stop after a sweep whose largest update is ≤ EPS·d.
+    pub eps: f64,
+    /// Per input vertex, the normal the surface must have there (§4.1); it
+    /// replaces Eq. 10's average normal. Only at interpolated interior
+    /// vertices; the sign does not matter.
+    pub normals: Option<Vec<Option<DVec3>>>,
+    /// Per input vertex, Brunet's shape handle S_k > 0 (§4.2); 1 = none,
+    /// < 1 sharper, > 1 flatter around the vertex.
+    pub handles: Option<Vec<f64>>,
+}
+
+impl Default for ZhengCaiOptions {
+    fn default() -> Self {
+        Self {
+            common: CommonOptions::default(),
+            ite_max: DEFAULT_ITE_MAX,
+            eps: DEFAULT_EPS,
+            normals: None,
+            handles: None,
+        }
+    }
+}
+
+/// The auxiliary mesh M⁰ of steps 1-2 and how the iteration went.
+#[derive(Clone, Debug)]
+pub struct AuxiliaryMesh {
+    /// M⁰: the input topology with the iterated positions.
+    pub mesh: Mesh,
+    /// Sweeps, the EPS verdict, max update / d per sweep (`history`) and the
+    /// final max |I − Z·M⁰| / d over the interpolated vertices (`residual`).
+    pub summary: SolveSummary,
+    /// Per input vertex: interpolated (in SI)?
+    pub interpolated: Vec<bool>,
+    /// Things the user should know (isolated vertices left out).
+    pub warnings: Vec<String>,
+}
+
+/// How M⁰ is iterated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Iteration {
+    /// Eq. 7 with the paper's update rule: in storage order, or Jacobi.
+    Paper { jacobi: bool },
+    /// A solver of the solve crate, with its residual rule.
+    Other(Solver),
+}
+
+impl Iteration {
+    fn of(choice: SolverChoice) -> Self {
+        match choice {
+            SolverChoice::Auto | SolverChoice::Use(Solver::GaussSeidel(SweepOrder::Storage)) => {
+                Iteration::Paper { jacobi: false }
+            }
+            SolverChoice::Use(Solver::Jacobi) => Iteration::Paper { jacobi: true },
+            SolverChoice::Use(s) => Iteration::Other(s),
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Iteration::Paper { jacobi: false } => Solver::GaussSeidel(SweepOrder::Storage).name(),
+            Iteration::Paper { jacobi: true } => Solver::Jacobi.name(),
+            Iteration::Other(s) => s.name(),
+        }
+    }
+    /// What `SolveSummary::history` holds.
+    fn history_quantity(self) -> &'static str {
+        match self {
+            Iteration::Paper { .. } => "max update / d per sweep",
+            Iteration::Other(_) => "max residual |I - Z M0| / d per iteration",
+        }
+    }
+}
+
+/// Steps 1-2: the auxiliary mesh M⁰ (input topology) whose Eq. 4 step has
+/// V-face centroids close to the data.
+///
+/// # Errors
+/// [`InterpError::InvalidParameter`] for a bad subset or EPS;
+/// [`InterpError::Solve`] when a solver other than the paper's fails for a
+/// reason other than its iteration cap.
+pub fn auxiliary_mesh(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<AuxiliaryMesh, InterpError> {
+    let si = interpolated_set(mesh, opts)?;
+    let z = limit_matrix_zheng_cai(mesh.topology());
+    auxiliary_from(mesh, opts, &z, si)
+}
+
+/// SI as flags (isolated vertices left out, with a warning), after checking EPS.
+fn interpolated_set(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<(Vec<bool>, Vec<String>), InterpError> {
+    if !(opts.eps.is_finite() && opts.eps >= 0.0) {
+        return Err(InterpError::InvalidParameter(format!("EPS = {} must be finite and ≥ 0", opts.eps)));
+    }
+    let t = mesh.topology();
+    let mut interpolated = opts.common.interpolated(t.vertex_count())?;
+    let mut warnings = Vec::new();
+    let isolated: Vec<VertexId> = t.vertices().filter(|&v| interpolated[v.index()] && t.is_isolated(v)).collect();
+    if let Some(first) = isolated.first() {
+        isolated.iter().for_each(|v| interpolated[v.index()] = false);
+        warnings.push(format!(
+            "{} isolated vertices (first: {first}) lie on no face and are not interpolated",
+            isolated.len()
+        ));
+    }
+    Ok((interpolated, warnings))
+}
+
+fn auxiliary_from(
+    mesh: &Mesh,
+    opts: &ZhengCaiOptions,
+    z: &LimitMatrix,
+    (interpolated, warnings): (Vec<bool>, Vec<String>),
+) -> Result<AuxiliaryMesh, InterpError> {
+    let d = mesh.bbox_diagonal();
+    let iteration = Iteration::of(opts.common.solver);
+    let (positions, summary) = match iteration {
+        Iteration::Paper { jacobi } => paper_sweeps(z, mesh.positions(), &interpolated, jacobi, opts, d),
+        Iteration::Other(solver) => solver_iterations(solver, z, mesh.positions(), &interpolated, opts, d)?,
+    };
+    Ok(AuxiliaryMesh { mesh: mesh.with_positions(positions), summary, interpolated, warnings })
+}
+
+/// Step 2 as printed: sweeps of Eq. 7 over SI until no update exceeds
+/// EPS·d or ITE_MAX sweeps are done. Returns M⁰ and the summary.
+#[allow(non_snake_case)]
+fn paper_sweeps(
+    z: &LimitMatrix,
+    I: &[DVec3],
+    interpolated: &[bool],
+    jacobi: bool,
+    opts: &ZhengCaiOptions,
+    d: f64,
+) -> (Vec<DVec3>, SolveSummary) {
+    let Z: SparseMatrix = z.to_csr(); // Eq. (6) / 2m: row v is V's V-face centroid after Eq. (4)
+    let (indptr, indices, values) = (Z.indptr(), Z.indices(), Z.data());
+    let indptr = indptr.raw_storage();
+    let SI: Vec<usize> = (0..I.len()).filter(|&v| interpolated[v]).collect();
+    let threshold = opts.eps * d;
+    let mut V = I.to_vec(); // step 1: M⁰ = I
+    let mut fresh = vec![DVec3::ZERO; SI.len()]; // Jacobi: this sweep's values
+    let mut summary = SolveSummary::default();
+    for _ in 0..opts.ite_max {
+        let mut max_update = 0.0_f64;
+        for (k, &v) in SI.iter().enumerate() {
+            let (mut diagonal, mut others) = (0.0, DVec3::ZERO);
+            for q in indptr[v] as usize..indptr[v + 1] as usize {
+                let j = indices[q] as usize;
+                if j == v {
+                    diagonal = values[q];
+                } else {
+                    others += values[q] * V[j];
+                }
+            }
+            // Eq. (7): V = 2mC·I − C Σ (1/mᵢ + 1/mᵢ₋₁) Eᵢ − C Σ (1/mᵢ) Σⱼ Vⱼⁱ, with
+            // 1/z_vv = 2mC; on the boundary V = (8I − B₋ − B₊)/6.
+            let updated = (I[v] - others) / diagonal;
+            max_update = max_update.max(updated.distance(V[v]));
+            if jacobi {
+                fresh[k] = updated;
+            } else {
+                V[v] = updated; // Gauss-Seidel: used at once (§3.2)
+            }
+        }
+        if jacobi {
+            SI.iter().zip(&fresh).for_each(|(&v, &x)| V[v] = x);
+        }
+        summary.iterations += 1;
+        summary.matvecs += 1;
+        summary.history.push(max_update / d);
+        if max_update <= threshold {
+            summary.converged = true; // step 2: PASS == TRUE
+            break;
+        }
+    }
+    let ZV = z.apply(&V);
+    summary.matvecs += 1;
+    summary.residual = SI.iter().map(|&v| I[v].distance(ZV[v])).fold(0.0, f64::max) / d;
+    summary.solver = if jacobi { Solver::Jacobi } else { Solver::GaussSeidel(SweepOrder::Storage) }.name().into();
+    (V, summary)
+}
+
+/// Another solver on Z·M⁰ = I restricted to SI (boundary block first on open
+/// meshes), tol = EPS, at most ITE_MAX iterations, keeping the last iterate.
+#[allow(non_snake_case)]
+fn solver_iterations(
+    solver: Solver,
+    z: &LimitMatrix,
+    I: &[DVec3],
+    interpolated: &[bool],
+    opts: &ZhengCaiOptions,
+    d: f64,
+) -> Result<(Vec<DVec3>, SolveSummary), InterpError> {
+    let n = z.size();
+    let mut V = I.to_vec();
+    let mut summary = SolveSummary { solver: solver.name().into(), converged: true, ..SolveSummary::default() };
+    for unknowns in crate::system::stages(z, interpolated).iter().filter(|u| !u.is_empty()) {
+        if opts.ite_max == 0 {
+            summary.converged = false;
+            break;
+        }
+        let (sub, rhs) = crate::system::restrict(z, unknowns, &V, I);
+        let solve_opts = SolveOptions {
+            tol: opts.eps,
+            scale: d,
+            max_iter: opts.ite_max,
+            history: true,
+            initial: Some(unknowns.iter().map(|&v| I[v].to_array()).collect()),
+        };
+        let (x, iterations, matvecs, history) = match solver.solve(&sub, &rhs, &solve_opts) {
+            Ok(sol) => (sol.x, sol.iterations, sol.matvecs, sol.history),
+            // ITE_MAX is the paper's budget, not a failure: keep the last iterate.
+            Err(SolveError::NotConverged { x, iterations, history, .. }) => {
+                summary.converged = false;
+                (x.0, iterations, iterations, history)
+            }
+            Err(source) => return Err(InterpError::Solve { method: METHOD, source: Box::new(source) }),
+        };
+        for (k, &v) in unknowns.iter().enumerate() {
+            V[v] = DVec3::from_array(x[k]);
+        }
+        summary.iterations += iterations;
+        summary.matvecs += matvecs;
+        summary.history.extend(history);
+    }
+    let ZV = z.apply(&V);
+    summary.residual = (0..n).filter(|&v| interpolated[v]).map(|v| I[v].distance(ZV[v])).fold(0.0, f64::max) / d;
+    Ok((V, summary))
+}
+
+/// Checks normals and handles against the mesh and the subset.
+fn validate(t: &Topology, opts: &ZhengCaiOptions, interpolated: &[bool]) -> Result<(), InterpError> {
+    let nv = t.vertex_count();
+    let bad = |msg: String| Err(InterpError::InvalidParameter(msg));
+    if let Some(normals) = &opts.normals {
+        if normals.len() != nv {
+            return bad(format!("{} normals for {nv} vertices", normals.len()));
+        }
+        for (v, n) in normals.iter().enumerate().filter_map(|(v, n)| n.map(|n| (v, n))) {
+            if !n.is_finite() || n.length() == 0.0 {
+                return bad(format!("the normal of vertex {v} is zero or not finite: {n}"));
+            }
+            if !interpolated[v] {
+                return bad(format!("vertex {v} has a normal but is not interpolated"));
+            }
+            if t.is_boundary_vertex(VertexId(v as u32)) {
+                return bad(format!(
+                    "vertex {v} is on the boundary: zheng-cai prescribes normals at interior vertices only"
+                ));
+            }
+        }
+    }
+    if let Some(handles) = &opts.handles {
+        if handles.len() != nv {
+            return bad(format!("{} shape handles for {nv} vertices", handles.len()));
+        }
+        if let Some((v, s)) = handles.iter().enumerate().find(|(_, s)| !(s.is_finite() && **s > 0.0)) {
+            return bad(format!("the shape handle of vertex {v} is {s}; it must be finite and > 0"));
+        }
+    }
+    Ok(())
+}
+
+/// Interpolates the flagged vertices of `mesh` (default all) with a
+/// Doo-Sabin limit surface of the perturbed first refined mesh M¹.
+///
+/// # Errors
+/// [`InterpError::UnsupportedMesh`] for interior vertices of valence 2;
+/// [`InterpError::InvalidParameter`] for a bad subset, EPS, normal or handle
+/// (naming the vertex); [`InterpError::Solve`] when a non-paper solver fails
+/// for a reason other than its iteration cap.
+#[allow(non_snake_case)]
+pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, InterpError> {
+    crate::nasri::require_no_digons(METHOD, mesh)?;
+    let t = mesh.topology();
+    let si = interpolated_set(mesh, opts)?;
+    validate(t, opts, &si.0)?;
+    let setup_start = std::time::Instant::now();
+    let z = limit_matrix_zheng_cai(t);
+    let (t1, dual, R) = doo_sabin::refine(t, CornerRule::Uniform(0.5))?; // Eq. (4) topology and stencil
+    let setup_seconds = seconds_since(setup_start);
+
+    let solve_start = std::time::Instant::now();
+    let aux = auxiliary_from(mesh, opts, &z, si)?; // steps 1-2
+    let SI = &aux.interpolated;
+    let mut warnings = aux.warnings;
+    let I = mesh.positions();
+    let mut W = apply(&R, aux.mesh.positions()); // step 3: M¹ = Eq. (4) step of M⁰
+    let boundary_pair: Vec<Option<(VertexId, VertexId)>> =
+        t.vertices().map(|v| t.is_boundary_vertex(v).then(|| crate::interpolant::chaikin_pair(t, &dual, v))).collect();
+    for v in t.vertices().filter(|v| SI[v.index()]) {
+        let i = v.index();
+        if let Some((a, b)) = boundary_pair[i] {
+            // Open meshes: the limit point is the midpoint of the two Chaikin points;
+            // Eq. (9)'s minimal perturbation of that pair: both move by I − midpoint.
+            let eps = I[i] - (W[a.index()] + W[b.index()]) / 2.0;
+            W[a.index()] += eps;
+            W[b.index()] += eps;
+            continue;
+        }
+        let face = t1.face(dual.vertex_face[i].expect("interior vertices of valence ≥ 3 have a V-face"));
+        let corners = || face.iter().map(|&k| W[k as usize]);
+        let m = face.len() as f64;
+        let W_c = corners().sum::<DVec3>() / m;
+        let given = opts.normals.as_ref().and_then(|n| n[i]);
+        // §4.1: the required normal replaces Eq. (10)'s Newell normal (cyclic, ERRATA Z5).
+        let n = given.unwrap_or_else(|| newell_normal(corners())).normalize_or_zero();
+        for &k in face {
+            let w = W[k as usize] - W_c;
+            // Eq. (17), final line with D ≡ I (ERRATA Z1-Z3):
+            // W_k + ε_k = W_k + [(W_c − W_k)·n]n + (I − W_c) = I + (w − (w·n)n), w = W_k − W_c.
+            W[k as usize] = I[i] + (w - w.dot(n) * n);
+        }
+    }
+    let mut handles_applied = 0;
+    if let Some(handles) = &opts.handles {
+        for v in t.vertices().filter(|v| handles[v.index()] != 1.0) {
+            let i = v.index();
+            let Some(f) = dual.vertex_face[i] else {
+                warnings.push(format!("vertex {v} has no V-face (isolated): its shape handle has no effect"));
+                continue;
+            };
+            let face = t1.face(f);
+            // The homothety's centre: the vertex's limit point, I after step 4.
+            let centre = match boundary_pair[i] {
+                Some((a, b)) => (W[a.index()] + W[b.index()]) / 2.0,
+                None => face.iter().map(|&k| W[k as usize]).sum::<DVec3>() / face.len() as f64,
+            };
+            let centre = if SI[i] { I[i] } else { centre };
+            for &k in face {
+                W[k as usize] = centre + handles[i] * (W[k as usize] - centre); // §4.2: W' = D + S(W − D)
+            }
+            handles_applied += 1;
+        }
+    }
+    let solve_seconds = seconds_since(solve_start);
+
+    let iteration = Iteration::of(opts.common.solver);
+    let mut parameters = serde_json::Map::new();
+    parameters.insert("solver".into(), iteration.name().into());
+    parameters.insert("ite_max".into(), opts.ite_max.into());
+    parameters.insert("eps".into(), opts.eps.into());
+    parameters.insert("history".into(), iteration.history_quantity().into());
+    parameters.insert("interpolated_vertices".into(), SI.iter().filter(|&&b| b).count().into());
+    let normals_given = opts.normals.as_ref().map_or(0, |n| n.iter().flatten().count());
+    parameters.insert("normals".into(), normals_given.into());
+    let handles = opts.handles.as_ref().map(|h| {
+        let (lo, hi) = h.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &s| (lo.min(s), hi.max(s)));
+        serde_json::json!({ "count": handles_applied, "min": lo, "max": hi })
+    });
+    parameters.insert("handles".into(), handles.unwrap_or(serde_json::Value::Null));
+    Ok(Interpolant {
+        method: Method::ZhengCai,
+        control: Mesh::from_topology(t1, W),
+        scheme: ControlScheme::DooSabin,
+        association: LimitAssociation::DualFace { v_face: dual.vertex_face, boundary_pair },
+        solve: Some(aux.summary),
+        setup_seconds,
+        solve_seconds,
+        warnings,
+        parameters,
+    })
+}
