@@ -74,8 +74,8 @@ pub struct InterpolateArgs {
     /// zheng-cai: EPS, stop sweeping when every update is below EPS·d (paper: 0.003).
     #[arg(long, default_value_t = 0.003)]
     eps: f64,
-    /// deng-wang: the edge parameter μ of Eq. 9.
-    #[arg(long, default_value_t = 0.25)]
+    /// deng-wang: the edge parameter μ of Eq. 9 (default ⅜: measured best, see the deng_wang module docs).
+    #[arg(long, default_value_t = subdiv_interp::deng_wang::DEFAULT_MU)]
     mu: f64,
     /// deng-wang: Loop's β.
     #[arg(long, value_enum, default_value = "warren")]

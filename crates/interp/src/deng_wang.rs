@@ -1,0 +1,302 @@
+//! Deng & Wang 2010: explicit, local interpolation by Loop surfaces
+//! (`seeds/deng-wang-2010-loop-interpolation.txt`, Eq. 1-9; the text is
+//! garbled and cut off after Eq. 9, reconstructed in ERRATA W1-W9).
+//!
+//! Only the **first** Loop step is modified (Eq. 7: 1Ḡ 1T 2G 2T …, ERRATA
+//! W9): its edge points are chosen freely (one degree of freedom per edge,
+//! ERRATA W8) and its vertex points are then solved so that the plain Loop
+//! limit point of every old vertex of M¹ is the data point (Eq. 5). Nothing
+//! global is solved: every new point is an explicit formula over a 1-ring,
+//! so moving one data point changes the surface only near it.
+//!
+//! # Algorithm
+//! 1. Normals n_i (Eq. 8, ERRATA W5): the angle-weighted unit normal
+//!    Σⱼ θⱼ nⱼ / ‖Σⱼ θⱼ nⱼ‖ ([`Mesh::vertex_normals`]), or the user's normal
+//!    where [`DengWangOptions::normals`] gives one.
+//! 2. Edge points (Eq. 9, ERRATA W6), for an interior edge (i, j) with
+//!    midpoint m = (p_i + p_j)/2:
+//!    p_e = m + μ(d_i n_i + d_j n_j), d_i = (p_i − m)·n_i, d_j = (p_j − m)·n_j.
+//! 3. Vertex points (ERRATA W7): in M¹ the neighbours of old vertex i are
+//!    exactly the edge points of its edges, so its plain Loop limit mask
+//!    w·p_i¹ + Σ wⱼ p_{e(ij)} can be solved for the centre:
+//!    p_i¹ = (p_i⁰ − Σⱼ wⱼ p_{e(ij)}) / w. Interior vertex of valence k:
+//!    p_i¹ = (p_i⁰ − γ Σⱼ p_{e(ij)}) / (1 − kγ), γ = 1/(k + 3/(8β)) (Eq. 5-6,
+//!    ERRATA W4).
+//! 4. Output M¹: the [`triangle_split`] connectivity of the input (old
+//!    vertices keep their indices, then one edge point per edge in edge
+//!    order), scheme Loop(β). Control vertex i of M¹ has input vertex i as
+//!    its plain Loop limit point ([`LimitAssociation::ControlVertex`]).
+//!
+//! # Deviations from the paper and choices it leaves open
+//! - μ: the admissible range is cut off in the seed. ERRATA W6 proposes
+//!   μ = ¼, which puts the edge points of points sampled from a sphere (with
+//!   radial normals) **on** the sphere to O(h⁴). That is not what makes the
+//!   *limit surface* close to the sphere: Loop's limit of points on a
+//!   surface lies inside it by about h²κ/4 (h the edge length of M¹, κ the
+//!   curvature). On a regular lattice sampling a quadric with curvature κ,
+//!   step 2 offsets the edge points by (2μ − ½)κh² along the normal and
+//!   step 3 then offsets the vertex points by (1 − 2μ)κh² (independent of
+//!   the valence for Warren's β); at **μ = ⅜** both offsets equal κh²/4,
+//!   exactly cancelling the shrinkage, so the limit surface deviates by
+//!   O(h⁴) away from extraordinary vertices (and by O(h²) with a small
+//!   constant near them, where Loop reproduces only linear functions). The
+//!   test `mu_experiment_sphere_and_fairness` confirms it: on points of the
+//!   unit sphere the level-4 limit surface's RMS distance from the sphere is
+//!   3.3e-3 at μ = ¼ and 2.9e-4 at μ = ⅜ (icosphere_2), and the gap widens
+//!   under refinement of the data (icospheres of 42 to 2562 vertices: ¼
+//!   falls 4× per halving of h, ⅜ falls 12×, 8×, 5× — tending to the O(h²)
+//!   of the extraordinary vertices with a ~25× smaller constant).
+//!   Hence the default [`DEFAULT_MU`] = ⅜. Any finite μ interpolates; values
+//!   outside [0, ½] give a warning.
+//! - Open meshes (the paper restricts itself to closed meshes, "extension
+//!   to open meshes is straightforward"):
+//!   - boundary edges use the same formula with the boundary **curve's**
+//!     normal plane in place of the surface's normal line, and μ scaled by
+//!     [`BOUNDARY_MU_SCALE`] = 8/9:
+//!     p_e = m + ⁸⁄₉μ(Π_i(p_i − m) + Π_j(p_j − m)), Π_v = I − t_v t_vᵀ, t_v
+//!     the unit tangent of the boundary polygon at v (sum of the unit
+//!     vectors along its two boundary edges; at a corner — a vertex in one
+//!     triangle — the edge itself, so the corner contributes nothing). For a
+//!     planar boundary curve Π_v(p_v − m) = d_v n_v with n_v the curve's
+//!     principal normal. The boundary limit is the cubic B-spline of M¹'s
+//!     boundary polygon, whose shrinkage the same computation as above
+//!     cancels at ⅓ instead of ⅜ — hence the factor: at the default μ = ⅜
+//!     a boundary sampled from a circle has its limit curve on the circle to
+//!     O(h⁴), as the interior of a sphere (test
+//!     `boundary_limit_curve_reproduces_circles`); μ = 0 gives the plain
+//!     midpoint. The surface normal is not used on the boundary: it sees
+//!     only the normal curvature of the boundary curve, not its geodesic
+//!     curvature;
+//!   - boundary vertices solve the plain boundary limit rule of M¹,
+//!     (e₋ + 4p¹ + e₊)/6 = p⁰ over the two boundary edge points:
+//!     p¹ = (6p⁰ − e₋ − e₊)/4; corners keep p¹ = p⁰ (their limit).
+//! - Vertex subset (beyond the paper): vertices not interpolated get the
+//!   plain Loop vertex rule (Eq. 1, boundary (p₋ + 6p + p₊)/8); edge points
+//!   are computed by Eq. 9 everywhere.
+//! - Only `common.subset` of [`CommonOptions`] is read: the method is
+//!   explicit, so tolerance, iteration cap and solver do not apply.
+//!
+//! ```
+//! use subdiv_interp::{deng_wang, DengWangOptions};
+//! use subdiv_mesh::shapes;
+//! let ico = shapes::icosahedron();
+//! let result = deng_wang::interpolate(&ico, &DengWangOptions::default()).unwrap();
+//! // M¹: 12 old vertices + 30 edge points, 80 triangles.
+//! assert_eq!(result.control.topology().face_count(), 80);
+//! let all = vec![true; 12];
+//! let err = result.error(ico.positions(), &all, ico.bbox_diagonal());
+//! assert!(err.max_rel <= 1e-14);
+//! ```
+
+use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method};
+use glam::DVec3;
+use subdiv_mesh::refine::triangle_split;
+use subdiv_mesh::{EdgeId, Mesh, Topology, VertexId};
+use subdiv_rules::loop_scheme::{limit_mask, vertex_point_mask};
+use subdiv_rules::{LoopBeta, VertexKind, VertexMask};
+
+/// Default edge parameter μ of Eq. 9: ⅜, the value at which the first step
+/// cancels Loop's shrinkage on a regular lattice (module docs; ERRATA W6's
+/// ¼ puts the edge points, not the limit surface, on a sphere).
+pub const DEFAULT_MU: f64 = 0.375;
+
+/// Boundary edges use BOUNDARY_MU_SCALE·μ: the cubic B-spline boundary's
+/// shrinkage is cancelled at ⅓ where Loop's interior is at ⅜ (module docs).
+pub const BOUNDARY_MU_SCALE: f64 = 8.0 / 9.0;
+
+/// Range of μ the tests and the μ experiment cover; outside it a warning is given.
+pub const TESTED_MU: (f64, f64) = (0.0, 0.5);
+
+/// Options of [`interpolate`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct DengWangOptions {
+    /// Vertex subset (only `subset` is read: the method solves nothing).
+    pub common: CommonOptions,
+    /// The free parameter μ of Eq. 9 (default [`DEFAULT_MU`] = ⅜).
+    pub mu: f64,
+    /// Loop's β for the control mesh's scheme (Warren's by default).
+    pub beta: LoopBeta,
+    /// Per-vertex normals replacing Eq. 8 where `Some` (need not be unit
+    /// length; must be finite and non-zero). One entry per input vertex.
+    pub normals: Option<Vec<Option<DVec3>>>,
+}
+
+impl Default for DengWangOptions {
+    fn default() -> Self {
+        Self { common: CommonOptions::default(), mu: DEFAULT_MU, beta: LoopBeta::default(), normals: None }
+    }
+}
+
+/// The Loop rule class of a vertex (`EDGE_AND_CORNER` boundaries).
+fn kind(t: &Topology, v: VertexId) -> VertexKind {
+    VertexKind::classify(t.is_boundary_vertex(v), t.vertex_face_count(v))
+}
+
+/// The edges at `v`, in fan order; on the boundary the closing edge last,
+/// so the first and last are the two boundary edges.
+fn edges_at(t: &Topology, v: VertexId) -> impl Iterator<Item = EdgeId> + '_ {
+    let fan = t.vertex_fan(v);
+    let closing = (t.is_boundary_vertex(v) && !fan.is_empty()).then(|| t.he_edge(t.he_prev(fan[fan.len() - 1])));
+    fan.iter().map(|&h| t.he_edge(h)).chain(closing)
+}
+
+/// The other end of edge `e` seen from `v`.
+fn other_end(t: &Topology, e: EdgeId, v: VertexId) -> VertexId {
+    let (a, b) = t.edge_vertices(e);
+    if a == v {
+        b
+    } else {
+        a
+    }
+}
+
+/// Σ over the edges at `v` of the mask's neighbour weight (interior or
+/// boundary, by the edge's kind) times `point(edge)`.
+fn ring_sum(t: &Topology, v: VertexId, mask: &VertexMask, point: impl Fn(EdgeId) -> DVec3) -> DVec3 {
+    edges_at(t, v)
+        .map(|e| {
+            let w = if t.is_boundary_edge(e) { mask.boundary_neighbor } else { mask.interior_neighbor };
+            w * point(e)
+        })
+        .sum()
+}
+
+/// Unit tangent of the boundary polygon at boundary vertex `v`: the sum of
+/// the unit vectors along its two boundary edges (zero if they cancel).
+fn boundary_tangent(t: &Topology, p: &[DVec3], v: VertexId) -> DVec3 {
+    let (prev, next) = t.boundary_neighbors(v).expect("a boundary vertex");
+    let pv = p[v.index()];
+    ((p[next.index()] - pv).normalize_or_zero() + (pv - p[prev.index()]).normalize_or_zero()).normalize_or_zero()
+}
+
+/// The normals of step 1: Eq. 8, replaced by the user's where given.
+fn normals(mesh: &Mesh, user: Option<&[Option<DVec3>]>) -> Result<Vec<DVec3>, InterpError> {
+    let mut n = mesh.vertex_normals(); // Eq. (8): nᵢ = Σⱼ θⱼ nⱼ / ‖Σⱼ θⱼ nⱼ‖ (ERRATA W5)
+    let Some(user) = user else { return Ok(n) };
+    if user.len() != n.len() {
+        return Err(InterpError::InvalidParameter(format!(
+            "{} normals given for a mesh of {} vertices",
+            user.len(),
+            n.len()
+        )));
+    }
+    for (v, given) in user.iter().enumerate() {
+        if let Some(u) = *given {
+            let unit = u.try_normalize().ok_or_else(|| {
+                InterpError::InvalidParameter(format!("the normal of vertex {v} ({u}) is zero or not finite"))
+            })?;
+            n[v] = unit;
+        }
+    }
+    Ok(n)
+}
+
+/// The E edge points of the modified first step (Eq. 9; boundary edges by
+/// the curve analogue described in the module docs), in edge order, from
+/// V positions and V unit normals.
+pub fn edge_points(t: &Topology, p: &[DVec3], normals: &[DVec3], mu: f64) -> Vec<DVec3> {
+    t.edges()
+        .map(|e| {
+            let (i, j) = t.edge_vertices(e);
+            let (pi, pj) = (p[i.index()], p[j.index()]);
+            let m = (pi + pj) / 2.0;
+            if t.is_boundary_edge(e) {
+                // Curve analogue of Eq. (9): the offsets projected on each end's normal plane.
+                let project = |v: VertexId, pv: DVec3| {
+                    let tangent = if kind(t, v) == VertexKind::Corner {
+                        (pj - pi).normalize_or_zero()
+                    } else {
+                        boundary_tangent(t, p, v)
+                    };
+                    let d = pv - m;
+                    d - d.dot(tangent) * tangent
+                };
+                m + BOUNDARY_MU_SCALE * mu * (project(i, pi) + project(j, pj))
+            } else {
+                let (ni, nj) = (normals[i.index()], normals[j.index()]);
+                let (di, dj) = ((pi - m).dot(ni), (pj - m).dot(nj)); // Eq. (9): dᵢ = (pᵢ − (pᵢ+pⱼ)/2)·nᵢ
+                m + mu * (di * ni + dj * nj) // Eq. (9): p = (pᵢ+pⱼ)/2 + μ(dᵢnᵢ + dⱼnⱼ)
+            }
+        })
+        .collect()
+}
+
+/// Interpolates the vertices of `mesh` (a triangle mesh, open or closed)
+/// with the Loop limit surface of the modified first refined mesh M¹.
+///
+/// The control mesh has V + E vertices ([`triangle_split`] numbering) and
+/// 4F triangles; vertex i < V has input vertex i as its Loop limit point.
+pub fn interpolate(mesh: &Mesh, opts: &DengWangOptions) -> Result<Interpolant, InterpError> {
+    let t = mesh.topology();
+    if let Some(f) = t.face_ids().find(|&f| t.face_size(f) != 3) {
+        return Err(InterpError::UnsupportedMesh {
+            method: "deng-wang",
+            reason: format!("face {f} has {} vertices; Loop needs triangles", t.face_size(f)),
+            suggestion: "cheng, zheng-cai or fan-cheng-lai (any polygons), or triangulate the mesh first",
+        });
+    }
+    if !opts.mu.is_finite() {
+        return Err(InterpError::InvalidParameter(format!("Deng-Wang μ = {} is not finite", opts.mu)));
+    }
+    let interpolated = opts.common.interpolated(t.vertex_count())?;
+    let mut warnings = Vec::new();
+    if !(TESTED_MU.0..=TESTED_MU.1).contains(&opts.mu) {
+        warnings.push(format!(
+            "μ = {} is outside [{}, {}], the range tested for fair surfaces (the surface still interpolates)",
+            opts.mu, TESTED_MU.0, TESTED_MU.1
+        ));
+    }
+
+    let start = std::time::Instant::now();
+    let n = normals(mesh, opts.normals.as_deref())?;
+    let topology = triangle_split(t).expect("checked: all faces are triangles");
+    let setup_seconds = seconds_since(start);
+
+    let start = std::time::Instant::now();
+    let p = mesh.positions();
+    let edge = edge_points(t, p, &n, opts.mu);
+    let mut positions = Vec::with_capacity(t.vertex_count() + t.edge_count());
+    for v in t.vertices() {
+        let p0 = p[v.index()];
+        let k = t.valence(v);
+        positions.push(if t.is_isolated(v) {
+            p0
+        } else if interpolated[v.index()] {
+            // W7: solve the plain limit mask of M¹ at v (Eq. 5; boundary (e₋ + 4p + e₊)/6; corner p) for p¹:
+            // interior p¹ = (p⁰ − γ Σ p_e) / (1 − kγ), boundary p¹ = (6p⁰ − e₋ − e₊)/4, corner p¹ = p⁰.
+            let mask = limit_mask(kind(t, v), k, opts.beta);
+            (p0 - ring_sum(t, v, &mask, |e| edge[e.index()])) / mask.vertex
+        } else {
+            // Not interpolated: the plain Loop vertex point on M⁰ (Eq. 1; boundary (p₋ + 6p + p₊)/8).
+            let mask = vertex_point_mask(kind(t, v), k, opts.beta);
+            mask.vertex * p0 + ring_sum(t, v, &mask, |e| p[other_end(t, e, v).index()])
+        });
+    }
+    positions.extend_from_slice(&edge);
+    let solve_seconds = seconds_since(start);
+
+    let mut parameters = serde_json::Map::new();
+    parameters.insert("mu".into(), opts.mu.into());
+    parameters.insert(
+        "beta".into(),
+        match opts.beta {
+            LoopBeta::Warren => "warren",
+            LoopBeta::Loop => "loop",
+        }
+        .into(),
+    );
+    let user_normals = opts.normals.as_ref().map_or(0, |u| u.iter().flatten().count());
+    parameters.insert("user_normals".into(), user_normals.into());
+    parameters.insert("interpolated_vertices".into(), interpolated.iter().filter(|&&b| b).count().into());
+    Ok(Interpolant {
+        method: Method::DengWang,
+        control: Mesh::from_topology(topology, positions),
+        scheme: ControlScheme::Loop(opts.beta),
+        association: LimitAssociation::ControlVertex,
+        solve: None,
+        setup_seconds,
+        solve_seconds,
+        warnings,
+        parameters,
+    })
+}
