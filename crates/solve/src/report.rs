@@ -1,0 +1,229 @@
+//! Options in, report out, and the convergence monitor every iterative
+//! solver shares.
+
+use std::time::Instant;
+
+use crate::error::{LastIterate, SolveError, StopReason};
+use crate::kernels::{all_finite, Row};
+use crate::tolerances::{DEFAULT_MAX_ITER, DEFAULT_TOL, DIVERGENCE_FACTOR, STAGNATION_FACTOR, STAGNATION_WINDOW};
+
+/// Stopping rule and start of a solve.
+///
+/// A solve stops when max_i ‖P_i − (A·X)_i‖₂ / `scale` ≤ `tol` (SPEC §4:
+/// the quantity the papers use; `scale` is the caller's bounding-box
+/// diagonal d), or after `max_iter` iterations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolveOptions {
+    /// Relative tolerance on the max row residual.
+    pub tol: f64,
+    /// Length the residual is measured against (the input's bbox diagonal).
+    pub scale: f64,
+    /// Iteration cap of the iterative solvers (direct solvers ignore it).
+    pub max_iter: usize,
+    /// Record the residual of every iterate in [`Solution::history`].
+    pub history: bool,
+    /// Start X₀ of the iterative solvers (default: X₀ = P, the natural start
+    /// since every limit matrix is close to the identity).
+    pub initial: Option<Vec<[f64; 3]>>,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions { tol: DEFAULT_TOL, scale: 1.0, max_iter: DEFAULT_MAX_ITER, history: true, initial: None }
+    }
+}
+
+/// A converged solve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// The unknowns X (n × 3), finite.
+    pub x: Vec<[f64; 3]>,
+    /// Updates applied to X₀ (iterative solvers), or 1 + refinement steps (direct).
+    pub iterations: usize,
+    /// Always `true` in an `Ok` (non-convergence is an error); kept so that
+    /// reports can copy it.
+    pub converged: bool,
+    /// Final max_i ‖P_i − (A·X)_i‖₂ / scale, recomputed from X with A.
+    pub residual: f64,
+    /// Relative residual of X₀, X₁, … (`iterations + 1` values; empty when
+    /// `history` was off). CG records its recursive residual here (see `cg.rs`).
+    pub history: Vec<f64>,
+    /// Sparse products with A or S (three columns count once), including
+    /// eigenvalue estimation and residual checks; a Gauss-Seidel sweep counts as one.
+    pub matvecs: usize,
+    /// Wall time of the whole call (estimation, factorisation and solve).
+    pub seconds: f64,
+    /// Solver name (`Solver::name`).
+    pub solver: &'static str,
+    /// LDLᵀ only: number of negative pivots of S (the number of negative
+    /// eigenvalues of A, by Sylvester's law of inertia). `Some(k > 0)` means A
+    /// is indefinite but nonsingular: the solution is valid, but PIA, CG and
+    /// Chebyshev cannot reach it.
+    pub negative_pivots: Option<usize>,
+}
+
+/// What the monitor decided about the latest iterate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Verdict {
+    Continue,
+    Converged,
+    Diverged,
+    Stop(StopReason),
+}
+
+/// History, divergence, stagnation and iteration-cap bookkeeping shared by
+/// the iterative solvers.
+pub(crate) struct Monitor {
+    pub solver: &'static str,
+    /// Absolute threshold tol · scale.
+    pub threshold: f64,
+    scale: f64,
+    record: bool,
+    max_iter: usize,
+    pub history: Vec<f64>,
+    initial: Option<f64>,
+    best: f64,
+    window_ref: f64,
+    window_start: usize,
+    pub matvecs: usize,
+    start: Instant,
+}
+
+impl Monitor {
+    pub fn new(solver: &'static str, opts: &crate::SolveOptions, start: Instant) -> Self {
+        Monitor {
+            solver,
+            threshold: opts.tol * opts.scale,
+            scale: opts.scale,
+            record: opts.history,
+            max_iter: opts.max_iter,
+            history: Vec::new(),
+            initial: None,
+            best: f64::INFINITY,
+            window_ref: f64::INFINITY,
+            window_start: 0,
+            matvecs: 0,
+            start,
+        }
+    }
+
+    /// Records the absolute residual `res` of iterate `k` and decides.
+    pub fn observe(&mut self, k: usize, res: f64) -> Verdict {
+        if self.record {
+            self.history.push(res / self.scale);
+        }
+        let initial = *self.initial.get_or_insert(res);
+        if !res.is_finite() || res > DIVERGENCE_FACTOR * initial.max(self.threshold) {
+            return Verdict::Diverged;
+        }
+        if res <= self.threshold {
+            return Verdict::Converged;
+        }
+        if k >= self.max_iter {
+            return Verdict::Stop(StopReason::MaxIterations);
+        }
+        self.best = self.best.min(res);
+        if k == 0 {
+            self.window_ref = res;
+        } else if k - self.window_start >= STAGNATION_WINDOW {
+            if self.best > STAGNATION_FACTOR * self.window_ref {
+                // No progress for a whole window while worse than the start:
+                // the iteration is diverging (slowly), not stagnating.
+                if res > initial {
+                    return Verdict::Diverged;
+                }
+                return Verdict::Stop(StopReason::Stagnated);
+            }
+            self.window_start = k;
+            self.window_ref = self.best;
+        }
+        Verdict::Continue
+    }
+
+    /// The `Ok` report (or `Diverged` if X is not finite).
+    pub fn solution(self, x: Vec<Row>, iterations: usize, res: f64) -> Result<crate::Solution, SolveError> {
+        if !all_finite(&x) || !res.is_finite() {
+            return Err(self.diverged(iterations, res));
+        }
+        Ok(crate::Solution {
+            x,
+            iterations,
+            converged: true,
+            residual: res / self.scale,
+            history: self.history,
+            matvecs: self.matvecs,
+            seconds: self.start.elapsed().as_secs_f64(),
+            solver: self.solver,
+            negative_pivots: None,
+        })
+    }
+
+    pub fn diverged(self, iterations: usize, res: f64) -> SolveError {
+        SolveError::Diverged { solver: self.solver, iterations, residual: res / self.scale, history: self.history }
+    }
+
+    pub fn not_converged(self, reason: StopReason, x: Vec<Row>, iterations: usize, res: f64) -> SolveError {
+        if !all_finite(&x) {
+            return self.diverged(iterations, res);
+        }
+        SolveError::NotConverged {
+            solver: self.solver,
+            iterations,
+            residual: res / self.scale,
+            history: self.history,
+            reason,
+            x: LastIterate(x),
+        }
+    }
+
+    /// Turns a verdict other than `Continue` into the result.
+    pub fn finish(self, v: Verdict, x: Vec<Row>, iterations: usize, res: f64) -> Result<crate::Solution, SolveError> {
+        match v {
+            Verdict::Converged => self.solution(x, iterations, res),
+            Verdict::Diverged => Err(self.diverged(iterations, res)),
+            Verdict::Stop(reason) => Err(self.not_converged(reason, x, iterations, res)),
+            Verdict::Continue => unreachable!("finish called on Continue"),
+        }
+    }
+}
+
+/// X₀: the caller's initial guess or P.
+pub(crate) fn initial_guess(p: &[Row], opts: &crate::SolveOptions) -> Vec<Row> {
+    match &opts.initial {
+        Some(x0) => x0.clone(),
+        None => p.to_vec(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn monitor_detects_divergence_stagnation_and_cap() {
+        let opts = crate::SolveOptions { max_iter: 1000, ..Default::default() };
+        let mut m = Monitor::new("t", &opts, Instant::now());
+        assert_eq!(m.observe(0, 1.0), Verdict::Continue);
+        assert_eq!(m.observe(1, 2e6), Verdict::Diverged);
+
+        let mut m = Monitor::new("t", &opts, Instant::now());
+        let mut v = Verdict::Continue;
+        let mut k = 0;
+        while v == Verdict::Continue {
+            v = m.observe(k, 0.5);
+            k += 1;
+        }
+        assert_eq!(v, Verdict::Stop(StopReason::Stagnated));
+        assert_eq!(k - 1, STAGNATION_WINDOW);
+
+        let opts = crate::SolveOptions { max_iter: 3, ..Default::default() };
+        let mut m = Monitor::new("t", &opts, Instant::now());
+        let verdicts: Vec<_> = (0..4).map(|k| m.observe(k, 0.5f64.powi(k as i32))).collect();
+        assert_eq!(verdicts[3], Verdict::Stop(StopReason::MaxIterations));
+        assert_eq!(m.history.len(), 4);
+
+        let mut m = Monitor::new("t", &crate::SolveOptions::default(), Instant::now());
+        assert_eq!(m.observe(0, f64::NAN), Verdict::Diverged);
+        assert_eq!(m.observe(1, 1e-7), Verdict::Converged);
+    }
+}
