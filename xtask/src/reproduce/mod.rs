@@ -19,6 +19,7 @@ mod deng;
 mod fan_cheng_lai;
 mod figures;
 mod meshes;
+mod methods;
 mod zheng_cai;
 
 use anyhow::{bail, Context, Result};
@@ -32,7 +33,7 @@ pub struct Args {
     /// CI mode: small meshes, no figures, compare with docs/results/baseline.json.
     #[arg(long)]
     quick: bool,
-    /// Run one table only: table1, table2, table3, table4, table5 or figures.
+    /// Run one table only: table1 … table6 or figures.
     #[arg(long)]
     only: Option<String>,
     /// Rewrite docs/results/baseline.json from this (quick) run instead of comparing.
@@ -45,12 +46,13 @@ pub struct Args {
 
 type TableFn = fn(&Ctx) -> Result<Table>;
 
-const TABLES: [(&str, TableFn); 6] = [
+const TABLES: [(&str, TableFn); 7] = [
     ("table1", zheng_cai::run),
     ("table2", fan_cheng_lai::run),
     ("table3", cheng::run),
     ("table4", deng::run),
     ("table5", convergence::run),
+    ("table6", methods::run),
     ("figures", figures::run),
 ];
 
@@ -66,7 +68,7 @@ pub fn run(args: &Args) -> Result<()> {
     let ctx = Ctx { quick: args.quick, root: root.clone(), out: out.clone() };
     if let Some(only) = &args.only {
         if !TABLES.iter().any(|(id, _)| id == only) {
-            bail!("--only: unknown table '{only}' (table1 … table5, figures)");
+            bail!("--only: unknown table '{only}' (table1 … table6, figures)");
         }
     }
     let machine = common::machine();
