@@ -135,10 +135,7 @@ fn run_method(args: &InterpolateArgs, mesh: &Mesh) -> Result<Interpolant, Failur
     let subset = args.subset.as_deref().map(|p| params::subset(p, n)).transpose().map_err(bad_input)?;
     let common = CommonOptions { subset, tol: args.tol, max_iter: args.max_iter, solver: solver_choice(&args.solver)? };
     let normals = args.normals.as_deref().map(|p| params::normals(p, n)).transpose().map_err(bad_input)?;
-    let beta = match args.beta {
-        BetaArg::Warren => LoopBeta::Warren,
-        BetaArg::Loop => LoopBeta::Loop,
-    };
+    let beta: LoopBeta = args.beta.into();
     let result = match args.method {
         MethodArg::Nasri => nasri::interpolate(mesh, &NasriOptions { common }),
         MethodArg::Cheng => cheng::interpolate(mesh, &ChengOptions { common }),

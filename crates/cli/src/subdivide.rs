@@ -34,6 +34,15 @@ pub enum BetaArg {
     Loop,
 }
 
+impl From<BetaArg> for LoopBeta {
+    fn from(b: BetaArg) -> Self {
+        match b {
+            BetaArg::Warren => LoopBeta::Warren,
+            BetaArg::Loop => LoopBeta::Loop,
+        }
+    }
+}
+
 /// Arguments of `subdiv subdivide`.
 #[derive(clap::Args, Debug)]
 pub struct SubdivideArgs {
@@ -85,10 +94,7 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
     let scheme = match args.scheme {
         SchemeArg::DooSabin => Scheme::DooSabin,
         SchemeArg::CatmullClark => Scheme::CatmullClark,
-        SchemeArg::Loop => Scheme::Loop(match args.beta {
-            BetaArg::Warren => LoopBeta::Warren,
-            BetaArg::Loop => LoopBeta::Loop,
-        }),
+        SchemeArg::Loop => Scheme::Loop(args.beta.into()),
         SchemeArg::DengMa => Scheme::DengMa(match (args.omega, args.variable_tension) {
             (_, Some(lambda)) => Tension::Variable { lambda },
             (omega, None) => Tension::Global(omega.unwrap_or(1.0)),

@@ -3,25 +3,17 @@
 //! independent "the input vertices are surface vertices" check, bad input,
 //! and a fairness table over the tension. Run with `--nocapture` for tables.
 
+mod support;
 use glam::DVec3;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use subdiv_interp::{deng_ma, ControlScheme, DengMaOptions, InterpError, LimitAssociation};
 use subdiv_mesh::{shapes, FaceList, Mesh, Topology};
 use subdiv_stencil::{apply, Scheme, SubdivisionPlan, Tension};
+use support::{fixture, fixtures};
 
 // ---- helpers ----------------------------------------------------------------
-
-fn fixtures() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
-}
-
-fn fixture(rel: &str) -> Mesh {
-    let path = fixtures().join(rel);
-    let soup = subdiv_io::read_mesh(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    Mesh::from_soup(soup).unwrap_or_else(|e| panic!("{}: {e}", path.display())).0
-}
 
 /// Closed fixtures of every face type: triangles, quads, n-gons, genus 0-3.
 const CLOSED: [&str; 12] = [

@@ -6,29 +6,18 @@
 //!
 //! Run with `--nocapture` to see the tables.
 
+mod support;
 use glam::DVec3;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use subdiv_interp::deng_wang::{self, DEFAULT_MU};
 use subdiv_interp::{CommonOptions, ControlScheme, DengWangOptions, InterpError, Interpolant, LimitAssociation};
 use subdiv_mesh::{shapes, Mesh, Topology};
 use subdiv_stencil::{apply, loop_subdivision, LoopBeta, Scheme, SubdivisionPlan};
+use support::{fixture, fixtures, load};
 
 // ---- helpers ----------------------------------------------------------------
-
-fn fixtures() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
-}
-
-fn load(path: &Path) -> Mesh {
-    let soup = subdiv_io::read_mesh(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    Mesh::from_soup(soup).unwrap_or_else(|e| panic!("{}: {e}", path.display())).0
-}
-
-fn fixture(rel: &str) -> Mesh {
-    load(&fixtures().join(rel))
-}
 
 /// The triangle fixtures of the brief: closed, then open.
 const TRIANGLE_FIXTURES: [&str; 10] = [

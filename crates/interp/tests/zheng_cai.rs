@@ -5,10 +5,10 @@
 //! Measured numbers are printed; run with `-- --nocapture` to see them
 //! (`--release -- --ignored --nocapture` for the timings).
 
+mod support;
 use glam::DVec3;
 use proptest::prelude::*;
 use std::collections::HashMap;
-use std::path::Path;
 use subdiv_interp::{
     zheng_cai, CommonOptions, InterpError, Interpolant, LimitAssociation, SolverChoice, ZhengCaiOptions,
 };
@@ -16,6 +16,7 @@ use subdiv_mesh::{newell_normal, shapes, FaceId, FaceList, Mesh, Topology, Verte
 use subdiv_solve::{Solver, SweepOrder};
 use subdiv_stencil::doo_sabin::{self, CornerRule};
 use subdiv_stencil::{apply, Scheme, SubdivisionPlan};
+use support::fixture;
 
 /// Round-off bound on the interpolation error, relative to d.
 const EXACT: f64 = 1e-12;
@@ -52,12 +53,6 @@ const FIXTURES: &[&str] = &[
     "open/grid.off",
     "open/hemisphere.off",
 ];
-
-fn fixture(rel: &str) -> Mesh {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures").join(rel);
-    let soup = subdiv_io::read_mesh(&path).unwrap_or_else(|e| panic!("{rel}: {e}"));
-    Mesh::from_soup(soup).unwrap_or_else(|e| panic!("{rel}: {e}")).0
-}
 
 /// Flags of the vertices that lie on a face (isolated ones have no limit point).
 fn on_faces(mesh: &Mesh) -> Vec<bool> {

@@ -3,15 +3,25 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+#[allow(unused_imports)]
 pub use subdiv_interp::verify::{nearest_gap, Plain};
 use subdiv_mesh::Mesh;
 
+/// The repository's `fixtures/` folder.
+pub fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+/// Reads and validates a mesh file (panics naming the file).
+pub fn load(path: &Path) -> Mesh {
+    let soup = subdiv_io::read_mesh(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    Mesh::from_soup(soup).unwrap_or_else(|e| panic!("{}: {e}", path.display())).0
+}
+
 /// A fixture by path below `fixtures/`.
 pub fn fixture(rel: &str) -> Mesh {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures").join(rel);
-    let soup = subdiv_io::read_mesh(&path).unwrap_or_else(|e| panic!("{rel}: {e}"));
-    Mesh::from_soup(soup).unwrap_or_else(|e| panic!("{rel}: {e}")).0
+    load(&fixtures().join(rel))
 }
 
 /// Every limit point the plain scheme exposes on `control`.
