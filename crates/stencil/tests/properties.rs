@@ -49,13 +49,17 @@ fn face_centroid(t: &Topology, p: &[DVec3], f: subdiv_mesh::FaceId) -> DVec3 {
 /// The closed mesh fixtures and shapes used by several tests.
 fn closed_meshes() -> Vec<(&'static str, Mesh)> {
     vec![
+        ("cube with a split edge (valence 2)", cube_with_split_edge()),
         ("cube_quad", common::fixture("cube_quad")),
         ("pyramid_mixed", common::fixture("pyramid_mixed")),
         ("mpi", common::fixture("mpi")),
         ("P", common::fixture("P")),
         ("torus 8x6", shapes::torus(8, 6)),
         ("icosahedron", shapes::icosahedron()),
-        ("plate mix (closed, 2 holes)", shapes::polygon_mix(&shapes::plate_with_holes(6, 5, &[(1, 1), (3, 3)], true), 11, 0.3, 0.2, 0.1)),
+        (
+            "plate mix (closed, 2 holes)",
+            shapes::polygon_mix(&shapes::plate_with_holes(6, 5, &[(1, 1), (3, 3)], true), 11, 0.3, 0.2, 0.1),
+        ),
     ]
 }
 
@@ -66,7 +70,10 @@ fn open_meshes() -> Vec<(&'static str, Mesh)> {
         ("halftunnel", common::fixture("halftunnel")),
         ("nefertiti_small", common::fixture("nefertiti_small")),
         ("grid (tri)", common::fixture("grid")),
-        ("plate mix (open, 2 holes)", shapes::polygon_mix(&shapes::plate_with_holes(7, 6, &[(2, 1), (4, 3)], false), 5, 0.3, 0.2, 0.1)),
+        (
+            "plate mix (open, 2 holes)",
+            shapes::polygon_mix(&shapes::plate_with_holes(7, 6, &[(2, 1), (4, 3)], false), 5, 0.3, 0.2, 0.1),
+        ),
         ("triangle_grid 5x4", shapes::triangle_grid(5, 4)),
     ]
 }
@@ -99,9 +106,19 @@ fn every_stencil_row_sums_to_one() {
         let t = mesh.topology();
         for scheme in schemes_for(t) {
             let plan = SubdivisionPlan::new(t, scheme, 3).unwrap();
+            let mut coarse = t;
             for (k, level) in plan.levels().iter().enumerate() {
-                assert_affine(name, &format!("{scheme:?} R level {}", k + 1), level.stencil.as_ref().expect("linear scheme"));
+                let what = format!("{scheme:?} R level {}", k + 1);
+                match (&level.stencil, scheme) {
+                    (Some(r), _) => assert_affine(name, &what, r),
+                    // The plan evaluates Deng-Ma geometrically; its matrix is built on request.
+                    (None, Scheme::DengMa(Tension::Global(omega))) => {
+                        assert_affine(name, &what, &deng_ma::stencil(coarse, omega).unwrap())
+                    }
+                    (None, _) => panic!("{name}: {what}: no stencil"),
+                }
                 count += 1;
+                coarse = &level.topology;
             }
             if let Some(l) = plan.limit_stencil() {
                 assert_affine(name, &format!("{scheme:?} limit stencil after 3 levels"), &l);
@@ -111,7 +128,11 @@ fn every_stencil_row_sums_to_one() {
         assert_affine(name, "doo-sabin limit stencil", &doo_sabin::limit_stencil(t));
         if is_triangle_mesh(t) {
             for beta in [LoopBeta::Warren, LoopBeta::Loop] {
-                assert_affine(name, &format!("loop {beta:?} limit stencil"), &loop_subdivision::limit_stencil(t, beta).unwrap());
+                assert_affine(
+                    name,
+                    &format!("loop {beta:?} limit stencil"),
+                    &loop_subdivision::limit_stencil(t, beta).unwrap(),
+                );
             }
         }
         let mut rng = SplitMix64(7);
@@ -166,9 +187,17 @@ fn doo_sabin_step_makes_every_vertex_valence_four() {
                     assert!(r.is_boundary_vertex(v), "{name}: Chaikin point {v} not on the boundary");
                     assert_eq!((r.valence(v), r.vertex_face_count(v)), (3, 2), "{name}: Chaikin point {v}");
                 }
-                DualVertex::Corner { .. } => {
+                DualVertex::Corner { vertex, .. } => {
                     assert!(!r.is_boundary_vertex(v), "{name}: corner image {v} on the boundary");
-                    assert_eq!(r.valence(v), 4, "{name}: vertex {v}");
+                    // The documented exception: an interior vertex of valence 2
+                    // gets no (digon) V-face, so its two images have valence 3.
+                    let expect = if !t.is_boundary_vertex(vertex) && t.valence(vertex) == 2 { 3 } else { 4 };
+                    assert_eq!(
+                        r.valence(v),
+                        expect,
+                        "{name}: image {v} of vertex {vertex} (valence {})",
+                        t.valence(vertex)
+                    );
                 }
             }
         }
@@ -281,10 +310,16 @@ fn doo_sabin_on_a_regular_grid_is_the_biquadratic_bspline() {
             .vertex_origin
             .iter()
             .map(|o| match *o {
-                DualVertex::Corner { face, vertex, .. } => 0.5 * (params[vertex.index()] + face_centroid(t, &params, face)),
+                DualVertex::Corner { face, vertex, .. } => {
+                    0.5 * (params[vertex.index()] + face_centroid(t, &params, face))
+                }
                 DualVertex::Boundary { half_edge, near_start } => {
                     let (a, b) = (params[t.he_from(half_edge).index()], params[t.he_to(half_edge).index()]);
-                    if near_start { 0.75 * a + 0.25 * b } else { 0.25 * a + 0.75 * b }
+                    if near_start {
+                        0.75 * a + 0.25 * b
+                    } else {
+                        0.25 * a + 0.75 * b
+                    }
                 }
             })
             .collect();
@@ -405,7 +440,11 @@ fn deng_ma_keeps_old_vertices_and_converges() {
             for (k, level) in plan.levels().iter().enumerate() {
                 let (coarse, fine) = (&p[k], &p[k + 1]);
                 // Interpolatory: old vertices kept bit for bit.
-                assert!(coarse.iter().zip(fine).all(|(a, b)| a == b), "{name} {tension:?} level {}: an old vertex moved", k + 1);
+                assert!(
+                    coarse.iter().zip(fine).all(|(a, b)| a == b),
+                    "{name} {tension:?} level {}: an old vertex moved",
+                    k + 1
+                );
                 // Edge points are numbered after old vertices and face points.
                 let base = t.vertex_count() + t.face_count();
                 let dmax = t
@@ -418,11 +457,67 @@ fn deng_ma_keeps_old_vertices_and_converges() {
                 displacement.push(dmax);
                 t = &level.topology;
             }
-            for k in 1..displacement.len() {
+            eprintln!("{name} {tension:?}: max edge-point displacement per level {}", fmt_gaps(&displacement));
+            // Geometric decay: per level from the second refinement on (the
+            // first ratio compares a step of the coarse, non-smooth control
+            // net with one of its refinement and may be larger), and on
+            // average over all five levels.
+            for k in 2..displacement.len() {
                 let ratio = displacement[k] / displacement[k - 1];
-                assert!(ratio < 0.6, "{name} {tension:?}: edge-point displacement {displacement:?} shrinks by {ratio} at level {}", k + 1);
+                assert!(
+                    ratio < 0.6,
+                    "{name} {tension:?}: edge-point displacement {} shrinks by {ratio} at level {}",
+                    fmt_gaps(&displacement),
+                    k + 1
+                );
             }
+            let mean_ratio = (displacement[4] / displacement[0]).powf(0.25);
+            assert!(mean_ratio < 0.6, "{name} {tension:?}: mean ratio {mean_ratio} ({})", fmt_gaps(&displacement));
         }
+    }
+}
+
+/// On a regular quad torus with data that varies along one direction only,
+/// the Deng-Ma step is the 4-point curve scheme along that direction with
+/// tension ω/16 (ERRATA D4), and constant across it.
+#[test]
+fn deng_ma_on_one_dimensional_data_is_the_four_point_scheme() {
+    let (nu, nv) = (11, 6);
+    let t = shapes::torus(nu, nv).topology().clone();
+    let mut rng = SplitMix64(99);
+    let curve: Vec<[f64; 3]> = (0..nu)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / nu as f64;
+            [3.0 * a.cos() + 0.3 * rng.next_f64(), 2.0 * a.sin() + 0.3 * rng.next_f64(), rng.next_f64()]
+        })
+        .collect();
+    // Vertex (i, j) of the torus is i·nv + j.
+    let p: Vec<DVec3> = (0..nu * nv).map(|v| DVec3::from_array(curve[v / nv])).collect();
+    for omega in [1.0, 0.5] {
+        let fine = curves::four_point(&curve, true, omega / 16.0);
+        let q = apply(&deng_ma::stencil(&t, omega).unwrap(), &p);
+        // Expected position of a point half way between rows i and i + 1, or on row i.
+        let expect = |ia: usize, ib: usize| -> DVec3 {
+            if ia == ib {
+                DVec3::from_array(fine[2 * ia])
+            } else {
+                let lo = if (ia + 1) % nu == ib { ia } else { ib };
+                DVec3::from_array(fine[2 * lo + 1])
+            }
+        };
+        let row = |v: u32| v as usize / nv;
+        let mut worst: f64 = 0.0;
+        for f in t.face_ids() {
+            let rows: Vec<usize> = t.face(f).iter().map(|&v| row(v)).collect();
+            let (lo, hi) = (rows.iter().copied().min().unwrap(), rows.iter().copied().max().unwrap());
+            let (a, b) = if hi - lo == 1 { (lo, hi) } else { (hi, lo) }; // wrap-around face
+            worst = worst.max(q[t.vertex_count() + f.index()].distance(expect(a, b)));
+        }
+        for e in t.edges() {
+            let (a, b) = t.edge_vertices(e);
+            worst = worst.max(q[t.vertex_count() + t.face_count() + e.index()].distance(expect(row(a.0), row(b.0))));
+        }
+        assert!(worst <= 1e-14 * 8.0, "ω = {omega}: Deng-Ma differs from the 4-point scheme by {worst:e}");
     }
 }
 
@@ -576,15 +671,18 @@ const BRUTE_LEVELS: usize = 8;
 
 #[test]
 fn primal_limit_stencils_agree_with_brute_force() {
-    let cases: Vec<(&str, Mesh, Scheme)> = vec![
-        ("cube", shapes::cube(), Scheme::CatmullClark),
-        ("pyramid_mixed", common::fixture("pyramid_mixed"), Scheme::CatmullClark),
-        ("quad_grid 2x2 (open)", bumpy(shapes::quad_grid(2, 2), 3), Scheme::CatmullClark),
-        ("tetrahedron", shapes::tetrahedron(), Scheme::Loop(LoopBeta::Warren)),
-        ("octahedron", shapes::octahedron(), Scheme::Loop(LoopBeta::Loop)),
-        ("triangle_grid 2x1 (open)", bumpy(shapes::triangle_grid(2, 1), 4), Scheme::Loop(LoopBeta::Warren)),
+    // Levels per case: the vertex gap shrinks by ~¼ per level (the
+    // subdominant symmetric eigenvalue), so some meshes need a ninth level to
+    // get below 1e-6·d.
+    let cases: Vec<(&str, Mesh, Scheme, usize)> = vec![
+        ("cube", shapes::cube(), Scheme::CatmullClark, 9),
+        ("pyramid_mixed", common::fixture("pyramid_mixed"), Scheme::CatmullClark, 9),
+        ("quad_grid 2x2 (open)", bumpy(shapes::quad_grid(2, 2), 3), Scheme::CatmullClark, 9),
+        ("tetrahedron", shapes::tetrahedron(), Scheme::Loop(LoopBeta::Warren), 9),
+        ("octahedron", shapes::octahedron(), Scheme::Loop(LoopBeta::Loop), 9),
+        ("triangle_grid 2x1 (open)", bumpy(shapes::triangle_grid(2, 1), 4), Scheme::Loop(LoopBeta::Warren), 9),
     ];
-    for (name, mesh, scheme) in cases {
+    for (name, mesh, scheme, levels) in cases {
         let d = mesh.bbox_diagonal();
         let nv = mesh.topology().vertex_count();
         // `--levels 0 --limit`: the plan keeps the input, the stencil is in input order.
@@ -594,7 +692,7 @@ fn primal_limit_stencils_agree_with_brute_force() {
         let predicted = apply(&plan0.limit_stencil().unwrap(), mesh.positions());
         assert_eq!(predicted.len(), nv);
         // Brute force: the vertex with the same index persists at every level.
-        let plan = SubdivisionPlan::new(mesh.topology(), scheme, BRUTE_LEVELS).unwrap();
+        let plan = SubdivisionPlan::new(mesh.topology(), scheme, levels).unwrap();
         let p = positions_per_level(&plan, mesh.positions());
         let gaps: Vec<f64> = p[1..].iter().map(|q| max_dist(&q[..nv], &predicted) / d).collect();
         eprintln!("{name} {scheme:?}: brute-force gap per level {}", fmt_gaps(&gaps));
@@ -616,6 +714,8 @@ fn doo_sabin_limit_stencil_agrees_with_brute_force() {
         let plan = SubdivisionPlan::new(t, Scheme::DooSabin, BRUTE_LEVELS).unwrap();
         let p = positions_per_level(&plan, mesh.positions());
         let first = &plan.levels()[0];
+        let mut worst = vec![0.0f64; BRUTE_LEVELS];
+        let mut local_levels = 0;
         let dual = first.dual.as_ref().unwrap();
         for v in t.vertices() {
             // What to track: interior vertex — its V-face, whose F-face
@@ -624,13 +724,19 @@ fn doo_sabin_limit_stencil_agrees_with_brute_force() {
             // Chaikin points, whose Chaikin descendants keep the midpoint.
             let mut gaps = Vec::new();
             let mut centroid_err: f64 = 0.0;
+            // The tracked polygon at the last two levels (face corners, or the edge's ends).
+            let mut tracked: Vec<Vec<DVec3>> = Vec::new();
             if !t.is_boundary_vertex(v) {
                 let f = dual.vertex_face[v.index()].expect("interior vertex of valence ≥ 3");
                 for (k, level) in plan.levels().iter().enumerate() {
                     let q = &p[k + 1];
                     let face = level.topology.face(f);
-                    centroid_err = centroid_err.max(face_centroid(&level.topology, q, f).distance(predicted[v.index()]) / d);
-                    gaps.push(face.iter().map(|&c| q[c as usize].distance(predicted[v.index()])).fold(0.0, f64::max) / d);
+                    centroid_err =
+                        centroid_err.max(face_centroid(&level.topology, q, f).distance(predicted[v.index()]) / d);
+                    gaps.push(
+                        face.iter().map(|&c| q[c as usize].distance(predicted[v.index()])).fold(0.0, f64::max) / d,
+                    );
+                    tracked.push(face.iter().map(|&c| q[c as usize]).collect());
                 }
             } else {
                 let fan = t.vertex_fan(v);
@@ -643,7 +749,11 @@ fn doo_sabin_limit_stencil_agrees_with_brute_force() {
                     assert_eq!(lt.he_to(lt.vertex_fan(a)[0]), b, "{name}: tracked boundary edge");
                     let mid = 0.5 * (q[a.index()] + q[b.index()]);
                     centroid_err = centroid_err.max(mid.distance(predicted[v.index()]) / d);
-                    gaps.push(q[a.index()].distance(predicted[v.index()]).max(q[b.index()].distance(predicted[v.index()])) / d);
+                    gaps.push(
+                        q[a.index()].distance(predicted[v.index()]).max(q[b.index()].distance(predicted[v.index()]))
+                            / d,
+                    );
+                    tracked.push(vec![q[a.index()], q[b.index()]]);
                     if let Some(next) = plan.levels().get(k + 1) {
                         let h = lt.vertex_fan(a)[0];
                         let c = next.dual.as_ref().unwrap().boundary_point[h.index()];
@@ -651,11 +761,140 @@ fn doo_sabin_limit_stencil_agrees_with_brute_force() {
                     }
                 }
             }
-            assert!(centroid_err <= 1e-14, "{name} vertex {v}: tracked centroid off the prediction by {centroid_err:e}·d");
-            // The tracked face shrinks by the face circulant's subdominant
-            // eigenvalue ½ (ERRATA Z8), so 8 levels give ~2⁻⁸ of the first
-            // size, not 1e-6: the geometric rate is what is checked.
-            assert_converges(&format!("{name} DS vertex {v}"), &gaps, 0.5 + 1e-9, gaps[0] * 0.6f64.powi(BRUTE_LEVELS as i32 - 1));
+            assert!(
+                centroid_err <= 1e-14,
+                "{name} vertex {v}: tracked centroid off the prediction by {centroid_err:e}·d"
+            );
+            // The tracked polygon shrinks by ½ per level (the face circulant's
+            // subdominant eigenvalue, ERRATA Z8; Chaikin on an edge), so the
+            // whole-mesh run gives ~2⁻⁸ of the first size. Its descendants
+            // depend on its own corners only (Eq. 1 within an F-face; Chaikin
+            // on a boundary edge): check that locality on the last whole-mesh
+            // level, then continue locally until the gap is below 1e-6·d.
+            let local = |poly: &[DVec3]| -> Vec<DVec3> {
+                let m = poly.len();
+                if m == 2 {
+                    return vec![0.75 * poly[0] + 0.25 * poly[1], 0.25 * poly[0] + 0.75 * poly[1]];
+                }
+                let mut w = vec![0.0; m];
+                subdiv_rules::doo_sabin_weights(m, &mut w);
+                (0..m).map(|i| (0..m).map(|k| w[k] * poly[(i + k) % m]).sum()).collect()
+            };
+            let n = tracked.len();
+            let e = max_dist(&local(&tracked[n - 2]), &tracked[n - 1]) / d;
+            assert!(e <= 1e-15, "{name} vertex {v}: tracked polygon is not refined locally ({e:e}·d)");
+            let mut poly = tracked[n - 1].clone();
+            while gaps.len() < 40 && *gaps.last().unwrap() > 1e-6 {
+                poly = local(&poly);
+                gaps.push(poly.iter().map(|x| x.distance(predicted[v.index()])).fold(0.0, f64::max) / d);
+            }
+            assert_converges(&format!("{name} DS vertex {v}"), &gaps, 0.5 + 1e-9, 1e-6);
+            worst.iter_mut().zip(&gaps[..BRUTE_LEVELS]).for_each(|(w, g)| *w = w.max(*g));
+            local_levels = local_levels.max(gaps.len());
+        }
+        eprintln!(
+            "{name} DooSabin: tracked-face radius per level (max over vertices) {}; below 1e-6·d by level {local_levels}",
+            fmt_gaps(&worst)
+        );
+    }
+}
+
+// ---------------------------------------------------------------- isolated vertices, valence 2
+
+/// An isolated vertex (a repaired-input warning, SPEC §7) is carried through
+/// primal splits unchanged and dropped by the dual split.
+#[test]
+fn isolated_vertices_are_kept_by_primal_schemes_and_dropped_by_doo_sabin() {
+    let extra = DVec3::new(5.0, -3.0, 2.0);
+    for base in [shapes::cube(), shapes::octahedron()] {
+        let mut p = base.positions().to_vec();
+        p.push(extra);
+        let mesh = Mesh::new(p, base.topology().faces().clone()).unwrap();
+        let t = mesh.topology();
+        let iso = t.vertex_count() - 1;
+        assert!(t.is_isolated(VertexId(iso as u32)));
+        let mut schemes = vec![Scheme::CatmullClark, Scheme::DengMa(Tension::Global(1.0))];
+        if is_triangle_mesh(t) {
+            schemes.push(Scheme::Loop(LoopBeta::Warren));
+        }
+        for scheme in schemes {
+            let plan = SubdivisionPlan::new(t, scheme, 2).unwrap();
+            let q = plan.apply(mesh.positions());
+            assert_eq!(q[iso], extra, "{scheme:?}");
+            assert!(plan.topology().is_isolated(VertexId(iso as u32)), "{scheme:?}");
+            if let Some(l) = plan.limit_stencil() {
+                assert_eq!(apply(&l, &q)[iso], extra, "{scheme:?} limit");
+            }
+        }
+        let ds = SubdivisionPlan::new(t, Scheme::DooSabin, 1).unwrap();
+        assert_eq!(ds.topology().vertex_count(), t.half_edge_count());
+        assert_eq!(ds.topology().referenced_vertex_count(), ds.topology().vertex_count());
+        assert_eq!(apply(&doo_sabin::limit_stencil(t), mesh.positions())[iso], extra);
+    }
+}
+
+/// The unit cube with the edge (0,0,0)–(1,0,0) split by a vertex pushed
+/// slightly outwards: that vertex has valence 2 inside two pentagons.
+fn cube_with_split_edge() -> Mesh {
+    let mut p = shapes::cube().positions().to_vec();
+    p.push(DVec3::new(0.5, -0.1, -0.1));
+    let faces = subdiv_mesh::FaceList::from_faces([
+        &[0u32, 2, 3, 1, 8][..],
+        &[4, 5, 7, 6],
+        &[0, 8, 1, 5, 4],
+        &[2, 6, 7, 3],
+        &[0, 4, 6, 2],
+        &[1, 3, 7, 5],
+    ]);
+    Mesh::new(p, faces).unwrap()
+}
+
+/// Catmull-Clark's limit stencil (Cheng Eq. 5) also holds at interior
+/// vertices of valence 2 (the pillow; a cube with a split edge): brute force
+/// converges to it at the rate ¼.
+#[test]
+fn catmull_clark_limit_stencil_holds_at_valence_two() {
+    for (name, mesh, levels) in [("pillow", shapes::pillow(), 9), ("cube with a split edge", cube_with_split_edge(), 8)]
+    {
+        let (t, d) = (mesh.topology(), mesh.bbox_diagonal());
+        let v2: Vec<usize> =
+            t.vertices().filter(|&v| !t.is_boundary_vertex(v) && t.valence(v) == 2).map(|v| v.index()).collect();
+        assert!(!v2.is_empty(), "{name} has no valence-2 vertex");
+        let predicted = apply(&catmull_clark::limit_stencil(t), mesh.positions());
+        let plan = SubdivisionPlan::new(t, Scheme::CatmullClark, levels).unwrap();
+        let p = positions_per_level(&plan, mesh.positions());
+        let gaps: Vec<f64> =
+            p[1..].iter().map(|q| v2.iter().map(|&v| q[v].distance(predicted[v])).fold(0.0, f64::max) / d).collect();
+        assert_converges(&format!("{name} CC, valence-2 vertices"), &gaps, 0.45, 2e-6);
+    }
+}
+
+/// KNOWN ISSUE (reported, not fixed): `dual_split` omits the digon V-face of
+/// an interior valence-2 vertex, but `doo_sabin::limit_stencil` still
+/// predicts the centroid of that (absent) V-face — the midpoint of the
+/// vertex's two images. Without the digon nothing keeps that midpoint: the
+/// refined surface stays ~6e-2·d away from the predicted point on the pillow
+/// (and ~8e-3·d on a torus mix with valence-2 vertices, which `polygon_mix`
+/// no longer makes), at every level. Either the
+/// refinement keeps a (digon) V-face or the limit row needs another rule;
+/// Nasri's matrix C inherits the same row.
+#[test]
+#[ignore = "known issue: Doo-Sabin limit stencil at interior valence-2 vertices (digon V-face omitted by dual_split)"]
+fn doo_sabin_limit_stencil_at_valence_two_is_on_the_surface() {
+    let mut failures = Vec::new();
+    for (name, mesh) in [("pillow", shapes::pillow()), ("cube with a split edge", cube_with_split_edge())] {
+        let (t, d) = (mesh.topology(), mesh.bbox_diagonal());
+        let predicted = apply(&doo_sabin::limit_stencil(t), mesh.positions());
+        let plan = SubdivisionPlan::new(t, Scheme::DooSabin, 6).unwrap();
+        let q = plan.apply(mesh.positions());
+        for v in t.vertices().filter(|&v| !t.is_boundary_vertex(v) && t.valence(v) == 2) {
+            // Refined vertices are ~2⁻⁶ of an edge apart: a point of the
+            // limit surface has one within a few 1e-3·d.
+            let near = q.iter().map(|x| x.distance(predicted[v.index()])).fold(f64::INFINITY, f64::min) / d;
+            eprintln!("{name} vertex {v}: predicted limit point {near:.2e}·d from the nearest refined vertex");
+            failures.push((name, v, near));
         }
     }
+    failures.retain(|f| f.2 > 2e-3);
+    assert!(failures.is_empty(), "predicted limit points off the surface: {failures:?}");
 }
