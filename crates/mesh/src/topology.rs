@@ -70,11 +70,15 @@ impl Topology {
         for f in 0..faces.len() {
             he_face[offsets[f] as usize..offsets[f + 1] as usize].fill(f as u32);
         }
-        let to = |h: usize| -> u32 {
-            let f = he_face[h] as usize;
-            let next = if h + 1 == offsets[f + 1] as usize { offsets[f] as usize } else { h + 1 };
-            idx[next]
-        };
+        // End vertex of every half-edge, computed once (it is needed three
+        // times per half-edge below, and a closure would chase he_face each time).
+        let mut he_to = vec![0u32; nh];
+        for f in 0..faces.len() {
+            let (a, b) = (offsets[f] as usize, offsets[f + 1] as usize);
+            he_to[a..b - 1].copy_from_slice(&idx[a + 1..b]);
+            he_to[b - 1] = idx[a];
+        }
+        let to = |h: usize| -> u32 { he_to[h] };
 
         // Outgoing and incoming half-edges per vertex, by counting sort (CSR).
         let out_offsets = csr_offsets(nv, idx.iter().copied());
@@ -121,12 +125,14 @@ impl Topology {
         for v in 0..nv {
             let outs = &out[out_offsets[v] as usize..out_offsets[v + 1] as usize];
             if !outs.is_empty() {
-                let starts: Vec<u32> = outs.iter().copied().filter(|&h| he_twin[h as usize] == NONE).collect();
-                if starts.len() > 1 {
-                    return Err(MeshError::NonManifoldVertex { vertex: v as u32, fans: starts.len() });
+                let mut boundary_starts = outs.iter().copied().filter(|&h| he_twin[h as usize] == NONE);
+                let first_boundary = boundary_starts.next();
+                let more = boundary_starts.count();
+                if more > 0 {
+                    return Err(MeshError::NonManifoldVertex { vertex: v as u32, fans: more + 1 });
                 }
-                vertex_on_boundary[v] = starts.len() == 1;
-                let start = starts.first().copied().unwrap_or(outs[0]);
+                vertex_on_boundary[v] = first_boundary.is_some();
+                let start = first_boundary.unwrap_or(outs[0]);
                 let mut h = start;
                 let mut visited = 0usize;
                 loop {

@@ -81,17 +81,28 @@ impl SubdivisionPlan {
             let current = out.last().map_or(t, |r| &r.topology);
             check_size(current, scheme)?;
             let level = match scheme {
+                // The refined connectivity and the stencil depend on the coarse
+                // topology only: build them on both cores at once.
                 Scheme::CatmullClark => {
-                    let (topology, stencil) = catmull_clark::refine(current);
+                    let (topology, stencil) =
+                        rayon::join(|| quad_split(current), || catmull_clark::refinement_stencil(current));
                     Refinement { topology, stencil: Some(stencil), dual: None }
                 }
                 Scheme::Loop(beta) => {
-                    let (topology, stencil) = loop_subdivision::refine(current, beta)?;
+                    let (topology, stencil) = rayon::join(
+                        || subdiv_mesh::refine::triangle_split(current),
+                        || loop_subdivision::refinement_stencil(current, beta),
+                    );
+                    let stencil = stencil?;
+                    let topology = topology.expect("the stencil accepted the mesh, so it is a triangle mesh");
                     Refinement { topology, stencil: Some(stencil), dual: None }
                 }
                 Scheme::DooSabin => {
-                    let (topology, dual, stencil) = doo_sabin::refine(current, doo_sabin::CornerRule::Standard)?;
-                    Refinement { topology, stencil: Some(stencil), dual: Some(dual) }
+                    let ((topology, dual), stencil) = rayon::join(
+                        || subdiv_mesh::refine::dual_split(current),
+                        || doo_sabin::refinement_stencil(current, doo_sabin::CornerRule::Standard),
+                    );
+                    Refinement { topology, stencil: Some(stencil?), dual: Some(dual) }
                 }
                 Scheme::DengMa(tension) => {
                     deng_ma::require_closed(current)?;
