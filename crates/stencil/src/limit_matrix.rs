@@ -5,7 +5,8 @@
 //! built directly from the topology as a diagonal D (positive) and a sparse S
 //! that is **exactly symmetric** (entry by entry, bit for bit) on closed
 //! meshes — assembled from symmetric per-face / per-edge contributions
-//! ([`SymmetricAssembler`]), never by symmetrising afterwards.
+//! (each entry sums the same multiset of face/edge contributions in a
+//! canonical order), never by symmetrising afterwards.
 //!
 //! | builder | method, first step | D | S (interior vertex v, valence n, faces fᵢ of size mᵢ) |
 //! |---|---|---|---|
@@ -29,9 +30,9 @@
 //! (boundary first, then the interior with the boundary known).
 
 use crate::doo_sabin::CornerRule;
-use crate::rows::SymmetricAssembler;
 use crate::{apply, SparseMatrix, StencilError};
 use glam::DVec3;
+use rayon::prelude::*;
 use subdiv_mesh::{Topology, VertexId};
 use subdiv_rules::doo_sabin::BOUNDARY_CURVE_POINT;
 use subdiv_rules::{doo_sabin_weights, two_phase_weights, LoopBeta};
@@ -102,42 +103,105 @@ fn special_rows(t: &Topology, curve: [f64; 3], curve_d: f64, corner_fixed: bool)
     out
 }
 
-fn finish(assembler: SymmetricAssembler, mut d: Vec<f64>, special: SpecialRows) -> LimitMatrix {
+/// Vertices per parallel task when building rows.
+const ROWS_PER_TASK: usize = 8192;
+
+/// Builds A = D·S row by row (in parallel, deterministically): `row(v, out)`
+/// pushes the contributions of vertex v's row; rows listed in `special` are
+/// taken from there instead. Each row's contributions are sorted by (column,
+/// value bits) before they are summed, so an entry's value depends only on the
+/// multiset of its contributions: S\[i\]\[j\] and S\[j\]\[i\], which receive the
+/// same contributions (a face or an edge containing both), are equal bit for bit.
+fn assemble(
+    t: &Topology,
+    mut d: Vec<f64>,
+    special: SpecialRows,
+    row: impl Fn(VertexId, &mut Vec<(u32, f64)>) + Sync,
+) -> LimitMatrix {
+    let n = t.vertex_count();
+    let mut special_of = vec![u32::MAX; n];
+    for (k, (v, _)) in special.rows.iter().enumerate() {
+        special_of[*v as usize] = k as u32;
+    }
+    let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(ROWS_PER_TASK))
+        .into_par_iter()
+        .map(|c| {
+            let (lo, hi) = (c * ROWS_PER_TASK, ((c + 1) * ROWS_PER_TASK).min(n));
+            let (mut lens, mut cols, mut vals) = (Vec::with_capacity(hi - lo), Vec::new(), Vec::new());
+            let mut pending: Vec<(u32, f64)> = Vec::with_capacity(64);
+            for v in lo..hi {
+                pending.clear();
+                match special_of[v] {
+                    u32::MAX => row(VertexId(v as u32), &mut pending),
+                    k => pending.extend_from_slice(&special.rows[k as usize].1),
+                }
+                pending.sort_unstable_by_key(|&(col, w)| (col, w.to_bits()));
+                let start = cols.len();
+                for &(col, w) in &pending {
+                    if cols.len() > start && *cols.last().expect("non-empty") == col {
+                        *vals.last_mut().expect("non-empty") += w;
+                    } else {
+                        cols.push(col);
+                        vals.push(w);
+                    }
+                }
+                lens.push((cols.len() - start) as u32);
+            }
+            (lens, cols, vals)
+        })
+        .collect();
+    let nnz: usize = chunks.iter().map(|c| c.1.len()).sum();
+    let (mut indptr, mut indices, mut data) =
+        (Vec::with_capacity(n + 1), Vec::with_capacity(nnz), Vec::with_capacity(nnz));
+    indptr.push(0u32);
+    for (lens, cols, vals) in chunks {
+        for len in lens {
+            indptr.push(indptr.last().expect("starts at 0") + len);
+        }
+        indices.extend(cols);
+        data.extend(vals);
+    }
     for &(v, dv) in &special.d {
         d[v as usize] = dv;
     }
     let boundary_rows = special.rows.iter().map(|(v, _)| *v).collect();
-    LimitMatrix { d, s: assembler.build_with_rows(&special.rows), boundary_rows }
+    let s = SparseMatrix::try_new((n, n), indptr, indices, data)
+        .map_err(|(_, _, _, e)| e)
+        .expect("rows are sorted and in range by construction");
+    LimitMatrix { d, s, boundary_rows }
 }
 
 /// Doo-Sabin family: row v = (1/n)·Σ over v's faces of that face's first-step
 /// row at v's corner, i.e. the centroid of v's V-face after the first step.
 fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMatrix, StencilError> {
     rule.validate(t)?;
-    let nv = t.vertex_count();
-    let mut s = SymmetricAssembler::new(nv);
-    let mut w = Vec::new();
-    for f in t.face_ids() {
-        let face = t.face(f);
-        let m = face.len();
-        w.resize(m, 0.0);
-        match rule {
-            CornerRule::Standard => doo_sabin_weights(m, &mut w), // Zheng-Cai Eq. (1)
-            CornerRule::Uniform(l) => two_phase_weights(m, l, &mut w), // Eq. (4) / Fan Eq. (1)
-            CornerRule::PerFace(ls) => two_phase_weights(m, ls[f.index()], &mut w), // Fan Eq. (1)
-        }
-        // Face block: symmetric because w[k] = w[m − k] (α depends on cos only).
-        for k in 0..m {
-            s.add_diagonal(face[k], w[0]);
-            for l in k + 1..m {
-                s.add(face[k], face[l], w[l - k]);
-            }
-        }
-    }
     let d = t.vertices().map(|v| 1.0 / t.vertex_face_count(v).max(1) as f64).collect(); // Σ = diag(1/n)
     let [a, b, c] = BOUNDARY_CURVE_POINT;
     let special = special_rows(t, [a * 8.0, b * 8.0, c * 8.0], 0.125, false);
-    Ok(finish(s, d, special))
+    Ok(assemble(t, d, special, |v, out| {
+        let mut w = [0.0; 16];
+        let mut big = Vec::new();
+        for corner in t.vertex_corners(v) {
+            let face = t.face(corner.face);
+            let m = face.len();
+            let w: &mut [f64] = if m <= 16 {
+                &mut w[..m]
+            } else {
+                big.resize(m, 0.0);
+                &mut big[..]
+            };
+            match rule {
+                CornerRule::Standard => doo_sabin_weights(m, w), // Zheng-Cai Eq. (1)
+                CornerRule::Uniform(l) => two_phase_weights(m, l, w), // Eq. (4) / Fan Eq. (1)
+                CornerRule::PerFace(ls) => two_phase_weights(m, ls[corner.face.index()], w), // Fan Eq. (1)
+            }
+            // Face block Circ(w): symmetric because w[k] = w[m − k] (α depends on cos only).
+            let k = corner.index as usize;
+            for j in 0..m {
+                out.push((face[(k + j) % m], w[j]));
+            }
+        }
+    }))
 }
 
 /// Nasri's C: standard Doo-Sabin, limit of vertex v = centroid of its V-face
@@ -163,34 +227,31 @@ pub fn limit_matrix_two_phase(t: &Topology, rule: CornerRule<'_>) -> Result<Limi
 /// (xᵢ + xⱼ)²/2 + Σ_v n(n−3)/4 x_v² (ERRATA, "correct as printed").
 /// Spectrum ⊂ [0, 1] only when every valence is ≥ 3 ([`catmull_clark_degeneracy`]).
 pub fn limit_matrix_catmull_clark(t: &Topology) -> LimitMatrix {
-    let nv = t.vertex_count();
-    let mut s = SymmetricAssembler::new(nv);
-    for f in t.face_ids() {
-        let face = t.face(f);
-        let inv_m = 1.0 / face.len() as f64;
-        for k in 0..face.len() {
-            s.add_diagonal(face[k], inv_m);
-            for l in k + 1..face.len() {
-                s.add(face[k], face[l], inv_m); // Eq. (5): Σᵢ (Fⁱ…)/mᵢ and the 1/mᵢ in the E and V terms
-            }
-        }
-    }
-    for e in t.edges() {
-        let (a, b) = t.edge_vertices(e);
-        s.add_diagonal(a.0, 0.5);
-        s.add_diagonal(b.0, 0.5);
-        s.add(a.0, b.0, 0.5); // Eq. (5): the ½ of (½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ
-    }
-    let mut d = vec![1.0; nv];
-    for v in t.vertices() {
-        let n = t.valence(v) as f64;
-        s.add_diagonal(v.0, n * (n - 3.0) / 4.0); // Eq. (5): n(n−1)/4 = n(n−3)/4 + n·½
-        if n > 0.0 {
-            d[v.index()] = 4.0 / (n * (n + 5.0)); // D = diag(4/(n(n+5)))
-        }
-    }
+    let d = t
+        .vertices()
+        .map(|v| {
+            let n = t.valence(v) as f64;
+            if n > 0.0 {
+                4.0 / (n * (n + 5.0))
+            } else {
+                1.0
+            } // D = diag(4/(n(n+5)))
+        })
+        .collect();
     let special = special_rows(t, [1.0, 4.0, 1.0], 1.0 / 6.0, true);
-    finish(s, d, special)
+    assemble(t, d, special, |v, out| {
+        for corner in t.vertex_corners(v) {
+            let face = t.face(corner.face);
+            let inv_m = 1.0 / face.len() as f64;
+            out.extend(face.iter().map(|&c| (c, inv_m))); // Eq. (5): Σᵢ (Fⁱ…)/mᵢ and the 1/mᵢ of the E and V terms
+        }
+        for e in t.vertex_neighbors(v) {
+            out.push((v.0, 0.5));
+            out.push((e.0, 0.5)); // Eq. (5): the ½ of (½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ
+        }
+        let n = t.valence(v) as f64;
+        out.push((v.0, n * (n - 3.0) / 4.0)); // Eq. (5): n(n−1)/4 = n(n−3)/4 + n·½
+    })
 }
 
 /// The Loop limit matrix L: (1 − kγ) on the diagonal, γ per neighbour, with
@@ -200,23 +261,12 @@ pub fn limit_matrix_loop(t: &Topology, beta: LoopBeta) -> Result<LimitMatrix, St
     if let Some(f) = t.face_ids().find(|&f| t.face_size(f) != 3) {
         return Err(StencilError::NotTriangles { face: f.0, size: t.face_size(f) });
     }
-    let nv = t.vertex_count();
-    let mut s = SymmetricAssembler::new(nv);
-    for e in t.edges() {
-        let (a, b) = t.edge_vertices(e);
-        s.add(a.0, b.0, 1.0);
-    }
-    let mut d = vec![1.0; nv];
-    for v in t.vertices() {
-        let k = t.valence(v);
-        if k > 0 {
-            let b = beta.beta(k);
-            s.add_diagonal(v.0, 3.0 / (8.0 * b)); // (1 − kγ)/γ = 3/(8β)
-            d[v.index()] = beta.gamma(k); // W4: γ = 1/(k + 3/(8β))
-        }
-    }
+    let d = t.vertices().map(|v| if t.valence(v) > 0 { beta.gamma(t.valence(v)) } else { 1.0 }).collect(); // W4: γ = 1/(k + 3/(8β))
     let special = special_rows(t, [1.0, 4.0, 1.0], 1.0 / 6.0, true);
-    Ok(finish(s, d, special))
+    Ok(assemble(t, d, special, |v, out| {
+        out.push((v.0, 3.0 / (8.0 * beta.beta(t.valence(v))))); // (1 − kγ)/γ = 3/(8β)
+        out.extend(t.vertex_neighbors(v).map(|e| (e.0, 1.0)));
+    }))
 }
 
 /// Why Cheng's A cannot be inverted safely on a mesh (SPEC §3, ERRATA C3).
