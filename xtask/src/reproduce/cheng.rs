@@ -16,7 +16,7 @@ const TOL: f64 = 1e-6;
 pub fn run(ctx: &Ctx) -> Result<Table> {
     let mut table = Table::new(
         "table3-cheng",
-        "Table 3 — Cheng et al.: progressive interpolation with Catmull-Clark surfaces, and faster solvers",
+        "Table 3 — Cheng et al. (A) and the two-phase B(½): progressive interpolation and faster solvers",
         &[
             "model",
             "vertices",
@@ -33,7 +33,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         "A·M̂ = P with Cheng's limit matrix (appendix Eq. 5, ERRATA C1/C2), all vertices interpolated, tolerance \
          {TOL:e}·d on the max row residual; errors measured from the output control mesh by the Catmull-Clark \
          limit masks. λ_min, λ_max: Lanczos estimates on D^½SD^½ (Ritz values). PIA is the paper's iteration; \
-         weighted PIA uses ω = 2/(λ_min + λ_max); CG runs on S·M̂ = D⁻¹P with a Jacobi preconditioner; LDLᵀ is \
+         weighted PIA uses ω = 2/(λ_min + λ_max); B(½) is Fan-Cheng-Lai's two-phase matrix with λ = ½ on every face \
+         (equal to Zheng-Cai's Z), solved through `fan_cheng_lai::interpolate`; CG runs on S·M̂ = D⁻¹P with a Jacobi preconditioner; LDLᵀ is \
          sparse with a fill-reducing ordering. Meshes: Catmull-Clark control meshes (`quad/spot_control_mesh.obj`, \
          Keenan Crane; `quad/penguin_control_mesh.obj`, Oded Stein), `quad/fandisk_quads.off` (pmp-data), \
          `quad/horse_quad.obj` (libigl), `quad/sword-quad-dominant.obj` (22,293 v), the dual of \
@@ -61,66 +62,99 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         models.push((format!("polygon torus {n}"), closed_mix(n)));
     }
     for (name, mesh) in &models {
-        let n = mesh.topology().vertex_count();
-        let a = limit_matrix_catmull_clark(mesh.topology());
-        let fm = FactoredMatrix::new(a.d.clone(), a.s.clone())?;
-        let spectrum = extreme_eigenvalues(&fm, 60)?;
-        table.metric(format!("{name}/lambda_min"), spectrum.ritz_min, Kind::Error);
-        let all = vec![true; n];
-        for solver in [Solver::Pia, Solver::WeightedPia, Solver::Chebyshev, Solver::Cg { jacobi: true }, Solver::Ldl] {
-            if solver == Solver::Ldl && n > 200_000 {
-                table.row(vec![
-                    name.clone(),
-                    n.to_string(),
-                    String::new(),
-                    String::new(),
-                    solver.name().into(),
-                    "—".into(),
-                    "—".into(),
-                    "skipped (n > 2·10⁵)".into(),
-                    "—".into(),
-                ]);
-                continue;
-            }
-            let common =
-                CommonOptions { tol: TOL, solver: SolverChoice::Use(solver), max_iter: 20_000, ..Default::default() };
-            let (r, t) = timed(ctx.runs(), || cheng::interpolate(mesh, &ChengOptions { common: common.clone() }));
-            let first = solver == Solver::Pia;
-            let (lmin, lmax) = if first {
-                (sci(spectrum.ritz_min), format!("{:.4}", spectrum.ritz_max))
+        for (matrix, two_phase) in [("A", false), ("B(½)", true)] {
+            let n = mesh.topology().vertex_count();
+            let a = if two_phase {
+                subdiv_stencil::limit_matrix_two_phase(
+                    mesh.topology(),
+                    subdiv_stencil::doo_sabin::CornerRule::Uniform(0.5),
+                )?
             } else {
-                (String::new(), String::new())
+                limit_matrix_catmull_clark(mesh.topology())
             };
-            match r {
-                Ok(r) => {
-                    let s = r.solve.clone().unwrap_or_default();
-                    let err = r.error(mesh.positions(), &all, mesh.bbox_diagonal()).max_rel;
+            let fm = FactoredMatrix::new(a.d.clone(), a.s.clone())?;
+            let spectrum = extreme_eigenvalues(&fm, 60)?;
+            let key = format!("{name}/{matrix}");
+            table.metric(format!("{key}/lambda_min"), spectrum.ritz_min, Kind::Error);
+            let all = vec![true; n];
+            for solver in
+                [Solver::Pia, Solver::WeightedPia, Solver::Chebyshev, Solver::Cg { jacobi: true }, Solver::Ldl]
+            {
+                if solver == Solver::Ldl && n > 200_000 {
                     table.row(vec![
                         name.clone(),
                         n.to_string(),
+                        matrix.into(),
+                        String::new(),
+                        String::new(),
+                        solver.name().into(),
+                        "—".into(),
+                        "—".into(),
+                        "skipped (n > 2·10⁵)".into(),
+                        "—".into(),
+                    ]);
+                    continue;
+                }
+                let common = CommonOptions {
+                    tol: TOL,
+                    solver: SolverChoice::Use(solver),
+                    max_iter: 20_000,
+                    ..Default::default()
+                };
+                let (r, t) = timed(ctx.runs(), || {
+                    if two_phase {
+                        let shape = subdiv_interp::Shape::Uniform(0.5);
+                        subdiv_interp::fan_cheng_lai::interpolate(
+                            mesh,
+                            &subdiv_interp::FanChengLaiOptions { common: common.clone(), shape },
+                        )
+                    } else {
+                        cheng::interpolate(mesh, &ChengOptions { common: common.clone() })
+                    }
+                });
+                let first = solver == Solver::Pia;
+                let (lmin, lmax) = if first {
+                    (sci(spectrum.ritz_min), format!("{:.4}", spectrum.ritz_max))
+                } else {
+                    (String::new(), String::new())
+                };
+                match r {
+                    Ok(r) => {
+                        let s = r.solve.clone().unwrap_or_default();
+                        let err = r.error(mesh.positions(), &all, mesh.bbox_diagonal()).max_rel;
+                        table.row(vec![
+                            name.clone(),
+                            n.to_string(),
+                            matrix.into(),
+                            lmin,
+                            lmax,
+                            solver.name().into(),
+                            s.iterations.to_string(),
+                            s.matvecs.to_string(),
+                            ms(t),
+                            sci(err),
+                        ]);
+                        table.json.push(json!({"model": name, "vertices": n, "solver": solver.name(), "iterations": s.iterations, "matvecs": s.matvecs, "ms": t, "max_rel": err, "lambda_min": spectrum.ritz_min, "lambda_max": spectrum.ritz_max}));
+                        table.metric(
+                            format!("{key}/{}/iterations", solver.name()),
+                            s.iterations as f64,
+                            Kind::Iterations,
+                        );
+                        table.metric(format!("{key}/{}/error", solver.name()), err, Kind::Error);
+                    }
+                    Err(e) => table.row(vec![
+                        name.clone(),
+                        n.to_string(),
+                        matrix.into(),
                         lmin,
                         lmax,
                         solver.name().into(),
-                        s.iterations.to_string(),
-                        s.matvecs.to_string(),
-                        ms(t),
-                        sci(err),
-                    ]);
-                    table.json.push(json!({"model": name, "vertices": n, "solver": solver.name(), "iterations": s.iterations, "matvecs": s.matvecs, "ms": t, "max_rel": err, "lambda_min": spectrum.ritz_min, "lambda_max": spectrum.ritz_max}));
-                    table.metric(format!("{name}/{}/iterations", solver.name()), s.iterations as f64, Kind::Iterations);
-                    table.metric(format!("{name}/{}/error", solver.name()), err, Kind::Error);
+                        "—".into(),
+                        "—".into(),
+                        format!("failed: {e}"),
+                        "—".into(),
+                    ]),
                 }
-                Err(e) => table.row(vec![
-                    name.clone(),
-                    n.to_string(),
-                    lmin,
-                    lmax,
-                    solver.name().into(),
-                    "—".into(),
-                    "—".into(),
-                    format!("failed: {e}"),
-                    "—".into(),
-                ]),
             }
         }
     }
