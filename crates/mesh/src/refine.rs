@@ -19,6 +19,12 @@ use crate::topology::Topology;
 /// Catmull-Clark connectivity: every `m`-gon becomes `m` quads
 /// `(vₖ, e(vₖvₖ₊₁), f, e(vₖ₋₁vₖ))`, keeping the orientation.
 pub fn quad_split(t: &Topology) -> Topology {
+    t.quad_split()
+}
+
+/// [`quad_split`] the slow way: the quad face list validated by
+/// [`Topology::new`]. Kept to test the direct construction against.
+pub fn quad_split_by_validation(t: &Topology) -> Topology {
     let nv = t.vertex_count() as u32;
     let nf = t.face_count() as u32;
     let face_point = |f: FaceId| nv + f.0;

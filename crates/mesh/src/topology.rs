@@ -228,6 +228,118 @@ impl Topology {
         })
     }
 
+    /// The Catmull-Clark quad split of `self`, built directly by index
+    /// arithmetic instead of re-deriving connectivity from the face list (the
+    /// numbering is `crate::refine::quad_split`'s: old vertices, face points,
+    /// edge points; quad `h` for old half-edge `h`, corners
+    /// (from(h), e(h), f(h), e(prev h))). New half-edge 4h + k is corner k of
+    /// quad h; its twin follows from the coarse twins:
+    /// 4h+0 ↔ 4·next(twin h)+3, 4h+1 ↔ 4·next(h)+2, 4h+3 ↔ 4·twin(prev h)+0.
+    pub(crate) fn quad_split(&self) -> Topology {
+        let (nv, nf) = (self.vertex_count as usize, self.faces.len());
+        let nh = self.he_face.len();
+        let new_vertices = nv + nf + self.edge_he.len();
+        let face_point = |f: u32| (nv + f as usize) as u32;
+        let edge_point = |e: u32| (nv + nf + e as usize) as u32;
+        let next = |h: usize| self.he_next(HalfEdgeId(h as u32)).index();
+        let prev = |h: usize| self.he_prev(HalfEdgeId(h as u32)).index();
+        let mut quads = Vec::with_capacity(4 * nh);
+        let mut he_twin = vec![NONE; 4 * nh];
+        for h in 0..nh {
+            let p = prev(h);
+            quads.extend_from_slice(&[
+                self.faces.indices()[h],
+                edge_point(self.he_edge[h]),
+                face_point(self.he_face[h]),
+                edge_point(self.he_edge[p]),
+            ]);
+            let g = self.he_twin[h];
+            he_twin[4 * h] = if g == NONE { NONE } else { 4 * next(g as usize) as u32 + 3 };
+            he_twin[4 * h + 1] = 4 * next(h) as u32 + 2;
+            he_twin[4 * h + 2] = 4 * p as u32 + 1;
+            let q = self.he_twin[p];
+            he_twin[4 * h + 3] = if q == NONE { NONE } else { 4 * q };
+        }
+        let he_face: Vec<u32> = (0..4 * nh).map(|k| (k / 4) as u32).collect();
+        let mut he_edge = vec![NONE; 4 * nh];
+        let mut edge_he = Vec::with_capacity(2 * nh + nh / 2);
+        for h in 0..4 * nh {
+            let t = he_twin[h];
+            if t == NONE || (h as u32) < t {
+                he_edge[h] = edge_he.len() as u32;
+                if t != NONE {
+                    he_edge[t as usize] = edge_he.len() as u32;
+                }
+                edge_he.push(h as u32);
+            }
+        }
+        // Fans: old vertices keep their fan order, face points go round their
+        // face, edge points visit their (one or) two faces.
+        let mut fan = Vec::with_capacity(4 * nh);
+        let mut fan_offsets = Vec::with_capacity(new_vertices + 1);
+        let mut vertex_on_boundary = Vec::with_capacity(new_vertices);
+        fan_offsets.push(0u32);
+        for v in 0..nv {
+            let f = &self.fan[self.fan_offsets[v] as usize..self.fan_offsets[v + 1] as usize];
+            fan.extend(f.iter().map(|h| HalfEdgeId(4 * h.0)));
+            fan_offsets.push(fan.len() as u32);
+            vertex_on_boundary.push(self.vertex_on_boundary[v]);
+        }
+        for f in 0..nf {
+            let (a, b) = (self.faces.offsets()[f], self.faces.offsets()[f + 1]);
+            fan.extend((a..b).map(|h| HalfEdgeId(4 * h + 2)));
+            fan_offsets.push(fan.len() as u32);
+            vertex_on_boundary.push(false);
+        }
+        for &h in &self.edge_he {
+            let h = h as usize;
+            let nh_ = next(h) as u32;
+            match self.he_twin[h] {
+                NONE => {
+                    fan.extend([HalfEdgeId(4 * nh_ + 3), HalfEdgeId(4 * h as u32 + 1)]);
+                    vertex_on_boundary.push(true);
+                }
+                g => {
+                    let ng = next(g as usize) as u32;
+                    fan.extend([
+                        HalfEdgeId(4 * h as u32 + 1),
+                        HalfEdgeId(4 * ng + 3),
+                        HalfEdgeId(4 * g + 1),
+                        HalfEdgeId(4 * nh_ + 3),
+                    ]);
+                    vertex_on_boundary.push(false);
+                }
+            }
+            fan_offsets.push(fan.len() as u32);
+        }
+        // Boundary loops: coarse boundary half-edge a→b becomes a→e, e→b.
+        let mut loop_offsets = vec![0u32];
+        let mut loop_he = Vec::with_capacity(2 * self.loop_he.len());
+        for lp in self.loop_offsets.windows(2) {
+            for h in &self.loop_he[lp[0] as usize..lp[1] as usize] {
+                loop_he.push(HalfEdgeId(4 * h.0));
+                loop_he.push(HalfEdgeId(4 * next(h.index()) as u32 + 3));
+            }
+            loop_offsets.push(loop_he.len() as u32);
+        }
+        let face_component = self.he_face.iter().map(|&f| self.face_component[f as usize]).collect();
+        Topology {
+            vertex_count: new_vertices as u32,
+            faces: FaceList::from_uniform(4, quads),
+            he_face,
+            he_twin,
+            he_edge,
+            edge_he,
+            fan_offsets,
+            fan,
+            vertex_on_boundary,
+            loop_offsets,
+            loop_he,
+            face_component,
+            component_count: self.component_count,
+        }
+    }
+
     // ---- sizes -------------------------------------------------------------
 
     /// Number of vertices, isolated ones included.

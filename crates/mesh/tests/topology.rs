@@ -264,3 +264,75 @@ proptest! {
         prop_assert!(t.vertices().all(|v| t.valence(v) >= 3));
     }
 }
+
+/// Rotates a cyclic sequence to start at its smallest element.
+fn canonical_cycle(s: &[subdiv_mesh::HalfEdgeId]) -> Vec<u32> {
+    let k = (0..s.len()).min_by_key(|&i| s[i].0).unwrap_or(0);
+    (0..s.len()).map(|i| s[(k + i) % s.len()].0).collect()
+}
+
+/// The direct quad split (index arithmetic) equals the one rebuilt from its
+/// face list by `Topology::new`, element by element.
+fn assert_same_topology(direct: &Topology, rebuilt: &Topology) {
+    assert_eq!(direct.vertex_count(), rebuilt.vertex_count());
+    assert_eq!(direct.faces(), rebuilt.faces());
+    assert_eq!(direct.edge_count(), rebuilt.edge_count());
+    for f in direct.face_ids() {
+        for h in direct.face_half_edges(f) {
+            assert_eq!(direct.he_twin(h), rebuilt.he_twin(h), "twin of {h}");
+            assert_eq!(direct.he_edge(h), rebuilt.he_edge(h), "edge of {h}");
+        }
+    }
+    for e in direct.edges() {
+        assert_eq!(direct.edge_half_edge(e), rebuilt.edge_half_edge(e));
+    }
+    for v in direct.vertices() {
+        assert_eq!(direct.is_boundary_vertex(v), rebuilt.is_boundary_vertex(v), "boundary flag of {v}");
+        if direct.is_boundary_vertex(v) {
+            assert_eq!(direct.vertex_fan(v), rebuilt.vertex_fan(v), "fan of {v}");
+        } else {
+            assert_eq!(canonical_cycle(direct.vertex_fan(v)), canonical_cycle(rebuilt.vertex_fan(v)), "fan of {v}");
+        }
+    }
+    let loops = |t: &Topology| {
+        let mut l: Vec<Vec<u32>> = t.boundary_loops().map(canonical_cycle).collect();
+        l.sort();
+        l
+    };
+    assert_eq!(loops(direct), loops(rebuilt));
+    assert_eq!(direct.component_count(), rebuilt.component_count());
+    for f in direct.face_ids() {
+        assert_eq!(direct.face_component(f), rebuilt.face_component(f));
+    }
+    assert_eq!(direct.genus(), rebuilt.genus());
+}
+
+#[test]
+fn direct_quad_split_equals_the_validated_one_on_shapes() {
+    use subdiv_mesh::refine::{quad_split, quad_split_by_validation};
+    let mut with_isolated = shapes::cube().into_soup();
+    with_isolated.positions.push(DVec3::new(3.0, 3.0, 3.0));
+    let isolated = Mesh::from_soup(with_isolated).unwrap().0;
+    for mesh in [
+        shapes::cube(),
+        shapes::quad_grid(3, 2),
+        shapes::pillow(),
+        shapes::pyramid(5),
+        isolated,
+        shapes::plate_with_holes(6, 5, &[(2, 2)], false),
+    ] {
+        let t = mesh.topology();
+        assert_same_topology(&quad_split(t), &quad_split_by_validation(t));
+        let twice = quad_split(&quad_split(t));
+        assert_same_topology(&twice, &quad_split_by_validation(&quad_split_by_validation(t)));
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn direct_quad_split_equals_the_validated_one(mesh in generated_mesh()) {
+        let t = mesh.topology();
+        assert_same_topology(&subdiv_mesh::refine::quad_split(t), &subdiv_mesh::refine::quad_split_by_validation(t));
+    }
+}
