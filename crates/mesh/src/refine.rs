@@ -46,9 +46,21 @@ pub fn quad_split_by_validation(t: &Topology) -> Topology {
 
 /// Loop connectivity: every triangle becomes four. Fails when a face is not a triangle.
 pub fn triangle_split(t: &Topology) -> Result<Topology, MeshError> {
-    if let Some(f) = t.face_ids().find(|&f| t.face_size(f) != 3) {
-        return Err(MeshError::NotTriangles { face: f.0, size: t.face_size(f) });
+    require_triangles(t)?;
+    Ok(t.triangle_split())
+}
+
+fn require_triangles(t: &Topology) -> Result<(), MeshError> {
+    match t.face_ids().find(|&f| t.face_size(f) != 3) {
+        Some(f) => Err(MeshError::NotTriangles { face: f.0, size: t.face_size(f) }),
+        None => Ok(()),
     }
+}
+
+/// [`triangle_split`] the slow way: the triangle list validated by
+/// [`Topology::new`]. Kept to test the direct construction against.
+pub fn triangle_split_by_validation(t: &Topology) -> Result<Topology, MeshError> {
+    require_triangles(t)?;
     let nv = t.vertex_count() as u32;
     let edge_point = |h: HalfEdgeId| nv + t.he_edge(h).0;
     let mut tris = Vec::with_capacity(12 * t.face_count());

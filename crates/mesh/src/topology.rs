@@ -340,6 +340,118 @@ impl Topology {
         }
     }
 
+    /// The Loop triangle split of a triangle mesh, built directly (numbering
+    /// of `crate::refine::triangle_split`: old vertices, then edge points;
+    /// triangle 4f + k is the corner triangle (v_k, e(h_k), e(h_{k−1})) of old
+    /// half-edge h_k = 3f + k, triangle 4f + 3 the centre (e(h₀), e(h₁), e(h₂))).
+    /// With T(h) = 4·⌊h/3⌋ + h mod 3 the corner triangle of h, the new twins are
+    /// 3T(h)+0 ↔ 3T(next(twin h))+2, 3T(h)+1 ↔ 3(4f+3) + (k+2) mod 3, and
+    /// 3(4f+3)+j ↔ 3T(h_{j+1})+1.
+    ///
+    /// The caller guarantees every face is a triangle.
+    pub(crate) fn triangle_split(&self) -> Topology {
+        let nv = self.vertex_count as usize;
+        let nf = self.faces.len();
+        let nh = 3 * nf;
+        let new_vertices = nv + self.edge_he.len();
+        let corner = |h: usize| 4 * (h / 3) + h % 3; // T(h)
+        let centre = |h: usize| 4 * (h / 3) + 3; // centre triangle of h's face
+        let next = |h: usize| 3 * (h / 3) + (h + 1) % 3;
+        let prev = |h: usize| 3 * (h / 3) + (h + 2) % 3;
+        let edge_point = |h: usize| (nv + self.he_edge[h] as usize) as u32;
+        let mut tris = Vec::with_capacity(12 * nf);
+        let mut he_twin = vec![NONE; 12 * nf];
+        for f in 0..nf {
+            for k in 0..3 {
+                let h = 3 * f + k;
+                let p = prev(h);
+                tris.extend_from_slice(&[self.faces.indices()[h], edge_point(h), edge_point(p)]);
+                let t = 3 * corner(h);
+                let g = self.he_twin[h];
+                he_twin[t] = if g == NONE { NONE } else { (3 * corner(next(g as usize)) + 2) as u32 };
+                he_twin[t + 1] = (3 * centre(h) + (k + 2) % 3) as u32;
+                let q = self.he_twin[p];
+                he_twin[t + 2] = if q == NONE { NONE } else { (3 * corner(q as usize)) as u32 };
+            }
+            tris.extend_from_slice(&[edge_point(3 * f), edge_point(3 * f + 1), edge_point(3 * f + 2)]);
+            for j in 0..3 {
+                he_twin[3 * (4 * f + 3) + j] = (3 * corner(next(3 * f + j)) + 1) as u32;
+            }
+        }
+        let he_face: Vec<u32> = (0..12 * nf).map(|x| (x / 3) as u32).collect();
+        let mut he_edge = vec![NONE; 12 * nf];
+        let mut edge_he = Vec::with_capacity(6 * nf + nh / 2);
+        for x in 0..12 * nf {
+            let t = he_twin[x];
+            if t == NONE || (x as u32) < t {
+                he_edge[x] = edge_he.len() as u32;
+                if t != NONE {
+                    he_edge[t as usize] = edge_he.len() as u32;
+                }
+                edge_he.push(x as u32);
+            }
+        }
+        let id = |x: usize| HalfEdgeId(x as u32);
+        let mut fan = Vec::with_capacity(12 * nf);
+        let mut fan_offsets = Vec::with_capacity(new_vertices + 1);
+        let mut vertex_on_boundary = Vec::with_capacity(new_vertices);
+        fan_offsets.push(0u32);
+        for v in 0..nv {
+            let f = &self.fan[self.fan_offsets[v] as usize..self.fan_offsets[v + 1] as usize];
+            fan.extend(f.iter().map(|h| id(3 * corner(h.index()))));
+            fan_offsets.push(fan.len() as u32);
+            vertex_on_boundary.push(self.vertex_on_boundary[v]);
+        }
+        for &h in &self.edge_he {
+            let h = h as usize;
+            let nh_ = next(h);
+            match self.he_twin[h] {
+                NONE => {
+                    fan.extend([id(3 * corner(nh_) + 2), id(3 * centre(h) + h % 3), id(3 * corner(h) + 1)]);
+                    vertex_on_boundary.push(true);
+                }
+                g => {
+                    let g = g as usize;
+                    fan.extend([
+                        id(3 * corner(h) + 1),
+                        id(3 * corner(next(g)) + 2),
+                        id(3 * centre(g) + g % 3),
+                        id(3 * corner(g) + 1),
+                        id(3 * corner(nh_) + 2),
+                        id(3 * centre(h) + h % 3),
+                    ]);
+                    vertex_on_boundary.push(false);
+                }
+            }
+            fan_offsets.push(fan.len() as u32);
+        }
+        let mut loop_offsets = vec![0u32];
+        let mut loop_he = Vec::with_capacity(2 * self.loop_he.len());
+        for lp in self.loop_offsets.windows(2) {
+            for h in &self.loop_he[lp[0] as usize..lp[1] as usize] {
+                loop_he.push(id(3 * corner(h.index())));
+                loop_he.push(id(3 * corner(next(h.index())) + 2));
+            }
+            loop_offsets.push(loop_he.len() as u32);
+        }
+        let face_component = (0..4 * nf).map(|t| self.face_component[t / 4]).collect();
+        Topology {
+            vertex_count: new_vertices as u32,
+            faces: FaceList::from_uniform(3, tris),
+            he_face,
+            he_twin,
+            he_edge,
+            edge_he,
+            fan_offsets,
+            fan,
+            vertex_on_boundary,
+            loop_offsets,
+            loop_he,
+            face_component,
+            component_count: self.component_count,
+        }
+    }
+
     // ---- sizes -------------------------------------------------------------
 
     /// Number of vertices, isolated ones included.

@@ -336,3 +336,40 @@ proptest! {
         assert_same_topology(&subdiv_mesh::refine::quad_split(t), &subdiv_mesh::refine::quad_split_by_validation(t));
     }
 }
+
+fn fan_triangulated(mesh: &Mesh) -> Mesh {
+    let mut faces = FaceList::new();
+    for f in mesh.topology().faces().iter() {
+        for k in 2..f.len() {
+            faces.push(&[f[0], f[k - 1], f[k]]);
+        }
+    }
+    Mesh::new(mesh.positions().to_vec(), faces).unwrap()
+}
+
+#[test]
+fn direct_triangle_split_equals_the_validated_one_on_shapes() {
+    use subdiv_mesh::refine::{triangle_split, triangle_split_by_validation};
+    for mesh in [
+        shapes::tetrahedron(),
+        shapes::icosahedron(),
+        shapes::triangle_grid(3, 2),
+        fan_triangulated(&shapes::plate_with_holes(6, 5, &[(2, 2)], false)),
+    ] {
+        let t = mesh.topology();
+        let direct = triangle_split(t).unwrap();
+        assert_same_topology(&direct, &triangle_split_by_validation(t).unwrap());
+        assert_same_topology(&triangle_split(&direct).unwrap(), &triangle_split_by_validation(&direct).unwrap());
+    }
+    assert!(triangle_split(shapes::cube().topology()).is_err());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn direct_triangle_split_equals_the_validated_one(mesh in generated_mesh()) {
+        let tri = fan_triangulated(&mesh);
+        let t = tri.topology();
+        assert_same_topology(&subdiv_mesh::refine::triangle_split(t).unwrap(), &subdiv_mesh::refine::triangle_split_by_validation(t).unwrap());
+    }
+}
