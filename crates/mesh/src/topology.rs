@@ -153,19 +153,7 @@ impl Topology {
             fan_offsets.push(fan.len() as u32);
         }
 
-        // Undirected edges: one per half-edge pair, one per boundary half-edge.
-        let mut he_edge = vec![NONE; nh];
-        let mut edge_he = Vec::with_capacity(nh / 2 + 1);
-        for h in 0..nh {
-            let t = he_twin[h];
-            if t == NONE || (h as u32) < t {
-                he_edge[h] = edge_he.len() as u32;
-                if t != NONE {
-                    he_edge[t as usize] = edge_he.len() as u32;
-                }
-                edge_he.push(h as u32);
-            }
-        }
+        let (he_edge, edge_he) = number_edges(&he_twin);
 
         // Boundary loops: after boundary half-edge a→b comes b's boundary half-edge.
         let mut loop_offsets = vec![0u32];
@@ -261,18 +249,7 @@ impl Topology {
             he_twin[4 * h + 3] = if q == NONE { NONE } else { 4 * q };
         }
         let he_face: Vec<u32> = (0..4 * nh).map(|k| (k / 4) as u32).collect();
-        let mut he_edge = vec![NONE; 4 * nh];
-        let mut edge_he = Vec::with_capacity(2 * nh + nh / 2);
-        for h in 0..4 * nh {
-            let t = he_twin[h];
-            if t == NONE || (h as u32) < t {
-                he_edge[h] = edge_he.len() as u32;
-                if t != NONE {
-                    he_edge[t as usize] = edge_he.len() as u32;
-                }
-                edge_he.push(h as u32);
-            }
-        }
+        let (he_edge, edge_he) = number_edges(&he_twin);
         // Fans: old vertices keep their fan order, face points go round their
         // face, edge points visit their (one or) two faces.
         let mut fan = Vec::with_capacity(4 * nh);
@@ -352,7 +329,6 @@ impl Topology {
     pub(crate) fn triangle_split(&self) -> Topology {
         let nv = self.vertex_count as usize;
         let nf = self.faces.len();
-        let nh = 3 * nf;
         let new_vertices = nv + self.edge_he.len();
         let corner = |h: usize| 4 * (h / 3) + h % 3; // T(h)
         let centre = |h: usize| 4 * (h / 3) + 3; // centre triangle of h's face
@@ -379,18 +355,7 @@ impl Topology {
             }
         }
         let he_face: Vec<u32> = (0..12 * nf).map(|x| (x / 3) as u32).collect();
-        let mut he_edge = vec![NONE; 12 * nf];
-        let mut edge_he = Vec::with_capacity(6 * nf + nh / 2);
-        for x in 0..12 * nf {
-            let t = he_twin[x];
-            if t == NONE || (x as u32) < t {
-                he_edge[x] = edge_he.len() as u32;
-                if t != NONE {
-                    he_edge[t as usize] = edge_he.len() as u32;
-                }
-                edge_he.push(x as u32);
-            }
-        }
+        let (he_edge, edge_he) = number_edges(&he_twin);
         let id = |x: usize| HalfEdgeId(x as u32);
         let mut fan = Vec::with_capacity(12 * nf);
         let mut fan_offsets = Vec::with_capacity(new_vertices + 1);
@@ -696,6 +661,24 @@ impl Topology {
         }
         hist
     }
+}
+
+/// Undirected edges from twins, in half-edge order: one per twin pair (at its
+/// smaller half-edge), one per boundary half-edge. Returns (edge of every
+/// half-edge, a half-edge of every edge).
+fn number_edges(he_twin: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let mut he_edge = vec![NONE; he_twin.len()];
+    let mut edge_he = Vec::with_capacity(he_twin.len() / 2 + 1);
+    for (h, &t) in he_twin.iter().enumerate() {
+        if t == NONE || (h as u32) < t {
+            he_edge[h] = edge_he.len() as u32;
+            if t != NONE {
+                he_edge[t as usize] = edge_he.len() as u32;
+            }
+            edge_he.push(h as u32);
+        }
+    }
+    (he_edge, edge_he)
 }
 
 /// Per-face checks that need no connectivity: size, index range, repeats.
