@@ -3,7 +3,7 @@
 use crate::failure::{bad_input, Failure};
 use crate::load::load_mesh;
 use crate::params;
-use crate::subdivide::BetaArg;
+use crate::subdivide::{BetaArg, TensionArgs};
 use anyhow::anyhow;
 use clap::ValueEnum;
 use serde_json::json;
@@ -16,7 +16,7 @@ use subdiv_interp::{
 use subdiv_io::MeshView;
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
-use subdiv_stencil::{LoopBeta, Tension};
+use subdiv_stencil::LoopBeta;
 
 /// Method names on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -80,12 +80,9 @@ pub struct InterpolateArgs {
     /// deng-wang: Loop's β.
     #[arg(long, value_enum, default_value = "warren")]
     beta: BetaArg,
-    /// deng-ma: global tension ω ∈ (0, 1].
-    #[arg(long, conflicts_with = "variable_tension")]
-    omega: Option<f64>,
-    /// deng-ma: displacement-safe variable tension with λ ∈ (0, 1].
-    #[arg(long)]
-    variable_tension: Option<f64>,
+    /// deng-ma: the tension.
+    #[command(flatten)]
+    tension: TensionArgs,
     /// Write the control mesh (deng-ma: the refined surface).
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -121,7 +118,7 @@ fn check_applies(args: &InterpolateArgs) -> Result<(), Failure> {
     if args.normals.is_some() && !matches!(args.method, ZhengCai | DengWang) {
         return misuse("--normals", "zheng-cai or deng-wang");
     }
-    if (args.omega.is_some() || args.variable_tension.is_some()) && args.method != DengMa {
+    if args.tension.given() && args.method != DengMa {
         return misuse("--omega/--variable-tension", "deng-ma");
     }
     if !(args.tol > 0.0 && args.tol.is_finite()) {
@@ -153,13 +150,7 @@ fn run_method(args: &InterpolateArgs, mesh: &Mesh) -> Result<Interpolant, Failur
             fan_cheng_lai::interpolate(mesh, &FanChengLaiOptions { common, shape })
         }
         MethodArg::DengWang => deng_wang::interpolate(mesh, &DengWangOptions { common, mu: args.mu, beta, normals }),
-        MethodArg::DengMa => {
-            let tension = match (args.omega, args.variable_tension) {
-                (_, Some(lambda)) => Tension::Variable { lambda },
-                (omega, None) => Tension::Global(omega.unwrap_or(1.0)),
-            };
-            deng_ma::interpolate(mesh, &DengMaOptions { tension })
-        }
+        MethodArg::DengMa => deng_ma::interpolate(mesh, &DengMaOptions { tension: args.tension.tension() }),
     };
     result.map_err(|e| classify(&args.mesh, e))
 }

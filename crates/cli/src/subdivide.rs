@@ -43,6 +43,31 @@ impl From<BetaArg> for LoopBeta {
     }
 }
 
+/// Deng-Ma's tension flags, shared by `subdivide` and `interpolate`.
+#[derive(clap::Args, Debug)]
+pub struct TensionArgs {
+    /// Deng-Ma: global tension ω ∈ (0, 1] (default 1).
+    #[arg(long, conflicts_with = "variable_tension")]
+    omega: Option<f64>,
+    /// Deng-Ma: displacement-safe variable tension with this λ ∈ (0, 1] (report §3.4).
+    #[arg(long)]
+    variable_tension: Option<f64>,
+}
+
+impl TensionArgs {
+    /// True when either flag was given.
+    pub fn given(&self) -> bool {
+        self.omega.is_some() || self.variable_tension.is_some()
+    }
+    /// The tension the flags ask for (global ω = 1 by default).
+    pub fn tension(&self) -> Tension {
+        match (self.omega, self.variable_tension) {
+            (_, Some(lambda)) => Tension::Variable { lambda },
+            (omega, None) => Tension::Global(omega.unwrap_or(1.0)),
+        }
+    }
+}
+
 /// Arguments of `subdiv subdivide`.
 #[derive(clap::Args, Debug)]
 pub struct SubdivideArgs {
@@ -60,12 +85,9 @@ pub struct SubdivideArgs {
     /// Loop's β.
     #[arg(long, value_enum, default_value = "warren")]
     beta: BetaArg,
-    /// Deng-Ma: global tension ω ∈ (0, 1] (default 1).
-    #[arg(long, conflicts_with = "variable_tension")]
-    omega: Option<f64>,
-    /// Deng-Ma: displacement-safe variable tension with this λ ∈ (0, 1] (report §3.4).
-    #[arg(long)]
-    variable_tension: Option<f64>,
+    /// Deng-Ma's tension.
+    #[command(flatten)]
+    tension: TensionArgs,
     /// Loop on a mesh with non-triangles: fan-triangulate every face first.
     #[arg(long)]
     triangulate: bool,
@@ -95,12 +117,9 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
         SchemeArg::DooSabin => Scheme::DooSabin,
         SchemeArg::CatmullClark => Scheme::CatmullClark,
         SchemeArg::Loop => Scheme::Loop(args.beta.into()),
-        SchemeArg::DengMa => Scheme::DengMa(match (args.omega, args.variable_tension) {
-            (_, Some(lambda)) => Tension::Variable { lambda },
-            (omega, None) => Tension::Global(omega.unwrap_or(1.0)),
-        }),
+        SchemeArg::DengMa => Scheme::DengMa(args.tension.tension()),
     };
-    if args.scheme != SchemeArg::DengMa && (args.omega.is_some() || args.variable_tension.is_some()) {
+    if args.scheme != SchemeArg::DengMa && args.tension.given() {
         return Err(bad_input(anyhow!("--omega and --variable-tension apply to --scheme deng-ma only")));
     }
     if args.limit && args.scheme == SchemeArg::DengMa {
