@@ -31,6 +31,7 @@ use crate::mask::{EdgeMask, VertexKind, VertexMask};
 ///
 /// # Panics
 /// If `m < 3`.
+#[inline]
 pub fn face_point_weight(m: usize) -> f64 {
     assert!(m >= 3, "a face has at least 3 corners, got {m}");
     1.0 / m as f64 // Eq. (4): f_i = (V + E_i + E_{i+1} + F_1^i + … + F_{m_i−3}^i)/m_i
@@ -52,6 +53,7 @@ pub fn face_point_weight(m: usize) -> f64 {
 ///
 /// # Panics
 /// If a face size is below 3.
+#[inline]
 pub fn edge_point_mask(m_left: usize, m_right: Option<usize>) -> EdgeMask {
     let Some(m_right) = m_right else {
         return EdgeMask::MIDPOINT;

@@ -8,9 +8,9 @@
 //! Row order of R is the [`subdiv_mesh::refine::quad_split`] numbering: old
 //! vertices, then face points, then edge points.
 
-use crate::{vertex_kind, RowBuilder, SparseMatrix};
+use crate::{vertex_kind, RowBuilder, SparseMatrix, Summation};
 use subdiv_mesh::refine::quad_split;
-use subdiv_mesh::{Topology, VertexId};
+use subdiv_mesh::{EdgeId, FaceId, HalfEdgeId, Topology, VertexId};
 use subdiv_rules::catmull_clark::{
     edge_point_mask, face_point_weight, limit_stencil as cheng_limit, vertex_point_mask,
 };
@@ -25,56 +25,82 @@ pub(crate) fn add_boundary_neighbors(rows: &mut RowBuilder, t: &Topology, v: Ver
 }
 
 /// (V + F + E) × V refinement stencil: P₁ = R·P₀ on [`quad_split`]'s numbering.
+///
+/// Each row is written with its weights already merged per neighbour (an
+/// edge neighbour collects its edge term and the two face points it lies in),
+/// so a row holds its distinct columns once unless the mesh makes two of them
+/// coincide, which [`RowBuilder`] still sums. Rows are built in parallel.
 pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
     let (nv, nf, ne) = (t.vertex_count(), t.face_count(), t.edge_count());
-    let mut rows = RowBuilder::with_capacity(nv + nf + ne, 10 * nv + t.half_edge_count() * 3);
-    for v in t.vertices() {
-        let kind = vertex_kind(t, v);
-        if t.is_isolated(v) {
-            rows.add(v.0, 1.0);
-        } else if kind == VertexKind::Interior {
-            // Eq. (4): v = (n−2)/n V + 1/n² Σ Eᵢ + 1/n² Σ fᵢ, fᵢ expanded over its corners.
-            let n = t.valence(v);
-            let mask = vertex_point_mask(kind, n);
-            rows.add(v.0, mask.vertex);
-            for e in t.vertex_neighbors(v) {
-                rows.add(e.0, mask.interior_neighbor);
-            }
-            for c in t.vertex_corners(v) {
-                let face = t.face(c.face);
-                rows.add_all(face, mask.face * face_point_weight(face.len()));
-            }
+    RowBuilder::build_parallel(nv + nf + ne, nv, Summation::InOrder, |i, rows| {
+        if i < nv {
+            vertex_point_row(t, VertexId(i as u32), rows);
+        } else if i < nv + nf {
+            let face = t.face(FaceId((i - nv) as u32));
+            rows.add_all(face, face_point_weight(face.len())); // Eq. (4): f = (Σ corners)/m
         } else {
-            let mask = vertex_point_mask(kind, t.valence(v));
-            rows.add(v.0, mask.vertex);
-            add_boundary_neighbors(&mut rows, t, v, mask.boundary_neighbor);
+            edge_point_row(t, EdgeId((i - nv - nf) as u32), rows);
         }
-        rows.finish_row();
+    })
+}
+
+/// Corner `j` steps after half-edge `h`'s corner in its face (`j` < face size).
+#[inline]
+fn corner_after(t: &Topology, h: HalfEdgeId, j: usize) -> u32 {
+    let offsets = t.faces().offsets();
+    let f = t.he_face(h).index();
+    let (start, end) = (offsets[f] as usize, offsets[f + 1] as usize);
+    let k = h.index() + j; // wraps at most once
+    t.faces().indices()[if k >= end { k - (end - start) } else { k }]
+}
+
+/// Row of the new vertex point of `v` (Eq. 4, first line; boundary (E₋ + 6V + E₊)/8; corner V).
+fn vertex_point_row(t: &Topology, v: VertexId, rows: &mut RowBuilder) {
+    let kind = vertex_kind(t, v);
+    if t.is_isolated(v) {
+        rows.add(v.0, 1.0);
+    } else if kind == VertexKind::Interior {
+        // Eq. (4): v = (n−2)/n V + 1/n² Σ Eᵢ + 1/n² Σ fᵢ, fᵢ expanded over its
+        // corners: V, Eᵢ and Eᵢ₊₁ (each shared with a neighbouring face) and
+        // the far corners F₁ⁱ…F_{mᵢ−3}ⁱ.
+        let fan = t.vertex_fan(v);
+        let mask = vertex_point_mask(kind, fan.len());
+        let face_weight = |h: HalfEdgeId| mask.face * face_point_weight(t.face_size(t.he_face(h)));
+        let mut previous = face_weight(fan[fan.len() - 1]); // E₀ also lies in the last face of the closed fan
+        let mut centre = mask.vertex;
+        for &h in fan {
+            let w = face_weight(h);
+            centre += w;
+            rows.add(corner_after(t, h, 1), mask.interior_neighbor + previous + w); // Eᵢ ∈ fᵢ₋₁, fᵢ
+            for j in 2..t.face_size(t.he_face(h)) - 1 {
+                rows.add(corner_after(t, h, j), w); // far corners of fᵢ
+            }
+            previous = w;
+        }
+        rows.add(v.0, centre);
+    } else {
+        let mask = vertex_point_mask(kind, t.valence(v));
+        rows.add(v.0, mask.vertex);
+        add_boundary_neighbors(rows, t, v, mask.boundary_neighbor);
     }
-    for f in t.face_ids() {
-        let face = t.face(f);
-        rows.add_all(face, face_point_weight(face.len())); // Eq. (4): f = (Σ corners)/m
-        rows.finish_row();
-    }
-    for e in t.edges() {
-        let h = t.edge_half_edge(e);
-        let (a, b) = (t.he_from(h), t.he_to(h));
-        let left = t.he_face(h);
-        let right = t.he_twin(h).map(|g| t.he_face(g));
-        let mask = edge_point_mask(t.face_size(left), right.map(|r| t.face_size(r)));
-        // ERRATA C2: e = (V + Eᵢ + f_{i−1} + fᵢ)/4, the face points expanded; or the midpoint.
-        for (face, w) in [(Some(left), mask.left), (right, mask.right)] {
-            if let Some(face) = face.filter(|_| w != 0.0) {
-                rows.add_all(t.face(face), w);
-                rows.add(a.0, -w);
-                rows.add(b.0, -w);
+}
+
+/// Row of the new edge point of `e`: ERRATA C2, e = (V + Eᵢ + fᵢ₋₁ + fᵢ)/4 with
+/// the face points expanded (the corners of each face other than the ends);
+/// the midpoint on the boundary.
+fn edge_point_row(t: &Topology, e: EdgeId, rows: &mut RowBuilder) {
+    let h = t.edge_half_edge(e);
+    let twin = t.he_twin(h);
+    let mask = edge_point_mask(t.face_size(t.he_face(h)), twin.map(|g| t.face_size(t.he_face(g))));
+    rows.add(t.he_from(h).0, mask.end);
+    rows.add(t.he_to(h).0, mask.end);
+    for (side, w) in [(Some(h), mask.left), (twin, mask.right)] {
+        if let Some(side) = side.filter(|_| w != 0.0) {
+            for j in 2..t.face_size(t.he_face(side)) {
+                rows.add(corner_after(t, side, j), w);
             }
         }
-        rows.add(a.0, mask.end);
-        rows.add(b.0, mask.end);
-        rows.finish_row();
     }
-    rows.build(nv)
 }
 
 /// One Catmull-Clark step: the refined topology and its stencil.
@@ -87,37 +113,33 @@ pub fn refine(t: &Topology) -> (Topology, SparseMatrix) {
 /// ERRATA C1/C2); boundary: (E₋ + 4V + E₊)/6; corner: V.
 pub fn limit_stencil(t: &Topology) -> SparseMatrix {
     let nv = t.vertex_count();
-    let mut rows = RowBuilder::with_capacity(nv, 16 * nv);
-    let (mut sizes, mut edge_w, mut far_w) = (Vec::new(), Vec::new(), Vec::new());
-    for v in t.vertices() {
-        let kind = vertex_kind(t, v);
-        match kind {
+    type Scratch = (Vec<usize>, Vec<f64>, Vec<f64>); // face sizes, edge and far-corner weights
+    RowBuilder::build_parallel_with_scratch(nv, nv, Summation::InOrder, |i, rows, scratch: &mut Scratch| {
+        let v = VertexId(i as u32);
+        match vertex_kind(t, v) {
             _ if t.is_isolated(v) => rows.add(v.0, 1.0),
             VertexKind::Interior => {
                 let fan = t.vertex_fan(v);
+                let (sizes, edge_w, far_w) = scratch;
                 sizes.clear();
                 sizes.extend(fan.iter().map(|&h| t.face_size(t.he_face(h))));
                 edge_w.resize(fan.len(), 0.0);
                 far_w.resize(fan.len(), 0.0);
-                let wv = cheng_limit(&sizes, &mut edge_w, &mut far_w); // Eq. (5)
+                let wv = cheng_limit(sizes, edge_w, far_w); // Eq. (5)
                 rows.add(v.0, wv);
                 for (i, &h) in fan.iter().enumerate() {
-                    rows.add(t.he_to(h).0, edge_w[i]);
+                    rows.add(corner_after(t, h, 1), edge_w[i]);
                     // Far corners of face i = (V, Eᵢ, F₁ⁱ…F_{m−3}ⁱ, Eᵢ₊₁).
-                    let mut g = t.he_next(t.he_next(h));
-                    while t.he_to(g) != v {
-                        rows.add(t.he_from(g).0, far_w[i]);
-                        g = t.he_next(g);
+                    for j in 2..sizes[i] - 1 {
+                        rows.add(corner_after(t, h, j), far_w[i]);
                     }
                 }
             }
             VertexKind::Boundary => {
                 rows.add(v.0, 4.0 / 6.0);
-                add_boundary_neighbors(&mut rows, t, v, 1.0 / 6.0);
+                add_boundary_neighbors(rows, t, v, 1.0 / 6.0);
             }
             VertexKind::Corner => rows.add(v.0, 1.0),
         }
-        rows.finish_row();
-    }
-    rows.build(nv)
+    })
 }

@@ -12,9 +12,9 @@
 //! Row order of R is [`dual_split`]'s numbering: one row per old corner
 //! (= old half-edge id), then two per boundary half-edge.
 
-use crate::{RowBuilder, SparseMatrix, StencilError};
+use crate::{RowBuilder, SparseMatrix, StencilError, Summation};
 use subdiv_mesh::refine::{dual_split, DualProvenance};
-use subdiv_mesh::Topology;
+use subdiv_mesh::{FaceId, HalfEdgeId, Topology, VertexId};
 use subdiv_rules::doo_sabin::{BOUNDARY_CURVE_POINT, BOUNDARY_EDGE_POINT};
 use subdiv_rules::{doo_sabin_weights, two_phase_weights};
 
@@ -32,7 +32,7 @@ pub enum CornerRule<'a> {
 
 impl CornerRule<'_> {
     /// Fills `out` with the row of a face of size `out.len()`.
-    fn weights(&self, face: usize, out: &mut [f64]) {
+    pub(crate) fn weights(&self, face: usize, out: &mut [f64]) {
         let m = out.len();
         match *self {
             CornerRule::Standard => doo_sabin_weights(m, out), // Zheng-Cai Eq. (1)
@@ -67,34 +67,41 @@ impl CornerRule<'_> {
 pub fn refinement_stencil(t: &Topology, rule: CornerRule<'_>) -> Result<SparseMatrix, StencilError> {
     rule.validate(t)?;
     let nh = t.half_edge_count();
-    let nb: usize = t.boundary_loops().map(<[_]>::len).sum();
-    let mut rows = RowBuilder::with_capacity(nh + 2 * nb, 4 * nh + 4 * nb);
-    let mut w = Vec::new();
-    for f in t.face_ids() {
-        let face = t.face(f);
-        let m = face.len();
-        w.resize(m, 0.0);
-        rule.weights(f.index(), &mut w);
-        for k in 0..m {
-            // Image of corner k: Σⱼ w[j]·V_{(k+j) mod m}.
-            for j in 0..m {
-                rows.add(face[(k + j) % m], w[j]);
-            }
-            rows.finish_row();
-        }
-    }
-    // Boundary Chaikin points in dual_split's order (loop by loop).
-    for lp in t.boundary_loops() {
-        for &h in lp {
-            let (a, b) = (t.he_from(h).0, t.he_to(h).0);
-            for (near, far) in [(a, b), (b, a)] {
+    let boundary: Vec<HalfEdgeId> = t.boundary_loops().flatten().copied().collect();
+    // The scratch keeps the weights of the last face seen: its corners' rows are consecutive.
+    type Scratch = (Option<FaceId>, Vec<f64>);
+    let rows = nh + 2 * boundary.len();
+    Ok(RowBuilder::build_parallel_with_scratch(
+        rows,
+        t.vertex_count(),
+        Summation::InOrder,
+        |i, rows, scratch: &mut Scratch| {
+            if i < nh {
+                let h = HalfEdgeId(i as u32);
+                let f = t.he_face(h);
+                let face = t.face(f);
+                let m = face.len();
+                let (last, w) = scratch;
+                if *last != Some(f) {
+                    w.resize(m, 0.0);
+                    rule.weights(f.index(), w);
+                    *last = Some(f);
+                }
+                // Image of corner k: Σⱼ w[j]·V_{(k+j) mod m}.
+                let k = t.he_corner(h).index as usize;
+                for j in 0..m {
+                    rows.add(face[(k + j) % m], w[j]);
+                }
+            } else {
+                // Boundary Chaikin points in dual_split's order (loop by loop), near end first.
+                let h = boundary[(i - nh) / 2];
+                let (a, b) = (t.he_from(h).0, t.he_to(h).0);
+                let (near, far) = if (i - nh) % 2 == 0 { (a, b) } else { (b, a) };
                 rows.add(near, BOUNDARY_EDGE_POINT.near);
                 rows.add(far, BOUNDARY_EDGE_POINT.far);
-                rows.finish_row();
             }
-        }
-    }
-    Ok(rows.build(t.vertex_count()))
+        },
+    ))
 }
 
 /// One Doo-Sabin step: the refined topology with provenance and its stencil.
@@ -110,9 +117,8 @@ pub fn refine(t: &Topology, rule: CornerRule<'_>) -> Result<(Topology, DualProve
 /// v, (B₋ + 6V + B₊)/8 (`BOUNDARY_CURVE_POINT`). Isolated vertices map to themselves.
 pub fn limit_stencil(t: &Topology) -> SparseMatrix {
     let nv = t.vertex_count();
-    let mut rows = RowBuilder::with_capacity(nv, 8 * nv);
-    let mut w = Vec::new();
-    for v in t.vertices() {
+    RowBuilder::build_parallel_with_scratch(nv, nv, Summation::InOrder, |i, rows, w: &mut Vec<f64>| {
+        let v = VertexId(i as u32);
         if t.is_isolated(v) {
             rows.add(v.0, 1.0);
         } else if let Some((prev, next)) = t.boundary_neighbors(v) {
@@ -126,13 +132,11 @@ pub fn limit_stencil(t: &Topology) -> SparseMatrix {
                 let face = t.face(c.face);
                 let m = face.len();
                 w.resize(m, 0.0);
-                doo_sabin_weights(m, &mut w);
+                doo_sabin_weights(m, w);
                 for j in 0..m {
                     rows.add(face[(c.index as usize + j) % m], w[j] / n);
                 }
             }
         }
-        rows.finish_row();
-    }
-    rows.build(nv)
+    })
 }

@@ -43,7 +43,7 @@ pub use limit_matrix::{
     catmull_clark_degeneracy, limit_matrix_catmull_clark, limit_matrix_loop, limit_matrix_nasri,
     limit_matrix_two_phase, limit_matrix_zheng_cai, Degeneracy, LimitMatrix,
 };
-pub use rows::RowBuilder;
+pub use rows::{RowBuilder, Summation};
 pub use subdiv_rules::deng_ma::Tension;
 pub use subdiv_rules::LoopBeta;
 pub use subdivide::{subdivide, Refinement, Scheme, SubdivisionPlan};

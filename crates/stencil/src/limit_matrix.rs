@@ -30,12 +30,11 @@
 //! (boundary first, then the interior with the boundary known).
 
 use crate::doo_sabin::CornerRule;
-use crate::{apply, SparseMatrix, StencilError};
+use crate::{apply, RowBuilder, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
-use rayon::prelude::*;
 use subdiv_mesh::{Topology, VertexId};
 use subdiv_rules::doo_sabin::BOUNDARY_CURVE_POINT;
-use subdiv_rules::{doo_sabin_weights, two_phase_weights, LoopBeta};
+use subdiv_rules::LoopBeta;
 
 /// A limit matrix A = D·S with its boundary rows marked.
 #[derive(Clone, Debug)]
@@ -103,71 +102,32 @@ fn special_rows(t: &Topology, curve: [f64; 3], curve_d: f64, corner_fixed: bool)
     out
 }
 
-/// Vertices per parallel task when building rows.
-const ROWS_PER_TASK: usize = 8192;
-
-/// Builds A = D·S row by row (in parallel, deterministically): `row(v, out)`
-/// pushes the contributions of vertex v's row; rows listed in `special` are
-/// taken from there instead. Each row's contributions are sorted by (column,
-/// value bits) before they are summed, so an entry's value depends only on the
-/// multiset of its contributions: S\[i\]\[j\] and S\[j\]\[i\], which receive the
-/// same contributions (a face or an edge containing both), are equal bit for bit.
+/// Builds A = D·S row by row (in parallel, deterministically): `row(v, rows)`
+/// adds the contributions of vertex v's row; rows listed in `special` are
+/// taken from there instead. Each row's contributions are summed in ascending
+/// order of their bits ([`Summation::Canonical`]), so an entry's value depends
+/// only on the multiset of its contributions: S\[i\]\[j\] and S\[j\]\[i\],
+/// which receive the same contributions (a face or an edge containing both),
+/// are equal bit for bit.
 fn assemble(
     t: &Topology,
     mut d: Vec<f64>,
     special: SpecialRows,
-    row: impl Fn(VertexId, &mut Vec<(u32, f64)>) + Sync,
+    row: impl Fn(VertexId, &mut RowBuilder) + Sync,
 ) -> LimitMatrix {
     let n = t.vertex_count();
     let mut special_of = vec![u32::MAX; n];
     for (k, (v, _)) in special.rows.iter().enumerate() {
         special_of[*v as usize] = k as u32;
     }
-    let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(ROWS_PER_TASK))
-        .into_par_iter()
-        .map(|c| {
-            let (lo, hi) = (c * ROWS_PER_TASK, ((c + 1) * ROWS_PER_TASK).min(n));
-            let (mut lens, mut cols, mut vals) = (Vec::with_capacity(hi - lo), Vec::new(), Vec::new());
-            let mut pending: Vec<(u32, f64)> = Vec::with_capacity(64);
-            for v in lo..hi {
-                pending.clear();
-                match special_of[v] {
-                    u32::MAX => row(VertexId(v as u32), &mut pending),
-                    k => pending.extend_from_slice(&special.rows[k as usize].1),
-                }
-                pending.sort_unstable_by_key(|&(col, w)| (col, w.to_bits()));
-                let start = cols.len();
-                for &(col, w) in &pending {
-                    if cols.len() > start && *cols.last().expect("non-empty") == col {
-                        *vals.last_mut().expect("non-empty") += w;
-                    } else {
-                        cols.push(col);
-                        vals.push(w);
-                    }
-                }
-                lens.push((cols.len() - start) as u32);
-            }
-            (lens, cols, vals)
-        })
-        .collect();
-    let nnz: usize = chunks.iter().map(|c| c.1.len()).sum();
-    let (mut indptr, mut indices, mut data) =
-        (Vec::with_capacity(n + 1), Vec::with_capacity(nnz), Vec::with_capacity(nnz));
-    indptr.push(0u32);
-    for (lens, cols, vals) in chunks {
-        for len in lens {
-            indptr.push(indptr.last().expect("starts at 0") + len);
-        }
-        indices.extend(cols);
-        data.extend(vals);
-    }
+    let s = RowBuilder::build_parallel(n, n, Summation::Canonical, |v, rows| match special_of[v] {
+        u32::MAX => row(VertexId(v as u32), rows),
+        k => special.rows[k as usize].1.iter().for_each(|&(c, w)| rows.add(c, w)),
+    });
     for &(v, dv) in &special.d {
         d[v as usize] = dv;
     }
     let boundary_rows = special.rows.iter().map(|(v, _)| *v).collect();
-    let s = SparseMatrix::try_new((n, n), indptr, indices, data)
-        .map_err(|(_, _, _, e)| e)
-        .expect("rows are sorted and in range by construction");
     LimitMatrix { d, s, boundary_rows }
 }
 
@@ -178,7 +138,7 @@ fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMat
     let d = t.vertices().map(|v| 1.0 / t.vertex_face_count(v).max(1) as f64).collect(); // Σ = diag(1/n)
     let [a, b, c] = BOUNDARY_CURVE_POINT;
     let special = special_rows(t, [a * 8.0, b * 8.0, c * 8.0], 0.125, false);
-    Ok(assemble(t, d, special, |v, out| {
+    Ok(assemble(t, d, special, |v, rows| {
         let mut w = [0.0; 16];
         let mut big = Vec::new();
         for corner in t.vertex_corners(v) {
@@ -190,15 +150,11 @@ fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMat
                 big.resize(m, 0.0);
                 &mut big[..]
             };
-            match rule {
-                CornerRule::Standard => doo_sabin_weights(m, w), // Zheng-Cai Eq. (1)
-                CornerRule::Uniform(l) => two_phase_weights(m, l, w), // Eq. (4) / Fan Eq. (1)
-                CornerRule::PerFace(ls) => two_phase_weights(m, ls[corner.face.index()], w), // Fan Eq. (1)
-            }
-            // Face block Circ(w): symmetric because w[k] = w[m − k] (α depends on cos only).
+            rule.weights(corner.face.index(), w); // Zheng-Cai Eq. (1) / (4), Fan-Cheng-Lai Eq. (1)
+                                                  // Face block Circ(w): symmetric because w[k] = w[m − k] (α depends on cos only).
             let k = corner.index as usize;
             for j in 0..m {
-                out.push((face[(k + j) % m], w[j]));
+                rows.add(face[(k + j) % m], w[j]);
             }
         }
     }))
@@ -239,18 +195,17 @@ pub fn limit_matrix_catmull_clark(t: &Topology) -> LimitMatrix {
         })
         .collect();
     let special = special_rows(t, [1.0, 4.0, 1.0], 1.0 / 6.0, true);
-    assemble(t, d, special, |v, out| {
+    assemble(t, d, special, |v, rows| {
         for corner in t.vertex_corners(v) {
             let face = t.face(corner.face);
-            let inv_m = 1.0 / face.len() as f64;
-            out.extend(face.iter().map(|&c| (c, inv_m))); // Eq. (5): Σᵢ (Fⁱ…)/mᵢ and the 1/mᵢ of the E and V terms
+            rows.add_all(face, 1.0 / face.len() as f64); // Eq. (5): Σᵢ (Fⁱ…)/mᵢ and the 1/mᵢ of the E and V terms
         }
         for e in t.vertex_neighbors(v) {
-            out.push((v.0, 0.5));
-            out.push((e.0, 0.5)); // Eq. (5): the ½ of (½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ
+            rows.add(v.0, 0.5);
+            rows.add(e.0, 0.5); // Eq. (5): the ½ of (½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ
         }
         let n = t.valence(v) as f64;
-        out.push((v.0, n * (n - 3.0) / 4.0)); // Eq. (5): n(n−1)/4 = n(n−3)/4 + n·½
+        rows.add(v.0, n * (n - 3.0) / 4.0); // Eq. (5): n(n−1)/4 = n(n−3)/4 + n·½
     })
 }
 
@@ -263,9 +218,9 @@ pub fn limit_matrix_loop(t: &Topology, beta: LoopBeta) -> Result<LimitMatrix, St
     }
     let d = t.vertices().map(|v| if t.valence(v) > 0 { beta.gamma(t.valence(v)) } else { 1.0 }).collect(); // W4: γ = 1/(k + 3/(8β))
     let special = special_rows(t, [1.0, 4.0, 1.0], 1.0 / 6.0, true);
-    Ok(assemble(t, d, special, |v, out| {
-        out.push((v.0, 3.0 / (8.0 * beta.beta(t.valence(v))))); // (1 − kγ)/γ = 3/(8β)
-        out.extend(t.vertex_neighbors(v).map(|e| (e.0, 1.0)));
+    Ok(assemble(t, d, special, |v, rows| {
+        rows.add(v.0, 3.0 / (8.0 * beta.beta(t.valence(v)))); // (1 − kγ)/γ = 3/(8β)
+        t.vertex_neighbors(v).for_each(|e| rows.add(e.0, 1.0));
     }))
 }
 

@@ -8,9 +8,9 @@
 //! old vertices, then edge points.
 
 use crate::catmull_clark::add_boundary_neighbors;
-use crate::{vertex_kind, RowBuilder, SparseMatrix, StencilError};
+use crate::{vertex_kind, RowBuilder, SparseMatrix, StencilError, Summation};
 use subdiv_mesh::refine::triangle_split;
-use subdiv_mesh::{MeshError, Topology};
+use subdiv_mesh::{EdgeId, MeshError, Topology, VertexId};
 use subdiv_rules::loop_scheme::{edge_point_mask, limit_mask, vertex_point_mask};
 use subdiv_rules::{LoopBeta, VertexKind};
 
@@ -37,18 +37,18 @@ fn add_vertex_mask(rows: &mut RowBuilder, t: &Topology, v: subdiv_mesh::VertexId
 pub fn refinement_stencil(t: &Topology, beta: LoopBeta) -> Result<SparseMatrix, StencilError> {
     require_triangles(t)?;
     let (nv, ne) = (t.vertex_count(), t.edge_count());
-    let mut rows = RowBuilder::with_capacity(nv + ne, 7 * nv + 4 * ne);
-    for v in t.vertices() {
-        if t.is_isolated(v) {
-            rows.add(v.0, 1.0);
-        } else {
-            // Eq. (1): p' = (1 − kβ)p + βΣpⱼ; boundary (1, 6, 1)/8; corner p.
-            add_vertex_mask(&mut rows, t, v, vertex_point_mask(vertex_kind(t, v), t.valence(v), beta));
+    Ok(RowBuilder::build_parallel(nv + ne, nv, Summation::InOrder, |i, rows| {
+        if i < nv {
+            let v = VertexId(i as u32);
+            if t.is_isolated(v) {
+                rows.add(v.0, 1.0);
+            } else {
+                // Eq. (1): p' = (1 − kβ)p + βΣpⱼ; boundary (1, 6, 1)/8; corner p.
+                add_vertex_mask(rows, t, v, vertex_point_mask(vertex_kind(t, v), t.valence(v), beta));
+            }
+            return;
         }
-        rows.finish_row();
-    }
-    for e in t.edges() {
-        let h = t.edge_half_edge(e);
+        let h = t.edge_half_edge(EdgeId((i - nv) as u32));
         let twin = t.he_twin(h);
         let mask = edge_point_mask(twin.is_none());
         rows.add(t.he_from(h).0, mask.end);
@@ -58,9 +58,7 @@ pub fn refinement_stencil(t: &Topology, beta: LoopBeta) -> Result<SparseMatrix, 
         if let Some(g) = twin {
             rows.add(t.he_from(t.he_prev(g)).0, mask.right);
         }
-        rows.finish_row();
-    }
-    Ok(rows.build(nv))
+    }))
 }
 
 /// One Loop step: the refined topology and its stencil.
@@ -78,14 +76,12 @@ pub fn refine(t: &Topology, beta: LoopBeta) -> Result<(Topology, SparseMatrix), 
 pub fn limit_stencil(t: &Topology, beta: LoopBeta) -> Result<SparseMatrix, StencilError> {
     require_triangles(t)?;
     let nv = t.vertex_count();
-    let mut rows = RowBuilder::with_capacity(nv, 7 * nv);
-    for v in t.vertices() {
+    Ok(RowBuilder::build_parallel(nv, nv, Summation::InOrder, |i, rows| {
+        let v = VertexId(i as u32);
         if t.is_isolated(v) {
             rows.add(v.0, 1.0);
         } else {
-            add_vertex_mask(&mut rows, t, v, limit_mask(vertex_kind(t, v), t.valence(v), beta));
+            add_vertex_mask(rows, t, v, limit_mask(vertex_kind(t, v), t.valence(v), beta));
         }
-        rows.finish_row();
-    }
-    Ok(rows.build(nv))
+    }))
 }

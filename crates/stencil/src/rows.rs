@@ -1,6 +1,23 @@
 //! Building CSR matrices row by row from (column, weight) contributions.
 
 use crate::SparseMatrix;
+use rayon::prelude::*;
+
+/// How the contributions to one column of a row are summed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Summation {
+    /// In the order they were added.
+    #[default]
+    InOrder,
+    /// In ascending order of their bits, so an entry depends only on the
+    /// multiset of its contributions (what makes S\[i\]\[j\] and S\[j\]\[i\]
+    /// of a limit matrix equal bit for bit).
+    Canonical,
+}
+
+/// Rows per parallel task in [`RowBuilder::build_parallel`]: large enough to
+/// amortise scheduling; fixed, so nothing depends on the thread count.
+const ROWS_PER_TASK: usize = 4096;
 
 /// Accumulates one row at a time; repeated columns within a row are summed.
 ///
@@ -12,6 +29,10 @@ pub struct RowBuilder {
     indices: Vec<u32>,
     data: Vec<f64>,
     pending: Vec<(u32, f64)>,
+    /// Set while [`Self::build_parallel`] only counts a row's distinct columns,
+    /// collected here.
+    counting: bool,
+    counted: Vec<u32>,
 }
 
 impl RowBuilder {
@@ -19,48 +40,48 @@ impl RowBuilder {
     pub fn with_capacity(rows: usize, nnz: usize) -> Self {
         let mut indptr = Vec::with_capacity(rows + 1);
         indptr.push(0);
-        Self {
-            indptr,
-            indices: Vec::with_capacity(nnz),
-            data: Vec::with_capacity(nnz),
-            pending: Vec::with_capacity(64),
-        }
+        Self { indptr, indices: Vec::with_capacity(nnz), data: Vec::with_capacity(nnz), ..Self::scratch() }
+    }
+
+    /// A builder that only holds the pending row.
+    fn scratch() -> Self {
+        Self { pending: Vec::with_capacity(64), ..Self::default() }
     }
 
     /// Adds `weight` at `column` of the current row.
     #[inline]
     pub fn add(&mut self, column: u32, weight: f64) {
-        self.pending.push((column, weight));
+        if self.counting {
+            self.counted.push(column);
+        } else {
+            self.pending.push((column, weight));
+        }
     }
 
     /// Adds `weight` to every column in `columns`.
     #[inline]
     pub fn add_all(&mut self, columns: &[u32], weight: f64) {
-        self.pending.extend(columns.iter().map(|&c| (c, weight)));
-    }
-
-    /// Closes the current row: sorts its entries and sums repeated columns.
-    pub fn finish_row(&mut self) {
-        // Stable, so repeated columns are summed in the order they were added.
-        self.pending.sort_by_key(|&(c, _)| c);
-        self.finish_row_presorted();
-    }
-
-    /// Closes the current row whose entries were added in ascending column
-    /// order; equal columns are summed in the order they were added.
-    pub fn finish_row_presorted(&mut self) {
-        debug_assert!(self.pending.windows(2).all(|w| w[0].0 <= w[1].0), "columns must ascend");
-        let mut last = u32::MAX;
-        for &(c, w) in &self.pending {
-            if c == last {
-                *self.data.last_mut().expect("an entry was pushed for this column") += w;
-            } else {
-                self.indices.push(c);
-                self.data.push(w);
-                last = c;
-            }
+        if self.counting {
+            self.counted.extend_from_slice(columns);
+        } else {
+            self.pending.extend(columns.iter().map(|&c| (c, weight)));
         }
-        self.pending.clear();
+    }
+
+    /// Closes the current row: sorts its entries and sums repeated columns in
+    /// the order they were added ([`Summation::InOrder`]).
+    pub fn finish_row(&mut self) {
+        self.finish_row_with(Summation::InOrder);
+    }
+
+    /// Closes the current row, summing repeated columns as `summation` says.
+    pub fn finish_row_with(&mut self, summation: Summation) {
+        let start = self.indices.len();
+        self.indices.resize(start + self.pending.len(), 0);
+        self.data.resize(start + self.pending.len(), 0.0);
+        let written = merge(&mut self.pending, summation, &mut self.indices[start..], &mut self.data[start..]);
+        self.indices.truncate(start + written);
+        self.data.truncate(start + written);
         self.indptr.push(self.indices.len() as u32);
     }
 
@@ -79,5 +100,196 @@ impl RowBuilder {
         SparseMatrix::try_new((rows, columns), self.indptr, self.indices, self.data)
             .map_err(|(_, _, _, e)| e)
             .expect("rows are sorted and in range by construction")
+    }
+
+    /// Builds a `rows` × `columns` matrix whose rows are independent: `fill(i,
+    /// builder)` adds the contributions of row `i` (without closing it), the
+    /// same ones each time it is called.
+    ///
+    /// Two parallel passes over the rows: the first counts each row's distinct
+    /// columns, which places every row in one pair of output arrays; the
+    /// second writes the rows there, merged as `summation` says. No row is
+    /// copied twice and no array grows. Each row is computed by one task alone,
+    /// so the matrix is the same bit for bit whatever the thread count.
+    ///
+    /// # Panics
+    /// If a column index is out of range, `fill` adds different columns on the
+    /// two passes, or the matrix has 2³² entries or more (caller bugs: plans
+    /// check sizes first).
+    pub fn build_parallel(
+        rows: usize,
+        columns: usize,
+        summation: Summation,
+        fill: impl Fn(usize, &mut RowBuilder) + Sync,
+    ) -> SparseMatrix {
+        Self::build_parallel_with_scratch(rows, columns, summation, |i, builder, _: &mut ()| fill(i, builder))
+    }
+
+    /// [`Self::build_parallel`] for rows that need working memory: each task
+    /// passes its own `S` (created by `Default`) to every row it fills.
+    ///
+    /// # Panics
+    /// As [`Self::build_parallel`].
+    pub fn build_parallel_with_scratch<S: Default>(
+        rows: usize,
+        columns: usize,
+        summation: Summation,
+        fill: impl Fn(usize, &mut RowBuilder, &mut S) + Sync,
+    ) -> SparseMatrix {
+        // Pass 1: distinct columns per row.
+        let mut indptr = vec![0u32; rows + 1];
+        indptr[1..].par_chunks_mut(ROWS_PER_TASK).enumerate().for_each(|(c, out)| {
+            let (mut counter, mut scratch) = (RowBuilder { counting: true, ..Self::default() }, S::default());
+            for (j, b) in out.iter_mut().enumerate() {
+                fill(c * ROWS_PER_TASK + j, &mut counter, &mut scratch);
+                let columns = &mut counter.counted;
+                columns.sort_unstable();
+                *b = columns.windows(2).filter(|w| w[0] != w[1]).count() as u32 + u32::from(!columns.is_empty());
+                columns.clear();
+            }
+        });
+        let mut total = 0u64; // counts → row starts
+        for b in &mut indptr {
+            total += u64::from(*b);
+            *b = u32::try_from(total).expect("fewer than 2³² stencil entries");
+        }
+        let total = total as usize;
+
+        // Pass 2: each task writes its rows into its own stretch of the output.
+        let (mut indices, mut data) = (vec![0u32; total], vec![0.0f64; total]);
+        let mut tasks = Vec::with_capacity(rows.div_ceil(ROWS_PER_TASK));
+        let (mut rest_i, mut rest_d) = (indices.as_mut_slice(), data.as_mut_slice());
+        for first in (0..rows).step_by(ROWS_PER_TASK) {
+            let last = (first + ROWS_PER_TASK).min(rows);
+            let span = (indptr[last] - indptr[first]) as usize;
+            let (head_i, tail_i) = rest_i.split_at_mut(span);
+            let (head_d, tail_d) = rest_d.split_at_mut(span);
+            tasks.push((first..last, head_i, head_d));
+            (rest_i, rest_d) = (tail_i, tail_d);
+        }
+        tasks.into_par_iter().for_each(|(range, out_i, out_d)| {
+            let (mut builder, mut scratch) = (Self::scratch(), S::default());
+            let base = indptr[range.start] as usize;
+            for i in range {
+                fill(i, &mut builder, &mut scratch);
+                let (at, end) = (indptr[i] as usize - base, indptr[i + 1] as usize - base);
+                let written = merge(&mut builder.pending, summation, &mut out_i[at..end], &mut out_d[at..end]);
+                assert_eq!(written, end - at, "row {i}: fill added different columns on the two passes");
+            }
+        });
+        SparseMatrix::try_new((rows, columns), indptr, indices, data)
+            .map_err(|(_, _, _, e)| e)
+            .expect("rows are sorted and in range by construction")
+    }
+}
+
+/// Sorts a pending row, writes its distinct columns with summed weights to the
+/// front of `to_columns`/`to_weights`, clears it, and returns how many entries
+/// were written.
+fn merge(pending: &mut Vec<(u32, f64)>, summation: Summation, to_columns: &mut [u32], to_weights: &mut [f64]) -> usize {
+    match summation {
+        // Stable, so repeated columns are summed in the order they were
+        // added; insertion sort for the usual short rows (a big face makes
+        // long ones).
+        Summation::InOrder if pending.len() > 32 => pending.sort_by_key(|&(c, _)| c),
+        Summation::InOrder => {
+            for i in 1..pending.len() {
+                let entry = pending[i];
+                let mut j = i;
+                while j > 0 && pending[j - 1].0 > entry.0 {
+                    pending[j] = pending[j - 1];
+                    j -= 1;
+                }
+                pending[j] = entry;
+            }
+        }
+        Summation::Canonical => pending.sort_unstable_by_key(|&(c, w)| (c, w.to_bits())),
+    }
+    let mut written = 0;
+    for &(c, w) in pending.iter() {
+        if written > 0 && to_columns[written - 1] == c {
+            to_weights[written - 1] += w;
+        } else {
+            to_columns[written] = c;
+            to_weights[written] = w;
+            written += 1;
+        }
+    }
+    pending.clear();
+    written
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Row `i` of a pseudo-random matrix: 0-40 contributions over few columns,
+    /// so most rows repeat columns (and need merging), some are empty.
+    fn contributions(i: usize) -> Vec<(u32, f64)> {
+        let mut state = (i as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        let mut next = || {
+            state ^= state >> 29;
+            state = state.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            state ^= state >> 32;
+            state
+        };
+        let len = (next() % 41) as usize;
+        (0..len).map(|_| ((next() % 23) as u32, (next() % 1000) as f64 / 7.0 - 50.0)).collect()
+    }
+
+    fn sequential(rows: usize, summation: Summation) -> SparseMatrix {
+        let mut b = RowBuilder::with_capacity(rows, 0);
+        for i in 0..rows {
+            contributions(i).into_iter().for_each(|(c, w)| b.add(c, w));
+            b.finish_row_with(summation);
+        }
+        b.build(23)
+    }
+
+    #[test]
+    fn parallel_build_equals_the_sequential_one_bit_for_bit() {
+        // Three tasks' worth of rows, the last one partial; most rows repeat columns.
+        let rows = 2 * ROWS_PER_TASK + 77;
+        for summation in [Summation::InOrder, Summation::Canonical] {
+            let parallel = RowBuilder::build_parallel(rows, 23, summation, |i, b| {
+                contributions(i).into_iter().for_each(|(c, w)| b.add(c, w))
+            });
+            let reference = sequential(rows, summation);
+            assert_eq!(parallel.indptr().raw_storage(), reference.indptr().raw_storage());
+            assert_eq!(parallel.indices(), reference.indices());
+            let bits = |m: &SparseMatrix| m.data().iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&parallel), bits(&reference), "{summation:?}");
+        }
+    }
+
+    #[test]
+    fn rows_sum_their_repeated_columns() {
+        let m = RowBuilder::build_parallel(3, 4, Summation::InOrder, |i, b| match i {
+            0 => b.add_all(&[3, 1, 3], 0.5),
+            1 => {}
+            _ => {
+                b.add(2, 1.0);
+                b.add(0, -1.0);
+            }
+        });
+        assert_eq!(m.indptr().raw_storage(), &[0, 2, 2, 4]);
+        assert_eq!(m.indices(), &[1, 3, 0, 2]);
+        assert_eq!(m.data(), &[0.5, 1.0, -1.0, 1.0]);
+    }
+
+    #[test]
+    fn in_order_and_canonical_summation_round_in_their_own_orders() {
+        // Added as 1e16, −1e16, 1: in order (1e16 − 1e16) + 1 = 1; by bits
+        // (1 < 1e16 < −1e16, the sign bit being the highest) (1 + 1e16) − 1e16 = 0.
+        let sum = |summation| {
+            RowBuilder::build_parallel(1, 1, summation, |_, b| {
+                b.add(0, 1e16);
+                b.add(0, -1e16);
+                b.add(0, 1.0);
+            })
+            .data()[0]
+        };
+        assert_eq!(sum(Summation::InOrder), 1.0);
+        assert_eq!(sum(Summation::Canonical), 0.0);
     }
 }
