@@ -33,8 +33,14 @@ use crate::mask::{EdgeMask, VertexKind, VertexMask};
 /// If `m < 3`.
 #[inline]
 pub fn face_point_weight(m: usize) -> f64 {
+    // 1/m for the common sizes without a division in the stencil loops (the
+    // same correctly rounded values: const division is IEEE division).
+    const RECIPROCALS: [f64; 9] = [0.0, 0.0, 0.0, 1.0 / 3.0, 1.0 / 4.0, 1.0 / 5.0, 1.0 / 6.0, 1.0 / 7.0, 1.0 / 8.0];
     assert!(m >= 3, "a face has at least 3 corners, got {m}");
-    1.0 / m as f64 // Eq. (4): f_i = (V + E_i + E_{i+1} + F_1^i + … + F_{m_i−3}^i)/m_i
+    match RECIPROCALS.get(m) {
+        Some(&w) => w,
+        None => 1.0 / m as f64, // Eq. (4): f_i = (V + E_i + E_{i+1} + F_1^i + … + F_{m_i−3}^i)/m_i
+    }
 }
 
 /// Edge-point mask over the endpoints and the corners of the edge's faces,

@@ -220,3 +220,10 @@ fn regular_masks_are_the_bicubic_bspline_ones() {
     let e = edge_point_mask(4, Some(4));
     assert_eq!(e.end * 16.0, 6.0);
 }
+
+#[test]
+fn face_point_weight_is_the_correctly_rounded_reciprocal() {
+    for m in 3..200 {
+        assert_eq!(face_point_weight(m).to_bits(), (1.0 / m as f64).to_bits(), "m = {m}");
+    }
+}

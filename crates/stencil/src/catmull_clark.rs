@@ -32,7 +32,26 @@ pub(crate) fn add_boundary_neighbors(rows: &mut RowBuilder, t: &Topology, v: Ver
 /// coincide, which [`RowBuilder`] still sums. Rows are built in parallel.
 pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
     let (nv, nf, ne) = (t.vertex_count(), t.face_count(), t.edge_count());
-    RowBuilder::build_parallel(nv + nf + ne, nv, Summation::InOrder, |i, rows| {
+    let size = |h: HalfEdgeId| t.face_size(t.he_face(h));
+    // Columns of each row when its neighbours are distinct (the usual case).
+    let max_len = |i: usize| {
+        if i < nv {
+            let v = VertexId(i as u32);
+            match vertex_kind(t, v) {
+                VertexKind::Interior if !t.is_isolated(v) => {
+                    1 + t.vertex_fan(v).iter().map(|&h| size(h) - 2).sum::<usize>()
+                }
+                VertexKind::Boundary => 3,
+                _ => 1,
+            }
+        } else if i < nv + nf {
+            t.face_size(FaceId((i - nv) as u32))
+        } else {
+            let h = t.edge_half_edge(EdgeId((i - nv - nf) as u32));
+            t.he_twin(h).map_or(2, |g| size(h) + size(g) - 2)
+        }
+    };
+    RowBuilder::build_parallel_bounded(nv + nf + ne, nv, Summation::InOrder, max_len, |i, rows| {
         if i < nv {
             vertex_point_row(t, VertexId(i as u32), rows);
         } else if i < nv + nf {
@@ -44,14 +63,18 @@ pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
     })
 }
 
-/// Corner `j` steps after half-edge `h`'s corner in its face (`j` < face size).
+/// The corners of `h`'s face rotated to start at `h`'s corner: `ring(j)` is
+/// the corner `j` steps further (`j` < face size), and the face size.
 #[inline]
-fn corner_after(t: &Topology, h: HalfEdgeId, j: usize) -> u32 {
-    let offsets = t.faces().offsets();
-    let f = t.he_face(h).index();
-    let (start, end) = (offsets[f] as usize, offsets[f + 1] as usize);
-    let k = h.index() + j; // wraps at most once
-    t.faces().indices()[if k >= end { k - (end - start) } else { k }]
+fn face_ring(t: &Topology, h: HalfEdgeId) -> (impl Fn(usize) -> u32 + '_, usize) {
+    let corner = t.he_corner(h);
+    let face = t.face(corner.face);
+    let k = corner.index as usize;
+    let ring = move |j: usize| {
+        let at = k + j; // j < m: wraps at most once
+        face[if at >= face.len() { at - face.len() } else { at }]
+    };
+    (ring, face.len())
 }
 
 /// Row of the new vertex point of `v` (Eq. 4, first line; boundary (E₋ + 6V + E₊)/8; corner V).
@@ -65,15 +88,16 @@ fn vertex_point_row(t: &Topology, v: VertexId, rows: &mut RowBuilder) {
         // the far corners F₁ⁱ…F_{mᵢ−3}ⁱ.
         let fan = t.vertex_fan(v);
         let mask = vertex_point_mask(kind, fan.len());
-        let face_weight = |h: HalfEdgeId| mask.face * face_point_weight(t.face_size(t.he_face(h)));
-        let mut previous = face_weight(fan[fan.len() - 1]); // E₀ also lies in the last face of the closed fan
+        let face_weight = |m: usize| mask.face * face_point_weight(m);
+        let mut previous = face_weight(t.face_size(t.he_face(fan[fan.len() - 1]))); // E₀ is in the last face too
         let mut centre = mask.vertex;
         for &h in fan {
-            let w = face_weight(h);
+            let (ring, m) = face_ring(t, h);
+            let w = face_weight(m);
             centre += w;
-            rows.add(corner_after(t, h, 1), mask.interior_neighbor + previous + w); // Eᵢ ∈ fᵢ₋₁, fᵢ
-            for j in 2..t.face_size(t.he_face(h)) - 1 {
-                rows.add(corner_after(t, h, j), w); // far corners of fᵢ
+            rows.add(ring(1), mask.interior_neighbor + previous + w); // Eᵢ ∈ fᵢ₋₁, fᵢ
+            for j in 2..m - 1 {
+                rows.add(ring(j), w); // far corners of fᵢ
             }
             previous = w;
         }
@@ -81,7 +105,9 @@ fn vertex_point_row(t: &Topology, v: VertexId, rows: &mut RowBuilder) {
     } else {
         let mask = vertex_point_mask(kind, t.valence(v));
         rows.add(v.0, mask.vertex);
-        add_boundary_neighbors(rows, t, v, mask.boundary_neighbor);
+        if kind == VertexKind::Boundary {
+            add_boundary_neighbors(rows, t, v, mask.boundary_neighbor); // a corner stays: no zero entries
+        }
     }
 }
 
@@ -96,8 +122,9 @@ fn edge_point_row(t: &Topology, e: EdgeId, rows: &mut RowBuilder) {
     rows.add(t.he_to(h).0, mask.end);
     for (side, w) in [(Some(h), mask.left), (twin, mask.right)] {
         if let Some(side) = side.filter(|_| w != 0.0) {
-            for j in 2..t.face_size(t.he_face(side)) {
-                rows.add(corner_after(t, side, j), w);
+            let (ring, m) = face_ring(t, side);
+            for j in 2..m {
+                rows.add(ring(j), w);
             }
         }
     }
@@ -128,10 +155,11 @@ pub fn limit_stencil(t: &Topology) -> SparseMatrix {
                 let wv = cheng_limit(sizes, edge_w, far_w); // Eq. (5)
                 rows.add(v.0, wv);
                 for (i, &h) in fan.iter().enumerate() {
-                    rows.add(corner_after(t, h, 1), edge_w[i]);
+                    let (ring, m) = face_ring(t, h);
+                    rows.add(ring(1), edge_w[i]);
                     // Far corners of face i = (V, Eᵢ, F₁ⁱ…F_{m−3}ⁱ, Eᵢ₊₁).
-                    for j in 2..sizes[i] - 1 {
-                        rows.add(corner_after(t, h, j), far_w[i]);
+                    for j in 2..m - 1 {
+                        rows.add(ring(j), far_w[i]);
                     }
                 }
             }

@@ -137,46 +137,105 @@ impl RowBuilder {
         fill: impl Fn(usize, &mut RowBuilder, &mut S) + Sync,
     ) -> SparseMatrix {
         // Pass 1: distinct columns per row.
-        let mut indptr = vec![0u32; rows + 1];
-        indptr[1..].par_chunks_mut(ROWS_PER_TASK).enumerate().for_each(|(c, out)| {
+        let mut lengths = vec![0u32; rows];
+        lengths.par_chunks_mut(ROWS_PER_TASK).enumerate().for_each(|(c, out)| {
             let (mut counter, mut scratch) = (RowBuilder { counting: true, ..Self::default() }, S::default());
-            for (j, b) in out.iter_mut().enumerate() {
+            for (j, len) in out.iter_mut().enumerate() {
                 fill(c * ROWS_PER_TASK + j, &mut counter, &mut scratch);
                 let columns = &mut counter.counted;
                 columns.sort_unstable();
-                *b = columns.windows(2).filter(|w| w[0] != w[1]).count() as u32 + u32::from(!columns.is_empty());
+                *len = columns.windows(2).filter(|w| w[0] != w[1]).count() as u32 + u32::from(!columns.is_empty());
                 columns.clear();
             }
         });
-        let mut total = 0u64; // counts → row starts
-        for b in &mut indptr {
-            total += u64::from(*b);
-            *b = u32::try_from(total).expect("fewer than 2³² stencil entries");
+        Self::write_rows(columns, summation, lengths, fill)
+    }
+
+    /// [`Self::build_parallel`] with a bound on each row's length given by the
+    /// caller instead of counted by a first pass over `fill`: `max_len(i)` ≥
+    /// the number of distinct columns of row `i` (a row that merges repeated
+    /// columns comes out shorter; the gaps are closed afterwards).
+    ///
+    /// # Panics
+    /// If a row has more distinct columns than its bound, and as
+    /// [`Self::build_parallel`].
+    pub fn build_parallel_bounded(
+        rows: usize,
+        columns: usize,
+        summation: Summation,
+        max_len: impl Fn(usize) -> usize + Sync,
+        fill: impl Fn(usize, &mut RowBuilder) + Sync,
+    ) -> SparseMatrix {
+        let mut lengths = vec![0u32; rows];
+        lengths.par_chunks_mut(ROWS_PER_TASK).enumerate().for_each(|(c, out)| {
+            for (j, len) in out.iter_mut().enumerate() {
+                *len = max_len(c * ROWS_PER_TASK + j) as u32;
+            }
+        });
+        Self::write_rows(columns, summation, lengths, |i, builder, _: &mut ()| fill(i, builder))
+    }
+
+    /// Pass 2 of the parallel builds: places row `i` at the prefix sum of
+    /// `lengths`, lets each task write its rows there, and closes the gaps
+    /// of rows that came out shorter than their length.
+    fn write_rows<S: Default>(
+        columns: usize,
+        summation: Summation,
+        lengths: Vec<u32>,
+        fill: impl Fn(usize, &mut RowBuilder, &mut S) + Sync,
+    ) -> SparseMatrix {
+        let rows = lengths.len();
+        let mut indptr = Vec::with_capacity(rows + 1);
+        let mut total = 0u64;
+        indptr.push(0u32);
+        for &len in &lengths {
+            total += u64::from(len);
+            indptr.push(u32::try_from(total).expect("fewer than 2³² stencil entries"));
         }
         let total = total as usize;
-
-        // Pass 2: each task writes its rows into its own stretch of the output.
         let (mut indices, mut data) = (vec![0u32; total], vec![0.0f64; total]);
+        let mut lengths = lengths;
         let mut tasks = Vec::with_capacity(rows.div_ceil(ROWS_PER_TASK));
         let (mut rest_i, mut rest_d) = (indices.as_mut_slice(), data.as_mut_slice());
-        for first in (0..rows).step_by(ROWS_PER_TASK) {
-            let last = (first + ROWS_PER_TASK).min(rows);
+        for (c, lens) in lengths.chunks_mut(ROWS_PER_TASK).enumerate() {
+            let (first, last) = (c * ROWS_PER_TASK, c * ROWS_PER_TASK + lens.len());
             let span = (indptr[last] - indptr[first]) as usize;
             let (head_i, tail_i) = rest_i.split_at_mut(span);
             let (head_d, tail_d) = rest_d.split_at_mut(span);
-            tasks.push((first..last, head_i, head_d));
+            tasks.push((first, lens, head_i, head_d));
             (rest_i, rest_d) = (tail_i, tail_d);
         }
-        tasks.into_par_iter().for_each(|(range, out_i, out_d)| {
-            let (mut builder, mut scratch) = (Self::scratch(), S::default());
-            let base = indptr[range.start] as usize;
-            for i in range {
-                fill(i, &mut builder, &mut scratch);
-                let (at, end) = (indptr[i] as usize - base, indptr[i + 1] as usize - base);
-                let written = merge(&mut builder.pending, summation, &mut out_i[at..end], &mut out_d[at..end]);
-                assert_eq!(written, end - at, "row {i}: fill added different columns on the two passes");
+        let shortened = tasks
+            .into_par_iter()
+            .map(|(first, lens, out_i, out_d)| {
+                let (mut builder, mut scratch) = (Self::scratch(), S::default());
+                let base = indptr[first] as usize;
+                let mut shortened = false;
+                for (j, len) in lens.iter_mut().enumerate() {
+                    let i = first + j;
+                    fill(i, &mut builder, &mut scratch);
+                    let (at, end) = (indptr[i] as usize - base, indptr[i + 1] as usize - base);
+                    let written = merge(&mut builder.pending, summation, &mut out_i[at..end], &mut out_d[at..end]);
+                    shortened |= written < *len as usize;
+                    *len = written as u32;
+                }
+                shortened
+            })
+            .reduce(|| false, |a, b| a || b);
+        if shortened {
+            // Close the gaps, moving rows towards the front in order.
+            let mut end = 0usize;
+            for (i, &len) in lengths.iter().enumerate() {
+                let (from, len) = (indptr[i] as usize, len as usize);
+                indices.copy_within(from..from + len, end);
+                data.copy_within(from..from + len, end);
+                indptr[i] = end as u32;
+                end += len;
             }
-        });
+            indptr[rows] = end as u32;
+            indices.truncate(end);
+            data.truncate(end);
+        }
         SparseMatrix::try_new((rows, columns), indptr, indices, data)
             .map_err(|(_, _, _, e)| e)
             .expect("rows are sorted and in range by construction")
@@ -254,12 +313,28 @@ mod tests {
             let parallel = RowBuilder::build_parallel(rows, 23, summation, |i, b| {
                 contributions(i).into_iter().for_each(|(c, w)| b.add(c, w))
             });
+            // Bounded by the contribution count: most rows come out shorter, and the gaps are closed.
+            let bounded = RowBuilder::build_parallel_bounded(
+                rows,
+                23,
+                summation,
+                |i| contributions(i).len(),
+                |i, b| contributions(i).into_iter().for_each(|(c, w)| b.add(c, w)),
+            );
             let reference = sequential(rows, summation);
-            assert_eq!(parallel.indptr().raw_storage(), reference.indptr().raw_storage());
-            assert_eq!(parallel.indices(), reference.indices());
             let bits = |m: &SparseMatrix| m.data().iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&parallel), bits(&reference), "{summation:?}");
+            for built in [&parallel, &bounded] {
+                assert_eq!(built.indptr().raw_storage(), reference.indptr().raw_storage());
+                assert_eq!(built.indices(), reference.indices());
+                assert_eq!(bits(built), bits(&reference), "{summation:?}");
+            }
         }
+    }
+
+    #[test]
+    #[should_panic]
+    fn a_row_longer_than_its_bound_is_a_caller_bug() {
+        RowBuilder::build_parallel_bounded(2, 4, Summation::InOrder, |_| 1, |i, b| b.add_all(&[0, i as u32 + 1], 1.0));
     }
 
     #[test]
