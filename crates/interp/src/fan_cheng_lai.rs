@@ -76,18 +76,25 @@ pub fn interpolate(mesh: &Mesh, opts: &FanChengLaiOptions) -> Result<Interpolant
     };
     let interpolated = opts.common.interpolated(t.vertex_count())?;
     let start = std::time::Instant::now();
-    let solved = solve_limit_system(
-        Method::FanChengLai.name(),
-        &b,
-        mesh.positions(),
-        &interpolated,
-        solver,
-        opts.common.tol,
-        opts.common.max_iter,
-        mesh.bbox_diagonal(),
-    )?;
+    // The refined topology of phase one does not depend on the solution: built beside the solve.
+    let (solved, refined) = rayon::join(
+        || {
+            solve_limit_system(
+                Method::FanChengLai.name(),
+                &b,
+                mesh.positions(),
+                &interpolated,
+                solver,
+                opts.common.tol,
+                opts.common.max_iter,
+                mesh.bbox_diagonal(),
+            )
+        },
+        || refine(t, rule),
+    );
+    let solved = solved?;
     // Phase one of the auxiliary mesh M̂: the output control mesh M¹.
-    let (t1, provenance, r) = refine(t, rule)?;
+    let (t1, provenance, r) = refined?;
     let control = Mesh::from_topology(t1, apply(&r, &solved.x));
     let solve_seconds = seconds_since(start);
     let mut parameters = serde_json::Map::new();

@@ -389,8 +389,9 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
     let si = interpolated_set(mesh, opts)?;
     validate(t, opts, &si.0)?;
     let setup_start = std::time::Instant::now();
-    let z = limit_matrix_zheng_cai(t);
-    let (t1, dual, R) = doo_sabin::refine(t, CornerRule::Uniform(0.5))?; // Eq. (4) topology and stencil
+    // Z and the Eq. (4) step (topology and stencil) depend on the topology only: built side by side.
+    let (z, refined) = rayon::join(|| limit_matrix_zheng_cai(t), || doo_sabin::refine(t, CornerRule::Uniform(0.5)));
+    let (t1, dual, R) = refined?;
     let setup_seconds = seconds_since(setup_start);
 
     let solve_start = std::time::Instant::now();

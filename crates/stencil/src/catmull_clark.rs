@@ -51,7 +51,7 @@ pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
             t.he_twin(h).map_or(2, |g| size(h) + size(g) - 2)
         }
     };
-    RowBuilder::build_parallel_bounded(nv + nf + ne, nv, Summation::InOrder, max_len, |i, rows| {
+    RowBuilder::build_parallel_bounded(nv + nf + ne, nv, Summation::InOrder, max_len, |i, rows, _: &mut ()| {
         if i < nv {
             vertex_point_row(t, VertexId(i as u32), rows);
         } else if i < nv + nf {

@@ -70,11 +70,14 @@ pub fn refinement_stencil(t: &Topology, rule: CornerRule<'_>) -> Result<SparseMa
     let boundary: Vec<HalfEdgeId> = t.boundary_loops().flatten().copied().collect();
     // The scratch keeps the weights of the last face seen: its corners' rows are consecutive.
     type Scratch = (Option<FaceId>, Vec<f64>);
+    // A face's corners are distinct: row h has one column per corner of its face.
+    let max_len = |i: usize| if i < nh { t.face_size(t.he_face(HalfEdgeId(i as u32))) } else { 2 };
     let rows = nh + 2 * boundary.len();
-    Ok(RowBuilder::build_parallel_with_scratch(
+    Ok(RowBuilder::build_parallel_bounded(
         rows,
         t.vertex_count(),
         Summation::InOrder,
+        max_len,
         |i, rows, scratch: &mut Scratch| {
             if i < nh {
                 let h = HalfEdgeId(i as u32);
@@ -106,9 +109,10 @@ pub fn refinement_stencil(t: &Topology, rule: CornerRule<'_>) -> Result<SparseMa
 
 /// One Doo-Sabin step: the refined topology with provenance and its stencil.
 pub fn refine(t: &Topology, rule: CornerRule<'_>) -> Result<(Topology, DualProvenance, SparseMatrix), StencilError> {
-    let stencil = refinement_stencil(t, rule)?;
-    let (topology, provenance) = dual_split(t);
-    Ok((topology, provenance, stencil))
+    rule.validate(t)?;
+    // Both depend on the coarse topology only: build them on both cores at once.
+    let ((topology, provenance), stencil) = rayon::join(|| dual_split(t), || refinement_stencil(t, rule));
+    Ok((topology, provenance, stencil?))
 }
 
 /// V × V limit stencil of the standard scheme (SPEC §1): row v is the centroid

@@ -151,20 +151,20 @@ impl RowBuilder {
         Self::write_rows(columns, summation, lengths, fill)
     }
 
-    /// [`Self::build_parallel`] with a bound on each row's length given by the
-    /// caller instead of counted by a first pass over `fill`: `max_len(i)` ≥
+    /// [`Self::build_parallel_with_scratch`] with a bound on each row's length
+    /// given by the caller instead of counted by a first pass over `fill`: `max_len(i)` ≥
     /// the number of distinct columns of row `i` (a row that merges repeated
     /// columns comes out shorter; the gaps are closed afterwards).
     ///
     /// # Panics
     /// If a row has more distinct columns than its bound, and as
     /// [`Self::build_parallel`].
-    pub fn build_parallel_bounded(
+    pub fn build_parallel_bounded<S: Default>(
         rows: usize,
         columns: usize,
         summation: Summation,
         max_len: impl Fn(usize) -> usize + Sync,
-        fill: impl Fn(usize, &mut RowBuilder) + Sync,
+        fill: impl Fn(usize, &mut RowBuilder, &mut S) + Sync,
     ) -> SparseMatrix {
         let mut lengths = vec![0u32; rows];
         lengths.par_chunks_mut(ROWS_PER_TASK).enumerate().for_each(|(c, out)| {
@@ -172,7 +172,7 @@ impl RowBuilder {
                 *len = max_len(c * ROWS_PER_TASK + j) as u32;
             }
         });
-        Self::write_rows(columns, summation, lengths, |i, builder, _: &mut ()| fill(i, builder))
+        Self::write_rows(columns, summation, lengths, fill)
     }
 
     /// Pass 2 of the parallel builds: places row `i` at the prefix sum of
@@ -319,7 +319,7 @@ mod tests {
                 23,
                 summation,
                 |i| contributions(i).len(),
-                |i, b| contributions(i).into_iter().for_each(|(c, w)| b.add(c, w)),
+                |i, b, _: &mut ()| contributions(i).into_iter().for_each(|(c, w)| b.add(c, w)),
             );
             let reference = sequential(rows, summation);
             let bits = |m: &SparseMatrix| m.data().iter().map(|x| x.to_bits()).collect::<Vec<_>>();
@@ -334,7 +334,13 @@ mod tests {
     #[test]
     #[should_panic]
     fn a_row_longer_than_its_bound_is_a_caller_bug() {
-        RowBuilder::build_parallel_bounded(2, 4, Summation::InOrder, |_| 1, |i, b| b.add_all(&[0, i as u32 + 1], 1.0));
+        RowBuilder::build_parallel_bounded(
+            2,
+            4,
+            Summation::InOrder,
+            |_| 1,
+            |i, b, _: &mut ()| b.add_all(&[0, i as u32 + 1], 1.0),
+        );
     }
 
     #[test]
