@@ -1,9 +1,10 @@
-//! Connectivity build time: a generated 10⁶-quad grid and the largest real fixtures.
+//! Connectivity build time: a generated 10⁶-quad grid and the largest real
+//! fixtures; the Doo-Sabin split built directly against its validated build.
 //!
 //! `cargo bench -p subdiv-mesh --bench topology`
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use subdiv_mesh::{shapes, Topology};
+use subdiv_mesh::{refine, shapes, Topology};
 
 fn bench_topology(c: &mut Criterion) {
     let mut group = c.benchmark_group("topology_build");
@@ -26,5 +27,25 @@ fn bench_topology(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_topology);
+fn bench_dual_split(c: &mut Criterion) {
+    let mut group = c.benchmark_group("dual_split");
+    group.sample_size(10);
+    let meshes = [
+        ("torus", shapes::torus(1000, 1000)),
+        ("polygon_mix", shapes::polygon_mix(&shapes::torus(300, 300), 7, 0.1, 0.1, 0.05)),
+    ];
+    for (name, mesh) in &meshes {
+        let t = mesh.topology();
+        group.throughput(Throughput::Elements(t.half_edge_count() as u64));
+        group.bench_with_input(BenchmarkId::new(format!("{name}/direct"), t.half_edge_count()), t, |b, t| {
+            b.iter(|| refine::dual_split(t))
+        });
+        group.bench_with_input(BenchmarkId::new(format!("{name}/by_validation"), t.half_edge_count()), t, |b, t| {
+            b.iter(|| refine::dual_split_by_validation(t))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_topology, bench_dual_split);
 criterion_main!(benches);

@@ -139,6 +139,27 @@ pub struct DualProvenance {
 /// incoming boundary edge). The new boundary polygon is thus exactly the
 /// Chaikin refinement of the old one.
 pub fn dual_split(t: &Topology) -> (Topology, DualProvenance) {
+    let (vertex_origin, boundary_point) = dual_vertices(t);
+    let mut face_origin = Vec::with_capacity(t.face_count() + t.edge_count() + t.vertex_count());
+    face_origin.extend(t.face_ids().map(DualFace::F));
+    face_origin.extend(t.edges().map(DualFace::E));
+    let mut vertex_face = vec![None; t.vertex_count()];
+    for v in t.vertices() {
+        let fan = t.vertex_fan(v).len();
+        // No V-face for isolated vertices and interior vertices of valence 2.
+        if fan > 0 && (fan != 2 || t.is_boundary_vertex(v)) {
+            vertex_face[v.index()] = Some(FaceId(face_origin.len() as u32));
+            face_origin.push(DualFace::V(v));
+        }
+    }
+    let topology = t.dual_split(&boundary_point);
+    (topology, DualProvenance { vertex_origin, face_origin, vertex_face, boundary_point })
+}
+
+/// The new vertices of a Doo-Sabin split — one per old corner, then two
+/// Chaikin points per boundary half-edge, loop by loop — and, per old
+/// half-edge, its first Chaikin point (`u32::MAX` inside).
+fn dual_vertices(t: &Topology) -> (Vec<DualVertex>, Vec<u32>) {
     let nh = t.half_edge_count();
     let mut vertex_origin: Vec<DualVertex> = Vec::with_capacity(nh);
     for f in t.face_ids() {
@@ -147,13 +168,19 @@ pub fn dual_split(t: &Topology) -> (Topology, DualProvenance) {
         }
     }
     let mut boundary_point = vec![u32::MAX; nh];
-    for lp in t.boundary_loops() {
-        for &h in lp {
-            boundary_point[h.index()] = vertex_origin.len() as u32;
-            vertex_origin.push(DualVertex::Boundary { half_edge: h, near_start: true });
-            vertex_origin.push(DualVertex::Boundary { half_edge: h, near_start: false });
-        }
+    for &h in t.boundary_loops().flatten() {
+        boundary_point[h.index()] = vertex_origin.len() as u32;
+        vertex_origin.push(DualVertex::Boundary { half_edge: h, near_start: true });
+        vertex_origin.push(DualVertex::Boundary { half_edge: h, near_start: false });
     }
+    (vertex_origin, boundary_point)
+}
+
+/// [`dual_split`] the slow way: the face list validated by [`Topology::new`].
+/// Kept to test the direct construction against.
+pub fn dual_split_by_validation(t: &Topology) -> (Topology, DualProvenance) {
+    let nh = t.half_edge_count();
+    let (vertex_origin, boundary_point) = dual_vertices(t);
     let mut faces = FaceList::with_capacity(t.face_count() + t.edge_count() + t.vertex_count(), 4 * nh);
     let mut face_origin = Vec::with_capacity(faces.len());
     for f in t.face_ids() {

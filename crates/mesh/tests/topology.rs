@@ -373,3 +373,152 @@ proptest! {
         assert_same_topology(&subdiv_mesh::refine::triangle_split(t).unwrap(), &subdiv_mesh::refine::triangle_split_by_validation(t).unwrap());
     }
 }
+
+/// Every field of two topologies is equal, in order: faces, per-half-edge face,
+/// twin and edge, per-edge half-edge, fans (same start, same order), boundary
+/// flags, boundary loops (same order, same start), components. The `Debug`
+/// output, which lists every field, is compared last as a catch-all.
+fn assert_identical_topology(direct: &Topology, rebuilt: &Topology) {
+    assert_eq!(direct.vertex_count(), rebuilt.vertex_count());
+    assert_eq!(direct.faces(), rebuilt.faces());
+    assert_eq!(direct.half_edge_count(), rebuilt.half_edge_count());
+    for f in direct.face_ids() {
+        for h in direct.face_half_edges(f) {
+            assert_eq!(direct.he_face(h), rebuilt.he_face(h), "face of {h}");
+            assert_eq!(direct.he_twin(h), rebuilt.he_twin(h), "twin of {h}");
+            assert_eq!(direct.he_edge(h), rebuilt.he_edge(h), "edge of {h}");
+        }
+    }
+    assert_eq!(direct.edge_count(), rebuilt.edge_count());
+    for e in direct.edges() {
+        assert_eq!(direct.edge_half_edge(e), rebuilt.edge_half_edge(e), "half-edge of edge {e}");
+    }
+    for v in direct.vertices() {
+        assert_eq!(direct.vertex_fan(v), rebuilt.vertex_fan(v), "fan of {v}");
+        assert_eq!(direct.is_boundary_vertex(v), rebuilt.is_boundary_vertex(v), "boundary flag of {v}");
+    }
+    assert_eq!(direct.boundary_loops().collect::<Vec<_>>(), rebuilt.boundary_loops().collect::<Vec<_>>());
+    assert_eq!(direct.component_count(), rebuilt.component_count());
+    for f in direct.face_ids() {
+        assert_eq!(direct.face_component(f), rebuilt.face_component(f), "component of face {f}");
+    }
+    assert_eq!(format!("{direct:?}"), format!("{rebuilt:?}"));
+}
+
+/// The direct Doo-Sabin split and its provenance equal the validated ones
+/// exactly; returns the direct split.
+fn assert_dual_split_matches(t: &Topology) -> Topology {
+    use subdiv_mesh::refine::{dual_split, dual_split_by_validation};
+    let (direct, dp) = dual_split(t);
+    let (rebuilt, rp) = dual_split_by_validation(t);
+    assert_identical_topology(&direct, &rebuilt);
+    assert_invariants(&direct);
+    assert_eq!(dp.vertex_origin, rp.vertex_origin);
+    assert_eq!(dp.face_origin, rp.face_origin);
+    assert_eq!(dp.vertex_face, rp.vertex_face);
+    assert_eq!(dp.boundary_point, rp.boundary_point);
+    direct
+}
+
+/// `mesh` with a new vertex at the midpoint of edge `e`: an interior valence-2
+/// vertex (or, on a boundary edge, a boundary vertex with one face).
+fn with_vertex_on_edge(mesh: &Mesh, e: subdiv_mesh::EdgeId) -> Mesh {
+    let t = mesh.topology();
+    let (a, b) = t.edge_vertices(e);
+    let w = t.vertex_count() as u32;
+    let mut faces = FaceList::new();
+    for f in t.faces().iter() {
+        let mut face = Vec::with_capacity(f.len() + 1);
+        for (k, &x) in f.iter().enumerate() {
+            face.push(x);
+            let y = f[(k + 1) % f.len()];
+            if (x, y) == (a.0, b.0) || (x, y) == (b.0, a.0) {
+                face.push(w);
+            }
+        }
+        faces.push(&face);
+    }
+    let mut positions = mesh.positions().to_vec();
+    positions.push((mesh.position(a) + mesh.position(b)) / 2.0);
+    Mesh::new(positions, faces).unwrap()
+}
+
+/// Two copies of `mesh`, the second shifted, as one mesh of two components.
+fn two_copies(mesh: &Mesh) -> Mesh {
+    let n = mesh.topology().vertex_count() as u32;
+    let mut positions = mesh.positions().to_vec();
+    positions.extend(mesh.positions().iter().map(|p| *p + DVec3::X * 10.0));
+    let mut faces = mesh.topology().faces().clone();
+    for f in mesh.topology().faces().iter() {
+        faces.push(&f.iter().map(|&v| v + n).collect::<Vec<_>>());
+    }
+    Mesh::new(positions, faces).unwrap()
+}
+
+#[test]
+fn direct_dual_split_equals_the_validated_one_on_shapes() {
+    use subdiv_mesh::refine::{dual_split, quad_split, triangle_split};
+    let mut with_isolated = shapes::quad_grid(3, 2).into_soup();
+    with_isolated.positions.insert(0, DVec3::new(9.0, 9.0, 9.0));
+    with_isolated.positions.push(DVec3::new(-9.0, 9.0, 9.0));
+    let shifted: Vec<u32> = with_isolated.faces.indices().iter().map(|&v| v + 1).collect();
+    with_isolated.faces = FaceList::from_raw(with_isolated.faces.offsets().to_vec(), shifted);
+    let isolated = Mesh::from_soup(with_isolated).unwrap().0;
+    assert!(isolated.topology().is_isolated(VertexId(0)));
+    let holes = [(1, 1), (3, 3), (5, 1)];
+    let cube = shapes::cube();
+    let cube_edge = with_vertex_on_edge(&cube, subdiv_mesh::EdgeId(0));
+    let grid_edge = with_vertex_on_edge(&shapes::quad_grid(3, 3), subdiv_mesh::EdgeId(5));
+    assert!(cube_edge.topology().vertices().any(|v| cube_edge.topology().valence(v) == 2));
+    let open_grid = shapes::quad_grid(4, 3);
+    let boundary_edge = open_grid.topology().edges().find(|&e| open_grid.topology().is_boundary_edge(e)).unwrap();
+    let shapes = [
+        shapes::tetrahedron(),
+        cube.clone(),
+        shapes::icosahedron(),
+        shapes::quad_grid(1, 1),
+        shapes::quad_grid(4, 3),
+        shapes::triangle_grid(3, 2),
+        shapes::torus(5, 4),
+        shapes::prism(12),
+        shapes::pyramid(9),
+        shapes::pillow(),
+        two_copies(&shapes::pillow()),
+        cube_edge,
+        grid_edge,
+        with_vertex_on_edge(&open_grid, boundary_edge),
+        isolated,
+        two_copies(&cube),
+        two_copies(&shapes::plate_with_holes(7, 5, &holes[..2], false)),
+        shapes::plate_with_holes(7, 5, &holes, false),
+        shapes::plate_with_holes(7, 5, &holes, true),
+        shapes::polygon_mix(&shapes::plate_with_holes(7, 5, &holes, false), 3, 0.5, 0.3, 0.1),
+        shapes::polygon_mix(&shapes::plate_with_holes(7, 5, &holes, true), 4, 0.5, 0.3, 0.1),
+        shapes::polygon_mix(&shapes::torus(12, 9), 5, 0.6, 0.2, 0.1),
+    ];
+    for mesh in &shapes {
+        let t = mesh.topology();
+        let once = assert_dual_split_matches(t);
+        // Refined meshes as input: one built directly, their loops not
+        // necessarily starting at their smallest half-edge.
+        assert_dual_split_matches(&once);
+        assert_dual_split_matches(&quad_split(t));
+        if t.faces().all_of_size(3) {
+            assert_dual_split_matches(&triangle_split(t).unwrap());
+        }
+    }
+    let (pillow, _) = dual_split(shapes::pillow().topology());
+    assert_eq!((pillow.vertex_count(), pillow.face_count()), (8, 2 + 4));
+    assert!(pillow.vertices().all(|v| pillow.valence(v) == 3));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn direct_dual_split_equals_the_validated_one(mesh in generated_mesh(), edge in any::<u32>()) {
+        assert_dual_split_matches(mesh.topology());
+        // A vertex on a random edge: an interior valence-2 vertex, or a boundary vertex with one face.
+        let e = subdiv_mesh::EdgeId(edge % mesh.topology().edge_count() as u32);
+        assert_dual_split_matches(with_vertex_on_edge(&mesh, e).topology());
+    }
+}

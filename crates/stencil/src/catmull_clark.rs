@@ -8,7 +8,7 @@
 //! Row order of R is the [`subdiv_mesh::refine::quad_split`] numbering: old
 //! vertices, then face points, then edge points.
 
-use crate::{vertex_kind, RowBuilder, SparseMatrix, Summation};
+use crate::{face_ring_size, vertex_kind, RowBuilder, SparseMatrix, Summation};
 use subdiv_mesh::refine::quad_split;
 use subdiv_mesh::{EdgeId, FaceId, HalfEdgeId, Topology, VertexId};
 use subdiv_rules::catmull_clark::{
@@ -38,9 +38,7 @@ pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
         if i < nv {
             let v = VertexId(i as u32);
             match vertex_kind(t, v) {
-                VertexKind::Interior if !t.is_isolated(v) => {
-                    1 + t.vertex_fan(v).iter().map(|&h| size(h) - 2).sum::<usize>()
-                }
+                VertexKind::Interior => face_ring_size(t, v), // 1 for an isolated vertex
                 VertexKind::Boundary => 3,
                 _ => 1,
             }

@@ -59,3 +59,12 @@ use subdiv_rules::VertexKind;
 pub(crate) fn vertex_kind(t: &Topology, v: subdiv_mesh::VertexId) -> VertexKind {
     VertexKind::classify(t.is_boundary_vertex(v), t.vertex_face_count(v))
 }
+
+/// Vertices of `v`'s face ring — `v` and every corner of its faces — when they
+/// are distinct (a bound otherwise): 1 + Σ over its faces of (m − 2), plus
+/// the closing boundary neighbour on the boundary; 1 for an isolated vertex.
+pub(crate) fn face_ring_size(t: &Topology, v: subdiv_mesh::VertexId) -> usize {
+    let fan = t.vertex_fan(v);
+    let corners: usize = fan.iter().map(|&h| t.face_size(t.he_face(h)) - 2).sum();
+    1 + corners + usize::from(t.is_boundary_vertex(v))
+}

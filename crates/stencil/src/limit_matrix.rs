@@ -30,7 +30,7 @@
 //! (boundary first, then the interior with the boundary known).
 
 use crate::doo_sabin::CornerRule;
-use crate::{apply, RowBuilder, SparseMatrix, StencilError, Summation};
+use crate::{apply, face_ring_size, RowBuilder, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
 use subdiv_mesh::{Topology, VertexId};
 use subdiv_rules::doo_sabin::BOUNDARY_CURVE_POINT;
@@ -120,10 +120,18 @@ fn assemble(
     for (k, (v, _)) in special.rows.iter().enumerate() {
         special_of[*v as usize] = k as u32;
     }
-    let s = RowBuilder::build_parallel(n, n, Summation::Canonical, |v, rows| match special_of[v] {
-        u32::MAX => row(VertexId(v as u32), rows),
-        k => special.rows[k as usize].1.iter().for_each(|&(c, w)| rows.add(c, w)),
-    });
+    // Every row's columns lie in its vertex's face ring.
+    let max_len = |v: usize| match special_of[v] {
+        u32::MAX => face_ring_size(t, VertexId(v as u32)),
+        k => special.rows[k as usize].1.len(),
+    };
+    let s =
+        RowBuilder::build_parallel_bounded(n, n, Summation::Canonical, max_len, |v, rows, _: &mut ()| match special_of
+            [v]
+        {
+            u32::MAX => row(VertexId(v as u32), rows),
+            k => special.rows[k as usize].1.iter().for_each(|&(c, w)| rows.add(c, w)),
+        });
     for &(v, dv) in &special.d {
         d[v as usize] = dv;
     }
