@@ -40,11 +40,14 @@ pub fn load(path: &Path) -> Result<Mesh> {
     Ok(mesh)
 }
 
-/// Runs `f` `runs` times; returns the last result and the median wall time in ms.
+/// Runs `f` at least `runs` times — and, when `runs` > 1, until 0.2 s have
+/// passed (at most 1000 runs), so that sub-millisecond calls are timed warm
+/// and many times; returns the last result and the median wall time in ms.
 pub fn timed<T>(runs: usize, mut f: impl FnMut() -> T) -> (T, f64) {
     let mut times = Vec::with_capacity(runs);
     let mut last = None;
-    for _ in 0..runs.max(1) {
+    let started = Instant::now();
+    while times.len() < runs.max(1) || (runs > 1 && times.len() < 1000 && started.elapsed().as_secs_f64() < 0.2) {
         let start = Instant::now();
         last = Some(f());
         times.push(start.elapsed().as_secs_f64() * 1e3);
@@ -115,10 +118,10 @@ impl Table {
     pub fn markdown(&self, machine: &str, quick: bool) -> String {
         let mut s = format!("# {}\n\n{}\n\n", self.title, self.setup);
         s += &format!(
-            "*Machine:* {machine}. *Build:* release (`cargo xtask reproduce-paper{}`). Times are medians of {} run(s) \
+            "*Machine:* {machine}. *Build:* release (`cargo xtask reproduce-paper{}`). Times are {} \
              on a shared machine: compare ratios, not absolutes.\n\n",
             if quick { " --quick" } else { "" },
-            if quick { 1 } else { 3 }
+            if quick { "single runs" } else { "medians of at least 3 runs (of as many as fit in 0.2 s, up to 1000)" }
         );
         s += &format!("| {} |\n|{}|\n", self.header.join(" | "), vec!["---"; self.header.len()].join("|"));
         for r in &self.rows {
