@@ -22,7 +22,9 @@
 //!    at V_j = I_j (§2).
 //! 3. First refined mesh (step 3): one step of Eq. 4, V'ᵢ = (Vᵢ + A)/2, with
 //!    the Chaikin points on boundary edges
-//!    ([`subdiv_stencil::doo_sabin::refine`] with `CornerRule::Uniform(0.5)`).
+//!    ([`subdiv_stencil::doo_sabin::refinement_stencil`] with
+//!    `CornerRule::Uniform(0.5)`; M¹'s connectivity, needed from step 4 on,
+//!    is built beside steps 1-3 on the other core).
 //! 4. Perturbation (step 4): for every interpolated interior vertex with
 //!    V-face W₁…W_m, n = the Newell normal of the W's (Eq. 10) or the
 //!    user's normal (§4.1), W_c = their mean, and
@@ -388,18 +390,32 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
     let t = mesh.topology();
     let si = interpolated_set(mesh, opts)?;
     validate(t, opts, &si.0)?;
-    let setup_start = std::time::Instant::now();
-    // Z and the Eq. (4) step (topology and stencil) depend on the topology only: built side by side.
-    let (z, refined) = rayon::join(|| limit_matrix_zheng_cai(t), || doo_sabin::refine(t, CornerRule::Uniform(0.5)));
-    let (t1, dual, R) = refined?;
-    let setup_seconds = seconds_since(setup_start);
-
+    // The connectivity of M¹ is needed only from step 4 on: it is built on
+    // one core while the other builds Z and the Eq. (4) stencil and runs steps 1-3.
+    let start = std::time::Instant::now();
+    let (refined, steps) = rayon::join(
+        || (subdiv_mesh::refine::dual_split(t), seconds_since(start)),
+        || -> Result<_, InterpError> {
+            let (z, R) = rayon::join(
+                || limit_matrix_zheng_cai(t),
+                || doo_sabin::refinement_stencil(t, CornerRule::Uniform(0.5)), // Eq. (4)
+            );
+            let operators_seconds = seconds_since(start);
+            let solve_start = std::time::Instant::now();
+            let aux = auxiliary_from(mesh, opts, &z, si)?; // steps 1-2
+            let W = apply(&R?, aux.mesh.positions()); // step 3: M¹ = Eq. (4) step of M⁰
+            Ok((aux, W, operators_seconds, seconds_since(solve_start)))
+        },
+    );
+    let ((t1, dual), topology_seconds) = refined;
+    let (aux, mut W, operators_seconds, steps_seconds) = steps?;
+    // Setup: Z, R and M¹'s connectivity (side by side, so the longer of the two
+    // branches); solve: steps 1-3 above and steps 4-5 below.
+    let setup_seconds = operators_seconds.max(topology_seconds);
     let solve_start = std::time::Instant::now();
-    let aux = auxiliary_from(mesh, opts, &z, si)?; // steps 1-2
     let SI = &aux.interpolated;
     let mut warnings = aux.warnings;
     let I = mesh.positions();
-    let mut W = apply(&R, aux.mesh.positions()); // step 3: M¹ = Eq. (4) step of M⁰
     let boundary_pair: Vec<Option<(VertexId, VertexId)>> =
         t.vertices().map(|v| t.is_boundary_vertex(v).then(|| crate::interpolant::chaikin_pair(t, &dual, v))).collect();
     for v in t.vertices().filter(|v| SI[v.index()]) {
@@ -447,7 +463,7 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
             handles_applied += 1;
         }
     }
-    let solve_seconds = seconds_since(solve_start);
+    let solve_seconds = steps_seconds + seconds_since(solve_start);
 
     let iteration = Iteration::of(opts.common.solver);
     let mut parameters = serde_json::Map::new();
