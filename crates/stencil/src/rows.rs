@@ -296,6 +296,24 @@ mod tests {
         (0..len).map(|_| ((next() % 23) as u32, (next() % 1000) as f64 / 7.0 - 50.0)).collect()
     }
 
+    /// Row `i` summed independently of the builder: per column, in the order
+    /// added or in ascending order of the bits.
+    fn reference_row(i: usize, summation: Summation) -> Vec<(u32, u64)> {
+        let mut row = contributions(i);
+        match summation {
+            Summation::InOrder => row.sort_by_key(|&(c, _)| c),
+            Summation::Canonical => row.sort_by_key(|&(c, w)| (c, w.to_bits())),
+        }
+        let mut out: Vec<(u32, f64)> = Vec::new();
+        for (c, w) in row {
+            match out.last_mut() {
+                Some((last, sum)) if *last == c => *sum += w,
+                _ => out.push((c, w)),
+            }
+        }
+        out.into_iter().map(|(c, w)| (c, w.to_bits())).collect()
+    }
+
     fn sequential(rows: usize, summation: Summation) -> SparseMatrix {
         let mut b = RowBuilder::with_capacity(rows, 0);
         for i in 0..rows {
@@ -322,6 +340,15 @@ mod tests {
                 |i, b, _: &mut ()| contributions(i).into_iter().for_each(|(c, w)| b.add(c, w)),
             );
             let reference = sequential(rows, summation);
+            for i in 0..rows {
+                let built: Vec<(u32, u64)> = reference
+                    .outer_view(i)
+                    .expect("row exists")
+                    .iter()
+                    .map(|(c, &w)| (c as u32, w.to_bits()))
+                    .collect();
+                assert_eq!(built, reference_row(i, summation), "row {i}, {summation:?}");
+            }
             let bits = |m: &SparseMatrix| m.data().iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             for built in [&parallel, &bounded] {
                 assert_eq!(built.indptr().raw_storage(), reference.indptr().raw_storage());
