@@ -198,3 +198,13 @@ proptest! {
         prop_assert!(w.iter().all(|&x| x > 0.0));
     }
 }
+
+#[test]
+fn tabled_rows_are_the_computed_ones_bit_for_bit() {
+    for m in 3..=TABLED_FACE_SIZE + 4 {
+        let bits = |w: Vec<f64>| w.into_iter().map(f64::to_bits).collect::<Vec<_>>();
+        let from_eq1: Vec<f64> = (0..m).map(|k| doo_sabin_weight(m, k)).collect();
+        let expected = if m == 4 { vec![9.0 / 16.0, 3.0 / 16.0, 1.0 / 16.0, 3.0 / 16.0] } else { from_eq1 };
+        assert_eq!(bits(row(m, doo_sabin_weights)), bits(expected), "m = {m}");
+    }
+}

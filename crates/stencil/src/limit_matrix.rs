@@ -147,25 +147,67 @@ fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMat
     let [a, b, c] = BOUNDARY_CURVE_POINT;
     let special = special_rows(t, [a * 8.0, b * 8.0, c * 8.0], 0.125, false);
     Ok(assemble(t, d, special, |v, rows| {
-        let mut w = [0.0; 16];
-        let mut big = Vec::new();
-        for corner in t.vertex_corners(v) {
-            let face = t.face(corner.face);
-            let m = face.len();
-            let w: &mut [f64] = if m <= 16 {
-                &mut w[..m]
-            } else {
-                big.resize(m, 0.0);
-                &mut big[..]
-            };
-            rule.weights(corner.face.index(), w); // Zheng-Cai Eq. (1) / (4), Fan-Cheng-Lai Eq. (1)
-                                                  // Face block Circ(w): symmetric because w[k] = w[m − k] (α depends on cos only).
-            let k = corner.index as usize;
-            for j in 0..m {
-                rows.add(face[(k + j) % m], w[j]);
-            }
-        }
+        // Zheng-Cai Eq. (1) / (4), Fan-Cheng-Lai Eq. (1). Face block Circ(w):
+        // symmetric because w[k] = w[m − k] (α depends on cos only).
+        add_fan_row(t, v, rows, 0.0, 0.0, |face, w| rule.weights(face.index(), w));
     }))
+}
+
+/// Adds the row of interior vertex `v` that sums, over its fan faces
+/// fᵢ = (V, Eᵢ, …, Eᵢ₊₁), a per-face row `face_row(fᵢ, w)` (w\[j\] is the
+/// weight of the corner j places after V, w\[j\] = w\[m − j\]), plus `edge`
+/// per edge V Eᵢ and `centre` on the diagonal.
+///
+/// Each edge neighbour's two face terms are added together first and the
+/// edge term after, (w_{fᵢ₋₁}\[m − 1\] + w_{fᵢ}\[1\]) + edge: the same value,
+/// bit for bit, that row Eᵢ computes for V (a + b = b + a exactly). So an
+/// entry S\[v\]\[u\] receives one contribution per edge or per far corner
+/// joining v and u, equal to its mirror's, and the builder's canonical sum of
+/// a column that repeats (u both a neighbour and a far corner, on coarse
+/// meshes) keeps S symmetric. The diagonal is summed in fan order.
+fn add_fan_row(
+    t: &Topology,
+    v: VertexId,
+    rows: &mut RowBuilder,
+    edge: f64,
+    centre: f64,
+    mut face_row: impl FnMut(subdiv_mesh::FaceId, &mut [f64]),
+) {
+    let fan = t.vertex_fan(v);
+    let mut small = [0.0; 16];
+    let mut big = Vec::new();
+    let mut centre = centre;
+    // w_{fᵢ₋₁}[m − 1] for E₀ comes from the last face of the (closed) fan.
+    let (mut previous, mut first) = (0.0, 0.0);
+    for (i, &h) in fan.iter().enumerate() {
+        let corner = t.he_corner(h);
+        let face = t.face(corner.face);
+        let m = face.len();
+        let w: &mut [f64] = if m <= small.len() {
+            &mut small[..m]
+        } else {
+            big.resize(m, 0.0);
+            &mut big[..]
+        };
+        face_row(corner.face, w);
+        let k = corner.index as usize;
+        let ring = |j: usize| face[if k + j >= m { k + j - m } else { k + j }];
+        centre += w[0];
+        if i == 0 {
+            first = w[1];
+        } else {
+            rows.add(ring(1), (previous + w[1]) + edge); // Eᵢ ∈ fᵢ₋₁, fᵢ
+        }
+        for j in 2..m - 1 {
+            rows.add(ring(j), w[j]); // far corners of fᵢ
+        }
+        previous = w[m - 1];
+        if i + 1 == fan.len() {
+            debug_assert_eq!(ring(m - 1), t.he_to(fan[0]).0, "the fan of an interior vertex is closed");
+            rows.add(ring(m - 1), (previous + first) + edge); // E₀ ∈ f_{n−1}, f₀
+        }
+    }
+    rows.add(v.0, centre);
 }
 
 /// Nasri's C: standard Doo-Sabin, limit of vertex v = centroid of its V-face
@@ -204,16 +246,10 @@ pub fn limit_matrix_catmull_clark(t: &Topology) -> LimitMatrix {
         .collect();
     let special = special_rows(t, [1.0, 4.0, 1.0], 1.0 / 6.0, true);
     assemble(t, d, special, |v, rows| {
-        for corner in t.vertex_corners(v) {
-            let face = t.face(corner.face);
-            rows.add_all(face, 1.0 / face.len() as f64); // Eq. (5): Σᵢ (Fⁱ…)/mᵢ and the 1/mᵢ of the E and V terms
-        }
-        for e in t.vertex_neighbors(v) {
-            rows.add(v.0, 0.5);
-            rows.add(e.0, 0.5); // Eq. (5): the ½ of (½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ
-        }
         let n = t.valence(v) as f64;
-        rows.add(v.0, n * (n - 3.0) / 4.0); // Eq. (5): n(n−1)/4 = n(n−3)/4 + n·½
+        // Eq. (5): Σᵢ (Fⁱ…)/mᵢ and the 1/mᵢ of the E and V terms; the ½ of
+        // (½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ; n(n−1)/4 V = n(n−3)/4 + n·½ (the edges' ½ at V).
+        add_fan_row(t, v, rows, 0.5, n * (n - 1.0) / 4.0, |_, w| w.fill(1.0 / w.len() as f64));
     })
 }
 

@@ -22,13 +22,15 @@ const ROWS_PER_TASK: usize = 4096;
 /// Accumulates one row at a time; repeated columns within a row are summed.
 ///
 /// Rows are short (a stencil touches a vertex's neighbourhood), so each row is
-/// sorted in place and merged, with no hashing and no global sort.
+/// merged on its own, with no global sort: a short row by sorting it in place,
+/// a long one by grouping its columns in a small hash table ([`Merger`]).
 #[derive(Debug, Default)]
 pub struct RowBuilder {
     indptr: Vec<u32>,
     indices: Vec<u32>,
     data: Vec<f64>,
     pending: Vec<(u32, f64)>,
+    merger: Merger,
     /// Set while [`Self::build_parallel`] only counts a row's distinct columns,
     /// collected here.
     counting: bool,
@@ -79,7 +81,8 @@ impl RowBuilder {
         let start = self.indices.len();
         self.indices.resize(start + self.pending.len(), 0);
         self.data.resize(start + self.pending.len(), 0.0);
-        let written = merge(&mut self.pending, summation, &mut self.indices[start..], &mut self.data[start..]);
+        let written =
+            self.merger.merge(&mut self.pending, summation, &mut self.indices[start..], &mut self.data[start..]);
         self.indices.truncate(start + written);
         self.data.truncate(start + written);
         self.indptr.push(self.indices.len() as u32);
@@ -215,7 +218,8 @@ impl RowBuilder {
                     let i = first + j;
                     fill(i, &mut builder, &mut scratch);
                     let (at, end) = (indptr[i] as usize - base, indptr[i + 1] as usize - base);
-                    let written = merge(&mut builder.pending, summation, &mut out_i[at..end], &mut out_d[at..end]);
+                    let written =
+                        builder.merger.merge(&mut builder.pending, summation, &mut out_i[at..end], &mut out_d[at..end]);
                     shortened |= written < *len as usize;
                     *len = written as u32;
                 }
@@ -242,27 +246,144 @@ impl RowBuilder {
     }
 }
 
-/// Sorts a pending row, writes its distinct columns with summed weights to the
-/// front of `to_columns`/`to_weights`, clears it, and returns how many entries
-/// were written.
-fn merge(pending: &mut Vec<(u32, f64)>, summation: Summation, to_columns: &mut [u32], to_weights: &mut [f64]) -> usize {
-    match summation {
-        // Stable, so repeated columns are summed in the order they were
-        // added; insertion sort for the usual short rows (a big face makes
-        // long ones).
-        Summation::InOrder if pending.len() > 32 => pending.sort_by_key(|&(c, _)| c),
-        Summation::InOrder => {
-            for i in 1..pending.len() {
-                let entry = pending[i];
-                let mut j = i;
-                while j > 0 && pending[j - 1].0 > entry.0 {
-                    pending[j] = pending[j - 1];
-                    j -= 1;
+/// Rows with more contributions than this are merged by hashing their
+/// columns instead of sorting the contributions.
+const SORTED_MERGE_MAX: usize = 16;
+
+/// Marks an empty slot of [`Merger`]'s table.
+const EMPTY: u32 = u32::MAX;
+
+/// Working memory of a row merge, kept from row to row.
+#[derive(Debug, Default)]
+struct Merger {
+    /// Open-addressing table column → group (power-of-two size ≥ 2 × the row's contributions).
+    table: Vec<(u32, u32)>,
+    /// Per group, in order of first appearance: column, contribution count, running in-order sum.
+    groups: Vec<(u32, u32, f64)>,
+    /// Contributions regrouped by group (canonical sums only).
+    grouped: Vec<f64>,
+    /// Per group, the next free place in `grouped`.
+    cursor: Vec<u32>,
+    /// (column, group), sorted by column.
+    order: Vec<(u32, u32)>,
+}
+
+impl Merger {
+    /// Writes the distinct columns of a pending row, ascending, with their
+    /// summed weights to the front of `to_columns`/`to_weights`, clears the
+    /// row and returns how many entries were written. The sums are those of
+    /// [`merge_sorted`], bit for bit, whichever way the row is merged.
+    fn merge(
+        &mut self,
+        pending: &mut Vec<(u32, f64)>,
+        summation: Summation,
+        to_columns: &mut [u32],
+        to_weights: &mut [f64],
+    ) -> usize {
+        let written = if pending.len() <= SORTED_MERGE_MAX {
+            merge_sorted(pending, summation, to_columns, to_weights)
+        } else {
+            self.merge_hashed(pending, summation, to_columns, to_weights)
+        };
+        pending.clear();
+        written
+    }
+
+    fn merge_hashed(
+        &mut self,
+        pending: &[(u32, f64)],
+        summation: Summation,
+        to_columns: &mut [u32],
+        to_weights: &mut [f64],
+    ) -> usize {
+        // 1. Group by column, summing in the order added.
+        let size = (2 * pending.len()).next_power_of_two();
+        let mask = size - 1;
+        self.table.clear();
+        self.table.resize(size, (EMPTY, 0));
+        self.groups.clear();
+        let mut needs_sorting = false;
+        for &(c, w) in pending {
+            let mut at = (c.wrapping_mul(0x9E37_79B9) >> 7) as usize & mask;
+            loop {
+                let (key, group) = self.table[at];
+                if key == c {
+                    let g = &mut self.groups[group as usize];
+                    g.1 += 1;
+                    g.2 += w;
+                    needs_sorting |= g.1 > 2;
+                    break;
                 }
-                pending[j] = entry;
+                if key == EMPTY {
+                    self.table[at] = (c, self.groups.len() as u32);
+                    self.groups.push((c, 1, w));
+                    break;
+                }
+                at = (at + 1) & mask;
             }
         }
-        Summation::Canonical => pending.sort_unstable_by_key(|&(c, w)| (c, w.to_bits())),
+        // 2. Canonical: a column with three or more contributions is summed
+        //    again in ascending order of their bits (two round alike either way).
+        if summation == Summation::Canonical && needs_sorting {
+            self.cursor.clear();
+            let mut offset = 0u32;
+            for g in &self.groups {
+                self.cursor.push(offset);
+                offset += g.1;
+            }
+            self.grouped.clear();
+            self.grouped.resize(pending.len(), 0.0);
+            for &(c, w) in pending {
+                let mut at = (c.wrapping_mul(0x9E37_79B9) >> 7) as usize & mask;
+                while self.table[at].0 != c {
+                    at = (at + 1) & mask;
+                }
+                let group = self.table[at].1 as usize;
+                self.grouped[self.cursor[group] as usize] = w;
+                self.cursor[group] += 1;
+            }
+            for (g, &end) in self.groups.iter_mut().zip(&self.cursor) {
+                if g.1 > 2 {
+                    let terms = &mut self.grouped[(end - g.1) as usize..end as usize];
+                    terms.sort_unstable_by_key(|w| w.to_bits());
+                    g.2 = terms[1..].iter().fold(terms[0], |sum, w| sum + w);
+                }
+            }
+        }
+        // 3. Write the groups in ascending column order.
+        self.order.clear();
+        self.order.extend(self.groups.iter().enumerate().map(|(g, &(c, _, _))| (c, g as u32)));
+        self.order.sort_unstable();
+        for (k, &(c, g)) in self.order.iter().enumerate() {
+            to_columns[k] = c;
+            to_weights[k] = self.groups[g as usize].2;
+        }
+        self.order.len()
+    }
+}
+
+/// Sorts a pending row and writes its distinct columns with summed weights
+/// to the front of `to_columns`/`to_weights`; returns how many entries were written.
+fn merge_sorted(
+    pending: &mut [(u32, f64)],
+    summation: Summation,
+    to_columns: &mut [u32],
+    to_weights: &mut [f64],
+) -> usize {
+    // Stable, so repeated columns are summed in the order they were added.
+    insertion_sort_by_key(pending, |&(c, _)| c);
+    if summation == Summation::Canonical {
+        // Ascending bits within each column. Two terms need no sorting: a + b
+        // and b + a round alike, so only columns with three or more do.
+        let mut start = 0;
+        while start < pending.len() {
+            let column = pending[start].0;
+            let end = start + pending[start..].iter().take_while(|&&(c, _)| c == column).count();
+            if end - start > 2 {
+                insertion_sort_by_key(&mut pending[start..end], |&(_, w)| w.to_bits());
+            }
+            start = end;
+        }
     }
     let mut written = 0;
     for &(c, w) in pending.iter() {
@@ -274,8 +395,21 @@ fn merge(pending: &mut Vec<(u32, f64)>, summation: Summation, to_columns: &mut [
             written += 1;
         }
     }
-    pending.clear();
     written
+}
+
+/// Stable insertion sort: fastest for the few dozen entries of a row.
+fn insertion_sort_by_key<K: Ord>(entries: &mut [(u32, f64)], key: impl Fn(&(u32, f64)) -> K) {
+    for i in 1..entries.len() {
+        let entry = entries[i];
+        let k = key(&entry);
+        let mut j = i;
+        while j > 0 && key(&entries[j - 1]) > k {
+            entries[j] = entries[j - 1];
+            j -= 1;
+        }
+        entries[j] = entry;
+    }
 }
 
 #[cfg(test)]

@@ -99,6 +99,44 @@ fn s_is_exactly_symmetric_on_closed_meshes_and_in_the_interior_block() {
     }
 }
 
+/// Closed meshes whose face rings repeat a vertex (so an entry of S sums
+/// contributions of several faces beyond the two at an edge): the pillow
+/// (each vertex a far corner of both quads) and quads around two
+/// poles (a lantern), where each pole is a far corner of every face of the other.
+#[test]
+fn s_is_exactly_symmetric_when_face_rings_repeat_vertices() {
+    // k quads (N, eᵢ, S, eᵢ₊₁) around the poles N = 0 and S = 1.
+    let lantern = |k: u32| {
+        let mut p = vec![DVec3::new(0.0, 0.0, 1.0), DVec3::new(0.0, 0.0, -1.0)];
+        p.extend((0..k).map(|i| {
+            let a = std::f64::consts::TAU * f64::from(i) / f64::from(k);
+            DVec3::new(a.cos(), a.sin(), 0.1 * f64::from(i % 2))
+        }));
+        let faces = subdiv_mesh::FaceList::from_faces((0..k).map(|i| [0, 2 + i, 1, 2 + (i + 1) % k]));
+        Mesh::new(p, faces).expect("a valid closed mesh")
+    };
+    for (name, mesh) in [("pillow", shapes::pillow()), ("lantern 3", lantern(3)), ("lantern 7", lantern(7))] {
+        let t = mesh.topology();
+        // The repeat is there: some row has fewer distinct columns than its ring has corners.
+        let repeats = t.vertices().any(|v| {
+            let mut ring: Vec<u32> = t.vertex_corners(v).flat_map(|c| t.face(c.face).to_vec()).collect();
+            let corners = 1 + ring.len() - 2 * t.vertex_face_count(v);
+            ring.sort_unstable();
+            ring.dedup();
+            ring.len() < corners
+        });
+        assert!(repeats, "{name}");
+        for (m, a) in matrices(&mesh) {
+            assert!(a.is_symmetric(), "{m} on {name}");
+            let csr = a.to_csr();
+            for (i, row) in csr.outer_iterator().enumerate() {
+                let sum: f64 = row.data().iter().sum();
+                assert!((sum - 1.0).abs() < 1e-14, "{m} on {name}: row {i} sums to {sum}");
+            }
+        }
+    }
+}
+
 #[test]
 fn zheng_cai_z_is_strictly_diagonally_dominant() {
     for (name, mesh) in all_meshes() {
