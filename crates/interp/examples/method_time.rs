@@ -1,7 +1,7 @@
 //! Times every method on one mesh: median total, setup and solve over the
 //! runs, iterations and error (release):
 //! `cargo run --release -p subdiv-interp --example method_time [-- mesh.obj [runs [method]]]`.
-//! Without a file, a generated closed polygon mesh of about 10⁶ vertices
+//! Without a file (or with `-`), a generated closed polygon mesh of about 10⁶ vertices
 //! (Loop's Deng-Wang is skipped on meshes with non-triangles).
 use std::time::Instant;
 use subdiv_interp::{cheng, deng_wang, fan_cheng_lai, nasri, zheng_cai, InterpError, Interpolant};
@@ -16,7 +16,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 fn main() {
     let mut args = std::env::args().skip(1);
-    let mesh = match args.next() {
+    let mesh = match args.next().filter(|p| p != "-") {
         Some(path) => {
             let soup = subdiv_io::read_mesh(std::path::Path::new(&path)).expect("readable mesh");
             Mesh::new(soup.positions, soup.faces).expect("valid mesh")

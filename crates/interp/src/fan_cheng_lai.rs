@@ -30,10 +30,11 @@ use crate::{
     nasri::require_no_digons, seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation,
     Method, SolverChoice,
 };
+use subdiv_mesh::refine::dual_split;
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
-use subdiv_stencil::doo_sabin::{refine, CornerRule};
-use subdiv_stencil::{apply, limit_matrix_two_phase};
+use subdiv_stencil::doo_sabin::{first_step, CornerRule};
+use subdiv_stencil::limit_matrix_two_phase;
 
 /// The shape parameters λ of phase one.
 #[derive(Clone, Debug, PartialEq)]
@@ -90,12 +91,13 @@ pub fn interpolate(mesh: &Mesh, opts: &FanChengLaiOptions) -> Result<Interpolant
                 mesh.bbox_diagonal(),
             )
         },
-        || refine(t, rule),
+        || dual_split(t),
     );
     let solved = solved?;
     // Phase one of the auxiliary mesh M̂: the output control mesh M¹.
-    let (t1, provenance, r) = refined?;
-    let control = Mesh::from_topology(t1, apply(&r, &solved.x));
+    let (t1, provenance) = refined;
+    let phase_one = first_step(t, rule, &solved.x).map_err(|e| InterpError::InvalidParameter(e.to_string()))?;
+    let control = Mesh::from_topology(t1, phase_one);
     let solve_seconds = seconds_since(start);
     let mut parameters = serde_json::Map::new();
     parameters.insert("solver".into(), solver.name().into());

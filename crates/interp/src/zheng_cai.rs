@@ -22,7 +22,7 @@
 //!    at V_j = I_j (§2).
 //! 3. First refined mesh (step 3): one step of Eq. 4, V'ᵢ = (Vᵢ + A)/2, with
 //!    the Chaikin points on boundary edges
-//!    ([`subdiv_stencil::doo_sabin::refinement_stencil`] with
+//!    ([`subdiv_stencil::doo_sabin::first_step`] with
 //!    `CornerRule::Uniform(0.5)`; M¹'s connectivity, needed from step 4 on,
 //!    is built beside steps 1-3 on the other core).
 //! 4. Perturbation (step 4): for every interpolated interior vertex with
@@ -94,9 +94,9 @@ use crate::{
 };
 use glam::DVec3;
 use subdiv_mesh::{newell_normal, Mesh, Topology, VertexId};
-use subdiv_solve::{SolveError, SolveOptions, Solver, SparseMatrix, SweepOrder};
+use subdiv_solve::{SolveError, SolveOptions, Solver, SweepOrder};
 use subdiv_stencil::doo_sabin::{self, CornerRule};
-use subdiv_stencil::{apply, limit_matrix_zheng_cai, LimitMatrix};
+use subdiv_stencil::{limit_matrix_zheng_cai, LimitMatrix};
 
 const METHOD: &str = "zheng-cai";
 
@@ -236,6 +236,9 @@ fn auxiliary_from(
     Ok(AuxiliaryMesh { mesh: mesh.with_positions(positions), summary, interpolated, warnings })
 }
 
+/// λ of Eq. 4, V' = λV + (1 − λ)A with λ = ½.
+const EQ4_LAMBDA: f64 = 0.5;
+
 /// Step 2 as printed: sweeps of Eq. 7 over SI until no update exceeds
 /// EPS·d or ITE_MAX sweeps are done. Returns M⁰ and the summary.
 #[allow(non_snake_case)]
@@ -247,13 +250,13 @@ fn paper_sweeps(
     opts: &ZhengCaiOptions,
     d: f64,
 ) -> (Vec<DVec3>, SolveSummary) {
-    let Z: SparseMatrix = z.to_csr(); // Eq. (6) / 2m: row v is V's V-face centroid after Eq. (4)
-    let (indptr, indices, values) = (Z.indptr(), Z.indices(), Z.data());
+    // Z = D·S, Eq. (6) / 2m: row v is V's V-face centroid after Eq. (4).
+    let (indptr, indices, values) = (z.s.indptr(), z.s.indices(), z.s.data());
     let indptr = indptr.raw_storage();
     let SI: Vec<usize> = (0..I.len()).filter(|&v| interpolated[v]).collect();
     let threshold = opts.eps * d;
     let mut V = I.to_vec(); // step 1: M⁰ = I
-    let mut fresh = vec![DVec3::ZERO; SI.len()]; // Jacobi: this sweep's values
+    let mut fresh = vec![DVec3::ZERO; if jacobi { SI.len() } else { 0 }]; // Jacobi: this sweep's values
     let mut summary = SolveSummary::default();
     for _ in 0..opts.ite_max {
         let mut max_update = 0.0_f64;
@@ -269,7 +272,7 @@ fn paper_sweeps(
             }
             // Eq. (7): V = 2mC·I − C Σ (1/mᵢ + 1/mᵢ₋₁) Eᵢ − C Σ (1/mᵢ) Σⱼ Vⱼⁱ, with
             // 1/z_vv = 2mC; on the boundary V = (8I − B₋ − B₊)/6.
-            let updated = (I[v] - others) / diagonal;
+            let updated = (I[v] - z.d[v] * others) / (z.d[v] * diagonal);
             max_update = max_update.max(updated.distance(V[v]));
             if jacobi {
                 fresh[k] = updated;
@@ -391,25 +394,25 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
     let si = interpolated_set(mesh, opts)?;
     validate(t, opts, &si.0)?;
     // The connectivity of M¹ is needed only from step 4 on: it is built on
-    // one core while the other builds Z and the Eq. (4) stencil and runs steps 1-3.
+    // one core while the other builds Z and runs steps 1-3 (step 3 evaluated
+    // directly, without building the Eq. (4) stencil).
     let start = std::time::Instant::now();
     let (refined, steps) = rayon::join(
         || (subdiv_mesh::refine::dual_split(t), seconds_since(start)),
         || -> Result<_, InterpError> {
-            let (z, R) = rayon::join(
-                || limit_matrix_zheng_cai(t),
-                || doo_sabin::refinement_stencil(t, CornerRule::Uniform(0.5)), // Eq. (4)
-            );
+            let z = limit_matrix_zheng_cai(t);
             let operators_seconds = seconds_since(start);
             let solve_start = std::time::Instant::now();
             let aux = auxiliary_from(mesh, opts, &z, si)?; // steps 1-2
-            let W = apply(&R?, aux.mesh.positions()); // step 3: M¹ = Eq. (4) step of M⁰
+                                                           // Step 3: M¹ = Eq. (4) step of M⁰.
+            let W = doo_sabin::first_step(t, CornerRule::Uniform(EQ4_LAMBDA), aux.mesh.positions())
+                .map_err(|e| InterpError::InvalidParameter(e.to_string()))?;
             Ok((aux, W, operators_seconds, seconds_since(solve_start)))
         },
     );
     let ((t1, dual), topology_seconds) = refined;
     let (aux, mut W, operators_seconds, steps_seconds) = steps?;
-    // Setup: Z, R and M¹'s connectivity (side by side, so the longer of the two
+    // Setup: Z and M¹'s connectivity (side by side, so the longer of the two
     // branches); solve: steps 1-3 above and steps 4-5 below.
     let setup_seconds = operators_seconds.max(topology_seconds);
     let solve_start = std::time::Instant::now();

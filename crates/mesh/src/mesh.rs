@@ -6,14 +6,19 @@ use crate::ids::{FaceId, VertexId};
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
 use crate::topology::Topology;
 use glam::DVec3;
+use std::sync::Arc;
 
 /// Relative area below which a face counts as zero-area: area ≤ this · d².
 pub const ZERO_AREA_REL: f64 = 1e-14;
 
 /// A polygon mesh: validated [`Topology`] plus one `f64` position per vertex.
+///
+/// The topology is shared: cloning a mesh or giving it new positions
+/// ([`Self::with_positions`], how every method returns a control mesh on the
+/// input's connectivity) copies no connectivity.
 #[derive(Clone, Debug)]
 pub struct Mesh {
-    topology: Topology,
+    topology: Arc<Topology>,
     positions: Vec<DVec3>,
     groups: FaceGroups,
 }
@@ -31,7 +36,7 @@ impl Mesh {
             return Err(MeshError::NonFiniteCoordinate { vertex: v as u32, x: p.x, y: p.y, z: p.z });
         }
         let topology = Topology::new(faces, positions.len())?;
-        let mesh = Self { topology, positions, groups };
+        let mesh = Self { topology: Arc::new(topology), positions, groups };
         let warnings = mesh.warnings();
         Ok((mesh, warnings))
     }
@@ -56,7 +61,7 @@ impl Mesh {
     /// If `positions.len()` differs from the topology's vertex count (a caller bug).
     pub fn from_topology(topology: Topology, positions: Vec<DVec3>) -> Self {
         assert_eq!(positions.len(), topology.vertex_count(), "one position per vertex");
-        Self { topology, positions, groups: FaceGroups::default() }
+        Self { topology: Arc::new(topology), positions, groups: FaceGroups::default() }
     }
 
     /// The connectivity.

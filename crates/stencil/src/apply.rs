@@ -28,16 +28,24 @@ pub fn apply(r: &SparseMatrix, x: &[DVec3]) -> Vec<DVec3> {
         }
         acc
     };
-    if out.len() < 2 * ROWS_PER_TASK {
-        out.iter_mut().enumerate().for_each(|(i, o)| *o = row(i));
-    } else {
-        out.par_chunks_mut(ROWS_PER_TASK).enumerate().for_each(|(c, chunk)| {
-            for (j, o) in chunk.iter_mut().enumerate() {
-                *o = row(c * ROWS_PER_TASK + j);
-            }
-        });
-    }
+    fill_in_chunks(&mut out, |first, chunk| {
+        for (j, o) in chunk.iter_mut().enumerate() {
+            *o = row(first + j);
+        }
+    });
     out
+}
+
+/// Calls `fill(first, chunk)` on consecutive chunks of `out` (`first` = the
+/// index of the chunk's first element): on the calling thread for short
+/// outputs, as parallel tasks of [`ROWS_PER_TASK`] otherwise. The chunks do
+/// not depend on the thread count.
+pub(crate) fn fill_in_chunks<T: Send>(out: &mut [T], fill: impl Fn(usize, &mut [T]) + Sync) {
+    if out.len() < 2 * ROWS_PER_TASK {
+        fill(0, out);
+    } else {
+        out.par_chunks_mut(ROWS_PER_TASK).enumerate().for_each(|(c, chunk)| fill(c * ROWS_PER_TASK, chunk));
+    }
 }
 
 /// `R · X` for `k` columns of per-vertex data stored row-major (`x[v*k + c]`).

@@ -12,7 +12,9 @@
 //! Row order of R is [`dual_split`]'s numbering: one row per old corner
 //! (= old half-edge id), then two per boundary half-edge.
 
+use crate::apply::fill_in_chunks;
 use crate::{RowBuilder, SparseMatrix, StencilError, Summation};
+use glam::DVec3;
 use subdiv_mesh::refine::{dual_split, DualProvenance};
 use subdiv_mesh::{FaceId, HalfEdgeId, Topology, VertexId};
 use subdiv_rules::doo_sabin::{BOUNDARY_CURVE_POINT, BOUNDARY_EDGE_POINT};
@@ -105,6 +107,72 @@ pub fn refinement_stencil(t: &Topology, rule: CornerRule<'_>) -> Result<SparseMa
             }
         },
     ))
+}
+
+/// The points of one Doo-Sabin step on [`dual_split`]'s numbering, R·x,
+/// evaluated face by face without building R: what the interpolation methods
+/// need once (Zheng-Cai step 3, Fan-Cheng-Lai phase one). Equal to
+/// `apply(&refinement_stencil(t, rule)?, x)` up to the order of summation.
+///
+/// # Errors
+/// [`StencilError::InvalidParameter`] for a λ outside (0, 1) or a λ list of
+/// the wrong length.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn first_step(t: &Topology, rule: CornerRule<'_>, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
+    rule.validate(t)?;
+    assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
+    let nh = t.half_edge_count();
+    let boundary: Vec<HalfEdgeId> = t.boundary_loops().flatten().copied().collect();
+    let mut out = vec![DVec3::ZERO; nh + 2 * boundary.len()];
+    let (corners, chaikin) = out.split_at_mut(nh);
+    // A face's corners are consecutive half-edges (from its offset on); a
+    // chunk starts in the face of its first corner.
+    let offsets = t.faces().offsets();
+    fill_in_chunks(corners, |first, chunk| {
+        let mut f = t.he_face(HalfEdgeId(first as u32)).index();
+        let mut w = Vec::new();
+        let mut h = first;
+        while h < first + chunk.len() {
+            let face = t.face(FaceId(f as u32));
+            let m = face.len();
+            let lambda = match rule {
+                CornerRule::Standard => None,
+                CornerRule::Uniform(l) => Some(l),
+                CornerRule::PerFace(ls) => Some(ls[f]),
+            };
+            let mut centroid = DVec3::ZERO;
+            if lambda.is_some() {
+                centroid = face.iter().map(|&v| x[v as usize]).sum::<DVec3>() / m as f64;
+            } else {
+                w.resize(m, 0.0);
+                rule.weights(f, &mut w);
+            }
+            let start = offsets[f] as usize;
+            let end = (offsets[f + 1] as usize).min(first + chunk.len());
+            for k in h - start..end - start {
+                chunk[start + k - first] = match lambda {
+                    // Fan-Cheng-Lai Eq. 1, Zheng-Cai Eq. 4: λV + (1 − λ)A, A the face centroid.
+                    Some(l) => l * x[face[k] as usize] + (1.0 - l) * centroid,
+                    // Zheng-Cai Eq. 1: Σⱼ α_j·V_{(k+j) mod m}.
+                    None => w.iter().enumerate().fold(DVec3::ZERO, |acc, (j, &wj)| {
+                        let at = if k + j >= m { k + j - m } else { k + j };
+                        acc + wj * x[face[at] as usize]
+                    }),
+                };
+            }
+            h = end;
+            f += 1;
+        }
+    });
+    // Chaikin points of each boundary half-edge a→b, near end first.
+    for (pair, &h) in chaikin.chunks_exact_mut(2).zip(&boundary) {
+        let (a, b) = (x[t.he_from(h).index()], x[t.he_to(h).index()]);
+        pair[0] = BOUNDARY_EDGE_POINT.near * a + BOUNDARY_EDGE_POINT.far * b;
+        pair[1] = BOUNDARY_EDGE_POINT.near * b + BOUNDARY_EDGE_POINT.far * a;
+    }
+    Ok(out)
 }
 
 /// One Doo-Sabin step: the refined topology with provenance and its stencil.

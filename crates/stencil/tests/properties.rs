@@ -147,6 +147,45 @@ fn every_stencil_row_sums_to_one() {
 // ---------------------------------------------------------------- Doo-Sabin
 
 #[test]
+fn doo_sabin_first_step_equals_the_stencil_product() {
+    // A big face too (m = 40 > the weight table), beside the fixtures.
+    let big = {
+        let ring: Vec<DVec3> =
+            (0..40).map(|k| DVec3::new((k as f64 * 0.157).cos(), (k as f64 * 0.157).sin(), 0.0)).collect();
+        let mut p = ring.clone();
+        p.push(DVec3::new(0.0, 0.0, 0.0));
+        let mut faces = vec![(0..40u32).collect::<Vec<_>>()];
+        faces.extend((0..40u32).map(|k| vec![(k + 1) % 40, k, 40]));
+        ("40-gon with a triangle fan", Mesh::new(p, subdiv_mesh::FaceList::from_faces(faces)).unwrap())
+    };
+    let mut meshes = closed_meshes();
+    meshes.extend(open_meshes());
+    meshes.push(big);
+    // Enough corners (> 8192) for parallel chunks, which then start inside faces.
+    let mix = shapes::polygon_mix(&shapes::plate_with_holes(80, 60, &[(20, 20)], false), 2, 0.3, 0.2, 0.1);
+    assert!(mix.topology().half_edge_count() > 3 * 4096);
+    let starts_inside = |h: u32| mix.topology().faces().offsets().binary_search(&h).is_err();
+    assert!(starts_inside(4096) || starts_inside(8192), "a chunk boundary falls inside a face");
+    meshes.push(("large plate mix (open)", mix));
+    for (name, mesh) in meshes {
+        let t = mesh.topology();
+        let x = mesh.positions();
+        let d = mesh.bbox_diagonal();
+        let mut rng = SplitMix64(3);
+        let lambdas: Vec<f64> = (0..t.face_count()).map(|_| 0.05 + 0.9 * rng.next_f64()).collect();
+        for rule in [CornerRule::Standard, CornerRule::Uniform(0.5), CornerRule::PerFace(&lambdas)] {
+            let direct = doo_sabin::first_step(t, rule, x).unwrap();
+            let product = apply(&doo_sabin::refinement_stencil(t, rule).unwrap(), x);
+            assert_eq!(direct.len(), product.len(), "{name}, {rule:?}");
+            let gap = max_dist(&direct, &product);
+            assert!(gap <= 1e-15 * d, "{name}, {rule:?}: {gap:e}");
+        }
+    }
+    let cube = shapes::cube();
+    assert!(doo_sabin::first_step(cube.topology(), CornerRule::PerFace(&[2.0]), cube.positions()).is_err());
+}
+
+#[test]
 fn doo_sabin_f_faces_keep_their_centroids() {
     for (name, mesh) in closed_meshes().into_iter().chain(open_meshes()) {
         let d = mesh.bbox_diagonal();
