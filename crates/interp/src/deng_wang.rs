@@ -221,6 +221,38 @@ pub fn edge_points(t: &Topology, p: &[DVec3], normals: &[DVec3], mu: f64) -> Vec
         .collect()
 }
 
+/// M¹'s points: the normal-based edge points (Eq. 8-9) and the vertex
+/// points, solved so that the Loop limit of each interpolated vertex is its
+/// data point (ERRATA W7), the plain Loop vertex point elsewhere.
+fn first_refined_points(
+    t: &Topology,
+    p: &[DVec3],
+    n: &[DVec3],
+    interpolated: &[bool],
+    opts: &DengWangOptions,
+) -> Vec<DVec3> {
+    let edge = edge_points(t, p, n, opts.mu);
+    let mut positions = Vec::with_capacity(t.vertex_count() + t.edge_count());
+    for v in t.vertices() {
+        let p0 = p[v.index()];
+        let k = t.valence(v);
+        positions.push(if t.is_isolated(v) {
+            p0
+        } else if interpolated[v.index()] {
+            // W7: solve the plain limit mask of M¹ at v (Eq. 5; boundary (e₋ + 4p + e₊)/6; corner p) for p¹:
+            // interior p¹ = (p⁰ − γ Σ p_e) / (1 − kγ), boundary p¹ = (6p⁰ − e₋ − e₊)/4, corner p¹ = p⁰.
+            let mask = limit_mask(kind(t, v), k, opts.beta);
+            (p0 - ring_sum(t, v, &mask, |e| edge[e.index()])) / mask.vertex
+        } else {
+            // Not interpolated: the plain Loop vertex point on M⁰ (Eq. 1; boundary (p₋ + 6p + p₊)/8).
+            let mask = vertex_point_mask(kind(t, v), k, opts.beta);
+            mask.vertex * p0 + ring_sum(t, v, &mask, |e| p[other_end(t, e, v).index()])
+        });
+    }
+    positions.extend_from_slice(&edge);
+    positions
+}
+
 /// Interpolates the vertices of `mesh` (a triangle mesh, open or closed)
 /// with the Loop limit surface of the modified first refined mesh M¹.
 ///
@@ -247,34 +279,18 @@ pub fn interpolate(mesh: &Mesh, opts: &DengWangOptions) -> Result<Interpolant, I
         ));
     }
 
+    // M¹'s connectivity (setup) does not depend on the geometry: it is built
+    // on one core while the other computes the normals and M¹'s points (solve).
     let start = std::time::Instant::now();
-    let n = normals(mesh, opts.normals.as_deref())?;
-    let topology = triangle_split(t).expect("checked: all faces are triangles");
-    let setup_seconds = seconds_since(start);
-
-    let start = std::time::Instant::now();
-    let p = mesh.positions();
-    let edge = edge_points(t, p, &n, opts.mu);
-    let mut positions = Vec::with_capacity(t.vertex_count() + t.edge_count());
-    for v in t.vertices() {
-        let p0 = p[v.index()];
-        let k = t.valence(v);
-        positions.push(if t.is_isolated(v) {
-            p0
-        } else if interpolated[v.index()] {
-            // W7: solve the plain limit mask of M¹ at v (Eq. 5; boundary (e₋ + 4p + e₊)/6; corner p) for p¹:
-            // interior p¹ = (p⁰ − γ Σ p_e) / (1 − kγ), boundary p¹ = (6p⁰ − e₋ − e₊)/4, corner p¹ = p⁰.
-            let mask = limit_mask(kind(t, v), k, opts.beta);
-            (p0 - ring_sum(t, v, &mask, |e| edge[e.index()])) / mask.vertex
-        } else {
-            // Not interpolated: the plain Loop vertex point on M⁰ (Eq. 1; boundary (p₋ + 6p + p₊)/8).
-            let mask = vertex_point_mask(kind(t, v), k, opts.beta);
-            mask.vertex * p0 + ring_sum(t, v, &mask, |e| p[other_end(t, e, v).index()])
-        });
-    }
-    positions.extend_from_slice(&edge);
-    let solve_seconds = seconds_since(start);
-
+    let (topology, points) = rayon::join(
+        || (triangle_split(t).expect("checked: all faces are triangles"), seconds_since(start)),
+        || -> Result<_, InterpError> {
+            let start = std::time::Instant::now();
+            let n = normals(mesh, opts.normals.as_deref())?;
+            Ok((first_refined_points(t, mesh.positions(), &n, &interpolated, opts), seconds_since(start)))
+        },
+    );
+    let ((topology, setup_seconds), (positions, solve_seconds)) = (topology, points?);
     let mut parameters = serde_json::Map::new();
     parameters.insert("mu".into(), opts.mu.into());
     parameters.insert(
