@@ -28,7 +28,9 @@
 //! 4. Perturbation (step 4): for every interpolated interior vertex with
 //!    V-face W₁…W_m, n = the Newell normal of the W's (Eq. 10) or the
 //!    user's normal (§4.1), W_c = their mean, and
-//!    ε_k = [(W_c − W_k)·n]n + (I − W_c) (Eq. 17, final line). Afterwards the
+//!    ε_k = [(W_c − W_k)·n]n + (I − W_c) (Eq. 17, final line); W_c and n are
+//!    read off v's face centroids (the V-face is λV + (1 − λ)× their polygon,
+//!    step 3), which keeps memory access local. Afterwards the
 //!    V-face is planar, ⟂ n, with centroid I: the limit surface passes
 //!    through I with tangent plane ⟂ n. V-faces of distinct vertices share no
 //!    vertex, so the order does not matter.
@@ -421,6 +423,16 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
     let I = mesh.positions();
     let boundary_pair: Vec<Option<(VertexId, VertexId)>> =
         t.vertices().map(|v| t.is_boundary_vertex(v).then(|| crate::interpolant::chaikin_pair(t, &dual, v))).collect();
+    // Step 4 at interior vertices needs each V-face's centroid W_c and normal.
+    // Its corners are W_k = λV + (1 − λ)c_f over v's faces f (step 3), so
+    // W_c = λV + (1 − λ)·mean(c_f), and the V-face is a scaled copy of the
+    // polygon of v's face centroids c_f (fan order): same Newell normal
+    // direction (Eq. 10). Reading the face centroids (one per face) instead
+    // of the V-face corners (scattered over M¹) keeps memory access local;
+    // the corners are then moved in storage order.
+    let V = aux.mesh.positions();
+    let centroids = aux.mesh.face_centroids();
+    let mut frame: Vec<Option<(DVec3, DVec3)>> = vec![None; t.vertex_count()];
     for v in t.vertices().filter(|v| SI[v.index()]) {
         let i = v.index();
         if let Some((a, b)) = boundary_pair[i] {
@@ -431,18 +443,21 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
             W[b.index()] += eps;
             continue;
         }
-        let face = t1.face(dual.vertex_face[i].expect("interior vertices of valence ≥ 3 have a V-face"));
-        let corners = || face.iter().map(|&k| W[k as usize]);
-        let m = face.len() as f64;
-        let W_c = corners().sum::<DVec3>() / m;
+        let fan = t.vertex_fan(v);
+        let face_centroids = || fan.iter().map(|&h| centroids[t.he_face(h).index()]);
+        let W_c = EQ4_LAMBDA * V[i] + (1.0 - EQ4_LAMBDA) * (face_centroids().sum::<DVec3>() / fan.len() as f64);
         let given = opts.normals.as_ref().and_then(|n| n[i]);
         // §4.1: the required normal replaces Eq. (10)'s Newell normal (cyclic, ERRATA Z5).
-        let n = given.unwrap_or_else(|| newell_normal(corners())).normalize_or_zero();
-        for &k in face {
-            let w = W[k as usize] - W_c;
+        let n = given.unwrap_or_else(|| newell_normal(face_centroids())).normalize_or_zero();
+        frame[i] = Some((W_c, n));
+    }
+    // M¹ vertex k < H is corner k of M⁰, in the V-face of the corner's vertex.
+    for (k, &v) in t.faces().indices().iter().enumerate() {
+        if let Some((W_c, n)) = frame[v as usize] {
+            let w = W[k] - W_c;
             // Eq. (17), final line with D ≡ I (ERRATA Z1-Z3):
             // W_k + ε_k = W_k + [(W_c − W_k)·n]n + (I − W_c) = I + (w − (w·n)n), w = W_k − W_c.
-            W[k as usize] = I[i] + (w - w.dot(n) * n);
+            W[k] = I[v as usize] + (w - w.dot(n) * n);
         }
     }
     let mut handles_applied = 0;

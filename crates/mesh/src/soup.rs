@@ -83,11 +83,13 @@ impl FaceList {
     }
 
     /// The vertex indices of face `f`, in order.
+    #[inline]
     pub fn face(&self, f: usize) -> &[u32] {
         &self.indices[self.offsets[f] as usize..self.offsets[f + 1] as usize]
     }
 
     /// Number of corners of face `f`.
+    #[inline]
     pub fn face_size(&self, f: usize) -> usize {
         (self.offsets[f + 1] - self.offsets[f]) as usize
     }
@@ -98,11 +100,13 @@ impl FaceList {
     }
 
     /// CSR offsets: `len() + 1` entries, the first 0, the last `corner_count()`.
+    #[inline]
     pub fn offsets(&self) -> &[u32] {
         &self.offsets
     }
 
     /// All corners of all faces, face after face.
+    #[inline]
     pub fn indices(&self) -> &[u32] {
         &self.indices
     }

@@ -766,6 +766,7 @@ impl Topology {
         &self.fan[self.fan_offsets[v.index()] as usize..self.fan_offsets[v.index() + 1] as usize]
     }
     /// The corners of `v`: its faces in cyclic order with its position in each.
+    #[inline]
     pub fn vertex_corners(&self, v: VertexId) -> impl ExactSizeIterator<Item = Corner> + '_ {
         self.vertex_fan(v).iter().map(|&h| self.he_corner(h))
     }
@@ -792,12 +793,14 @@ impl Topology {
     /// Edge neighbours E₀…E_{n−1} of `v` in cyclic order (E_i = end of the i-th
     /// fan half-edge); on the boundary, the closing neighbour E_n last, so the
     /// first and last are the two boundary neighbours.
+    #[inline]
     pub fn vertex_neighbors(&self, v: VertexId) -> impl Iterator<Item = VertexId> + '_ {
         let fan = self.vertex_fan(v);
         let closing = (self.is_boundary_vertex(v)).then(|| self.he_from(self.he_prev(fan[fan.len() - 1])));
         fan.iter().map(|&h| self.he_to(h)).chain(closing)
     }
     /// The two boundary neighbours (previous, next along the boundary loop) of a boundary vertex.
+    #[inline]
     pub fn boundary_neighbors(&self, v: VertexId) -> Option<(VertexId, VertexId)> {
         if !self.is_boundary_vertex(v) {
             return None;

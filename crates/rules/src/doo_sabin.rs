@@ -116,6 +116,7 @@ pub fn doo_sabin_weight(m: usize, k: usize) -> f64 {
 ///
 /// # Panics
 /// If `m < 3` or `out.len() != m`.
+#[inline]
 pub fn doo_sabin_weights(m: usize, out: &mut [f64]) {
     assert_eq!(out.len(), m, "weight buffer length must equal the face size");
     if (3..=TABLED_FACE_SIZE).contains(&m) {
@@ -177,6 +178,7 @@ pub fn circulant_eigenvalue(row: &[f64], k: usize) -> f64 {
 ///
 /// # Panics
 /// If `m < 3` or `out.len() != m`.
+#[inline]
 pub fn two_phase_weights(m: usize, lambda: f64, out: &mut [f64]) {
     assert!(m >= 3, "a face has at least 3 corners, got {m}");
     assert_eq!(out.len(), m, "weight buffer length must equal the face size");

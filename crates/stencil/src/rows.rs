@@ -372,9 +372,10 @@ fn merge_sorted(
 ) -> usize {
     // Stable, so repeated columns are summed in the order they were added.
     insertion_sort_by_key(pending, |&(c, _)| c);
-    if summation == Summation::Canonical {
-        // Ascending bits within each column. Two terms need no sorting: a + b
-        // and b + a round alike, so only columns with three or more do.
+    // Ascending bits within each column. Two terms need no sorting: a + b
+    // and b + a round alike, so only columns with three or more do (rare
+    // once a row's contributions are pre-merged: checked in one pass).
+    if summation == Summation::Canonical && pending.windows(3).any(|w| w[0].0 == w[2].0) {
         let mut start = 0;
         while start < pending.len() {
             let column = pending[start].0;
