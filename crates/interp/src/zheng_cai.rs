@@ -433,6 +433,7 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
     let V = aux.mesh.positions();
     let centroids = aux.mesh.face_centroids();
     let mut frame: Vec<Option<(DVec3, DVec3)>> = vec![None; t.vertex_count()];
+    let mut ring = Vec::new(); // v's face centroids in fan order
     for v in t.vertices().filter(|v| SI[v.index()]) {
         let i = v.index();
         if let Some((a, b)) = boundary_pair[i] {
@@ -443,12 +444,12 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
             W[b.index()] += eps;
             continue;
         }
-        let fan = t.vertex_fan(v);
-        let face_centroids = || fan.iter().map(|&h| centroids[t.he_face(h).index()]);
-        let W_c = EQ4_LAMBDA * V[i] + (1.0 - EQ4_LAMBDA) * (face_centroids().sum::<DVec3>() / fan.len() as f64);
+        ring.clear();
+        ring.extend(t.vertex_fan(v).iter().map(|&h| centroids[t.he_face(h).index()]));
+        let W_c = EQ4_LAMBDA * V[i] + (1.0 - EQ4_LAMBDA) * (ring.iter().sum::<DVec3>() / ring.len() as f64);
         let given = opts.normals.as_ref().and_then(|n| n[i]);
         // §4.1: the required normal replaces Eq. (10)'s Newell normal (cyclic, ERRATA Z5).
-        let n = given.unwrap_or_else(|| newell_normal(face_centroids())).normalize_or_zero();
+        let n = given.unwrap_or_else(|| newell_normal(ring.iter().copied())).normalize_or_zero();
         frame[i] = Some((W_c, n));
     }
     // M¹ vertex k < H is corner k of M⁰, in the V-face of the corner's vertex.
