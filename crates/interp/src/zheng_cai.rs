@@ -405,8 +405,8 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
             let z = limit_matrix_zheng_cai(t);
             let operators_seconds = seconds_since(start);
             let solve_start = std::time::Instant::now();
-            let aux = auxiliary_from(mesh, opts, &z, si)?; // steps 1-2
-                                                           // Step 3: M¹ = Eq. (4) step of M⁰.
+            // Steps 1-2, then step 3: M¹ = Eq. (4) step of M⁰.
+            let aux = auxiliary_from(mesh, opts, &z, si)?;
             let W = doo_sabin::first_step(t, CornerRule::Uniform(EQ4_LAMBDA), aux.mesh.positions())
                 .map_err(|e| InterpError::InvalidParameter(e.to_string()))?;
             Ok((aux, W, operators_seconds, seconds_since(solve_start)))

@@ -253,6 +253,13 @@ const SORTED_MERGE_MAX: usize = 16;
 /// Marks an empty slot of [`Merger`]'s table.
 const EMPTY: u32 = u32::MAX;
 
+/// First slot to probe for column `c` in a table of `mask + 1` slots
+/// (Fibonacci hashing: neighbouring columns land apart).
+#[inline]
+fn home_slot(c: u32, mask: usize) -> usize {
+    (c.wrapping_mul(0x9E37_79B9) >> 7) as usize & mask
+}
+
 /// Working memory of a row merge, kept from row to row.
 #[derive(Debug, Default)]
 struct Merger {
@@ -304,7 +311,7 @@ impl Merger {
         self.groups.clear();
         let mut needs_sorting = false;
         for &(c, w) in pending {
-            let mut at = (c.wrapping_mul(0x9E37_79B9) >> 7) as usize & mask;
+            let mut at = home_slot(c, mask);
             loop {
                 let (key, group) = self.table[at];
                 if key == c {
@@ -334,7 +341,7 @@ impl Merger {
             self.grouped.clear();
             self.grouped.resize(pending.len(), 0.0);
             for &(c, w) in pending {
-                let mut at = (c.wrapping_mul(0x9E37_79B9) >> 7) as usize & mask;
+                let mut at = home_slot(c, mask);
                 while self.table[at].0 != c {
                     at = (at + 1) & mask;
                 }
