@@ -294,11 +294,25 @@ pub fn catmull_clark_degeneracy(t: &Topology) -> Option<Degeneracy> {
     if let Some(v) = t.vertices().find(|&v| !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2) {
         return Some(Degeneracy::Indefinite { vertex: v });
     }
-    // Per component: closed, all valence 3, 2-colourable.
+    // Per component: closed, all valence 3, 2-colourable. One pass marks the
+    // components with a boundary or a valence other than 3 (almost all); only
+    // the others are walked to test the colouring.
+    let mut candidate = vec![true; t.component_count()];
+    for v in t.vertices().filter(|&v| !t.is_isolated(v)) {
+        if t.is_boundary_vertex(v) || t.valence(v) != 3 {
+            candidate[t.face_component(t.he_face(t.vertex_fan(v)[0])) as usize] = false;
+        }
+    }
+    if !candidate.contains(&true) {
+        return None;
+    }
     let mut colour = vec![u8::MAX; t.vertex_count()];
     let mut stack = Vec::new();
     for start in t.vertices() {
-        if colour[start.index()] != u8::MAX || t.is_isolated(start) {
+        if colour[start.index()] != u8::MAX
+            || t.is_isolated(start)
+            || !candidate[t.face_component(t.he_face(t.vertex_fan(start)[0])) as usize]
+        {
             continue;
         }
         let (mut all_three, mut closed, mut bipartite) = (true, true, true);

@@ -214,6 +214,20 @@ fn cube_is_singular_and_pillow_indefinite_and_both_are_detected() {
     let ev = eigenvalues(&limit_matrix_catmull_clark(pillow.topology()));
     assert!((ev[0] + 1.0 / 7.0).abs() < 1e-12, "pillow: λ_min = {} (ERRATA C3: −1/7)", ev[0]);
     assert!(matches!(catmull_clark_degeneracy(pillow.topology()), Some(Degeneracy::Indefinite { .. })));
+    // Per component: a cube beside an icosahedron is still singular (whichever comes first).
+    let union = |a: &Mesh, b: &Mesh| {
+        let offset = a.topology().vertex_count() as u32;
+        let mut p = a.positions().to_vec();
+        p.extend(b.positions().iter().map(|&x| x + DVec3::new(5.0, 0.0, 0.0)));
+        let faces = a.topology().faces().iter().map(|f| f.to_vec());
+        let shifted = b.topology().faces().iter().map(|f| f.iter().map(|&v| v + offset).collect::<Vec<_>>());
+        Mesh::new(p, subdiv_mesh::FaceList::from_faces(faces.chain(shifted))).expect("two closed components")
+    };
+    let (ico, torus) = (shapes::icosahedron(), shapes::torus(6, 4));
+    for mesh in [union(&ico, &cube), union(&cube, &ico)] {
+        assert!(matches!(catmull_clark_degeneracy(mesh.topology()), Some(Degeneracy::Singular { .. })));
+    }
+    assert_eq!(catmull_clark_degeneracy(union(&ico, &torus).topology()), None);
     // Fixtures with every valence ≥ 3 and not bipartite-cubic are not flagged.
     for stem in ["spot_control_mesh", "mpi", "torus_quad_16x8"] {
         assert_eq!(catmull_clark_degeneracy(fixture(stem).topology()), None, "{stem}");
