@@ -7,7 +7,7 @@ use clap::ValueEnum;
 use std::path::PathBuf;
 use subdiv_io::MeshView;
 use subdiv_mesh::{FaceList, Mesh};
-use subdiv_stencil::{LoopBeta, Scheme, SubdivisionPlan, Tension};
+use subdiv_stencil::{LoopBeta, Scheme, Tension};
 
 /// Largest number of faces `subdivide` will produce (≈ 10 GB of output data).
 const MAX_OUTPUT_FACES: usize = 100_000_000;
@@ -138,7 +138,7 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
         )));
     }
     let input = args.mesh.display();
-    let plan = SubdivisionPlan::new(mesh.topology(), scheme, args.levels).map_err(|e| {
+    let refined = subdiv_stencil::subdivide(&mesh, scheme, args.levels, args.limit).map_err(|e| {
         let hint = if matches!(e, subdiv_stencil::StencilError::NotTriangles { .. }) {
             " (or pass --triangulate)"
         } else {
@@ -146,7 +146,6 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
         };
         bad_input(anyhow!("{input}: {e}{hint}"))
     })?;
-    let refined = plan.subdivide(&mesh, args.limit);
     let normals = args.normals.then(|| refined.vertex_normals());
     let mut view = MeshView::new(refined.positions(), refined.topology().faces());
     if let Some(n) = &normals {

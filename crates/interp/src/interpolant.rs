@@ -3,7 +3,7 @@
 use crate::{InterpError, Method};
 use glam::DVec3;
 use subdiv_mesh::{FaceId, Mesh, VertexId};
-use subdiv_stencil::{apply, catmull_clark, doo_sabin, loop_subdivision, LoopBeta, Scheme, SubdivisionPlan, Tension};
+use subdiv_stencil::{catmull_clark, doo_sabin, loop_subdivision, subdivide, LoopBeta, Scheme, Tension};
 
 /// The plain scheme whose limit surface of the control mesh interpolates the data.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -162,15 +162,13 @@ impl Interpolant {
                 })
                 .collect(),
             (LimitAssociation::ControlVertex, scheme) => {
-                let stencil = match scheme {
-                    ControlScheme::CatmullClark => catmull_clark::limit_stencil(t),
-                    ControlScheme::Loop(beta) => {
-                        loop_subdivision::limit_stencil(t, beta).expect("Loop control meshes are triangular")
-                    }
-                    ControlScheme::DooSabin => doo_sabin::limit_stencil(t),
+                let mut all = match scheme {
+                    ControlScheme::CatmullClark => catmull_clark::limit_points(t, c.positions()),
+                    ControlScheme::Loop(beta) => loop_subdivision::limit_points(t, beta, c.positions())
+                        .expect("Loop control meshes are triangular"),
+                    ControlScheme::DooSabin => doo_sabin::limit_points(t, c.positions()),
                     ControlScheme::DengMa(_) => unreachable!("Deng-Ma is interpolatory"),
                 };
-                let mut all = apply(&stencil, c.positions());
                 all.truncate(input_vertices);
                 all
             }
@@ -200,7 +198,6 @@ impl Interpolant {
     /// The surface: the control mesh refined `levels` times by its plain
     /// scheme, vertices moved to their limit positions where a mask exists.
     pub fn surface(&self, levels: usize) -> Result<Mesh, InterpError> {
-        let plan = SubdivisionPlan::new(self.control.topology(), self.scheme.scheme(), levels)?;
-        Ok(plan.subdivide(&self.control, true))
+        Ok(subdivide(&self.control, self.scheme.scheme(), levels, true)?)
     }
 }

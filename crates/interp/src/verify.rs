@@ -7,7 +7,7 @@
 use glam::DVec3;
 use std::collections::HashMap;
 use subdiv_mesh::Mesh;
-use subdiv_stencil::{apply, catmull_clark, loop_subdivision, LoopBeta, Scheme, StencilError, SubdivisionPlan};
+use subdiv_stencil::{catmull_clark, loop_subdivision, subdivide, LoopBeta, Scheme, StencilError};
 
 /// The plain scheme of a control mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,11 +27,11 @@ pub enum Plain {
 pub fn candidate_limit_points(control: &Mesh, plain: Plain) -> Result<Vec<DVec3>, StencilError> {
     let t = control.topology();
     Ok(match plain {
-        Plain::CatmullClark => apply(&catmull_clark::limit_stencil(t), control.positions()),
-        Plain::Loop(beta) => apply(&loop_subdivision::limit_stencil(t, beta)?, control.positions()),
+        Plain::CatmullClark => catmull_clark::limit_points(t, control.positions()),
+        Plain::Loop(beta) => loop_subdivision::limit_points(t, beta, control.positions())?,
         Plain::Interpolatory => control.positions().to_vec(),
         Plain::DooSabin => {
-            let refined = SubdivisionPlan::new(t, Scheme::DooSabin, 1)?.subdivide(control, false);
+            let refined = subdivide(control, Scheme::DooSabin, 1, false)?;
             let rt = refined.topology();
             let mut points = refined.face_centroids();
             for lp in rt.boundary_loops() {

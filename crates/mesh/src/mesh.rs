@@ -129,16 +129,19 @@ impl Mesh {
     /// angle of face j at vertex i (Deng-Wang Eq. 8, ERRATA W5). Zero for
     /// isolated vertices and where the sum vanishes.
     pub fn vertex_normals(&self) -> Vec<DVec3> {
-        let face_normals = self.face_normals();
         let t = &self.topology;
         let mut normals = vec![DVec3::ZERO; t.vertex_count()];
         for f in t.face_ids() {
             let face = t.face(f);
-            let m = face.len();
-            for k in 0..m {
-                let p = |i: usize| self.positions[face[i] as usize];
-                let theta = corner_angle(p((k + m - 1) % m), p(k), p((k + 1) % m));
-                normals[face[k] as usize] += theta * face_normals[f.index()];
+            let normal = self.face_normal(f);
+            let p = |v: u32| self.positions[v as usize];
+            // Corner k between corners k − 1 and k + 1, cyclically.
+            let mut previous = p(face[face.len() - 1]);
+            for (k, &v) in face.iter().enumerate() {
+                let next = p(face[if k + 1 == face.len() { 0 } else { k + 1 }]);
+                let here = p(v);
+                normals[v as usize] += corner_angle(previous, here, next) * normal;
+                previous = here;
             }
         }
         normals.iter_mut().for_each(|n| *n = n.normalize_or_zero());

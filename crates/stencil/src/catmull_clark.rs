@@ -9,6 +9,7 @@
 //! vertices, then face points, then edge points.
 
 use crate::{face_ring_size, vertex_kind, RowBuilder, SparseMatrix, Summation};
+use glam::DVec3;
 use subdiv_mesh::refine::quad_split;
 use subdiv_mesh::{EdgeId, FaceId, HalfEdgeId, Topology, VertexId};
 use subdiv_rules::catmull_clark::{
@@ -133,39 +134,57 @@ pub fn refine(t: &Topology) -> (Topology, SparseMatrix) {
     (quad_split(t), refinement_stencil(t))
 }
 
-/// V × V limit stencil: row v gives the limit point of vertex v on any polygon
-/// mesh. Interior: Cheng's Eq. 5 (one step composed with the quad limit mask,
-/// ERRATA C1/C2); boundary: (E₋ + 4V + E₊)/6; corner: V.
-pub fn limit_stencil(t: &Topology) -> SparseMatrix {
-    let nv = t.vertex_count();
-    type Scratch = (Vec<usize>, Vec<f64>, Vec<f64>); // face sizes, edge and far-corner weights
-    RowBuilder::build_parallel_with_scratch(nv, nv, Summation::InOrder, |i, rows, scratch: &mut Scratch| {
-        let v = VertexId(i as u32);
-        match vertex_kind(t, v) {
-            _ if t.is_isolated(v) => rows.add(v.0, 1.0),
-            VertexKind::Interior => {
-                let fan = t.vertex_fan(v);
-                let (sizes, edge_w, far_w) = scratch;
-                sizes.clear();
-                sizes.extend(fan.iter().map(|&h| t.face_size(t.he_face(h))));
-                edge_w.resize(fan.len(), 0.0);
-                far_w.resize(fan.len(), 0.0);
-                let wv = cheng_limit(sizes, edge_w, far_w); // Eq. (5)
-                rows.add(v.0, wv);
-                for (i, &h) in fan.iter().enumerate() {
-                    let (ring, m) = face_ring(t, h);
-                    rows.add(ring(1), edge_w[i]);
-                    // Far corners of face i = (V, Eᵢ, F₁ⁱ…F_{m−3}ⁱ, Eᵢ₊₁).
-                    for j in 2..m - 1 {
-                        rows.add(ring(j), far_w[i]);
-                    }
+/// Working memory of a limit row: the fan's face sizes, edge and far-corner weights.
+type LimitScratch = (Vec<usize>, Vec<f64>, Vec<f64>);
+
+/// Row v of the limit stencil on any polygon mesh. Interior: Cheng's Eq. 5
+/// (one step composed with the quad limit mask, ERRATA C1/C2); boundary:
+/// (E₋ + 4V + E₊)/6; corner: V.
+fn limit_row(t: &Topology, v: VertexId, rows: &mut RowBuilder, scratch: &mut LimitScratch) {
+    match vertex_kind(t, v) {
+        _ if t.is_isolated(v) => rows.add(v.0, 1.0),
+        VertexKind::Interior => {
+            let fan = t.vertex_fan(v);
+            let (sizes, edge_w, far_w) = scratch;
+            sizes.clear();
+            sizes.extend(fan.iter().map(|&h| t.face_size(t.he_face(h))));
+            edge_w.resize(fan.len(), 0.0);
+            far_w.resize(fan.len(), 0.0);
+            let wv = cheng_limit(sizes, edge_w, far_w); // Eq. (5)
+            rows.add(v.0, wv);
+            for (i, &h) in fan.iter().enumerate() {
+                let (ring, m) = face_ring(t, h);
+                rows.add(ring(1), edge_w[i]);
+                // Far corners of face i = (V, Eᵢ, F₁ⁱ…F_{m−3}ⁱ, Eᵢ₊₁).
+                for j in 2..m - 1 {
+                    rows.add(ring(j), far_w[i]);
                 }
             }
-            VertexKind::Boundary => {
-                rows.add(v.0, 4.0 / 6.0);
-                add_boundary_neighbors(rows, t, v, 1.0 / 6.0);
-            }
-            VertexKind::Corner => rows.add(v.0, 1.0),
         }
+        VertexKind::Boundary => {
+            rows.add(v.0, 4.0 / 6.0);
+            add_boundary_neighbors(rows, t, v, 1.0 / 6.0);
+        }
+        VertexKind::Corner => rows.add(v.0, 1.0),
+    }
+}
+
+/// V × V limit stencil: row v gives the limit point of vertex v ([`limit_row`]).
+pub fn limit_stencil(t: &Topology) -> SparseMatrix {
+    let nv = t.vertex_count();
+    RowBuilder::build_parallel_with_scratch(nv, nv, Summation::InOrder, |i, rows, scratch: &mut LimitScratch| {
+        limit_row(t, VertexId(i as u32), rows, scratch)
+    })
+}
+
+/// The limit point of every vertex, `apply(&limit_stencil(t), x)` up to
+/// round-off, evaluated row by row without building the stencil.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn limit_points(t: &Topology, x: &[DVec3]) -> Vec<DVec3> {
+    assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
+    RowBuilder::evaluate_parallel_with_scratch(t.vertex_count(), x, |i, rows, scratch: &mut LimitScratch| {
+        limit_row(t, VertexId(i as u32), rows, scratch)
     })
 }

@@ -92,10 +92,10 @@ pub fn refinement_stencil(t: &Topology, rule: CornerRule<'_>) -> Result<SparseMa
                     rule.weights(f.index(), w);
                     *last = Some(f);
                 }
-                // Image of corner k: Σⱼ w[j]·V_{(k+j) mod m}.
-                let k = t.he_corner(h).index as usize;
-                for j in 0..m {
-                    rows.add(face[(k + j) % m], w[j]);
+                // Image of corner k: Σⱼ w[j]·V_{(k+j) mod m}, i.e. face[k..], then face[..k].
+                let (before, from_k) = face.split_at(t.he_corner(h).index as usize);
+                for (&column, &wj) in from_k.iter().chain(before).zip(w.iter()) {
+                    rows.add(column, wj);
                 }
             } else {
                 // Boundary Chaikin points in dual_split's order (loop by loop), near end first.
@@ -183,32 +183,50 @@ pub fn refine(t: &Topology, rule: CornerRule<'_>) -> Result<(Topology, DualProve
     Ok((topology, provenance, stencil?))
 }
 
-/// V × V limit stencil of the standard scheme (SPEC §1): row v is the centroid
-/// of v's V-face after one step, (1/n)Σ over v's faces of that face's Eq. 1
-/// row; for a boundary vertex, the point of the boundary quadratic B-spline at
-/// v, (B₋ + 6V + B₊)/8 (`BOUNDARY_CURVE_POINT`). Isolated vertices map to themselves.
+/// Row v of the standard scheme's limit stencil (SPEC §1): the centroid of
+/// v's V-face after one step, (1/n)Σ over v's faces of that face's Eq. 1 row;
+/// for a boundary vertex, the point of the boundary quadratic B-spline at v,
+/// (B₋ + 6V + B₊)/8 (`BOUNDARY_CURVE_POINT`). An isolated vertex maps to itself.
+fn limit_row(t: &Topology, v: VertexId, rows: &mut RowBuilder, w: &mut Vec<f64>) {
+    if t.is_isolated(v) {
+        rows.add(v.0, 1.0);
+    } else if let Some((prev, next)) = t.boundary_neighbors(v) {
+        let [wp, wv, wn] = BOUNDARY_CURVE_POINT;
+        rows.add(prev.0, wp);
+        rows.add(v.0, wv);
+        rows.add(next.0, wn);
+    } else {
+        let n = t.vertex_face_count(v) as f64;
+        for c in t.vertex_corners(v) {
+            let face = t.face(c.face);
+            w.resize(face.len(), 0.0);
+            doo_sabin_weights(face.len(), w);
+            // Weight w[j] goes to the corner j places after v's: face[k..], then face[..k].
+            let (before, from_v) = face.split_at(c.index as usize);
+            for (&column, &wj) in from_v.iter().chain(before).zip(w.iter()) {
+                rows.add(column, wj / n);
+            }
+        }
+    }
+}
+
+/// V × V limit stencil of the standard scheme: row v maps control points to
+/// the limit point of vertex v ([`limit_row`]).
 pub fn limit_stencil(t: &Topology) -> SparseMatrix {
     let nv = t.vertex_count();
     RowBuilder::build_parallel_with_scratch(nv, nv, Summation::InOrder, |i, rows, w: &mut Vec<f64>| {
-        let v = VertexId(i as u32);
-        if t.is_isolated(v) {
-            rows.add(v.0, 1.0);
-        } else if let Some((prev, next)) = t.boundary_neighbors(v) {
-            let [wp, wv, wn] = BOUNDARY_CURVE_POINT;
-            rows.add(prev.0, wp);
-            rows.add(v.0, wv);
-            rows.add(next.0, wn);
-        } else {
-            let n = t.vertex_face_count(v) as f64;
-            for c in t.vertex_corners(v) {
-                let face = t.face(c.face);
-                let m = face.len();
-                w.resize(m, 0.0);
-                doo_sabin_weights(m, w);
-                for j in 0..m {
-                    rows.add(face[(c.index as usize + j) % m], w[j] / n);
-                }
-            }
-        }
+        limit_row(t, VertexId(i as u32), rows, w)
+    })
+}
+
+/// The limit point of every vertex, `apply(&limit_stencil(t), x)` up to
+/// round-off, evaluated row by row without building the stencil.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn limit_points(t: &Topology, x: &[DVec3]) -> Vec<DVec3> {
+    assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
+    RowBuilder::evaluate_parallel_with_scratch(t.vertex_count(), x, |i, rows, w: &mut Vec<f64>| {
+        limit_row(t, VertexId(i as u32), rows, w)
     })
 }

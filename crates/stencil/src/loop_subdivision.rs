@@ -9,6 +9,7 @@
 
 use crate::catmull_clark::add_boundary_neighbors;
 use crate::{vertex_kind, RowBuilder, SparseMatrix, StencilError, Summation};
+use glam::DVec3;
 use subdiv_mesh::refine::triangle_split;
 use subdiv_mesh::{EdgeId, MeshError, Topology, VertexId};
 use subdiv_rules::loop_scheme::{edge_point_mask, limit_mask, vertex_point_mask};
@@ -71,17 +72,39 @@ pub fn refine(t: &Topology, beta: LoopBeta) -> Result<(Topology, SparseMatrix), 
     Ok((topology, stencil))
 }
 
-/// V × V limit stencil: interior (1 − kγ)p + γΣpⱼ with γ = 1/(k + 3/(8β))
-/// (Deng-Wang Eq. 5-6, ERRATA W4); boundary (p₋ + 4p + p₊)/6; corner p.
+/// Row v of the limit stencil: interior (1 − kγ)p + γΣpⱼ with
+/// γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, ERRATA W4); boundary
+/// (p₋ + 4p + p₊)/6; corner p.
+fn limit_row(t: &Topology, v: VertexId, beta: LoopBeta, rows: &mut RowBuilder) {
+    if t.is_isolated(v) {
+        rows.add(v.0, 1.0);
+    } else {
+        add_vertex_mask(rows, t, v, limit_mask(vertex_kind(t, v), t.valence(v), beta));
+    }
+}
+
+/// V × V limit stencil ([`limit_row`]).
+///
+/// # Errors
+/// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
 pub fn limit_stencil(t: &Topology, beta: LoopBeta) -> Result<SparseMatrix, StencilError> {
     require_triangles(t)?;
     let nv = t.vertex_count();
-    Ok(RowBuilder::build_parallel(nv, nv, Summation::InOrder, |i, rows| {
-        let v = VertexId(i as u32);
-        if t.is_isolated(v) {
-            rows.add(v.0, 1.0);
-        } else {
-            add_vertex_mask(rows, t, v, limit_mask(vertex_kind(t, v), t.valence(v), beta));
-        }
+    Ok(RowBuilder::build_parallel(nv, nv, Summation::InOrder, |i, rows| limit_row(t, VertexId(i as u32), beta, rows)))
+}
+
+/// The limit point of every vertex, `apply(&limit_stencil(t, beta)?, x)` up
+/// to round-off, evaluated row by row without building the stencil.
+///
+/// # Errors
+/// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn limit_points(t: &Topology, beta: LoopBeta, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
+    require_triangles(t)?;
+    assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
+    Ok(RowBuilder::evaluate_parallel_with_scratch(t.vertex_count(), x, |i, rows, _: &mut ()| {
+        limit_row(t, VertexId(i as u32), beta, rows)
     }))
 }

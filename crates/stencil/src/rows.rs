@@ -1,6 +1,8 @@
 //! Building CSR matrices row by row from (column, weight) contributions.
 
+use crate::apply::fill_in_chunks;
 use crate::SparseMatrix;
+use glam::DVec3;
 use rayon::prelude::*;
 
 /// How the contributions to one column of a row are summed.
@@ -176,6 +178,37 @@ impl RowBuilder {
             }
         });
         Self::write_rows(columns, summation, lengths, fill)
+    }
+
+    /// The product R·x of the matrix R that [`Self::build_parallel_with_scratch`]
+    /// would build from the same `fill`, without building it: point `i` is
+    /// Σ w·x\[c\] over the contributions (c, w) that `fill(i, …)` adds, in the
+    /// order they are added. For an operator applied once — a limit stencil
+    /// on the finest level of a surface — this skips the counting pass, the
+    /// merge and the storage of R (a dozen entries per row).
+    ///
+    /// Equal to `apply(&R, x)` up to round-off: R sums a repeated column's
+    /// weights before multiplying and a row's products in column order. Each
+    /// point is summed by one task in a fixed order, so the result is the same
+    /// bit for bit whatever the thread count.
+    ///
+    /// # Panics
+    /// If `fill` adds a column ≥ `x.len()` (a caller bug).
+    pub fn evaluate_parallel_with_scratch<S: Default>(
+        rows: usize,
+        x: &[DVec3],
+        fill: impl Fn(usize, &mut RowBuilder, &mut S) + Sync,
+    ) -> Vec<DVec3> {
+        let mut out = vec![DVec3::ZERO; rows];
+        fill_in_chunks(&mut out, |first, chunk| {
+            let (mut builder, mut scratch) = (Self::scratch(), S::default());
+            for (j, point) in chunk.iter_mut().enumerate() {
+                fill(first + j, &mut builder, &mut scratch);
+                *point = builder.pending.iter().fold(DVec3::ZERO, |sum, &(c, w)| sum + w * x[c as usize]);
+                builder.pending.clear();
+            }
+        });
+        out
     }
 
     /// Pass 2 of the parallel builds: places row `i` at the prefix sum of

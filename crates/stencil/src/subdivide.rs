@@ -71,6 +71,68 @@ fn check_size(t: &Topology, scheme: Scheme) -> Result<(), StencilError> {
     Ok(())
 }
 
+/// One level of `scheme` on `current`: the refined connectivity and its stencil.
+fn refine_level(current: &Topology, scheme: Scheme) -> Result<Refinement, StencilError> {
+    check_size(current, scheme)?;
+    Ok(match scheme {
+        // The refined connectivity and the stencil depend on the coarse
+        // topology only: build them on both cores at once.
+        Scheme::CatmullClark => {
+            let (topology, stencil) =
+                rayon::join(|| quad_split(current), || catmull_clark::refinement_stencil(current));
+            Refinement { topology, stencil: Some(stencil), dual: None }
+        }
+        Scheme::Loop(beta) => {
+            let (topology, stencil) = rayon::join(
+                || subdiv_mesh::refine::triangle_split(current),
+                || loop_subdivision::refinement_stencil(current, beta),
+            );
+            let stencil = stencil?;
+            let topology = topology.expect("the stencil accepted the mesh, so it is a triangle mesh");
+            Refinement { topology, stencil: Some(stencil), dual: None }
+        }
+        Scheme::DooSabin => {
+            let ((topology, dual), stencil) = rayon::join(
+                || subdiv_mesh::refine::dual_split(current),
+                || doo_sabin::refinement_stencil(current, doo_sabin::CornerRule::Standard),
+            );
+            Refinement { topology, stencil: Some(stencil?), dual: Some(dual) }
+        }
+        Scheme::DengMa(tension) => {
+            deng_ma::require_closed(current)?;
+            deng_ma::check_tension(tension)?;
+            // Evaluated geometrically even for a global ω: its matrix
+            // (`deng_ma::stencil`) is dense-ish (every moved vertex
+            // expands over all corners around its vertex) and measured
+            // 3-4× slower to build and apply than the direct step.
+            Refinement { topology: quad_split(current), stencil: None, dual: None }
+        }
+    })
+}
+
+/// Positions after `level`, from the positions on its coarse connectivity.
+fn step(level: &Refinement, scheme: Scheme, coarse: &Topology, positions: &[DVec3]) -> Vec<DVec3> {
+    match (&level.stencil, scheme) {
+        (Some(r), _) => apply(r, positions),
+        (None, Scheme::DengMa(tension)) => deng_ma::step_positions(coarse, positions, tension)
+            .expect("closedness and tension were checked when planning"),
+        (None, _) => unreachable!("only Deng-Ma has no stencil"),
+    }
+}
+
+/// The limit points of the vertices of `t` (a mesh refined at least once by
+/// `scheme`, or any mesh for the primal schemes); `None` for Deng-Ma.
+fn limit_points_of(t: &Topology, scheme: Scheme, positions: &[DVec3]) -> Option<Vec<DVec3>> {
+    match scheme {
+        Scheme::CatmullClark => Some(catmull_clark::limit_points(t, positions)),
+        Scheme::Loop(beta) => {
+            Some(loop_subdivision::limit_points(t, beta, positions).expect("Loop levels stay triangular"))
+        }
+        Scheme::DooSabin => Some(doo_sabin::limit_points(t, positions)),
+        Scheme::DengMa(_) => None,
+    }
+}
+
 impl SubdivisionPlan {
     /// Plans `levels` steps of `scheme` on `t`. Fails when the scheme cannot
     /// take the mesh (Loop on non-triangles, Deng-Ma on an open mesh), on a bad
@@ -78,42 +140,7 @@ impl SubdivisionPlan {
     pub fn new(t: &Topology, scheme: Scheme, levels: usize) -> Result<Self, StencilError> {
         let mut out: Vec<Refinement> = Vec::with_capacity(levels);
         for _ in 0..levels {
-            let current = out.last().map_or(t, |r| &r.topology);
-            check_size(current, scheme)?;
-            let level = match scheme {
-                // The refined connectivity and the stencil depend on the coarse
-                // topology only: build them on both cores at once.
-                Scheme::CatmullClark => {
-                    let (topology, stencil) =
-                        rayon::join(|| quad_split(current), || catmull_clark::refinement_stencil(current));
-                    Refinement { topology, stencil: Some(stencil), dual: None }
-                }
-                Scheme::Loop(beta) => {
-                    let (topology, stencil) = rayon::join(
-                        || subdiv_mesh::refine::triangle_split(current),
-                        || loop_subdivision::refinement_stencil(current, beta),
-                    );
-                    let stencil = stencil?;
-                    let topology = topology.expect("the stencil accepted the mesh, so it is a triangle mesh");
-                    Refinement { topology, stencil: Some(stencil), dual: None }
-                }
-                Scheme::DooSabin => {
-                    let ((topology, dual), stencil) = rayon::join(
-                        || subdiv_mesh::refine::dual_split(current),
-                        || doo_sabin::refinement_stencil(current, doo_sabin::CornerRule::Standard),
-                    );
-                    Refinement { topology, stencil: Some(stencil?), dual: Some(dual) }
-                }
-                Scheme::DengMa(tension) => {
-                    deng_ma::require_closed(current)?;
-                    deng_ma::check_tension(tension)?;
-                    // Evaluated geometrically even for a global ω: its matrix
-                    // (`deng_ma::stencil`) is dense-ish (every moved vertex
-                    // expands over all corners around its vertex) and measured
-                    // 3-4× slower to build and apply than the direct step.
-                    Refinement { topology: quad_split(current), stencil: None, dual: None }
-                }
-            };
+            let level = refine_level(out.last().map_or(t, |r| &r.topology), scheme)?;
             out.push(level);
         }
         Ok(Self { scheme, base: t.clone(), levels: out })
@@ -145,12 +172,7 @@ impl SubdivisionPlan {
         let mut current = positions.to_vec();
         let mut coarse = &self.base;
         for level in &self.levels {
-            current = match (&level.stencil, self.scheme) {
-                (Some(r), _) => apply(r, &current),
-                (None, Scheme::DengMa(tension)) => deng_ma::step_positions(coarse, &current, tension)
-                    .expect("closedness and tension were checked when planning"),
-                (None, _) => unreachable!("only Deng-Ma has no stencil"),
-            };
+            current = step(level, self.scheme, coarse, &current);
             coarse = &level.topology;
         }
         current
@@ -168,20 +190,47 @@ impl SubdivisionPlan {
         }
     }
 
+    /// The limit points of the final level's vertices from their positions
+    /// (`apply(&self.limit_stencil()?, positions)` up to round-off, without
+    /// building the stencil; `None` for Deng-Ma).
+    ///
+    /// # Panics
+    /// If `positions.len()` differs from the final vertex count (a caller bug).
+    pub fn limit_points(&self, positions: &[DVec3]) -> Option<Vec<DVec3>> {
+        limit_points_of(self.topology(), self.scheme, positions)
+    }
+
     /// Subdivides a mesh: positions after every level, moved to their limit
     /// positions when `limit` is set and the scheme has a limit mask.
     pub fn subdivide(&self, mesh: &Mesh, limit: bool) -> Mesh {
-        let mut positions = self.apply(mesh.positions());
-        if limit {
-            if let Some(l) = self.limit_stencil() {
-                positions = apply(&l, &positions);
-            }
-        }
+        let positions = self.apply(mesh.positions());
+        let positions = limit.then(|| self.limit_points(&positions)).flatten().unwrap_or(positions);
         Mesh::from_topology(self.topology().clone(), positions)
     }
 }
 
-/// Convenience: plans and applies `levels` steps of `scheme` to `mesh`.
+/// `levels` steps of `scheme` applied to `mesh`, moved to the limit positions
+/// when `limit` is set and the scheme has a limit mask — the same mesh as
+/// [`SubdivisionPlan::subdivide`], for a single use: each level is refined
+/// and applied in turn and dropped once the next exists, so only two
+/// connectivities and one stencil are held at a time, and the final
+/// connectivity is moved into the mesh rather than copied.
+///
+/// # Errors
+/// As [`SubdivisionPlan::new`].
 pub fn subdivide(mesh: &Mesh, scheme: Scheme, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
-    Ok(SubdivisionPlan::new(mesh.topology(), scheme, levels)?.subdivide(mesh, limit))
+    let mut fine: Option<Topology> = None; // None: still the input's connectivity
+    let mut positions = mesh.positions().to_vec();
+    for _ in 0..levels {
+        let coarse = fine.as_ref().unwrap_or(mesh.topology());
+        let level = refine_level(coarse, scheme)?;
+        positions = step(&level, scheme, coarse, &positions);
+        fine = Some(level.topology);
+    }
+    let t = fine.as_ref().unwrap_or(mesh.topology());
+    let positions = limit.then(|| limit_points_of(t, scheme, &positions)).flatten().unwrap_or(positions);
+    Ok(match fine {
+        Some(t) => Mesh::from_topology(t, positions),
+        None => mesh.with_positions(positions),
+    })
 }

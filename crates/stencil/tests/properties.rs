@@ -185,6 +185,69 @@ fn doo_sabin_first_step_equals_the_stencil_product() {
     assert!(doo_sabin::first_step(cube.topology(), CornerRule::PerFace(&[2.0]), cube.positions()).is_err());
 }
 
+/// The limit points evaluated row by row (what surfaces and error reports
+/// use) equal the limit stencil's product, on every mesh kind — boundaries,
+/// corners, valence 2, an isolated vertex, a 40-gon, and a refined mesh large
+/// enough for parallel chunks — and do not depend on the thread count.
+#[test]
+fn limit_points_equal_the_limit_stencil_product() {
+    let with_isolated = {
+        let base = shapes::octahedron();
+        let mut p = base.positions().to_vec();
+        p.push(DVec3::new(5.0, -3.0, 2.0));
+        ("octahedron + isolated vertex", Mesh::new(p, base.topology().faces().clone()).unwrap())
+    };
+    let large = shapes::polygon_mix(&shapes::plate_with_holes(60, 50, &[(20, 20)], false), 2, 0.3, 0.2, 0.1);
+    let large_tri = {
+        let t = shapes::triangle_grid(70, 60);
+        bumpy(t, 5)
+    };
+    let mut meshes = closed_meshes();
+    meshes.extend(open_meshes());
+    meshes.push(with_isolated);
+    meshes.push(("large plate mix (open)", large));
+    meshes.push(("large triangle grid", large_tri));
+    let mut large_rows = 0;
+    for (name, mesh) in meshes {
+        let (t, x, d) = (mesh.topology(), mesh.positions(), mesh.bbox_diagonal());
+        let check = |what: &str, direct: Vec<DVec3>, product: Vec<DVec3>| {
+            assert_eq!(direct.len(), product.len(), "{name}: {what}");
+            let gap = max_dist(&direct, &product);
+            assert!(gap <= 2e-15 * d, "{name}: {what}: {gap:e}");
+        };
+        check("doo-sabin", doo_sabin::limit_points(t, x), apply(&doo_sabin::limit_stencil(t), x));
+        check("catmull-clark", catmull_clark::limit_points(t, x), apply(&catmull_clark::limit_stencil(t), x));
+        if is_triangle_mesh(t) {
+            for beta in [LoopBeta::Warren, LoopBeta::Loop] {
+                let product = apply(&loop_subdivision::limit_stencil(t, beta).unwrap(), x);
+                check("loop", loop_subdivision::limit_points(t, beta, x).unwrap(), product);
+            }
+        } else {
+            assert!(loop_subdivision::limit_points(t, LoopBeta::Warren, x).is_err(), "{name}");
+        }
+        for scheme in schemes_for(t) {
+            let plan = SubdivisionPlan::new(t, scheme, 2).unwrap();
+            let q = plan.apply(x);
+            match (plan.limit_points(&q), plan.limit_stencil()) {
+                (Some(direct), Some(l)) => check(&format!("{scheme:?} after 2 levels"), direct, apply(&l, &q)),
+                (None, None) => assert!(matches!(scheme, Scheme::DengMa(_))),
+                _ => panic!("{name}: {scheme:?}: limit points and stencil disagree on existing"),
+            }
+            if scheme == Scheme::CatmullClark && q.len() > 8 * 4096 {
+                large_rows += 1;
+                let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+                let serial = one.install(|| plan.limit_points(&q).unwrap());
+                let parallel = plan.limit_points(&q).unwrap();
+                assert!(serial
+                    .iter()
+                    .zip(&parallel)
+                    .all(|(a, b)| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits)));
+            }
+        }
+    }
+    assert!(large_rows >= 2, "two meshes are large enough for parallel chunks");
+}
+
 #[test]
 fn doo_sabin_f_faces_keep_their_centroids() {
     for (name, mesh) in closed_meshes().into_iter().chain(open_meshes()) {
