@@ -6,8 +6,8 @@
 //! partial output (SPEC §7).
 
 use std::ffi::OsString;
-use std::fs::{self, OpenOptions};
-use std::io::{self, Write};
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, BufWriter};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -27,8 +27,16 @@ impl Drop for TempFile {
     }
 }
 
-/// Writes `bytes` to `path` atomically.
-pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+/// Output buffer between an encoder and the temporary file.
+const BUFFER_BYTES: usize = 1 << 20;
+
+/// Writes what `encode` produces to `path` atomically, streamed through a
+/// buffer (never the whole file in memory). An error from `encode` or from
+/// the file system removes the temporary file and leaves `path` as it was.
+pub(crate) fn write_with(
+    path: &Path,
+    encode: impl FnOnce(&mut BufWriter<&mut File>) -> Result<(), IoError>,
+) -> Result<(), IoError> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let ctx = Ctx::new(path);
     let name = path
@@ -49,9 +57,41 @@ pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
             Err(e) => return Err(ctx.io(e)),
         }
     };
-    file.write_all(bytes).and_then(|()| file.sync_all()).map_err(|e| ctx.io(e))?;
+    let mut out = BufWriter::with_capacity(BUFFER_BYTES, &mut file);
+    encode(&mut out)?;
+    out.into_inner().map_err(|e| ctx.io(e.into_error()))?;
+    file.sync_all().map_err(|e| ctx.io(e))?;
     drop(file);
     fs::rename(&temp.path, path).map_err(|e| ctx.io(e))?;
     temp.keep = true;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    #[test]
+    fn an_encoder_failing_after_streaming_leaves_the_old_file_and_no_temporary() {
+        let dir = std::env::temp_dir().join(format!("subdiv-io-atomic-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        let target = dir.join("out.obj");
+        fs::write(&target, "old contents").unwrap();
+        // More than the buffer, so part of it reaches the temporary file first.
+        let e = write_with(&target, |out| {
+            out.write_all(&vec![b'x'; 3 * BUFFER_BYTES]).map_err(|e| Ctx::new(&target).io(e))?;
+            Err(Ctx::new(&target).invalid("failed half-way"))
+        })
+        .unwrap_err();
+        assert!(e.to_string().contains("failed half-way"), "{e}");
+        assert_eq!(fs::read_to_string(&target).unwrap(), "old contents");
+        let left: Vec<_> = fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left, ["out.obj"]);
+        // A complete stream replaces the file whole.
+        write_with(&target, |out| out.write_all(b"new").map_err(|e| Ctx::new(&target).io(e))).unwrap();
+        assert_eq!(fs::read_to_string(&target).unwrap(), "new");
+        fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -101,21 +101,6 @@ impl IoError {
             _ => None,
         }
     }
-
-    /// The same error about another file (used when an in-memory result is
-    /// written to disk).
-    pub(crate) fn with_path(mut self, new: &Path) -> Self {
-        match &mut self {
-            IoError::Io { path, .. }
-            | IoError::UnknownFormat { path }
-            | IoError::Empty { path }
-            | IoError::Parse { path, .. }
-            | IoError::Truncated { path, .. }
-            | IoError::Unsupported { path, .. }
-            | IoError::InvalidMesh { path, .. } => *path = new.to_path_buf(),
-        }
-        self
-    }
 }
 
 /// `path` or `path:line`, for messages.
@@ -178,6 +163,5 @@ mod tests {
         assert_eq!(e.line(), Some(12));
         let e = ctx.truncated(None, "binary data ends inside vertex 3 of 8");
         assert_eq!(e.to_string(), "mesh.obj: file is truncated: binary data ends inside vertex 3 of 8");
-        assert_eq!(e.with_path(Path::new("b.ply")).path(), Path::new("b.ply"));
     }
 }

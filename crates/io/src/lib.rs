@@ -8,7 +8,9 @@
 //!   tells ASCII from binary (PLY, STL) and JSON from GLB by content.
 //! - [`write_mesh`] / [`write_mesh_as`] write atomically: a temporary file in
 //!   the same directory is renamed over the target, so a failed write never
-//!   leaves a partial file. [`write_mesh_to_vec`] encodes in memory.
+//!   leaves a partial file; the encoding is streamed to it through a 1 MiB
+//!   buffer (glTF, whose header needs the buffer length, is assembled first).
+//!   [`write_mesh_to_vec`] encodes in memory.
 //! - [`IoError`] names the file, and the 1-based line for text formats:
 //!   `mesh.obj:12: face index 'x' is not an integer`.
 //!
@@ -157,16 +159,17 @@ pub fn write_mesh(path: &Path, mesh: MeshView<'_>) -> Result<(), IoError> {
     write_mesh_as(path, mesh, Format::from_path(path)?)
 }
 
-/// Writes a mesh in the given format, atomically: the data goes to a
-/// temporary file in the target's directory, which is then renamed over the
-/// target.
+/// Writes a mesh in the given format, atomically: the mesh is checked, its
+/// encoding streamed to a temporary file in the target's directory, which is
+/// then renamed over the target.
 ///
 /// # Errors
 /// [`IoError::InvalidMesh`] (see [`write_mesh_to_vec`]) or [`IoError::Io`];
 /// on any error the target file is left as it was.
 pub fn write_mesh_as(path: &Path, mesh: MeshView<'_>, format: Format) -> Result<(), IoError> {
-    let bytes = encode(mesh, format, Path::new("<memory>")).map_err(|e| e.with_path(path))?;
-    atomic::write(path, &bytes)
+    let ctx = Ctx::new(path);
+    check(&mesh, format, ctx)?;
+    atomic::write_with(path, |out| encode(&mesh, format, ctx, out))
 }
 
 /// Encodes a mesh in memory.
@@ -177,24 +180,27 @@ pub fn write_mesh_as(path: &Path, mesh: MeshView<'_>, format: Format) -> Result<
 /// fewer than three corners for a triangulating format (STL, glTF), or glTF
 /// gets coordinates that are not finite in `f32`.
 pub fn write_mesh_to_vec(mesh: MeshView<'_>, format: Format) -> Result<Vec<u8>, IoError> {
-    encode(mesh, format, Path::new("<memory>"))
-}
-
-fn encode(mesh: MeshView<'_>, format: Format, path: &Path) -> Result<Vec<u8>, IoError> {
-    let ctx = Ctx::new(path);
+    let ctx = Ctx::new(Path::new("<memory>"));
     check(&mesh, format, ctx)?;
     let mut out = Vec::new();
-    match format {
-        Format::Obj => obj::write(&mesh, &mut out),
-        Format::Off => off::write(&mesh, &mut out),
-        Format::PlyAscii => ply::write(&mesh, false, &mut out),
-        Format::PlyBinary => ply::write(&mesh, true, &mut out),
-        Format::StlAscii => stl::write(&mesh, false, &mut out),
-        Format::StlBinary => stl::write(&mesh, true, &mut out),
-        Format::Gltf => out = gltf::write(&mesh, false, ctx)?,
-        Format::Glb => out = gltf::write(&mesh, true, ctx)?,
-    }
+    encode(&mesh, format, ctx, &mut out)?;
     Ok(out)
+}
+
+/// Streams a mesh that passed [`check`] to `out` (glTF is assembled in
+/// memory first: its JSON header gives the binary buffer's length).
+fn encode(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>, out: &mut impl std::io::Write) -> Result<(), IoError> {
+    match format {
+        Format::Obj => obj::write(mesh, out),
+        Format::Off => off::write(mesh, out),
+        Format::PlyAscii => ply::write(mesh, false, out),
+        Format::PlyBinary => ply::write(mesh, true, out),
+        Format::StlAscii => stl::write(mesh, false, out),
+        Format::StlBinary => stl::write(mesh, true, out),
+        Format::Gltf => out.write_all(&gltf::write(mesh, false, ctx)?),
+        Format::Glb => out.write_all(&gltf::write(mesh, true, ctx)?),
+    }
+    .map_err(|e| ctx.io(e))
 }
 
 /// What every writer relies on: indices in range, one normal per position,

@@ -17,10 +17,11 @@
 
 use glam::DVec3;
 use std::collections::HashMap;
+use std::io::{self, Write};
 use subdiv_mesh::{FaceGroups, FaceList, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
-use crate::text::{parse_f64, parse_i64, push_f64, show, strip_comment, tokens, Lines};
+use crate::text::{parse_f64, parse_i64, show, strip_comment, tokens, write_f64, Lines};
 use crate::MeshView;
 
 /// Group names interned in order of first appearance.
@@ -151,41 +152,40 @@ fn face_index(token: &[u8], vertices_so_far: usize, line: usize, ctx: Ctx<'_>) -
     u32::try_from(index).map_err(|_| ctx.parse(line, format!("face index {k} is too large")))
 }
 
-pub(crate) fn write(mesh: &MeshView<'_>, out: &mut Vec<u8>) {
-    use std::io::Write;
-    // Writes to a Vec<u8> cannot fail.
-    out.extend_from_slice(b"# written by subdiv-io\n");
+pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()> {
+    out.write_all(b"# written by subdiv-io\n")?;
     for p in mesh.positions {
-        out.extend_from_slice(b"v");
+        out.write_all(b"v")?;
         for x in p.to_array() {
-            out.push(b' ');
-            push_f64(out, x);
+            out.write_all(b" ")?;
+            write_f64(out, x)?;
         }
-        out.push(b'\n');
+        out.write_all(b"\n")?;
     }
     if let Some(normals) = mesh.normals {
         for n in normals {
-            out.extend_from_slice(b"vn");
+            out.write_all(b"vn")?;
             for x in n.to_array() {
-                out.push(b' ');
-                push_f64(out, x);
+                out.write_all(b" ")?;
+                write_f64(out, x)?;
             }
-            out.push(b'\n');
+            out.write_all(b"\n")?;
         }
     }
     let with_normals = mesh.normals.is_some();
     for face in mesh.faces.iter() {
-        out.push(b'f');
+        out.write_all(b"f")?;
         for &v in face {
             let k = u64::from(v) + 1;
             if with_normals {
-                let _ = write!(out, " {k}//{k}");
+                write!(out, " {k}//{k}")?;
             } else {
-                let _ = write!(out, " {k}");
+                write!(out, " {k}")?;
             }
         }
-        out.push(b'\n');
+        out.write_all(b"\n")?;
     }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -21,10 +21,11 @@
 //! form that parses back to the same `f64` bits.
 
 use glam::DVec3;
+use std::io::{self, Write};
 use subdiv_mesh::{FaceList, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
-use crate::text::{is_blank, parse_f64, parse_i64, push_f64, show, strip_comment, tokens, Lines};
+use crate::text::{is_blank, parse_f64, parse_i64, show, strip_comment, tokens, write_f64, Lines};
 use crate::MeshView;
 
 /// What the header keyword announces.
@@ -275,30 +276,27 @@ fn binary_faces(
     Ok((faces, at))
 }
 
-pub(crate) fn write(mesh: &MeshView<'_>, out: &mut Vec<u8>) {
-    use std::io::Write;
-    // Writes to a Vec<u8> cannot fail.
-    out.extend_from_slice(if mesh.normals.is_some() { b"NOFF\n" } else { b"OFF\n" });
-    let _ = writeln!(out, "{} {} 0", mesh.positions.len(), mesh.faces.len());
+pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()> {
+    out.write_all(if mesh.normals.is_some() { b"NOFF\n" } else { b"OFF\n" })?;
+    writeln!(out, "{} {} 0", mesh.positions.len(), mesh.faces.len())?;
     for (i, p) in mesh.positions.iter().enumerate() {
-        let mut first = true;
         let normal = mesh.normals.map(|n| n[i].to_array());
-        for x in p.to_array().into_iter().chain(normal.into_iter().flatten()) {
-            if !first {
-                out.push(b' ');
+        for (k, x) in p.to_array().into_iter().chain(normal.into_iter().flatten()).enumerate() {
+            if k > 0 {
+                out.write_all(b" ")?;
             }
-            first = false;
-            push_f64(out, x);
+            write_f64(out, x)?;
         }
-        out.push(b'\n');
+        out.write_all(b"\n")?;
     }
     for face in mesh.faces.iter() {
-        let _ = write!(out, "{}", face.len());
+        write!(out, "{}", face.len())?;
         for &v in face {
-            let _ = write!(out, " {v}");
+            write!(out, " {v}")?;
         }
-        out.push(b'\n');
+        out.write_all(b"\n")?;
     }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -14,10 +14,11 @@
 //! `uint` indices beyond `i32::MAX`). Doubles keep every bit of the positions.
 
 use glam::DVec3;
+use std::io::{self, Write};
 use subdiv_mesh::{FaceList, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
-use crate::text::{is_blank, parse_f64, push_f64, show, tokens, Lines};
+use crate::text::{is_blank, parse_f64, show, tokens, write_f64, Lines};
 use crate::MeshView;
 
 /// A PLY scalar type.
@@ -394,9 +395,7 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
     }
 }
 
-pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut Vec<u8>) {
-    use std::io::Write;
-    // Writes to a Vec<u8> cannot fail.
+pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> io::Result<()> {
     let big_faces = mesh.faces.iter().any(|f| f.len() > 255);
     let big_indices = mesh.faces.indices().iter().any(|&v| v > i32::MAX as u32);
     let format = if binary { "binary_little_endian" } else { "ascii" };
@@ -414,7 +413,7 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut Vec<u8>) {
         if big_faces { "uint" } else { "uchar" },
         if big_indices { "uint" } else { "int" },
     ));
-    out.extend_from_slice(header.as_bytes());
+    out.write_all(header.as_bytes())?;
 
     let vertex = |i: usize| {
         let normal = mesh.normals.map(|n| n[i].to_array());
@@ -423,38 +422,39 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut Vec<u8>) {
     if binary {
         for i in 0..mesh.positions.len() {
             for x in vertex(i) {
-                out.extend_from_slice(&x.to_le_bytes());
+                out.write_all(&x.to_le_bytes())?;
             }
         }
         for face in mesh.faces.iter() {
             if big_faces {
-                out.extend_from_slice(&(face.len() as u32).to_le_bytes());
+                out.write_all(&(face.len() as u32).to_le_bytes())?;
             } else {
-                out.push(face.len() as u8);
+                out.write_all(&[face.len() as u8])?;
             }
             for &v in face {
                 // `int` and `uint` share their bits for every index ≤ i32::MAX.
-                out.extend_from_slice(&v.to_le_bytes());
+                out.write_all(&v.to_le_bytes())?;
             }
         }
     } else {
         for i in 0..mesh.positions.len() {
             for (k, x) in vertex(i).enumerate() {
                 if k > 0 {
-                    out.push(b' ');
+                    out.write_all(b" ")?;
                 }
-                push_f64(out, x);
+                write_f64(out, x)?;
             }
-            out.push(b'\n');
+            out.write_all(b"\n")?;
         }
         for face in mesh.faces.iter() {
-            let _ = write!(out, "{}", face.len());
+            write!(out, "{}", face.len())?;
             for &v in face {
-                let _ = write!(out, " {v}");
+                write!(out, " {v}")?;
             }
-            out.push(b'\n');
+            out.write_all(b"\n")?;
         }
     }
+    Ok(())
 }
 
 #[cfg(test)]

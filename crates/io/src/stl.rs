@@ -20,6 +20,7 @@
 
 use glam::DVec3;
 use std::collections::HashMap;
+use std::io::{self, Write};
 use subdiv_mesh::{FaceList, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
@@ -145,38 +146,38 @@ fn facet_normal(mesh: &MeshView<'_>, t: [u32; 3]) -> DVec3 {
     (b - a).cross(c - a).try_normalize().unwrap_or(DVec3::ZERO)
 }
 
-pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut Vec<u8>) {
+pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> io::Result<()> {
     let triangles = mesh.faces.iter().flat_map(fan);
     if binary {
         let mut header = [b' '; 80];
         let text = b"binary STL written by subdiv-io";
         header[..text.len()].copy_from_slice(text);
-        out.extend_from_slice(&header);
+        out.write_all(&header)?;
         let count = mesh.faces.iter().map(|f| f.len().saturating_sub(2)).sum::<usize>();
-        out.extend_from_slice(&(count as u32).to_le_bytes());
+        out.write_all(&(count as u32).to_le_bytes())?;
         for t in triangles {
             let normal = facet_normal(mesh, t);
             for p in std::iter::once(normal).chain(t.map(|v| mesh.positions[v as usize])) {
                 for x in p.to_array() {
-                    out.extend_from_slice(&(x as f32).to_le_bytes());
+                    out.write_all(&(x as f32).to_le_bytes())?;
                 }
             }
-            out.extend_from_slice(&[0, 0]);
+            out.write_all(&[0, 0])?;
         }
     } else {
-        let mut s = String::from("solid subdiv\n");
+        out.write_all(b"solid subdiv\n")?;
         for t in triangles {
             let n = facet_normal(mesh, t);
-            s.push_str(&format!("  facet normal {:e} {:e} {:e}\n    outer loop\n", n.x, n.y, n.z));
+            writeln!(out, "  facet normal {:e} {:e} {:e}\n    outer loop", n.x, n.y, n.z)?;
             for v in t {
                 let p = mesh.positions[v as usize];
-                s.push_str(&format!("      vertex {:e} {:e} {:e}\n", p.x, p.y, p.z));
+                writeln!(out, "      vertex {:e} {:e} {:e}", p.x, p.y, p.z)?;
             }
-            s.push_str("    endloop\n  endfacet\n");
+            out.write_all(b"    endloop\n  endfacet\n")?;
         }
-        s.push_str("endsolid subdiv\n");
-        out.extend_from_slice(s.as_bytes());
+        out.write_all(b"endsolid subdiv\n")?;
     }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -210,11 +210,13 @@ impl SubdivisionPlan {
 }
 
 /// `levels` steps of `scheme` applied to `mesh`, moved to the limit positions
-/// when `limit` is set and the scheme has a limit mask — the same mesh as
-/// [`SubdivisionPlan::subdivide`], for a single use: each level is refined
-/// and applied in turn and dropped once the next exists, so only two
-/// connectivities and one stencil are held at a time, and the final
-/// connectivity is moved into the mesh rather than copied.
+/// when `limit` is set and the scheme has a limit mask — the mesh of
+/// [`SubdivisionPlan::subdivide`] (up to round-off for Doo-Sabin), for a
+/// single use: each level is refined and applied in turn and dropped once
+/// the next exists, so only two connectivities and one stencil are held at
+/// a time; Doo-Sabin levels are evaluated face by face
+/// ([`doo_sabin::first_step`]) with no stencil at all; the final connectivity
+/// is moved into the mesh rather than copied.
 ///
 /// # Errors
 /// As [`SubdivisionPlan::new`].
@@ -223,9 +225,20 @@ pub fn subdivide(mesh: &Mesh, scheme: Scheme, levels: usize, limit: bool) -> Res
     let mut positions = mesh.positions().to_vec();
     for _ in 0..levels {
         let coarse = fine.as_ref().unwrap_or(mesh.topology());
-        let level = refine_level(coarse, scheme)?;
-        positions = step(&level, scheme, coarse, &positions);
-        fine = Some(level.topology);
+        let (topology, next) = if scheme == Scheme::DooSabin {
+            check_size(coarse, scheme)?;
+            let ((topology, _), next) = rayon::join(
+                || subdiv_mesh::refine::dual_split(coarse),
+                || doo_sabin::first_step(coarse, doo_sabin::CornerRule::Standard, &positions),
+            );
+            (topology, next?)
+        } else {
+            let level = refine_level(coarse, scheme)?;
+            let next = step(&level, scheme, coarse, &positions);
+            (level.topology, next)
+        };
+        positions = next;
+        fine = Some(topology);
     }
     let t = fine.as_ref().unwrap_or(mesh.topology());
     let positions = limit.then(|| limit_points_of(t, scheme, &positions)).flatten().unwrap_or(positions);

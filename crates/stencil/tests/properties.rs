@@ -248,6 +248,27 @@ fn limit_points_equal_the_limit_stencil_product() {
     assert!(large_rows >= 2, "two meshes are large enough for parallel chunks");
 }
 
+/// The single-use `subdivide` (level by level, Doo-Sabin without stencils)
+/// gives the plan's mesh: the same faces, points equal up to round-off.
+#[test]
+fn single_use_subdivide_equals_the_plan() {
+    for (name, mesh) in closed_meshes().into_iter().chain(open_meshes()) {
+        let d = mesh.bbox_diagonal();
+        for scheme in schemes_for(mesh.topology()) {
+            for (levels, limit) in [(0, true), (1, false), (2, true), (3, false)] {
+                let planned = SubdivisionPlan::new(mesh.topology(), scheme, levels).unwrap().subdivide(&mesh, limit);
+                let single = subdiv_stencil::subdivide(&mesh, scheme, levels, limit).unwrap();
+                let what = format!("{name}: {scheme:?}, {levels} levels, limit {limit}");
+                assert_eq!(single.topology().faces(), planned.topology().faces(), "{what}");
+                let gap = max_dist(single.positions(), planned.positions());
+                assert!(gap <= 2e-15 * d, "{what}: {gap:e}");
+            }
+        }
+    }
+    let cube = shapes::cube();
+    assert!(subdiv_stencil::subdivide(&cube, Scheme::Loop(LoopBeta::Warren), 1, false).is_err());
+}
+
 #[test]
 fn doo_sabin_f_faces_keep_their_centroids() {
     for (name, mesh) in closed_meshes().into_iter().chain(open_meshes()) {
