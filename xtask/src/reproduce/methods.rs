@@ -45,14 +45,24 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         Nasri and Cheng, the paper's progressive iteration for Fan-Cheng-Lai, Gauss-Seidel ITE_MAX = 5 for \
         Zheng-Cai), all vertices interpolated. Setup = building operators (limit matrix, first refined mesh \
         topology); solve = solving and assembling the control mesh (each the median over the runs); total = median wall time of the call, which also checks the input. \
-        Deng-Ma's \"solve\" is zero: its output is the scheme itself (the surface costs extra). Real models: \
-        `tri/decimated-knight.off` (502 v) and `tri/rocker-arm.obj` (10,044 v); generated: polygon tori \
-        (`shapes::polygon_mix`) of 10⁵ and 10⁶ vertices, fan-triangulated for Deng-Wang. Zheng-Cai report 4.9 ms + \
-        37 ms for 562 vertices and 79 ms + 491 ms for 11,540 (2005 PC)."
+        Deng-Ma's \"solve\" is zero: its output is the scheme itself (the surface costs extra). Real models, \
+        the papers' sizes: `tri/decimated-knight.off` (502 v), `quad/fandisk_quads.off` (766 v, quads), \
+        `open/halftunnel.off` (831 v, open quads), `tri/rocker-arm.obj` (10,044 v) and `open/camelhead.off` \
+        (11,381 v, open: the size closest to the paper's 11,540); generated: polygon tori (`shapes::polygon_mix`) \
+        of 10⁵ and 10⁶ vertices. Deng-Wang (Loop) gets non-triangle meshes fan-triangulated; Deng-Ma has no \
+        boundary rule and refuses open meshes. Zheng-Cai report 4.9 ms + 37 ms for 562 vertices and 79 ms + 491 ms \
+        for 11,540 (2005 PC)."
         .into();
     let mut models: Vec<(String, Mesh)> = vec![("decimated-knight".into(), ctx.fixture("tri/decimated-knight.off")?)];
     if !ctx.quick {
-        models.push(("rocker-arm".into(), ctx.fixture("tri/rocker-arm.obj")?));
+        for (name, file) in [
+            ("fandisk", "quad/fandisk_quads.off"),
+            ("halftunnel", "open/halftunnel.off"),
+            ("rocker-arm", "tri/rocker-arm.obj"),
+            ("camelhead", "open/camelhead.off"),
+        ] {
+            models.push((name.into(), ctx.fixture(file)?));
+        }
         for n in [100_000, 1_000_000] {
             models.push((format!("polygon torus {n}"), closed_mix(n)));
         }
@@ -103,7 +113,10 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
                     "—".into(),
                     "—".into(),
                     "—".into(),
-                    format!("failed: {e}"),
+                    match e {
+                        InterpError::UnsupportedMesh { reason, .. } => format!("refused: {reason}"),
+                        e => format!("failed: {e}"),
+                    },
                 ]),
             }
         }
