@@ -51,15 +51,32 @@ pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
         }
     };
     RowBuilder::build_parallel_bounded(nv + nf + ne, nv, Summation::InOrder, max_len, |i, rows, _: &mut ()| {
-        if i < nv {
-            vertex_point_row(t, VertexId(i as u32), rows);
-        } else if i < nv + nf {
-            let face = t.face(FaceId((i - nv) as u32));
-            rows.add_all(face, face_point_weight(face.len())); // Eq. (4): f = (Σ corners)/m
-        } else {
-            edge_point_row(t, EdgeId((i - nv - nf) as u32), rows);
-        }
+        refinement_row(t, i, rows)
     })
+}
+
+/// The points of one Catmull-Clark step, `apply(&refinement_stencil(t), x)`
+/// up to round-off, evaluated row by row without building the stencil.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn step_points(t: &Topology, x: &[DVec3]) -> Vec<DVec3> {
+    assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
+    let rows = t.vertex_count() + t.face_count() + t.edge_count();
+    RowBuilder::evaluate_parallel_with_scratch(rows, x, |i, rows, _: &mut ()| refinement_row(t, i, rows))
+}
+
+/// Row `i` of the refinement stencil on [`quad_split`]'s numbering.
+fn refinement_row(t: &Topology, i: usize, rows: &mut RowBuilder) {
+    let (nv, nf) = (t.vertex_count(), t.face_count());
+    if i < nv {
+        vertex_point_row(t, VertexId(i as u32), rows);
+    } else if i < nv + nf {
+        let face = t.face(FaceId((i - nv) as u32));
+        rows.add_all(face, face_point_weight(face.len())); // Eq. (4): f = (Σ corners)/m
+    } else {
+        edge_point_row(t, EdgeId((i - nv - nf) as u32), rows);
+    }
 }
 
 /// The corners of `h`'s face rotated to start at `h`'s corner: `ring(j)` is

@@ -38,28 +38,47 @@ fn add_vertex_mask(rows: &mut RowBuilder, t: &Topology, v: subdiv_mesh::VertexId
 pub fn refinement_stencil(t: &Topology, beta: LoopBeta) -> Result<SparseMatrix, StencilError> {
     require_triangles(t)?;
     let (nv, ne) = (t.vertex_count(), t.edge_count());
-    Ok(RowBuilder::build_parallel(nv + ne, nv, Summation::InOrder, |i, rows| {
-        if i < nv {
-            let v = VertexId(i as u32);
-            if t.is_isolated(v) {
-                rows.add(v.0, 1.0);
-            } else {
-                // Eq. (1): p' = (1 − kβ)p + βΣpⱼ; boundary (1, 6, 1)/8; corner p.
-                add_vertex_mask(rows, t, v, vertex_point_mask(vertex_kind(t, v), t.valence(v), beta));
-            }
-            return;
+    Ok(RowBuilder::build_parallel(nv + ne, nv, Summation::InOrder, |i, rows| refinement_row(t, beta, i, rows)))
+}
+
+/// The points of one Loop step, `apply(&refinement_stencil(t, beta)?, x)` up
+/// to round-off, evaluated row by row without building the stencil.
+///
+/// # Errors
+/// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn step_points(t: &Topology, beta: LoopBeta, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
+    require_triangles(t)?;
+    assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
+    let rows = t.vertex_count() + t.edge_count();
+    Ok(RowBuilder::evaluate_parallel_with_scratch(rows, x, |i, rows, _: &mut ()| refinement_row(t, beta, i, rows)))
+}
+
+/// Row `i` of the refinement stencil: vertex points, then edge points.
+fn refinement_row(t: &Topology, beta: LoopBeta, i: usize, rows: &mut RowBuilder) {
+    let nv = t.vertex_count();
+    if i < nv {
+        let v = VertexId(i as u32);
+        if t.is_isolated(v) {
+            rows.add(v.0, 1.0);
+        } else {
+            // Eq. (1): p' = (1 − kβ)p + βΣpⱼ; boundary (1, 6, 1)/8; corner p.
+            add_vertex_mask(rows, t, v, vertex_point_mask(vertex_kind(t, v), t.valence(v), beta));
         }
-        let h = t.edge_half_edge(EdgeId((i - nv) as u32));
-        let twin = t.he_twin(h);
-        let mask = edge_point_mask(twin.is_none());
-        rows.add(t.he_from(h).0, mask.end);
-        rows.add(t.he_to(h).0, mask.end);
-        // The opposite corner of a triangle is the start of the half-edge before h.
-        rows.add(t.he_from(t.he_prev(h)).0, mask.left);
-        if let Some(g) = twin {
-            rows.add(t.he_from(t.he_prev(g)).0, mask.right);
-        }
-    }))
+        return;
+    }
+    let h = t.edge_half_edge(EdgeId((i - nv) as u32));
+    let twin = t.he_twin(h);
+    let mask = edge_point_mask(twin.is_none());
+    rows.add(t.he_from(h).0, mask.end);
+    rows.add(t.he_to(h).0, mask.end);
+    // The opposite corner of a triangle is the start of the half-edge before h.
+    rows.add(t.he_from(t.he_prev(h)).0, mask.left);
+    if let Some(g) = twin {
+        rows.add(t.he_from(t.he_prev(g)).0, mask.right);
+    }
 }
 
 /// One Loop step: the refined topology and its stencil.

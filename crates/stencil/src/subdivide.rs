@@ -211,12 +211,13 @@ impl SubdivisionPlan {
 
 /// `levels` steps of `scheme` applied to `mesh`, moved to the limit positions
 /// when `limit` is set and the scheme has a limit mask — the mesh of
-/// [`SubdivisionPlan::subdivide`] (up to round-off for Doo-Sabin), for a
+/// [`SubdivisionPlan::subdivide`] up to round-off, for a
 /// single use: each level is refined and applied in turn and dropped once
-/// the next exists, so only two connectivities and one stencil are held at
-/// a time; Doo-Sabin levels are evaluated face by face
-/// ([`doo_sabin::first_step`]) with no stencil at all; the final connectivity
-/// is moved into the mesh rather than copied.
+/// the next exists, so only two connectivities are held at a time, and no
+/// stencil is built: the points are evaluated directly
+/// ([`doo_sabin::first_step`] face by face, [`catmull_clark::step_points`],
+/// [`loop_subdivision::step_points`] row by row); the final connectivity is
+/// moved into the mesh rather than copied.
 ///
 /// # Errors
 /// As [`SubdivisionPlan::new`].
@@ -225,17 +226,32 @@ pub fn subdivide(mesh: &Mesh, scheme: Scheme, levels: usize, limit: bool) -> Res
     let mut positions = mesh.positions().to_vec();
     for _ in 0..levels {
         let coarse = fine.as_ref().unwrap_or(mesh.topology());
-        let (topology, next) = if scheme == Scheme::DooSabin {
-            check_size(coarse, scheme)?;
-            let ((topology, _), next) = rayon::join(
-                || subdiv_mesh::refine::dual_split(coarse),
-                || doo_sabin::first_step(coarse, doo_sabin::CornerRule::Standard, &positions),
-            );
-            (topology, next?)
-        } else {
-            let level = refine_level(coarse, scheme)?;
-            let next = step(&level, scheme, coarse, &positions);
-            (level.topology, next)
+        check_size(coarse, scheme)?;
+        // The refined connectivity on one core, the points on the other.
+        let (topology, next) = match scheme {
+            Scheme::DooSabin => {
+                let ((topology, _), next) = rayon::join(
+                    || subdiv_mesh::refine::dual_split(coarse),
+                    || doo_sabin::first_step(coarse, doo_sabin::CornerRule::Standard, &positions),
+                );
+                (topology, next?)
+            }
+            Scheme::CatmullClark => {
+                rayon::join(|| quad_split(coarse), || catmull_clark::step_points(coarse, &positions))
+            }
+            Scheme::Loop(beta) => {
+                let (topology, next) = rayon::join(
+                    || subdiv_mesh::refine::triangle_split(coarse),
+                    || loop_subdivision::step_points(coarse, beta, &positions),
+                );
+                let next = next?;
+                (topology.expect("the step accepted the mesh, so it is a triangle mesh"), next)
+            }
+            Scheme::DengMa(_) => {
+                let level = refine_level(coarse, scheme)?;
+                let next = step(&level, scheme, coarse, &positions);
+                (level.topology, next)
+            }
         };
         positions = next;
         fine = Some(topology);
