@@ -331,6 +331,51 @@ pub fn polygon_mix(mesh: &Mesh, seed: u64, merge_fraction: f64, split_fraction: 
     mixed
 }
 
+/// `mesh` with a new vertex inserted into each listed edge, at the edge's
+/// midpoint moved by `offset` × the edge length along the mean of the two
+/// adjacent faces' unit normals (outwards for positive `offset`). An interior
+/// edge becomes two edges joined at an **interior vertex of valence 2** (the
+/// two faces then share two consecutive edges, as DCC exports often leave
+/// them); a boundary edge gets a boundary vertex in one face. Splitting two
+/// edges of the same face pair makes adjacent valence-2 vertices only if the
+/// edges are consecutive; splitting an edge twice is not possible (list each
+/// edge once).
+///
+/// # Panics
+/// If an edge id is out of range or listed twice (a caller bug).
+pub fn split_edges(mesh: &Mesh, edges: &[crate::EdgeId], offset: f64) -> Mesh {
+    let t = mesh.topology();
+    let mut new_vertex = std::collections::HashMap::with_capacity(edges.len());
+    let mut positions = mesh.positions().to_vec();
+    for &e in edges {
+        let (a, b) = t.edge_vertices(e);
+        let normal =
+            |f: crate::FaceId| crate::newell_normal(t.face(f).iter().map(|&v| mesh.position(crate::VertexId(v))));
+        let (f, g) = t.edge_faces(e);
+        let n = (normal(f).normalize_or_zero() + g.map_or(DVec3::ZERO, |g| normal(g).normalize_or_zero()))
+            .normalize_or_zero();
+        let (pa, pb) = (mesh.position(a), mesh.position(b));
+        let key = (a.0.min(b.0), a.0.max(b.0));
+        let fresh = positions.len() as u32;
+        assert!(new_vertex.insert(key, fresh).is_none(), "edge {e:?} listed twice");
+        positions.push((pa + pb) / 2.0 + offset * pa.distance(pb) * n);
+    }
+    let mut faces = FaceList::with_capacity(t.face_count(), t.half_edge_count() + 2 * edges.len());
+    let mut face = Vec::new();
+    for f in t.faces().iter() {
+        face.clear();
+        for (k, &x) in f.iter().enumerate() {
+            face.push(x);
+            let y = f[(k + 1) % f.len()];
+            if let Some(&w) = new_vertex.get(&(x.min(y), x.max(y))) {
+                face.push(w);
+            }
+        }
+        faces.push(&face);
+    }
+    build(positions, faces)
+}
+
 /// Mean edge length of a mesh.
 pub fn mean_edge_length(mesh: &Mesh) -> f64 {
     let t = mesh.topology();

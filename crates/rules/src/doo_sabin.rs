@@ -54,6 +54,31 @@
 //! - After one step every vertex has valence 4 except the boundary points,
 //!   which have valence 3 and lie in two faces.
 //!
+//! # Interior vertices of valence 2
+//!
+//! An interior vertex V of valence 2 lies in two faces f₀ = (V, A, …, B) and
+//! f₁ = (V, B, …, A) that share its two edges VA and VB. After one step its
+//! images v₀ (in f₀) and v₁ (in f₁) would bound a digon V-face; the
+//! refinement leaves it out (a face needs three corners), so v₀v₁ is an
+//! ordinary edge between the E-faces of VA, (v₀, a₀, a₁, v₁), and of VB,
+//! (v₁, b₁, b₀, v₀) — aᵢ, bᵢ the images of A and B in fᵢ. Nothing keeps the
+//! midpoint of v₀v₁ (the digon's "centroid"): the surface does not pass
+//! through it. What the surface does keep is the centroid of every face at
+//! every level, and at the next level the edge v₀v₁ becomes an E-face whose
+//! four corners are the images of v₀ and v₁ in the two quads above. With the
+//! quad weights (9, 3, 1, 3)/16 of Eq. 1 its centroid is
+//!
+//! L_V = ⅜(v₀ + v₁) + 1/16·(a₀ + a₁ + b₀ + b₁)   ([`VALENCE_TWO_LIMIT`]),
+//!
+//! a limit point, symmetric in the two faces, and the point of the surface
+//! that V's region shrinks to: the limit point associated with V. In the first
+//! refined mesh a₀ and b₀ are v₀'s neighbours along f₀ (the images of the
+//! corners after and before V's), a₁, b₁ v₁'s along f₁, so L_V is one mask on
+//! the first step's images whatever the first-step rule (standard, Eq. 4,
+//! two-phase); the limit matrices use it as the row of V. The row is not of
+//! the symmetric Circ form (it weighs A's and B's images, not only V's), so
+//! with such vertices the limit matrices are no longer D·S with S symmetric.
+//!
 //! **Source.** The requirement — boundary curve = quadratic B-spline of the
 //! boundary polygon — is the property Nasri established for his Doo-Sabin
 //! boundary rules (A. H. Nasri, *Polyhedral subdivision methods for free-form
@@ -217,6 +242,24 @@ pub const BOUNDARY_EDGE_POINT: BoundaryEdgePoint = BoundaryEdgePoint { near: 0.7
 /// quadratic B-spline of the boundary loop at the middle of V's span,
 /// (B₋ + 6V + B₊)/8.
 pub const BOUNDARY_CURVE_POINT: [f64; 3] = [0.125, 0.75, 0.125];
+
+/// Weights of the limit point of an interior valence-2 vertex on the first
+/// step's images (module docs, "Interior vertices of valence 2"): `own` on
+/// each of its two images, `adjacent` on each of the four images next to
+/// them in their faces. `2·own + 4·adjacent = 1`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ValenceTwoLimit {
+    /// Weight of each of the vertex's own two images, ⅜.
+    pub own: f64,
+    /// Weight of each adjacent image in the same face, 1/16.
+    pub adjacent: f64,
+}
+
+/// The valence-2 limit mask: ⅜ per own image, 1/16 per adjacent image — the
+/// centroid of the second-level E-face of the edge between the two images
+/// (quad weights (9 + 3)/16 on the edge's ends, (3 + 1)/16 on the far ends,
+/// averaged over four corners).
+pub const VALENCE_TWO_LIMIT: ValenceTwoLimit = ValenceTwoLimit { own: 0.375, adjacent: 0.0625 };
 
 #[cfg(test)]
 #[path = "doo_sabin_tests.rs"]

@@ -208,3 +208,38 @@ fn tabled_rows_are_the_computed_ones_bit_for_bit() {
         assert_eq!(bits(row(m, doo_sabin_weights)), bits(expected), "m = {m}");
     }
 }
+
+/// The valence-2 mask is the centroid of the E-face that the edge v₀v₁
+/// between two quads (v₀, a₀, a₁, v₁) and (v₁, b₁, b₀, v₀) becomes: each
+/// corner of that E-face is Eq. 1 with m = 4 from v₀ or v₁ in one quad.
+#[test]
+fn valence_two_mask_is_the_centroid_of_the_next_e_face() {
+    let mut w = [0.0; 4];
+    doo_sabin_weights(4, &mut w);
+    // Points as unit vectors: v0, v1, a0, a1, b0, b1.
+    let e = |i: usize| {
+        let mut x = [0.0; 6];
+        x[i] = 1.0;
+        x
+    };
+    let (v0, v1, a0, a1, b0, b1) = (0, 1, 2, 3, 4, 5);
+    // Quad (v0, a0, a1, v1) and quad (v1, b1, b0, v0), each in cyclic order.
+    let mut centroid = [0.0; 6];
+    for quad in [[v0, a0, a1, v1], [v1, b1, b0, v0]] {
+        for start in [v0, v1] {
+            let k = quad.iter().position(|&c| c == start).unwrap();
+            for (j, wj) in w.iter().enumerate() {
+                let x = e(quad[(k + j) % 4]);
+                for i in 0..6 {
+                    centroid[i] += wj * x[i] / 4.0;
+                }
+            }
+        }
+    }
+    let m = VALENCE_TWO_LIMIT;
+    let expected = [m.own, m.own, m.adjacent, m.adjacent, m.adjacent, m.adjacent];
+    for i in 0..6 {
+        assert!((centroid[i] - expected[i]).abs() <= 1e-16, "weight {i}: {} vs {}", centroid[i], expected[i]);
+    }
+    assert_eq!(2.0 * m.own + 4.0 * m.adjacent, 1.0);
+}

@@ -17,7 +17,7 @@ use crate::{RowBuilder, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
 use subdiv_mesh::refine::{dual_split, DualProvenance};
 use subdiv_mesh::{FaceId, HalfEdgeId, Topology, VertexId};
-use subdiv_rules::doo_sabin::{BOUNDARY_CURVE_POINT, BOUNDARY_EDGE_POINT};
+use subdiv_rules::doo_sabin::{BOUNDARY_CURVE_POINT, BOUNDARY_EDGE_POINT, VALENCE_TWO_LIMIT};
 use subdiv_rules::{doo_sabin_weights, two_phase_weights};
 
 /// Which corner rule the step uses.
@@ -183,10 +183,98 @@ pub fn refine(t: &Topology, rule: CornerRule<'_>) -> Result<(Topology, DualProve
     Ok((topology, provenance, stencil?))
 }
 
+/// The corners of the first step whose images make the limit point of an
+/// interior vertex of valence 2, with their weights (`None` for every other
+/// vertex): its two corners h₀, h₁ (⅜ each) and the corners next to them in
+/// their faces, next(h₀), prev(h₀), next(h₁), prev(h₁) (1/16 each) — the
+/// centroid of the second-level E-face of the edge between v's two images
+/// (`subdiv_rules::doo_sabin`, "Interior vertices of valence 2"). Corner h is
+/// vertex h of the first refined mesh ([`dual_split`]'s numbering).
+pub fn valence_two_corners(t: &Topology, v: VertexId) -> Option<[(HalfEdgeId, f64); 6]> {
+    match *t.vertex_fan(v) {
+        [h0, h1] if !t.is_boundary_vertex(v) => {
+            let (own, adjacent) = (VALENCE_TWO_LIMIT.own, VALENCE_TWO_LIMIT.adjacent);
+            Some([
+                (h0, own),
+                (h1, own),
+                (t.he_next(h0), adjacent),
+                (t.he_prev(h0), adjacent),
+                (t.he_next(h1), adjacent),
+                (t.he_prev(h1), adjacent),
+            ])
+        }
+        _ => None,
+    }
+}
+
+/// Adds `scale` × the valence-2 limit row of `corners`
+/// ([`valence_two_corners`]) to `rows`: each corner's image under `rule`
+/// (its face's row from that corner on).
+pub(crate) fn add_valence_two_row(
+    t: &Topology,
+    corners: &[(HalfEdgeId, f64); 6],
+    rule: CornerRule<'_>,
+    scale: f64,
+    rows: &mut RowBuilder,
+    w: &mut Vec<f64>,
+) {
+    for &(h, weight) in corners {
+        let c = t.he_corner(h);
+        let face = t.face(c.face);
+        w.resize(face.len(), 0.0);
+        rule.weights(c.face.index(), w);
+        let (before, from_corner) = face.split_at(c.index as usize);
+        for (&column, &wj) in from_corner.iter().chain(before).zip(w.iter()) {
+            rows.add(column, scale * weight * wj);
+        }
+    }
+}
+
+/// The limit point of the edge of half-edge `h` under the standard scheme:
+/// the centroid of the edge's E-face after one step, ¼ of the images of its
+/// two ends in its two faces (in one face and its two Chaikin points on a
+/// boundary edge). A face centroid of the next level, so a limit point; on a
+/// first refined mesh it is the limit point of the valence-2 vertex whose two
+/// images the edge joins.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn edge_limit_point(t: &Topology, h: HalfEdgeId, x: &[DVec3]) -> DVec3 {
+    assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
+    let image = |g: HalfEdgeId| {
+        let c = t.he_corner(g);
+        let face = t.face(c.face);
+        let mut w = [0.0; 16];
+        let mut big = Vec::new();
+        let w: &mut [f64] = if face.len() <= 16 {
+            &mut w[..face.len()]
+        } else {
+            big.resize(face.len(), 0.0);
+            &mut big
+        };
+        doo_sabin_weights(face.len(), w);
+        let (before, from_corner) = face.split_at(c.index as usize);
+        from_corner.iter().chain(before).zip(w.iter()).map(|(&v, &wj)| wj * x[v as usize]).sum::<DVec3>()
+    };
+    // The images of h's two ends in h's face: corners h (from) and next(h) (to).
+    let one_side = image(h) + image(t.he_next(h));
+    let other_side = match t.he_twin(h) {
+        Some(g) => image(g) + image(t.he_next(g)),
+        None => {
+            let (a, b) = (x[t.he_from(h).index()], x[t.he_to(h).index()]);
+            // The two Chaikin points ¾a + ¼b and ¼a + ¾b sum to a + b.
+            a + b
+        }
+    };
+    (one_side + other_side) / 4.0
+}
+
 /// Row v of the standard scheme's limit stencil (SPEC §1): the centroid of
 /// v's V-face after one step, (1/n)Σ over v's faces of that face's Eq. 1 row;
 /// for a boundary vertex, the point of the boundary quadratic B-spline at v,
-/// (B₋ + 6V + B₊)/8 (`BOUNDARY_CURVE_POINT`). An isolated vertex maps to itself.
+/// (B₋ + 6V + B₊)/8 (`BOUNDARY_CURVE_POINT`); for an interior vertex of
+/// valence 2 (no V-face), the valence-2 mask on the first step's images
+/// ([`valence_two_corners`]). An isolated vertex maps to itself.
 fn limit_row(t: &Topology, v: VertexId, rows: &mut RowBuilder, w: &mut Vec<f64>) {
     if t.is_isolated(v) {
         rows.add(v.0, 1.0);
@@ -195,6 +283,8 @@ fn limit_row(t: &Topology, v: VertexId, rows: &mut RowBuilder, w: &mut Vec<f64>)
         rows.add(prev.0, wp);
         rows.add(v.0, wv);
         rows.add(next.0, wn);
+    } else if let Some(corners) = valence_two_corners(t, v) {
+        add_valence_two_row(t, &corners, CornerRule::Standard, 1.0, rows, w);
     } else {
         let n = t.vertex_face_count(v) as f64;
         for c in t.vertex_corners(v) {

@@ -16,6 +16,14 @@
 //! | [`limit_matrix_catmull_clark`] | Cheng, Catmull-Clark | 4/(n(n+5)) | appendix Eq. 5 bracket (ERRATA C1, C2) |
 //! | [`limit_matrix_loop`] | Loop | γ = 1/(k + 3/(8β)) | 3/(8β) on the diagonal, 1 per neighbour (Deng-Wang Eq. 5-6, ERRATA W4) |
 //!
+//! **Valence 2 (Doo-Sabin).** An interior vertex of valence 2 has no V-face
+//! after the first step (it would be a digon); its row is the centroid of the
+//! second-level E-face of the edge between its two images,
+//! ⅜(v₀ + v₁) + 1/16·(a₀ + a₁ + b₀ + b₁) on the first step's images
+//! (`subdiv_rules::doo_sabin`, "Interior vertices of valence 2"). That row is
+//! not of the Circ form, so S is not symmetric when such vertices exist and
+//! the solvers need a nonsymmetric method for the interior block.
+//!
 //! **Boundaries.** On open meshes the rows of boundary vertices follow the
 //! boundary curve, which depends on boundary vertices only: Catmull-Clark and
 //! Loop (p₋ + 4p + p₊)/6 (D = 1/6, S = (1, 4, 1)), corners p (D = S = 1);
@@ -41,7 +49,10 @@ use subdiv_rules::LoopBeta;
 pub struct LimitMatrix {
     /// The positive diagonal D, one entry per vertex.
     pub d: Vec<f64>,
-    /// S: symmetric among rows not listed in `boundary_rows`.
+    /// S: symmetric among rows not listed in `boundary_rows`, except, in the
+    /// Doo-Sabin matrices, the rows of interior vertices of valence 2 (their
+    /// limit point is a second-level E-face centroid, not a V-face's: see
+    /// [`crate::doo_sabin::valence_two_corners`]).
     pub s: SparseMatrix,
     /// Vertices (ascending) whose rows are boundary, corner or isolated-vertex
     /// rules rather than the symmetric assembly.
@@ -147,6 +158,13 @@ fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMat
     let [a, b, c] = BOUNDARY_CURVE_POINT;
     let special = special_rows(t, [a * 8.0, b * 8.0, c * 8.0], 0.125, false);
     Ok(assemble(t, d, special, |v, rows| {
+        if let Some(corners) = crate::doo_sabin::valence_two_corners(t, v) {
+            // No V-face: the valence-2 mask on the first step's images (the
+            // second-level E-face centroid), ×n = 2 since D = 1/n. Not of the
+            // Circ form: S loses its symmetry in this row.
+            crate::doo_sabin::add_valence_two_row(t, &corners, rule, 2.0, rows, &mut Vec::new());
+            return;
+        }
         // Zheng-Cai Eq. (1) / (4), Fan-Cheng-Lai Eq. (1). Face block Circ(w):
         // symmetric because w[k] = w[m − k] (α depends on cos only).
         add_fan_row(t, v, rows, 0.0, 0.0, |face, w| rule.weights(face.index(), w));
