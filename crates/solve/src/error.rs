@@ -11,9 +11,16 @@ pub enum StopReason {
     /// [`STAGNATION_WINDOW`](crate::tolerances::STAGNATION_WINDOW) iterations
     /// (typical of a singular, inconsistent system).
     Stagnated,
-    /// CG's recursive residual kept claiming convergence that the true
-    /// A-residual did not confirm (accuracy limit of the floating-point system).
+    /// CG's, MINRES's or GMRES's recursive residual kept claiming convergence
+    /// that the true A-residual did not confirm (accuracy limit of the
+    /// floating-point system).
     AccuracyLimit,
+    /// A least-squares solution was reached with the residual above the
+    /// tolerance: the residual is (numerically) orthogonal to the range of the
+    /// matrix, which is therefore singular, and the data lie outside its range
+    /// (MINRES's ‖S·r‖ test, GMRES's invariant Krylov space with a singular
+    /// Hessenberg matrix). The last iterate is a least-squares solution.
+    LeastSquares,
 }
 
 impl fmt::Display for StopReason {
@@ -22,6 +29,9 @@ impl fmt::Display for StopReason {
             StopReason::MaxIterations => "the iteration limit was reached",
             StopReason::Stagnated => "the residual stagnated (singular or inconsistent system?)",
             StopReason::AccuracyLimit => "the attainable accuracy was reached",
+            StopReason::LeastSquares => {
+                "a least-squares solution was reached (the matrix is singular and the data are outside its range)"
+            }
         })
     }
 }
@@ -69,7 +79,7 @@ pub enum SolveError {
     /// an indefinite A, e.g. Catmull-Clark with valence-2 vertices).
     #[error(
         "{solver} diverged after {iterations} iterations (residual {residual:.3e}); \
-         the matrix is probably indefinite or has eigenvalues ≥ 2 — use ldl or dense"
+         the matrix is probably indefinite or has eigenvalues ≥ 2 — use minres, ldl or dense"
     )]
     Diverged {
         /// Solver name.
@@ -91,7 +101,7 @@ pub enum SolveError {
     },
     /// The matrix has a negative eigenvalue (or a non-positive diagonal), so
     /// a method that needs a positive definite S cannot be used.
-    #[error("{solver}: the matrix is indefinite: {detail}; use ldl or dense")]
+    #[error("{solver}: the matrix is indefinite: {detail}; use minres, ldl or dense")]
     Indefinite {
         /// Solver name.
         solver: &'static str,
@@ -101,7 +111,7 @@ pub enum SolveError {
     /// A solver that needs a symmetric S got a matrix without that structure.
     #[error(
         "{solver} needs A = D·S with S symmetric: {detail}; \
-         use pia, jacobi, gauss-seidel or dense"
+         use gmres, pia, jacobi, gauss-seidel or dense"
     )]
     NotSymmetric {
         /// Solver name.

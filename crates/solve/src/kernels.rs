@@ -140,6 +140,35 @@ where
     }
 }
 
+/// As [`map_chunks`] with three outputs chunked alike (the fused update
+/// passes of MINRES and GMRES).
+pub(crate) fn map_chunks3<T, U, V, R, F>(a: &mut [T], b: &mut [U], c: &mut [V], partials: &mut [R], f: F)
+where
+    T: Send,
+    U: Send,
+    V: Send,
+    R: Send,
+    F: Fn(usize, &mut [T], &mut [U], &mut [V]) -> R + Sync,
+{
+    debug_assert!(a.len() == b.len() && a.len() == c.len());
+    debug_assert_eq!(partials.len(), n_chunks(a.len()));
+    if parallel(a.len()) {
+        a.par_chunks_mut(CHUNK_ROWS)
+            .zip(b.par_chunks_mut(CHUNK_ROWS))
+            .zip(c.par_chunks_mut(CHUNK_ROWS))
+            .zip(partials.par_iter_mut())
+            .enumerate()
+            .for_each(|(k, (((x, y), z), slot))| *slot = f(k * CHUNK_ROWS, x, y, z));
+    } else {
+        a.chunks_mut(CHUNK_ROWS)
+            .zip(b.chunks_mut(CHUNK_ROWS))
+            .zip(c.chunks_mut(CHUNK_ROWS))
+            .zip(partials.iter_mut())
+            .enumerate()
+            .for_each(|(k, (((x, y), z), slot))| *slot = f(k * CHUNK_ROWS, x, y, z));
+    }
+}
+
 /// Runs `f(rows)` over the fixed chunks of `0..n` (no output array),
 /// writing each chunk's result to `partials[c]`.
 pub(crate) fn reduce_chunks<R, F>(n: usize, partials: &mut [R], f: F)

@@ -15,6 +15,8 @@
 //! | [`gauss_seidel()`] (storage, symmetric, multicolour order) | [`gauss_seidel.rs`](mod@gauss_seidel) | S SPD or diagonal dominance | 1 sweep + 1 product |
 //! | [`chebyshev()`] semi-iteration | [`chebyshev.rs`](mod@chebyshev) | S symmetric, spec(A) > 0 | 1 product (+ Lanczos) |
 //! | [`cg()`] on S·X = D⁻¹P, optional Jacobi preconditioner | [`cg.rs`](mod@cg) | S SPD | 1 product + 2 streams |
+//! | [`minres()`] on S·X = D⁻¹P, preconditioned by \|diag S\| | [`minres.rs`](mod@minres) | S symmetric (indefinite, singular consistent fine) | 1 product + 2 streams |
+//! | [`gmres()`] GMRES(m), right Jacobi preconditioner | [`gmres.rs`](mod@gmres) | any nonsingular A (S need not be symmetric) | 1 product + j + 2 streams at step j |
 //! | [`ldl()`] sparse LDLᵀ (Nasri's direct baseline) | [`ldl.rs`](mod@ldl) | S symmetric nonsingular (indefinite is fine) | factorisation |
 //! | [`dense_lu`] Gaussian elimination, partial pivoting | [`dense.rs`](mod@dense) | n ≤ cap | O(n³) |
 //!
@@ -61,6 +63,10 @@
 //! assert!(matches!(Solver::Pia.solve(&pillow, &q, &opts), Err(subdiv_solve::SolveError::Diverged { .. })));
 //! assert!(matches!(Solver::Cg { jacobi: false }.solve(&pillow, &q, &opts), Err(subdiv_solve::SolveError::Indefinite { .. })));
 //! assert_eq!(Solver::Ldl.solve(&pillow, &q, &opts).unwrap().negative_pivots, Some(1));
+//! // MINRES needs only the symmetry, GMRES not even that: both solve it too.
+//! for s in [Solver::Minres, Solver::Gmres] {
+//!     assert!(pillow.max_residual(&s.solve(&pillow, &q, &opts).unwrap().x, &q) / opts.scale <= 1e-8);
+//! }
 //! ```
 #![warn(missing_docs)]
 
@@ -69,10 +75,12 @@ pub mod chebyshev;
 pub mod dense;
 mod error;
 pub mod gauss_seidel;
+pub mod gmres;
 pub mod jacobi;
 mod kernels;
 pub mod ldl;
 mod matrix;
+pub mod minres;
 pub mod model_problems;
 pub mod ordering;
 pub mod pia;
@@ -90,9 +98,11 @@ pub use chebyshev::{chebyshev, chebyshev_with};
 pub use dense::{dense_lu, dense_lu_capped};
 pub use error::{LastIterate, SolveError, StopReason};
 pub use gauss_seidel::{gauss_seidel, SweepOrder};
+pub use gmres::{gmres, gmres_restarted};
 pub use jacobi::jacobi;
 pub use ldl::{ldl, LdlFactor};
 pub use matrix::{is_symmetric, FactoredMatrix, SparseMatrix};
+pub use minres::minres;
 pub use ordering::{nested_dissection, Ordering};
 pub use pia::pia;
 pub use report::{Solution, SolveOptions};
@@ -101,7 +111,7 @@ pub use weighted_pia::{weighted_pia, weighted_pia_with};
 
 /// A solver, selectable by name (`"pia"`, `"weighted-pia"`, `"jacobi"`,
 /// `"gauss-seidel"`, `"gauss-seidel-symmetric"`, `"gauss-seidel-multicolor"`,
-/// `"chebyshev"`, `"cg"`, `"cg-jacobi"`, `"ldl"`, `"dense"`).
+/// `"chebyshev"`, `"cg"`, `"cg-jacobi"`, `"minres"`, `"gmres"`, `"ldl"`, `"dense"`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum Solver {
@@ -120,6 +130,10 @@ pub enum Solver {
         /// Precondition with diag(S).
         jacobi: bool,
     },
+    /// MINRES on S·X = D⁻¹P ([`minres()`]): S symmetric, possibly indefinite.
+    Minres,
+    /// Restarted GMRES with right Jacobi preconditioning ([`gmres()`]): any A.
+    Gmres,
     /// Sparse LDLᵀ of S ([`ldl()`]).
     Ldl,
     /// Dense LU with partial pivoting ([`dense_lu`]), default size cap.
@@ -128,7 +142,7 @@ pub enum Solver {
 
 impl Solver {
     /// Every solver, in the order of the crate table.
-    pub const ALL: [Solver; 11] = [
+    pub const ALL: [Solver; 13] = [
         Solver::Pia,
         Solver::WeightedPia,
         Solver::Jacobi,
@@ -138,6 +152,8 @@ impl Solver {
         Solver::Chebyshev,
         Solver::Cg { jacobi: false },
         Solver::Cg { jacobi: true },
+        Solver::Minres,
+        Solver::Gmres,
         Solver::Ldl,
         Solver::Dense,
     ];
@@ -152,6 +168,8 @@ impl Solver {
             Solver::Chebyshev => "chebyshev",
             Solver::Cg { jacobi: false } => "cg",
             Solver::Cg { jacobi: true } => "cg-jacobi",
+            Solver::Minres => "minres",
+            Solver::Gmres => "gmres",
             Solver::Ldl => "ldl",
             Solver::Dense => "dense",
         }
@@ -159,7 +177,16 @@ impl Solver {
 
     /// Whether the solver needs S symmetric (else `NotSymmetric`).
     pub fn needs_symmetric(self) -> bool {
-        matches!(self, Solver::WeightedPia | Solver::Chebyshev | Solver::Cg { .. } | Solver::Ldl)
+        matches!(self, Solver::WeightedPia | Solver::Chebyshev | Solver::Cg { .. } | Solver::Minres | Solver::Ldl)
+    }
+
+    /// Whether the solver needs A positive definite (spec(A) > 0): it
+    /// diverges, stalls or reports `Indefinite` on an indefinite A (Cheng's
+    /// matrix with valence-2 vertices). MINRES, GMRES, LDLᵀ and dense LU do
+    /// not; Jacobi and Gauss-Seidel are counted here too (no convergence
+    /// theory for indefinite A).
+    pub fn needs_definite(self) -> bool {
+        !matches!(self, Solver::Minres | Solver::Gmres | Solver::Ldl | Solver::Dense)
     }
 
     /// Solves A·X = P (A n × n, P n × 3) with this solver.
@@ -174,6 +201,8 @@ impl Solver {
             Solver::GaussSeidel(order) => gauss_seidel(a, p, opts, order),
             Solver::Chebyshev => chebyshev(a, p, opts),
             Solver::Cg { jacobi } => cg(a, p, opts, jacobi),
+            Solver::Minres => minres(a, p, opts),
+            Solver::Gmres => gmres(a, p, opts),
             Solver::Ldl => ldl(a, p, opts),
             Solver::Dense => dense_lu(a, p, opts),
         }

@@ -7,7 +7,7 @@
 
 use crate::error::SolveError;
 use crate::kernels::{self, Csr, Row};
-use crate::tolerances::SYMMETRY_RTOL;
+use crate::tolerances::{JACOBI_FALLBACK_RTOL, SYMMETRY_RTOL};
 
 /// Sparse matrix type of the workspace: CSR, `f64` values, `u32` indices
 /// (the alias `subdiv-stencil` uses).
@@ -152,6 +152,30 @@ impl FactoredMatrix {
     pub(crate) fn s_diagonal(&self) -> Vec<f64> {
         let c = self.csr();
         (0..self.n()).map(|i| c.diag(i)).collect()
+    }
+
+    /// Per row, the Jacobi scaling of S: s_ii (|s_ii| unless `keep_sign`),
+    /// or the row's 1-norm Σ_j |s_ij| when |s_ii| is not usable
+    /// ([`JACOBI_FALLBACK_RTOL`]), 1 for an empty row. Never 0.
+    pub(crate) fn jacobi_diagonal(&self, keep_sign: bool) -> Vec<f64> {
+        let c = self.csr();
+        (0..self.n())
+            .map(|i| {
+                let norm1: f64 = c.data[c.indptr[i] as usize..c.indptr[i + 1] as usize].iter().map(|v| v.abs()).sum();
+                let sii = c.diag(i);
+                if sii.abs() > JACOBI_FALLBACK_RTOL * norm1 {
+                    if keep_sign {
+                        sii
+                    } else {
+                        sii.abs()
+                    }
+                } else if norm1 > 0.0 {
+                    norm1
+                } else {
+                    1.0
+                }
+            })
+            .collect()
     }
 
     /// `Err(NotSymmetric)` for solvers that need a symmetric S.

@@ -6,6 +6,8 @@
 //! | [`bicubic_torus`] | regular Catmull-Clark limit mask on an nx × ny periodic grid | (4 + 2cos a)(4 + 2cos b)/36 ⊂ [1/9, 1] |
 //! | [`loop_regular`] | regular Loop limit mask on a periodic triangular grid | ½ + (cos a + cos b + cos(a−b))/6 ⊂ [¼, 1] |
 //! | [`random_spd`] | random sparse S, strictly diagonally dominant, random positive D | ⊂ (0, 1] |
+//! | [`random_indefinite`] | as `random_spd` with the sign of chosen rows' diagonal flipped | exactly `negatives` eigenvalues < 0, all \|λ\| bounded away from 0 |
+//! | [`random_nonsymmetric`] | random sparse S, not symmetric, strictly diagonally dominant by rows and columns | Re λ > 0 (Gershgorin) |
 //! | [`cube_checkerboard`] | Cheng's A on the cube (all valence 3, bipartite) | {1, ½ (×3), ⅙ (×3), 0}: singular, kernel = checkerboard |
 //! | [`pillow`] | Cheng's A on two quads glued along their boundary (valence 2) | {1, 1/7, 1/7, −1/7}: indefinite |
 //!
@@ -112,6 +114,68 @@ pub fn random_spd(n: usize, neighbours: usize, seed: u64) -> FactoredMatrix {
     }
     let diag: Vec<f64> = offsum.iter().map(|o| 1.5 * o + 0.1).collect();
     let d: Vec<f64> = (0..n).map(|i| (0.8 + 0.2 * rnd(ctr + i as u64)) / (diag[i] + offsum[i])).collect();
+    build(n, d, off.into_iter().chain(diag.iter().enumerate().map(|(i, &v)| (i, i, v))))
+}
+
+/// A random symmetric **indefinite** A = D·S of size n with exactly
+/// `negatives` negative eigenvalues (rows 0, ⌈n/negatives⌉, … — spread out).
+///
+/// S is [`random_spd`]'s pattern and weights with the diagonal of the chosen
+/// rows negated: s_ii = ±(1.5·o_i + 0.1), o_i the off-diagonal row sum. The
+/// Gershgorin discs of the negated rows lie in (−∞, −0.1), the others in
+/// (0.1, ∞), so S has exactly `negatives` negative eigenvalues, every |λ(S)|
+/// ≥ 0.1 + ½·min o_i, and A (similar to D^{1/2}SD^{1/2}, congruent to S) has
+/// the same inertia. d_i = u_i/(|s_ii| + o_i), u_i ∈ [0.8, 1], so |λ(A)| ≤ 1.
+/// Deterministic in `seed`.
+///
+/// # Panics
+/// When `negatives > n` (a caller bug).
+pub fn random_indefinite(n: usize, neighbours: usize, negatives: usize, seed: u64) -> FactoredMatrix {
+    assert!(negatives <= n, "random_indefinite: {negatives} negative eigenvalues asked of a {n} × {n} matrix");
+    let (d, s) = random_spd(n, neighbours, seed).into_parts();
+    let stride = if negatives == 0 { usize::MAX } else { n.div_ceil(negatives) };
+    let flipped = |i: usize| negatives > 0 && i % stride == 0 && i / stride < negatives;
+    let entries: Vec<(usize, usize, f64)> = s
+        .iter()
+        .map(|(&v, (i, j))| (i as usize, j as usize, v))
+        .map(|(i, j, v)| (i, j, if i == j && flipped(i) { -v } else { v }))
+        .collect();
+    build(n, d, entries.into_iter())
+}
+
+/// A random **nonsymmetric** A = D·S of size n (S flagged non-symmetric by
+/// [`FactoredMatrix::new`]): about `neighbours` random off-diagonal entries
+/// per row, each (i, j) with an independent weight in (0.1, 1] and its
+/// mirror (j, i) present with probability ½ and its own weight; diagonal
+/// 1.5 × max(off-diagonal row sum, column sum) + 0.1, so S is strictly
+/// diagonally dominant by rows and by columns (Re λ > 0, and A is well
+/// conditioned); d_i = u_i/(row sum of |S|), u_i ∈ [0.8, 1]. Deterministic in `seed`.
+pub fn random_nonsymmetric(n: usize, neighbours: usize, seed: u64) -> FactoredMatrix {
+    let rnd = |k: u64| 0.5 * (splitmix_unit(seed ^ 0xA5A5_5A5A_0F0F_F0F0, k) + 1.0); // [0, 1)
+    let mut off: Vec<(usize, usize, f64)> = Vec::new();
+    let mut ctr = 0u64;
+    if n > 1 {
+        for i in 0..n {
+            for _ in 0..neighbours.div_ceil(2) {
+                let j = (rnd(ctr) * n as f64) as usize % n;
+                let (w, w_mirror, mirrored) = (0.1 + 0.9 * rnd(ctr + 1), 0.1 + 0.9 * rnd(ctr + 2), rnd(ctr + 3) < 0.5);
+                ctr += 4;
+                if j != i {
+                    off.push((i, j, w));
+                    if mirrored {
+                        off.push((j, i, w_mirror));
+                    }
+                }
+            }
+        }
+    }
+    let (mut row_sum, mut col_sum) = (vec![0.0; n], vec![0.0; n]);
+    for &(i, j, w) in &off {
+        row_sum[i] += w;
+        col_sum[j] += w;
+    }
+    let diag: Vec<f64> = (0..n).map(|i| 1.5 * row_sum[i].max(col_sum[i]) + 0.1).collect();
+    let d: Vec<f64> = (0..n).map(|i| (0.8 + 0.2 * rnd(ctr + i as u64)) / (diag[i] + row_sum[i])).collect();
     build(n, d, off.into_iter().chain(diag.iter().enumerate().map(|(i, &v)| (i, i, v))))
 }
 

@@ -86,6 +86,60 @@ pub const CG_BREAKDOWN_RTOL: f64 = 1e-13;
 /// A-residual does not confirm) before it reports `NotConverged`.
 pub const CG_MAX_RESIDUAL_REPLACEMENTS: usize = 8;
 
+/// MINRES and GMRES replace their recursive residual by the true one at
+/// most this many times (when the recursion claims convergence that the true
+/// A-residual does not confirm, or every column's Krylov space became
+/// invariant) before they report `NotConverged` with
+/// [`StopReason::AccuracyLimit`](crate::StopReason::AccuracyLimit). Each
+/// replacement restarts the Krylov process from the true residual.
+pub const KRYLOV_MAX_RESIDUAL_REPLACEMENTS: usize = 8;
+
+/// MINRES: a Lanczos coefficient β_{k+1} ≤ `MINRES_BREAKDOWN_RTOL` · ‖T_k‖_F
+/// means the Krylov space of that column is invariant: the column is solved
+/// in it (or is at a least-squares solution) and stops iterating. As
+/// [`LANCZOS_BREAKDOWN_RTOL`].
+pub const MINRES_BREAKDOWN_RTOL: f64 = 1e-12;
+
+/// MINRES least-squares test (Paige & Saunders 1975; SciPy's `istop = 2`):
+/// ‖H·r‖ ≤ `MINRES_LSQ_RTOL` · ‖T_k‖_F · ‖r‖ (H the preconditioned matrix,
+/// both norms from the recurrences) means the residual is orthogonal to the
+/// range of H: the iterate is a least-squares solution of a singular,
+/// inconsistent system and cannot improve. For a nonsingular H,
+/// ‖H·r‖ ≥ σ_min‖r‖ and ‖T_k‖_F ≤ √(3k)·‖H‖, so the test cannot fire while
+/// κ(H)·√(3k) < 10⁸ (limit matrices have κ ≲ 10³). It must not be much
+/// tighter: in floating point the ratio levels off near ε·κ·√k (5e-10 on a
+/// singular 192-row torus with κ⁺ ≈ 120, reached after 48 iterations), and
+/// once the least-squares floor is reached the Lanczos vectors lose
+/// orthogonality and the iterates grow without bound (10¹³ after 70
+/// iterations on that torus); 1e-8 stops it at iteration 44.
+pub const MINRES_LSQ_RTOL: f64 = 1e-8;
+
+/// GMRES restart length m: the Arnoldi basis holds at most m + 1 vectors of
+/// n × 3. The Doo-Sabin limit matrices (spectrum near [¼, 1]) converge to
+/// 1e-6 in about 10-15 products, well within one cycle; the basis is
+/// allocated as the cycle grows, so an early convergence stores only what it used.
+pub const GMRES_RESTART: usize = 30;
+
+/// GMRES "lucky breakdown": h_{j+1,j} ≤ `GMRES_BREAKDOWN_RTOL` · ‖A·z_j‖
+/// (the new Arnoldi vector before orthogonalisation) means the Krylov space
+/// of that column is invariant, and the column stops for the cycle.
+pub const GMRES_BREAKDOWN_RTOL: f64 = 1e-12;
+
+/// GMRES: a diagonal entry of the triangular factor of the Hessenberg matrix
+/// with |r_jj| ≤ `GMRES_SINGULAR_RTOL` · max_i |r_ii| on an invariant
+/// Krylov space means A is singular there: the column is at a least-squares
+/// solution and cannot improve.
+pub const GMRES_SINGULAR_RTOL: f64 = 1e-12;
+
+/// The Jacobi scalings of MINRES (|s_ii|) and GMRES (a_ii) use the diagonal
+/// entry unless |s_ii| ≤ `JACOBI_FALLBACK_RTOL` · Σ_j |s_ij|; such a row (no
+/// usable diagonal, e.g. a structurally missing one) is scaled by its 1-norm
+/// instead (1 for an empty row). Any positive diagonal is a valid MINRES
+/// preconditioner and any nonsingular one a valid right preconditioner for
+/// GMRES; this only keeps the scaling bounded. Limit matrices never need
+/// it (their diagonals are the largest entries of their rows).
+pub const JACOBI_FALLBACK_RTOL: f64 = 1e-6;
+
 /// LDLᵀ pivot test: |d_k| ≤ `LDL_PIVOT_RTOL` · max_i |s_ii| is a zero pivot
 /// (perturbed, then judged by the Woodbury capacitance with the same
 /// relative threshold). The checkerboard cube gives |d_k| ≈ 1e-16 · max;

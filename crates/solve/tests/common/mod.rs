@@ -100,3 +100,71 @@ pub fn shifted_torus(nx: usize, ny: usize) -> FactoredMatrix {
     }
     FactoredMatrix::new(d, tri.to_csr()).unwrap()
 }
+
+/// `mesh` with interior valence-2 vertices inserted (`subdiv_mesh::shapes::split_edges`):
+/// every edge in `singles` gets one new vertex (the two faces then share two
+/// consecutive edges), every edge in `doubles` two adjacent ones (the edge
+/// (a, b) becomes a–w–v–b in both faces: the second split cuts (a, v)).
+pub fn with_valence_two(mesh: &subdiv_mesh::Mesh, singles: &[u32], doubles: &[u32]) -> subdiv_mesh::Mesh {
+    use subdiv_mesh::{shapes::split_edges, EdgeId};
+    let t = mesh.topology();
+    let firsts: Vec<EdgeId> = singles.iter().chain(doubles).map(|&e| EdgeId(e)).collect();
+    let ends: Vec<(u32, u32)> = doubles
+        .iter()
+        .map(|&e| {
+            let (a, _) = t.edge_vertices(EdgeId(e));
+            a.0
+        })
+        .zip(t.vertex_count() as u32 + singles.len() as u32..)
+        .collect();
+    let once = split_edges(mesh, &firsts, 0.1);
+    let t1 = once.topology();
+    let seconds: Vec<EdgeId> = ends
+        .iter()
+        .map(|&(a, v)| {
+            t1.edges()
+                .find(|&e| {
+                    let (x, y) = t1.edge_vertices(e);
+                    (x.0, y.0) == (a, v) || (x.0, y.0) == (v, a)
+                })
+                .expect("the first split made the edge (a, v)")
+        })
+        .collect();
+    split_edges(&once, &seconds, 0.1)
+}
+
+/// Cheng's Catmull-Clark limit matrix A = D·S of `mesh` (`subdiv-stencil`),
+/// its vertices as data, and the bounding-box diagonal.
+pub fn cheng_system(mesh: &subdiv_mesh::Mesh) -> (FactoredMatrix, Vec<[f64; 3]>, f64) {
+    let lm = subdiv_stencil::limit_matrix_catmull_clark(mesh.topology());
+    let a = FactoredMatrix::new(lm.d, lm.s).expect("limit matrices are valid");
+    (a, mesh.positions().iter().map(|q| q.to_array()).collect(), mesh.bbox_diagonal())
+}
+
+/// Data A·X (consistent) and the same with D·kernel added to columns x and z
+/// (inconsistent: the range of A = D·S is D·kernel^⊥).
+pub fn consistent_and_inconsistent(a: &FactoredMatrix, kernel: &[f64], seed: u64) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    let x: Vec<[f64; 3]> = data(a.n(), seed);
+    let mut p = vec![[0.0; 3]; a.n()];
+    a.apply(&x, &mut p);
+    // The range of A = D·S is D·k^⊥: adding D·k leaves it.
+    let q = p
+        .iter()
+        .enumerate()
+        .map(|(i, r)| [r[0] + 0.3 * a.d()[i] * kernel[i], r[1], r[2] - 0.1 * a.d()[i] * kernel[i]])
+        .collect();
+    (p, q)
+}
+
+/// The bicubic torus with S shifted by its smallest eigenvalue 4 (nx, ny even):
+/// S − 4I is positive semi-definite with the checkerboard (−1)^{x+y} as kernel.
+pub fn singular_torus(nx: usize, ny: usize) -> (FactoredMatrix, Vec<f64>) {
+    let (d, s) = model_problems::bicubic_torus(nx, ny).into_parts();
+    let mut tri = sprs::TriMatI::<f64, u32>::new((s.rows(), s.cols()));
+    for (&v, (i, j)) in s.iter() {
+        let (i, j) = (i as usize, j as usize);
+        tri.add_triplet(i, j, if i == j { v - 4.0 } else { v });
+    }
+    let kernel = (0..nx * ny).map(|i| if (i % nx + i / nx) % 2 == 0 { 1.0 } else { -1.0 }).collect();
+    (FactoredMatrix::new(d, tri.to_csr()).unwrap(), kernel)
+}
