@@ -40,7 +40,7 @@ pub mod subdivide;
 pub use apply::{apply, apply_columns, row_sums};
 pub use error::StencilError;
 pub use limit_matrix::{
-    catmull_clark_degeneracy, limit_matrix_catmull_clark, limit_matrix_loop, limit_matrix_nasri,
+    catmull_clark_degeneracy, catmull_clark_kernel, limit_matrix_catmull_clark, limit_matrix_loop, limit_matrix_nasri,
     limit_matrix_two_phase, limit_matrix_zheng_cai, Degeneracy, LimitMatrix,
 };
 pub use rows::{RowBuilder, Summation};

@@ -312,6 +312,16 @@ pub fn catmull_clark_degeneracy(t: &Topology) -> Option<Degeneracy> {
     if let Some(v) = t.vertices().find(|&v| !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2) {
         return Some(Degeneracy::Indefinite { vertex: v });
     }
+    catmull_clark_kernel(t).first().map(|c| Degeneracy::Singular { vertex: c[0].0 })
+}
+
+/// A basis of the kernel of Cheng's A that the structure gives: one ±1
+/// checkerboard vector per closed component whose vertices all have valence
+/// 3 and whose vertex graph is bipartite (ERRATA C3: A·c = 0 exactly), as
+/// (vertex, ±1) over that component's vertices. The range of A is then
+/// orthogonal to D⁻¹c (S is symmetric): data P are interpolable only if
+/// Σ_v c_v P_v / d_v = 0 for every such c.
+pub fn catmull_clark_kernel(t: &Topology) -> Vec<Vec<(VertexId, f64)>> {
     // Per component: closed, all valence 3, 2-colourable. One pass marks the
     // components with a boundary or a valence other than 3 (almost all); only
     // the others are walked to test the colouring.
@@ -321,8 +331,9 @@ pub fn catmull_clark_degeneracy(t: &Topology) -> Option<Degeneracy> {
             candidate[t.face_component(t.he_face(t.vertex_fan(v)[0])) as usize] = false;
         }
     }
+    let mut kernel = Vec::new();
     if !candidate.contains(&true) {
-        return None;
+        return kernel;
     }
     let mut colour = vec![u8::MAX; t.vertex_count()];
     let mut stack = Vec::new();
@@ -333,12 +344,12 @@ pub fn catmull_clark_degeneracy(t: &Topology) -> Option<Degeneracy> {
         {
             continue;
         }
-        let (mut all_three, mut closed, mut bipartite) = (true, true, true);
+        let mut bipartite = true;
+        let mut component = Vec::new();
         colour[start.index()] = 0;
         stack.push(start);
         while let Some(v) = stack.pop() {
-            all_three &= t.valence(v) == 3;
-            closed &= !t.is_boundary_vertex(v);
+            component.push((v, if colour[v.index()] == 0 { 1.0 } else { -1.0 }));
             for w in t.vertex_neighbors(v) {
                 if colour[w.index()] == u8::MAX {
                     colour[w.index()] = 1 - colour[v.index()];
@@ -348,9 +359,10 @@ pub fn catmull_clark_degeneracy(t: &Topology) -> Option<Degeneracy> {
                 }
             }
         }
-        if all_three && closed && bipartite {
-            return Some(Degeneracy::Singular { vertex: start });
+        if bipartite {
+            component.sort_by_key(|&(v, _)| v);
+            kernel.push(component);
         }
     }
-    None
+    kernel
 }

@@ -489,3 +489,46 @@ fn doo_sabin_matrices_at_valence_two() {
         }
     }
 }
+
+/// The structural kernel of Cheng's A: one checkerboard per closed
+/// all-valence-3 bipartite component, each exactly in the kernel; none on
+/// meshes with other valences or an odd cycle.
+#[test]
+fn catmull_clark_kernel_vectors_are_annihilated_by_a() {
+    let two = |a: Mesh, b: Mesh| {
+        let n = a.topology().vertex_count() as u32;
+        let mut p = a.positions().to_vec();
+        p.extend(b.positions().iter().map(|&x| x + DVec3::new(5.0, 0.0, 0.0)));
+        let faces = subdiv_mesh::FaceList::from_faces(
+            a.topology()
+                .faces()
+                .iter()
+                .map(<[u32]>::to_vec)
+                .chain(b.topology().faces().iter().map(|f| f.iter().map(|&v| v + n).collect::<Vec<_>>())),
+        );
+        Mesh::new(p, faces).unwrap()
+    };
+    let cases = [
+        ("cube", shapes::cube(), 1),
+        ("hexagonal prism", shapes::prism(6), 1),
+        ("pentagonal prism (odd cycle)", shapes::prism(5), 0),
+        ("cube + icosahedron", two(shapes::cube(), shapes::icosahedron()), 1),
+        ("cube + cube", two(shapes::cube(), shapes::cube()), 2),
+        ("torus", shapes::torus(6, 4), 0),
+    ];
+    for (name, mesh, expected) in cases {
+        let t = mesh.topology();
+        let kernel = subdiv_stencil::catmull_clark_kernel(t);
+        assert_eq!(kernel.len(), expected, "{name}");
+        let a = limit_matrix_catmull_clark(t).to_csr();
+        for c in &kernel {
+            let mut x = vec![0.0; t.vertex_count()];
+            c.iter().for_each(|&(v, s)| x[v.index()] = s);
+            for (i, row) in a.outer_iterator().enumerate() {
+                let ax: f64 = row.iter().map(|(j, &w)| w * x[j]).sum();
+                assert!(ax.abs() <= 1e-15, "{name}: (A·c)[{i}] = {ax}");
+            }
+        }
+        assert_eq!(catmull_clark_degeneracy(t).is_some(), expected > 0, "{name}");
+    }
+}
