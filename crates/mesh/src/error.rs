@@ -89,6 +89,21 @@ pub enum MeshError {
         /// Its number of corners.
         size: usize,
     },
+    /// A face cannot be split into triangles over its own corners: each way of
+    /// splitting it needs a diagonal that already is an edge of the mesh (or of
+    /// the triangles of an earlier face), which would make that edge
+    /// non-manifold ([`crate::triangulate`]; faces of more than 256 corners are
+    /// searched greedily).
+    #[error(
+        "face {face} ({size} vertices) cannot be triangulated without adding a vertex: every split into \
+         triangles needs a diagonal that already is an edge of the mesh or of an earlier face's triangles"
+    )]
+    NoTriangulation {
+        /// Offending face.
+        face: u32,
+        /// Its number of corners.
+        size: usize,
+    },
     /// The mesh needs more than `u32::MAX` elements.
     #[error("the mesh is too large: {what}")]
     TooLarge {

@@ -6,6 +6,8 @@
 //!   faces of any size ≥ 3 — with the half-edge queries every subdivision rule
 //!   and limit matrix needs in O(1) or O(valence).
 //! - [`Mesh`]: a topology plus `f64` positions, with geometric queries.
+//! - [`triangulate`]: every polygon split into triangles over its own corners,
+//!   the mesh kept manifold ([`Triangulation`] records each triangle's face).
 //!
 //! Validate once, then trust the type: a `Topology` that exists is manifold and
 //! oriented. Defects that do not break connectivity (isolated vertices,
@@ -30,6 +32,7 @@ pub mod refine;
 pub mod shapes;
 mod soup;
 mod topology;
+mod triangulate;
 mod validate;
 
 pub use error::{MeshError, Warning};
@@ -38,6 +41,7 @@ pub use ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 pub use mesh::{Mesh, ZERO_AREA_REL};
 pub use soup::{FaceGroups, FaceList, PolygonSoup};
 pub use topology::{Corner, Topology};
+pub use triangulate::{triangulate, Triangulation};
 pub use validate::{diagnose, Diagnosis};
 
 /// Re-exported vector type used for all positions.
