@@ -6,7 +6,7 @@ use anyhow::anyhow;
 use clap::ValueEnum;
 use std::path::PathBuf;
 use subdiv_io::MeshView;
-use subdiv_mesh::{FaceList, Mesh};
+use subdiv_mesh::Mesh;
 use subdiv_stencil::{LoopBeta, Scheme, Tension};
 
 /// Largest number of faces `subdivide` will produce (≈ 10 GB of output data).
@@ -88,7 +88,8 @@ pub struct SubdivideArgs {
     /// Deng-Ma's tension.
     #[command(flatten)]
     tension: TensionArgs,
-    /// Loop on a mesh with non-triangles: fan-triangulate every face first.
+    /// Loop on a mesh with non-triangles: triangulate every face first (over its own corners,
+    /// keeping the mesh manifold: quads along the shorter valid diagonal, larger faces by ear clipping).
     #[arg(long)]
     triangulate: bool,
     /// Write angle-weighted vertex normals (formats that store them).
@@ -97,17 +98,6 @@ pub struct SubdivideArgs {
     /// Output mesh (format by extension).
     #[arg(short, long)]
     output: PathBuf,
-}
-
-fn triangulated(mesh: &Mesh) -> Mesh {
-    let t = mesh.topology();
-    let mut faces = FaceList::with_capacity(t.half_edge_count(), 3 * t.half_edge_count());
-    for face in t.faces().iter() {
-        for i in 2..face.len() {
-            faces.push(&[face[0], face[i - 1], face[i]]);
-        }
-    }
-    Mesh::new(mesh.positions().to_vec(), faces).expect("a fan triangulation of a valid mesh is valid")
 }
 
 /// Runs `subdiv subdivide`.
@@ -127,8 +117,9 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
             "--limit: the Deng-Ma scheme is interpolatory and has no limit mask; its refined vertices are the surface"
         )));
     }
+    let input = args.mesh.display();
     if args.triangulate && args.scheme == SchemeArg::Loop {
-        mesh = triangulated(&mesh);
+        mesh = subdiv_mesh::triangulate(&mesh).map_err(|e| bad_input(anyhow!("{input}: --triangulate: {e}")))?.mesh;
     }
     let faces_out = predicted_faces(&mesh, args.scheme, args.levels);
     if faces_out > MAX_OUTPUT_FACES {
@@ -137,7 +128,6 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
             args.levels
         )));
     }
-    let input = args.mesh.display();
     let refined = subdiv_stencil::subdivide(&mesh, scheme, args.levels, args.limit).map_err(|e| {
         let hint = if matches!(e, subdiv_stencil::StencilError::NotTriangles { .. }) {
             " (or pass --triangulate)"

@@ -135,3 +135,70 @@ fn impossible_requests_fail_cleanly_without_output() {
     assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
     assert_eq!(read(&out).faces.len(), 48);
 }
+
+/// OBJ text of positions and faces (0-based).
+fn obj(positions: &[[f64; 3]], faces: &[Vec<u32>]) -> String {
+    let mut text: String = positions.iter().map(|p| format!("v {} {} {}\n", p[0], p[1], p[2])).collect();
+    for f in faces {
+        let corners: Vec<String> = f.iter().map(|v| (v + 1).to_string()).collect();
+        text += &format!("f {}\n", corners.join(" "));
+    }
+    text
+}
+
+/// A closed mesh of one quad and two triangles whose shared edge (0, 2) is
+/// the quad's fan diagonal from corner 0 (and its shorter one).
+fn quad_and_two_triangles() -> String {
+    let p = [[0.0, -0.5, 0.0], [1.0, 0.0, 0.6], [0.0, 0.5, 0.0], [-1.0, 0.0, 0.6]];
+    obj(&p, &[vec![0, 1, 2, 3], vec![0, 3, 2], vec![2, 1, 0]])
+}
+
+/// The 7-vertex torus (every two vertices share an edge) with vertex 0's
+/// star replaced by a hexagon, face 8 (vertices renumbered 1..7 → 0..6):
+/// every diagonal of the hexagon is an edge.
+fn torus_with_untriangulable_hexagon() -> String {
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    for i in 0..7u32 {
+        for tri in [[i, i + 1, i + 3], [i, i + 3, i + 2]].map(|t| t.map(|v| v % 7)) {
+            if !tri.contains(&0) {
+                faces.push(tri.iter().map(|v| v - 1).collect());
+            }
+        }
+    }
+    faces.push(vec![0, 2, 1, 5, 3, 4]);
+    let p: Vec<[f64; 3]> = (1..7).map(|k| [f64::from(k).cos(), f64::from(k).sin(), f64::from(k % 3)]).collect();
+    obj(&p, &faces)
+}
+
+/// `--triangulate` keeps the mesh manifold: the quad whose fan diagonal is
+/// already an edge (a fan made this exit 101) takes the other diagonal; a
+/// face with no valid diagonal is a clean exit 2 naming it, with no output.
+#[test]
+fn triangulate_never_duplicates_an_edge() {
+    let input = out_path("quad_and_two_triangles.obj");
+    std::fs::write(&input, quad_and_two_triangles()).unwrap();
+    let out = out_path("quad_and_two_triangles-loop.obj");
+    let args = ["--scheme", "loop", "--triangulate", "--levels", "1", "-o", out.to_str().unwrap()];
+    let run = subdiv(&[&["subdivide", input.to_str().unwrap()][..], &args].concat());
+    assert_no_panic(&run);
+    assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
+    let refined = subdiv_mesh::Mesh::from_soup(read(&out)).expect("a valid mesh").0;
+    // Four triangles (a tetrahedron's combinatorics), each split in four.
+    let t = refined.topology();
+    assert_eq!((t.vertex_count(), t.face_count(), t.genus()), (10, 16, Some(0)));
+
+    let input = out_path("untriangulable.obj");
+    std::fs::write(&input, torus_with_untriangulable_hexagon()).unwrap();
+    let out = out_path("untriangulable-loop.obj");
+    let _ = std::fs::remove_file(&out);
+    let args = ["--scheme", "loop", "--triangulate", "--levels", "1", "-o", out.to_str().unwrap()];
+    let run = subdiv(&[&["subdivide", input.to_str().unwrap()][..], &args].concat());
+    assert_no_panic(&run);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("untriangulable.obj") && stderr.contains("face 8 (6 vertices) cannot be triangulated"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}

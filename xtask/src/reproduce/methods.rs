@@ -10,18 +10,7 @@ use subdiv_interp::{
     cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, DengMaOptions, DengWangOptions,
     FanChengLaiOptions, InterpError, Interpolant, NasriOptions, ZhengCaiOptions,
 };
-use subdiv_mesh::{FaceList, Mesh};
-
-/// Fan triangulation (for the Loop method on generated polygon meshes).
-fn triangulated(mesh: &Mesh) -> Mesh {
-    let mut faces = FaceList::new();
-    for f in mesh.topology().faces().iter() {
-        for k in 2..f.len() {
-            faces.push(&[f[0], f[k - 1], f[k]]);
-        }
-    }
-    Mesh::new(mesh.positions().to_vec(), faces).expect("a fan triangulation of a valid mesh is valid")
-}
+use subdiv_mesh::Mesh;
 
 type MethodFn = fn(&Mesh) -> Result<Interpolant, InterpError>;
 
@@ -49,8 +38,9 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         the papers' sizes: `tri/decimated-knight.off` (502 v), `quad/fandisk_quads.off` (766 v, quads), \
         `open/halftunnel.off` (831 v, open quads), `tri/rocker-arm.obj` (10,044 v) and `open/camelhead.off` \
         (11,381 v, open: the size closest to the paper's 11,540); generated: polygon tori (`shapes::polygon_mix`) \
-        of 10⁵ and 10⁶ vertices. Deng-Wang (Loop) gets non-triangle meshes fan-triangulated; Deng-Ma has no \
-        boundary rule and refuses open meshes. Zheng-Cai report 4.9 ms + 37 ms for 562 vertices and 79 ms + 491 ms \
+        of 10⁵ and 10⁶ vertices. Deng-Wang (Loop) gets non-triangle meshes triangulated beforehand \
+        (`subdiv_mesh::triangulate`, outside its timing); Deng-Ma has no boundary rule and refuses open meshes. \
+        Zheng-Cai report 4.9 ms + 37 ms for 562 vertices and 79 ms + 491 ms \
         for 11,540 (2005 PC)."
         .into();
     let mut models: Vec<(String, Mesh)> = vec![("decimated-knight".into(), ctx.fixture("tri/decimated-knight.off")?)];
@@ -68,7 +58,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         }
     }
     for (name, mesh) in &models {
-        let tri = if mesh.topology().faces().all_of_size(3) { None } else { Some(triangulated(mesh)) };
+        let tri =
+            if mesh.topology().faces().all_of_size(3) { None } else { Some(subdiv_mesh::triangulate(mesh)?.mesh) };
         for (method, f) in METHODS {
             let input = if method == "deng-wang" { tri.as_ref().unwrap_or(mesh) } else { mesh };
             let mut phases = Vec::new(); // (setup, solve) of every run: their medians are reported
