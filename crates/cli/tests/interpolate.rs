@@ -98,18 +98,14 @@ fn singular_and_unsupported_inputs_exit_with_reasons_and_write_nothing() {
     assert_eq!(code, Some(3), "{stderr}");
     assert!(stderr.contains("residual") && stderr.contains("zheng-cai"), "{stderr}");
     assert!(!out.exists());
+    // Deng-Wang triangulates polygons itself; only a face without a valid triangulation is refused.
     for (input, method, code_expected, needle) in [
-        ("canonical/cube_quad.obj", "deng-wang", 2, "triang"),
-        ("canonical/grid_quad_8x8_open.obj", "deng-ma", 2, "boundary"),
+        (untriangulable_torus(), "deng-wang", 2, "face 8 (6 vertices) cannot be triangulated"),
+        (fixtures().join("canonical/grid_quad_8x8_open.obj"), "deng-ma", 2, "boundary"),
     ] {
-        let (code, _, stderr) = run(&[
-            "interpolate",
-            fixtures().join(input).to_str().unwrap(),
-            "--method",
-            method,
-            "-o",
-            out.to_str().unwrap(),
-        ]);
+        let input = input.display();
+        let (code, _, stderr) =
+            run(&["interpolate", &input.to_string(), "--method", method, "-o", out.to_str().unwrap()]);
         assert_eq!(code, Some(code_expected), "{method} {input}: {stderr}");
         assert!(stderr.contains(needle), "{method} {input}: {stderr}");
         assert_eq!(stderr.trim_end().lines().count(), 1, "one line: {stderr}");
@@ -175,4 +171,63 @@ fn shape_files_and_subsets_apply() {
     assert_eq!(code, Some(0), "{stderr}");
     let r: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(r["error"]["vertices"], 3);
+}
+
+/// Deng-Wang on quad and polygon meshes: triangulated inside the method,
+/// with a warning on stderr and `triangulated_faces` in the report; the
+/// written control mesh interpolates (independent check from the file).
+/// (A face with no triangulation exits 2 naming it: the test above.)
+#[test]
+fn deng_wang_triangulates_polygon_meshes() {
+    for (input, faces) in [("canonical/cube_quad.obj", 6), ("quad/spot_control_mesh.obj", 176), ("poly/mpi.off", 39)] {
+        let input_path = fixtures().join(input);
+        let stem = format!("deng-wang-{}", input.replace('/', "-"));
+        let (control, report) = (tmp(&format!("{stem}.obj")), tmp(&format!("{stem}.json")));
+        let (code, _, stderr) = run(&[
+            "interpolate",
+            input_path.to_str().unwrap(),
+            "--method",
+            "deng-wang",
+            "-o",
+            control.to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+        ]);
+        assert_eq!(code, Some(0), "{input}: {stderr}");
+        assert!(
+            stderr.contains(&format!("warning: the mesh has {faces} non-triangular faces; they were triangulated")),
+            "{input}: {stderr}"
+        );
+        let report: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        assert_eq!(report["parameters"]["triangulated_faces"], faces, "{input}");
+        assert_eq!(report["control_scheme"], "loop");
+        assert!(report["error"]["max_rel"].as_f64().unwrap() <= 1e-12, "{input}: {}", report["error"]);
+        let data = load(&input_path);
+        let written = load(&control);
+        assert!(written.topology().faces().all_of_size(3));
+        let plain = Plain::Loop(LoopBeta::Warren);
+        let gap =
+            nearest_gap(data.positions(), &candidate_limit_points(&written, plain).unwrap(), data.bbox_diagonal());
+        assert!(gap <= 1e-12, "{input}: independent error {gap:e}");
+    }
+}
+
+/// The 7-vertex torus (every two vertices share an edge) with one vertex's
+/// star replaced by a hexagon over its link, face 8 (vertices renumbered
+/// 1..7 → 0..6): every diagonal of the hexagon is an edge, so it has no
+/// triangulation keeping the mesh manifold. Written as OBJ; returns the path.
+fn untriangulable_torus() -> PathBuf {
+    let mut text: String =
+        (1..7).map(|k| format!("v {} {} {}\n", f64::from(k).cos(), f64::from(k).sin(), k % 3)).collect();
+    for i in 0..7u32 {
+        for tri in [[i, i + 1, i + 3], [i, i + 3, i + 2]].map(|t| t.map(|v| v % 7)) {
+            if !tri.contains(&0) {
+                text += &format!("f {} {} {}\n", tri[0], tri[1], tri[2]); // 1-based = renumbered + 1
+            }
+        }
+    }
+    text += "f 1 3 2 6 4 5\n";
+    let path = tmp("untriangulable.obj");
+    std::fs::write(&path, text).unwrap();
+    path
 }

@@ -27,6 +27,10 @@
 //!    order), scheme Loop(β). Control vertex i of M¹ has input vertex i as
 //!    its plain Loop limit point ([`LimitAssociation::ControlVertex`]).
 //!
+//! Steps 2-4 run on the triangulation M⁰ of the input ([`triangulate`]:
+//! every polygon split over its own corners, no vertex added or moved), so
+//! on a triangle mesh M⁰ is the input itself.
+//!
 //! # Deviations from the paper and choices it leaves open
 //! - μ: the admissible range is cut off in the seed. ERRATA W6 proposes
 //!   μ = ¼, which puts the edge points of points sampled from a sphere (with
@@ -70,6 +74,21 @@
 //!   - boundary vertices solve the plain boundary limit rule of M¹,
 //!     (e₋ + 4p¹ + e₊)/6 = p⁰ over the two boundary edge points:
 //!     p¹ = (6p⁰ − e₋ − e₊)/4; corners keep p¹ = p⁰ (their limit).
+//! - Polygon meshes (the paper takes triangle meshes): faces of more than
+//!   three corners are triangulated first — quads along the shorter valid
+//!   diagonal, larger faces by ear clipping in their best-fit plane, never
+//!   duplicating an edge (see [`triangulate`]). The data points stay the
+//!   input's vertices with their indices, so subsets and normals refer to
+//!   input vertices and the limit surface of M¹ (the modified first step of
+//!   that triangulation) passes through every input vertex. A warning says
+//!   how many faces were triangulated and the report's parameters carry
+//!   `triangulated_faces`; a face with no triangulation that keeps the mesh
+//!   manifold is refused, naming the face. Eq. 8 is evaluated on the
+//!   triangles, as the paper writes it; on a planar face this is the
+//!   polygon's own angle-weighted normal with its interior angles (a reflex
+//!   corner counts with its angle above π). The Loop rule class of a
+//!   boundary vertex follows the triangulation: a corner of one quad lies in
+//!   one or two triangles.
 //! - Vertex subset (beyond the paper): vertices not interpolated get the
 //!   plain Loop vertex rule (Eq. 1, boundary (p₋ + 6p + p₊)/8); edge points
 //!   are computed by Eq. 9 everywhere.
@@ -86,12 +105,18 @@
 //! let all = vec![true; 12];
 //! let err = result.error(ico.positions(), &all, ico.bbox_diagonal());
 //! assert!(err.max_rel <= 1e-14);
+//! // Polygons are triangulated first: the cube's 6 quads become 12 triangles.
+//! let cube = shapes::cube();
+//! let result = deng_wang::interpolate(&cube, &DengWangOptions::default()).unwrap();
+//! assert_eq!(result.control.topology().face_count(), 48);
+//! assert_eq!(result.parameters["triangulated_faces"], 6);
+//! assert!(result.error(cube.positions(), &[true; 8], cube.bbox_diagonal()).max_rel <= 1e-14);
 //! ```
 
 use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method};
 use glam::DVec3;
 use subdiv_mesh::refine::triangle_split;
-use subdiv_mesh::{EdgeId, Mesh, Topology, VertexId};
+use subdiv_mesh::{triangulate, EdgeId, Mesh, Topology, VertexId};
 use subdiv_rules::loop_scheme::{limit_mask, vertex_point_mask};
 use subdiv_rules::{LoopBeta, VertexKind, VertexMask};
 
@@ -253,25 +278,36 @@ fn first_refined_points(
     positions
 }
 
-/// Interpolates the vertices of `mesh` (a triangle mesh, open or closed)
-/// with the Loop limit surface of the modified first refined mesh M¹.
+/// Interpolates the vertices of `mesh` (any polygons, open or closed;
+/// non-triangles are triangulated first, module docs) with the Loop limit
+/// surface of the modified first refined mesh M¹.
 ///
-/// The control mesh has V + E vertices ([`triangle_split`] numbering) and
-/// 4F triangles; vertex i < V has input vertex i as its Loop limit point.
+/// With M⁰ the triangulation of `mesh` (the input itself for a triangle
+/// mesh; same vertices), the control mesh has V + E vertices
+/// ([`triangle_split`] numbering, E the edges of M⁰) and 4F triangles (F the
+/// triangles of M⁰); vertex i < V has input vertex i as its Loop limit point.
 pub fn interpolate(mesh: &Mesh, opts: &DengWangOptions) -> Result<Interpolant, InterpError> {
-    let t = mesh.topology();
-    if let Some(f) = t.face_ids().find(|&f| t.face_size(f) != 3) {
-        return Err(InterpError::UnsupportedMesh {
-            method: "deng-wang",
-            reason: format!("face {f} has {} vertices; Loop needs triangles", t.face_size(f)),
-            suggestion: "cheng, zheng-cai or fan-cheng-lai (any polygons), or triangulate the mesh first",
-        });
-    }
     if !opts.mu.is_finite() {
         return Err(InterpError::InvalidParameter(format!("Deng-Wang μ = {} is not finite", opts.mu)));
     }
-    let interpolated = opts.common.interpolated(t.vertex_count())?;
+    let interpolated = opts.common.interpolated(mesh.topology().vertex_count())?;
+    let start = std::time::Instant::now();
+    let triangulation = triangulate(mesh).map_err(|e| InterpError::UnsupportedMesh {
+        method: "deng-wang",
+        reason: e.to_string(),
+        suggestion: "cheng, zheng-cai or fan-cheng-lai (any polygons)",
+    })?;
+    let triangulate_seconds = seconds_since(start);
+    let t = triangulation.mesh.topology();
     let mut warnings = Vec::new();
+    if triangulation.split_faces > 0 {
+        let triangles = t.face_count() - (mesh.topology().face_count() - triangulation.split_faces);
+        warnings.push(format!(
+            "the mesh has {} non-triangular faces; they were triangulated ({triangles} triangles) before Loop \
+             interpolation",
+            triangulation.split_faces
+        ));
+    }
     if !(TESTED_MU.0..=TESTED_MU.1).contains(&opts.mu) {
         warnings.push(format!(
             "μ = {} is outside [{}, {}], the range tested for fair surfaces (the surface still interpolates)",
@@ -279,18 +315,19 @@ pub fn interpolate(mesh: &Mesh, opts: &DengWangOptions) -> Result<Interpolant, I
         ));
     }
 
-    // M¹'s connectivity (setup) does not depend on the geometry: it is built
-    // on one core while the other computes the normals and M¹'s points (solve).
+    // M¹'s connectivity (setup, with the triangulation) does not depend on the geometry: it
+    // is built on one core while the other computes the normals and M¹'s points (solve).
     let start = std::time::Instant::now();
     let (topology, points) = rayon::join(
-        || (triangle_split(t).expect("checked: all faces are triangles"), seconds_since(start)),
+        || (triangle_split(t).expect("a triangulation has only triangles"), seconds_since(start)),
         || -> Result<_, InterpError> {
             let start = std::time::Instant::now();
-            let n = normals(mesh, opts.normals.as_deref())?;
+            let n = normals(&triangulation.mesh, opts.normals.as_deref())?;
             Ok((first_refined_points(t, mesh.positions(), &n, &interpolated, opts), seconds_since(start)))
         },
     );
-    let ((topology, setup_seconds), (positions, solve_seconds)) = (topology, points?);
+    let ((topology, split_seconds), (positions, solve_seconds)) = (topology, points?);
+    let setup_seconds = triangulate_seconds + split_seconds;
     let mut parameters = serde_json::Map::new();
     parameters.insert("mu".into(), opts.mu.into());
     parameters.insert(
@@ -304,6 +341,7 @@ pub fn interpolate(mesh: &Mesh, opts: &DengWangOptions) -> Result<Interpolant, I
     let user_normals = opts.normals.as_ref().map_or(0, |u| u.iter().flatten().count());
     parameters.insert("user_normals".into(), user_normals.into());
     parameters.insert("interpolated_vertices".into(), interpolated.iter().filter(|&&b| b).count().into());
+    parameters.insert("triangulated_faces".into(), triangulation.split_faces.into());
     Ok(Interpolant {
         method: Method::DengWang,
         control: Mesh::from_topology(topology, positions),

@@ -1,8 +1,10 @@
 //! Deng-Wang (Loop, explicit first step): interpolation error on every
 //! triangle fixture, checked by `Interpolant::error` and independently from
 //! the control mesh alone (limit stencil + nearest point, brute-force
-//! subdivision); subsets, locality, bad input; the μ experiment of ERRATA W6;
-//! a property test on random triangle meshes.
+//! subdivision); every quad and polygon fixture, triangulated inside the
+//! method, with the control mesh also re-read from a file and measured by
+//! `subdiv_interp::verify`; subsets, locality, bad input; the μ experiment of
+//! ERRATA W6; a property test on random triangle meshes.
 //!
 //! Run with `--nocapture` to see the tables.
 
@@ -13,9 +15,9 @@ use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
 use subdiv_interp::deng_wang::{self, DEFAULT_MU};
 use subdiv_interp::{CommonOptions, ControlScheme, DengWangOptions, InterpError, Interpolant, LimitAssociation};
-use subdiv_mesh::{shapes, Mesh, Topology};
+use subdiv_mesh::{shapes, FaceList, Mesh};
 use subdiv_stencil::{apply, loop_subdivision, LoopBeta, Scheme, SubdivisionPlan};
-use support::{fixture, fixtures, load};
+use support::{candidate_limit_points, fixture, fixtures, load, nearest_gap, Plain};
 
 // ---- helpers ----------------------------------------------------------------
 
@@ -31,6 +33,33 @@ const TRIANGLE_FIXTURES: [&str; 10] = [
     "open/grid.off",
     "open/nefertiti_small.off",
     "open/hemisphere.off",
+];
+
+/// The fixtures with faces other than triangles: all of `quad/` and
+/// `poly/`, and the quad and polygon meshes of `canonical/` and `open/`.
+const POLYGON_FIXTURES: [&str; 22] = [
+    "quad/3torus.off",
+    "quad/cross_quad.off",
+    "quad/fandisk_quads.off",
+    "quad/horse_quad.obj",
+    "quad/penguin_control_mesh.obj",
+    "quad/spot_control_mesh.obj",
+    "quad/sword-quad-dominant.obj",
+    "quad/torus_quad.off",
+    "poly/P.off",
+    "poly/chamfer-cube.off",
+    "poly/corner_poly.off",
+    "poly/cube_poly.off",
+    "poly/mesh_with_colors.off",
+    "poly/mpi.off",
+    "canonical/cross3d_quad.obj",
+    "canonical/cube_quad.obj",
+    "canonical/dodecahedron.obj",
+    "canonical/grid_quad_8x8_open.obj",
+    "canonical/hexagonal_prism.obj",
+    "canonical/pyramid_mixed.obj",
+    "canonical/torus_quad_16x8.obj",
+    "open/halftunnel.off",
 ];
 
 const BETAS: [LoopBeta; 2] = [LoopBeta::Warren, LoopBeta::Loop];
@@ -184,6 +213,124 @@ fn fixtures_interpolate_for_every_mu_and_beta() {
             }
         }
     }
+}
+
+/// Writes `control` as OBJ, reads it back through `subdiv-io` and returns
+/// max over the data of the distance to the nearest plain Loop limit point of
+/// the file's control mesh, / d (`subdiv_interp::verify`: no indices, no
+/// knowledge of the method).
+fn error_from_written_control_mesh(mesh: &Mesh, control: &Mesh, beta: LoopBeta, name: &str) -> f64 {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("deng-wang-polygons");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{}.obj", name.replace('/', "_")));
+    subdiv_io::write_mesh(&path, subdiv_io::MeshView::new(control.positions(), control.topology().faces())).unwrap();
+    let back = load(&path);
+    let t = mesh.topology();
+    let data: Vec<DVec3> = t.vertices().filter(|&v| !t.is_isolated(v)).map(|v| mesh.position(v)).collect();
+    nearest_gap(&data, &candidate_limit_points(&back, Plain::Loop(beta)), mesh.bbox_diagonal())
+}
+
+/// Quad and polygon meshes are triangulated inside the method (no vertex
+/// added): M¹ is the Loop first step of that triangulation, and its limit
+/// surface passes through every input vertex — measured by the plain Loop
+/// limit rules on the result, and again on the control mesh written to a
+/// file and read back.
+#[test]
+fn polygon_fixtures_are_triangulated_and_interpolated() {
+    println!("| fixture | V | faces | triangulated | M¹ faces | max_rel (error()) | from the file |");
+    println!("|---|---|---|---|---|---|---|");
+    for name in POLYGON_FIXTURES {
+        let mesh = fixture(name);
+        let t = mesh.topology();
+        let d = mesh.bbox_diagonal();
+        let polygons = t.face_ids().filter(|&f| t.face_size(f) > 3).count();
+        assert!(polygons > 0, "{name} has only triangles");
+        let result =
+            deng_wang::interpolate(&mesh, &DengWangOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(result.scheme, ControlScheme::Loop(LoopBeta::Warren));
+        assert_eq!(result.parameters["triangulated_faces"], serde_json::json!(polygons));
+        let triangles: usize = t.face_ids().map(|f| t.face_size(f) - 2).sum();
+        assert_eq!(
+            result.warnings,
+            [format!(
+                "the mesh has {polygons} non-triangular faces; they were triangulated ({} triangles) before Loop \
+                 interpolation",
+                triangles - (t.face_count() - polygons)
+            )],
+            "{name}"
+        );
+        // M¹ of a triangulation over the same vertices: V + E′ vertices, 4F′ triangles,
+        // where E′ = E + the diagonals (Σ (m − 3)) and F′ = Σ (m − 2).
+        let diagonals: usize = t.face_ids().map(|f| t.face_size(f) - 3).sum();
+        let c = result.control.topology();
+        assert_eq!(c.vertex_count(), t.vertex_count() + t.edge_count() + diagonals, "{name}");
+        assert_eq!(c.face_count(), 4 * triangles, "{name}");
+        assert_eq!(c.euler_characteristic(), t.euler_characteristic(), "{name}");
+        let err = result.error(mesh.positions(), &used(&mesh), d);
+        let from_file = error_from_written_control_mesh(&mesh, &result.control, LoopBeta::Warren, name);
+        println!(
+            "| {name} | {} | {} | {polygons} | {} | {:.2e} | {from_file:.2e} |",
+            t.vertex_count(),
+            t.face_count(),
+            c.face_count(),
+            err.max_rel
+        );
+        // Exact to round-off (the brief's bar is 1e-6·d).
+        assert!(err.max_rel <= 1e-12, "{name}: error {:.3e}", err.max_rel);
+        assert!(from_file <= 1e-12, "{name}: error measured from the written file {from_file:.3e}");
+    }
+}
+
+/// Interpolating a polygon mesh is interpolating its triangulation, bit for
+/// bit, with subsets and user normals referring to the input vertices.
+#[test]
+fn polygons_behave_as_their_triangulation() {
+    for name in ["canonical/cross3d_quad.obj", "canonical/grid_quad_8x8_open.obj", "poly/corner_poly.off"] {
+        let mesh = fixture(name);
+        let d = mesh.bbox_diagonal();
+        let n = mesh.topology().vertex_count();
+        let triangulated = subdiv_mesh::triangulate(&mesh).unwrap().mesh;
+        let subset: Vec<u32> = (0..n as u32).filter(|v| v % 2 == 0).collect();
+        let tilted: Vec<Option<DVec3>> = (0..n).map(|v| (v % 3 == 0).then_some(DVec3::new(1.0, 2.0, 3.0))).collect();
+        let options = [
+            DengWangOptions::default(),
+            DengWangOptions {
+                common: CommonOptions { subset: Some(subset.clone()), ..CommonOptions::default() },
+                normals: Some(tilted),
+                ..DengWangOptions::default()
+            },
+        ];
+        for o in &options {
+            let a = deng_wang::interpolate(&mesh, o).unwrap();
+            let b = deng_wang::interpolate(&triangulated, o).unwrap();
+            assert_eq!(a.control.topology().faces(), b.control.topology().faces(), "{name}");
+            assert_eq!(a.control.positions(), b.control.positions(), "{name}");
+            assert!(b.warnings.is_empty() && a.warnings.len() == 1);
+            let flags: Vec<bool> = match &o.common.subset {
+                Some(s) => (0..n as u32).map(|v| s.contains(&v)).collect(),
+                None => vec![true; n],
+            };
+            assert!(a.error(mesh.positions(), &flags, d).max_rel <= 1e-12, "{name}");
+        }
+    }
+}
+
+/// The 7-vertex torus (every two vertices share an edge) with the star of
+/// vertex 0 replaced by one hexagon: every diagonal of the hexagon is an
+/// edge, so it has no triangulation keeping the mesh manifold.
+fn torus_with_untriangulable_hexagon() -> Mesh {
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    for i in 0..7u32 {
+        for tri in [[i, i + 1, i + 3], [i, i + 3, i + 2]].map(|t| t.map(|v| v % 7)) {
+            if !tri.contains(&0) {
+                faces.push(tri.to_vec());
+            }
+        }
+    }
+    faces.push(vec![1, 3, 2, 6, 4, 5]);
+    let mut rng = shapes::SplitMix64(5);
+    let p = (0..7).map(|_| DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64())).collect();
+    Mesh::new(p, FaceList::from_faces(&faces)).unwrap()
 }
 
 #[test]
@@ -388,18 +535,16 @@ fn a_corner_keeps_its_position() {
 // ---- bad input and options -----------------------------------------------------
 
 #[test]
-fn non_triangles_are_refused_with_alternatives() {
-    for mesh in [shapes::cube(), fixture("canonical/pyramid_mixed.obj")] {
-        let err = deng_wang::interpolate(&mesh, &DengWangOptions::default()).unwrap_err();
-        let InterpError::UnsupportedMesh { method, ref reason, suggestion } = err else {
-            panic!("expected UnsupportedMesh, got {err:?}")
-        };
-        assert_eq!(method, "deng-wang");
-        assert!(reason.starts_with("face ") && reason.ends_with("vertices; Loop needs triangles"), "{reason}");
-        assert!(suggestion.contains("triangulate"));
-        let msg = err.to_string();
-        assert!(msg.contains("cheng, zheng-cai or fan-cheng-lai"), "{msg}");
-    }
+fn a_face_without_triangulation_is_refused_naming_it() {
+    let mesh = torus_with_untriangulable_hexagon();
+    let err = deng_wang::interpolate(&mesh, &DengWangOptions::default()).unwrap_err();
+    let InterpError::UnsupportedMesh { method, ref reason, suggestion } = err else {
+        panic!("expected UnsupportedMesh, got {err:?}")
+    };
+    assert_eq!(method, "deng-wang");
+    let hexagon = mesh.topology().face_count() - 1;
+    assert!(reason.starts_with(&format!("face {hexagon} (6 vertices) cannot be triangulated")), "{reason}");
+    assert_eq!(suggestion, "cheng, zheng-cai or fan-cheng-lai (any polygons)");
 }
 
 #[test]
@@ -549,21 +694,20 @@ fn mu_experiment_sphere_and_fairness() {
 
 // ---- property test ---------------------------------------------------------------
 
-/// Random triangle meshes: tori (closed, genus 1) and plates with holes
-/// (closed solids of genus = holes, or open sheets), all quads split into
-/// triangles by `polygon_mix`, positions jittered.
-fn random_triangle_mesh() -> impl Strategy<Value = Mesh> {
+/// Random meshes: tori (closed, genus 1) and plates with holes (closed
+/// solids of genus = holes, or open sheets), through `polygon_mix`: faces
+/// merged into polygons of up to eight corners, quads split into triangles
+/// or kept, positions jittered. Non-triangles are triangulated inside the
+/// method.
+fn random_mesh() -> impl Strategy<Value = Mesh> {
     let torus = (3usize..9, 3usize..9).prop_map(|(nu, nv)| shapes::torus(nu, nv));
     let plate = (4usize..8, 4usize..8, any::<bool>(), any::<bool>()).prop_map(|(nx, ny, hole, closed)| {
         let holes: &[(usize, usize)] = if hole { &[(1, 1)] } else { &[] };
         shapes::plate_with_holes(nx, ny, holes, closed)
     });
-    (prop_oneof![torus, plate], any::<u64>(), 0.0f64..0.4)
-        .prop_map(|(base, seed, jitter)| shapes::polygon_mix(&base, seed, 0.0, 1.0, jitter))
-}
-
-fn triangles_only(t: &Topology) -> bool {
-    t.face_ids().all(|f| t.face_size(f) == 3)
+    let split = prop_oneof![Just(1.0), 0.0..1.0f64];
+    (prop_oneof![torus, plate], any::<u64>(), 0.0..0.3f64, split, 0.0f64..0.4)
+        .prop_map(|(base, seed, merge, split, jitter)| shapes::polygon_mix(&base, seed, merge, split, jitter))
 }
 
 proptest! {
@@ -573,8 +717,7 @@ proptest! {
         ..ProptestConfig::default()
     })]
     #[test]
-    fn random_triangle_meshes_are_interpolated(mesh in random_triangle_mesh(), mu in -0.1f64..0.6, loop_beta in any::<bool>()) {
-        prop_assume!(triangles_only(mesh.topology()));
+    fn random_meshes_are_interpolated(mesh in random_mesh(), mu in -0.1f64..0.6, loop_beta in any::<bool>()) {
         let beta = if loop_beta { LoopBeta::Loop } else { LoopBeta::Warren };
         let result = deng_wang::interpolate(&mesh, &opts(mu, beta)).unwrap();
         let err = result.error(mesh.positions(), &used(&mesh), mesh.bbox_diagonal());
