@@ -21,7 +21,7 @@ pub enum SchemeArg {
     CatmullClark,
     /// Loop (triangles; same boundary rule).
     Loop,
-    /// Deng-Ma interpolatory scheme (closed meshes).
+    /// Deng-Ma interpolatory scheme (any polygons, open or closed; 4-point boundary curves).
     DengMa,
 }
 

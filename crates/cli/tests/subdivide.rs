@@ -99,10 +99,8 @@ fn zero_levels_limit_matches_opensubdiv() {
 #[test]
 fn impossible_requests_fail_cleanly_without_output() {
     let cube = fixtures().join("canonical/cube_quad.obj");
-    let open = fixtures().join("canonical/grid_quad_8x8_open.obj");
     for (input, extra, needle) in [
         (&cube, vec!["--scheme", "loop", "--levels", "1"], "triang"),
-        (&open, vec!["--scheme", "deng-ma", "--levels", "1"], "closed"),
         (&cube, vec!["--scheme", "deng-ma", "--levels", "1", "--limit"], "limit"),
         (&cube, vec!["--scheme", "catmull-clark", "--levels", "40"], "levels"),
         (&cube, vec!["--scheme", "deng-ma", "--levels", "1", "--omega", "3"], "ω"),

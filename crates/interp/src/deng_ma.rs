@@ -1,6 +1,6 @@
 //! Deng & Ma 2011: an interpolatory subdivision scheme derived from
-//! Doo-Sabin (`seeds/deng-ma-interpolatory-doo-sabin-report.txt` §3.3-3.4,
-//! with ERRATA D2, D4, D5).
+//! Doo-Sabin (report §3.3-3.4, with ERRATA D2, D4, D5), on closed and open
+//! meshes.
 //!
 //! Nothing is solved: the scheme itself keeps every old vertex, so its limit
 //! surface passes through the input's vertices. The "control mesh" of the
@@ -20,8 +20,18 @@
 //!    ω_P of §3.4 with its shape parameter λ ∈ (0, 1] (ERRATA D5).
 //!
 //! # Deviations from the report
-//! - Closed meshes only: the report defines no boundary rule, so an open
-//!   mesh is refused with [`InterpError::UnsupportedMesh`].
+//! - **Open meshes** (the report has closed meshes only; our construction,
+//!   derived in `subdiv_rules::deng_ma`, "Open meshes"): every boundary loop,
+//!   cut into pieces at its corners (boundary vertices in one face), is
+//!   refined by the 4-point curve rule with tension ω_P/16 and the linear
+//!   phantom 2P₀ − P₁ beyond a corner, so the boundary of the surface is the
+//!   4-point curve of the boundary polygon and depends on boundary vertices
+//!   only; the moved images of a boundary vertex are taken about the curve's
+//!   centre (P₋ + 6P + P₊)/8 (P at a corner) instead of the centroid of its
+//!   images. On a regular quad grid this is the report's rule on the grid
+//!   extended by linearly extrapolated ghosts. With the variable tension a
+//!   boundary vertex's curve tension is §3.4 on the boundary polygon, and its
+//!   moved images take the smaller of that and §3.4 over its faces.
 //! - The variable tension is nonlinear in the positions; the surface is then
 //!   computed geometrically level by level instead of by a stencil.
 //!
@@ -32,6 +42,12 @@
 //! let result = deng_ma::interpolate(&cube, &DengMaOptions::default()).unwrap();
 //! let surface = result.surface(3).unwrap();
 //! assert_eq!(&surface.positions()[..8], cube.positions());
+//!
+//! // An open grid: the input vertices stay, and so does the planar boundary.
+//! let grid = shapes::quad_grid(4, 3);
+//! let surface = deng_ma::interpolate(&grid, &DengMaOptions::default()).unwrap().surface(2).unwrap();
+//! assert_eq!(&surface.positions()[..20], grid.positions());
+//! assert!(surface.positions().iter().all(|p| p.z == 0.0));
 //! ```
 
 use crate::{ControlScheme, InterpError, Interpolant, LimitAssociation, Method};
@@ -58,21 +74,13 @@ fn validate(tension: Tension) -> Result<(), InterpError> {
     }
 }
 
-/// Sets up the Deng-Ma scheme on a closed `mesh`: the result's control mesh
-/// is `mesh` itself, its scheme Deng-Ma with the given tension, and its
-/// association [`LimitAssociation::Interpolatory`].
+/// Sets up the Deng-Ma scheme on `mesh` (closed or open): the result's
+/// control mesh is `mesh` itself, its scheme Deng-Ma with the given tension,
+/// and its association [`LimitAssociation::Interpolatory`].
+///
+/// # Errors
+/// [`InterpError::InvalidParameter`] for ω or λ outside (0, 1].
 pub fn interpolate(mesh: &Mesh, opts: &DengMaOptions) -> Result<Interpolant, InterpError> {
-    let t = mesh.topology();
-    if !t.is_closed() {
-        return Err(InterpError::UnsupportedMesh {
-            method: "deng-ma",
-            reason: format!(
-                "the mesh has {} boundary loop(s) and the Deng-Ma scheme has no boundary rule",
-                t.boundary_loop_count()
-            ),
-            suggestion: "zheng-cai, cheng, fan-cheng-lai or nasri (all handle boundaries)",
-        });
-    }
     validate(opts.tension)?;
     let mut parameters = serde_json::Map::new();
     match opts.tension {

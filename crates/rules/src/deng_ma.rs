@@ -42,9 +42,104 @@
 //! for faces it gives d_F ≤ (λ/4)·(longest edge of the face), which implies
 //! the face condition only when the face's edges are comparable in length —
 //! the report's face condition is not guaranteed by its own ω_P.
+//!
+//! # Open meshes (our construction, beyond the report)
+//! The report treats closed meshes only. On an open mesh every boundary loop
+//! is refined by the 4-point curve rule with the surface's tension, and only
+//! the moved images of boundary vertices change; every other point is the
+//! report's rule. The boundary vertices stay, like all old vertices.
+//!
+//! 1. **Corners cut the loops into pieces.** A boundary vertex in one face
+//!    (valence 2) is a corner. Each boundary loop is cut at its corners into
+//!    open pieces (a loop without corners stays a closed polygon).
+//! 2. **Boundary edge points: the 4-point rule along the piece** (Dyn, Levin &
+//!    Gregory 1987; Deng & Ma §3.1 step 4 and §3.1.1 with the sign of ERRATA
+//!    D1): the new point of a boundary edge PᵢPᵢ₊₁ is
+//!    ½(Pᵢ + Pᵢ₊₁) + ωᵢ(Pᵢ₊₁ − Pᵢ₋₁) + ωᵢ₊₁(Pᵢ − Pᵢ₊₂), the curve tension
+//!    ωᵢ = ω_P/16 (ERRATA D4). At a piece end P₀ (a corner) the missing
+//!    neighbour is the linear phantom P₋₁ = 2P₀ − P₁, the open end rule of
+//!    [`crate::curves::four_point`]. The point depends on the piece's
+//!    vertices only, so the boundary of the level-k surface is the boundary
+//!    polygon refined k times by the curve rule.
+//! 3. **Moved images of a boundary vertex.** For P on the boundary with
+//!    boundary neighbours P₋, P₊, the centre G is not the centroid of its
+//!    images in its faces (the fan is open: that centroid lies inside the
+//!    surface), but the centre the curve scheme uses, the centroid of P's two
+//!    Chaikin images ¾P + ¼P₋ and ¾P + ¼P₊ on the boundary polygon:
+//!    G = (P₋ + 6P + P₊)/8 ([`boundary_centre`]). At a corner both pieces end
+//!    at P and the phantom stands for the missing neighbour, which gives
+//!    G = (2P − P₊ + 6P + P₊)/8 = P. The moved images are Q̄ᵢ = P + ω_P(Qᵢ − G)
+//!    in every face of P ([`moved_images_about`]); the face points of faces at
+//!    the boundary and the edge points of interior edges with a boundary end
+//!    are the report's centroids of these moved images.
+//!
+//! **Why this G.** (a) It is the curve's own: the 4-point scheme is derived
+//! (§3.1) from the moved Chaikin points P + ω_P(c± − G) with G their centroid,
+//! and the boundary edge point of step 2 is the mean of the two curve moved
+//! images of its ends with exactly this G. A boundary vertex has one centre
+//! for its curve images and its face images. (b) On a regular quad grid it is
+//! the report's closed rule on the grid extended across the boundary by one
+//! ring of ghost vertices, linearly extrapolated (P(i, −1) = 2P(i, 0) − P(i, 1);
+//! corner ghosts extrapolated in both directions): the images around a vertex
+//! are tensor products cₛ ⊗ c_t of Chaikin points, so their centroid is m ⊗ m
+//! with m = (P₋ + 6P + P₊)/8 in each direction; across the boundary the ghost
+//! gives m = (2P₀ − P₁ + 6P₀ + P₁)/8 = P₀, hence G = (P₋ + 6P + P₊)/8 along
+//! the boundary, and G = P at a corner. Across a boundary edge the two ghost
+//! images average with the real ones to the boundary row's Chaikin points, so
+//! the ghost grid's boundary edge point is step 2's 4-point point. This holds
+//! for any data (test `open_grid_is_the_closed_rule_on_a_ghost_extended_grid`),
+//! and where the report's rule on a regular grid is the tensor product of
+//! 4-point rules — data additive over the grid, P(i, j) = Aᵢ + Bⱼ, e.g. a
+//! planar grid with arbitrary row and column spacing plus heights aᵢ + bⱼ —
+//! the open rule is the tensor product of the open 4-point rules with their
+//! phantom ends, up to the boundary. (c) Only boundary data enters G, so the
+//! boundary rule of step 2 and the moved images agree without the curve
+//! seeing the interior.
+//!
+//! **Smoothness.** At a piece end the 4-point rule with the linear phantom has
+//! the local subdivision matrix (P₀, P₁, P₂, P₃ → P₀, edge point, P₁, edge
+//! point) with eigenvalues 1, ½, 2ω and −ω (⅛ and −1/16 for ω = 1/16): for
+//! every ω ∈ (0, 1/8) a simple subdominant ½ with a linear eigenvector, so the
+//! curve is C¹ up to the corner and reaches it with a tangent. Next to the
+//! boundary the surface is measured, not proved
+//! (`crates/interp/tests/deng_ma.rs`, `smoothness_next_to_the_boundary`): with
+//! ω = 1 the max dihedral angle between faces at the boundary shrinks by
+//! 0.56-0.74 per level on the open fixtures, as inside, where a crease along
+//! the boundary would keep it constant. The report's own G, the centroid of
+//! the open fan's images, fails this: its offsets all point into the surface
+//! and fold it over at the boundary (dihedral angles near 180° at every level
+//! on the Nefertiti scan).
+//!
+//! **Variable tension.** A boundary vertex plays two roles. As a vertex of the
+//! boundary curve its tension may depend on the boundary only (step 2): we
+//! apply §3.4 to the boundary polygon seen as a 1-D mesh — its edges are the
+//! faces and the Chaikin points the Doo-Sabin images (Chaikin's scheme is
+//! the 1-D Doo-Sabin), m = 2 so max(m, 4) = 4 — which gives
+//! ω_P = min{1, 2λ·min(‖P₋ − P‖, ‖P₊ − P‖)/‖P₊ − P₋‖}, and λ at a corner (with
+//! the phantom the spread is a quarter of the reach for any edge length)
+//! ([`curve_omega`]); the curve tension is ω_P/16. Then every boundary edge
+//! point satisfies d_E ≤ ωᵢ‖Pᵢ₊₁ − Pᵢ₋₁‖ + ωᵢ₊₁‖Pᵢ₊₂ − Pᵢ‖ ≤ (λ/4)‖Pᵢ − Pᵢ₊₁‖,
+//! the interior edges' C = λ/4. As the centre of moved images in its faces
+//! the vertex takes ω_P = min(curve ω_P, §3.4 over its faces about the G of
+//! step 3) ([`Tension::boundary_omega`]): the surface is never tenser than its
+//! boundary there, and each moved image keeps ω_P‖Qᵢ − G‖ ≤ (λ/4)·(shorter
+//! edge of face i at P), so every interior edge point keeps d_E ≤ (λ/4)‖P₁ −
+//! P₂‖ next to the boundary too.
 
 use crate::constants::DEFAULT_DENG_MA_OMEGA;
-use crate::vec3::{add, centroid, dist, scale, sub, Point3};
+use crate::doo_sabin::BOUNDARY_EDGE_POINT;
+use crate::vec3::{add, centroid, dist, lin2, scale, sub, Point3};
+
+/// The 4-point tension ω that corresponds to the surface tension ω_P = 1:
+/// ω = ω_P/16 (ERRATA D4).
+pub const CURVE_TENSION_PER_OMEGA: f64 = 1.0 / 16.0;
+
+/// Weights `[P₋, P, P₊]` of the centre G of a boundary vertex P in two or
+/// more faces (module docs, "Open meshes", step 3): the mean of P's Chaikin
+/// images ¾P + ¼P₋ and ¾P + ¼P₊ on the boundary polygon, (P₋ + 6P + P₊)/8 —
+/// the same weights as the Doo-Sabin boundary curve point.
+pub const BOUNDARY_CENTRE: [f64; 3] =
+    [BOUNDARY_EDGE_POINT.far / 2.0, BOUNDARY_EDGE_POINT.near, BOUNDARY_EDGE_POINT.far / 2.0];
 
 /// The tension of the Deng-Ma scheme.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,6 +168,80 @@ impl Tension {
             Self::Variable { lambda } => variable_omega(p, ring, images, lambda),
         }
     }
+
+    /// The 4-point tension of boundary vertex P on its boundary curve
+    /// (module docs, "Open meshes"): ω/16 with the global ω, [`curve_omega`]/16
+    /// with the variable one (ERRATA D4). `neighbours` as in
+    /// [`boundary_centre`] (`None` at a corner).
+    pub fn curve_tension(&self, p: Point3, neighbours: Option<(Point3, Point3)>) -> f64 {
+        CURVE_TENSION_PER_OMEGA
+            * match *self {
+                Self::Global(omega) => omega,
+                Self::Variable { lambda } => curve_omega(p, neighbours, lambda),
+            }
+    }
+
+    /// ω_P of the moved images of boundary vertex P in its faces: the global
+    /// ω, or min([`curve_omega`], [`variable_omega_about`] about `g`), g the
+    /// vertex's [`boundary_centre`] (module docs, "Variable tension" under
+    /// "Open meshes"). `ring` and `images` as in [`variable_omega`] (open fan:
+    /// one more neighbour than images).
+    pub fn boundary_omega(
+        &self,
+        p: Point3,
+        neighbours: Option<(Point3, Point3)>,
+        ring: &[Point3],
+        images: &[Point3],
+        g: Point3,
+    ) -> f64 {
+        match *self {
+            Self::Global(omega) => omega,
+            Self::Variable { lambda } => {
+                curve_omega(p, neighbours, lambda).min(variable_omega_about(p, ring, images, g, lambda))
+            }
+        }
+    }
+}
+
+/// The centre G of boundary vertex P (module docs, "Open meshes", step 3):
+/// (P₋ + 6P + P₊)/8 with `neighbours = Some((P₋, P₊))`, its previous and next
+/// neighbours along the boundary loop; P itself at a corner (`None`: P lies
+/// in one face, and both boundary pieces end at it).
+///
+/// ```
+/// use subdiv_rules::deng_ma::boundary_centre;
+/// let (prev, p, next) = ([-1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [1.0, 0.0, 0.8]);
+/// assert_eq!(boundary_centre(p, Some((prev, next))), [0.0, 0.0, 0.1]);
+/// assert_eq!(boundary_centre(p, None), p);
+/// ```
+pub fn boundary_centre(p: Point3, neighbours: Option<(Point3, Point3)>) -> Point3 {
+    match neighbours {
+        None => p, // both pieces end at P: G = (2P − P₊ + 6P + P₊)/8 = P
+        Some((prev, next)) => {
+            let [w_prev, w_p, w_next] = BOUNDARY_CENTRE;
+            add(lin2(w_prev, prev, w_p, p), scale(next, w_next)) // G = ½(¾P + ¼P₋ + ¾P + ¼P₊)
+        }
+    }
+}
+
+/// ω_P of boundary vertex P as a vertex of its boundary curve: §3.4 applied
+/// to the boundary polygon as a 1-D mesh, its edges as faces and P's two
+/// Chaikin images as the Doo-Sabin images (module docs, "Variable tension"
+/// under "Open meshes"):
+/// ω_P = min{1, 2λ·min(‖P₋ − P‖, ‖P₊ − P‖)/‖P₊ − P₋‖}, or λ at a corner
+/// (`neighbours = None`). It reads the boundary only.
+pub fn curve_omega(p: Point3, neighbours: Option<(Point3, Point3)>, lambda: f64) -> f64 {
+    let Some((prev, next)) = neighbours else {
+        // A piece end with the phantom 2P − P₊: reach ‖P₊ − P‖, spread ‖P₊ − P‖/4.
+        return lambda.min(1.0);
+    };
+    // Chaikin images ¾P + ¼P±: their spread about G is ‖P₊ − P₋‖/8.
+    let spread = dist(next, prev) / 8.0;
+    if spread == 0.0 {
+        return 1.0; // Qᵢ = G: no constraint (as in variable_omega)
+    }
+    let reach = dist(prev, p).min(dist(next, p));
+    (lambda / 4.0 * reach / spread).min(1.0) // §3.4 with m = 2: max(m, 4) = 4
 }
 
 /// The variable tension ω_P of §3.4 (formula in the module docs, indices as
@@ -88,10 +257,22 @@ impl Tension {
 /// # Panics
 /// If `images` is empty or `ring` has neither length.
 pub fn variable_omega(p: Point3, ring: &[Point3], images: &[Point3], lambda: f64) -> f64 {
+    assert!(!images.is_empty(), "a vertex with no faces");
+    variable_omega_about(p, ring, images, centroid(images), lambda)
+}
+
+/// [`variable_omega`] with the spreads ‖Qᵢ − G‖ measured about a given centre
+/// `g` instead of the images' centroid: the §3.4 formula for moved images
+/// Q̄ᵢ = P + ω_P(Qᵢ − g), such as those of a boundary vertex about its
+/// [`boundary_centre`]. Each moved image then satisfies
+/// ω_P‖Qᵢ − g‖ ≤ λ/4 · min(‖Pᵢ − P‖, ‖Pᵢ₊₁ − P‖).
+///
+/// # Panics
+/// As [`variable_omega`].
+pub fn variable_omega_about(p: Point3, ring: &[Point3], images: &[Point3], g: Point3, lambda: f64) -> f64 {
     let m = images.len();
     assert!(m > 0, "a vertex with no faces");
     assert!(ring.len() == m || ring.len() == m + 1, "{} neighbours do not fit {m} faces", ring.len());
-    let g = centroid(images);
     let mut ratio = f64::INFINITY;
     for (i, &q) in images.iter().enumerate() {
         let spread = dist(q, g);
@@ -122,8 +303,17 @@ pub fn variable_omega(p: Point3, ring: &[Point3], images: &[Point3], lambda: f64
 /// # Panics
 /// If `images` is empty or `out.len() != images.len()`.
 pub fn moved_images(p: Point3, images: &[Point3], omega: f64, out: &mut [Point3]) {
+    moved_images_about(p, images, centroid(images), omega, out); // §3.3: G = (Q_1 + … + Q_m)/m
+}
+
+/// Writes the moved vertices Q̄ᵢ = P + ω(Qᵢ − g) about a given centre `g`:
+/// [`moved_images`] with g = G, or a boundary vertex's images about its
+/// [`boundary_centre`] (module docs, "Open meshes").
+///
+/// # Panics
+/// If `out.len() != images.len()`.
+pub fn moved_images_about(p: Point3, images: &[Point3], g: Point3, omega: f64, out: &mut [Point3]) {
     assert_eq!(out.len(), images.len(), "one moved vertex per image");
-    let g = centroid(images); // §3.3: G = (Q_1 + … + Q_m)/m
     for (o, &q) in out.iter_mut().zip(images) {
         *o = add(p, scale(sub(q, g), omega)); // §3.3 (D2): Q̄_i = P + ω_P(Q_i − G)
     }

@@ -209,3 +209,265 @@ fn displacement_ratios_by_hand() {
     assert!(!bound.face_ok([0.5, 0.5, 0.3], &square));
     assert_eq!(lin2(0.5, p1, 0.5, p2), [1.0, 0.0, 0.0]);
 }
+
+// ---- open meshes (our construction, module docs "Open meshes") ----------------
+
+/// P's two Chaikin images on the boundary polygon, ¾P + ¼P₋ and ¾P + ¼P₊.
+fn chaikin_images(prev: Point3, p: Point3, next: Point3) -> [Point3; 2] {
+    [lin2(0.75, p, 0.25, prev), lin2(0.75, p, 0.25, next)]
+}
+
+#[test]
+fn boundary_centre_is_the_mean_of_the_chaikin_images() {
+    let mut rng = Rng::new(45);
+    for _ in 0..100 {
+        let (prev, p, next) = (rng.point(3.0), rng.point(3.0), rng.point(3.0));
+        let g = boundary_centre(p, Some((prev, next)));
+        assert!(dist(g, centroid(&chaikin_images(prev, p, next))) < 1e-15);
+        assert!(dist(g, combine(&crate::doo_sabin::BOUNDARY_CURVE_POINT, &[prev, p, next])) < 1e-15);
+        // A corner ends both pieces: with the phantom 2P − P₊ the mean is P.
+        let phantom = lin2(2.0, p, -1.0, next);
+        assert!(dist(centroid(&chaikin_images(phantom, p, next)), p) < 1e-14);
+        assert_eq!(boundary_centre(p, None), p);
+    }
+}
+
+#[test]
+fn curve_omega_is_section_3_4_on_the_boundary_polygon() {
+    // The boundary polygon as a 1-D mesh: P's two "faces" are its two edges,
+    // its Doo-Sabin images the Chaikin points; §3.4 (variable_omega) on that
+    // fan is curve_omega. Scales vary so that the cap at 1 is both active and not.
+    let mut rng = Rng::new(46);
+    let mut capped = 0;
+    for k in 0..400 {
+        let (p, lambda) = (rng.point(1.0), rng.range(0.05, 1.0));
+        let prev = add(p, scale(rng.point(1.0), rng.range(0.1, 3.0)));
+        let next = add(p, scale(rng.point(1.0), if k % 2 == 0 { rng.range(0.1, 3.0) } else { 1e-3 }));
+        let images = chaikin_images(prev, p, next);
+        let expected = variable_omega(p, &[prev, next], &images, lambda);
+        let got = curve_omega(p, Some((prev, next)), lambda);
+        // (variable_omega measures the spread from rounded Chaikin points.)
+        assert!((got - expected).abs() <= 1e-12 * expected, "{got} vs {expected}");
+        capped += usize::from(got == 1.0);
+        // At a corner the piece is extended by the phantom 2P − P₊.
+        let phantom = lin2(2.0, p, -1.0, next);
+        let at_end = variable_omega(p, &[phantom, next], &chaikin_images(phantom, p, next), lambda);
+        // (The phantom loses digits when P₊ is close to P: 1e-3 apart here.)
+        assert!((curve_omega(p, None, lambda) - at_end).abs() <= 1e-11 * lambda, "corner: {at_end} vs λ = {lambda}");
+        // The 4-point tension is ω_P/16 (ERRATA D4), global or variable.
+        let variable = Tension::Variable { lambda };
+        assert_eq!(variable.curve_tension(p, Some((prev, next))), got / 16.0);
+        assert_eq!(Tension::Global(lambda).curve_tension(p, None), lambda / 16.0);
+    }
+    assert!(capped > 0 && capped < 400, "the cap at ω_P = 1 is active {capped} times of 400");
+}
+
+/// General (not additive) data on the quarter grid i, j ≥ 0, extended by one
+/// ring of ghosts at i = −1 and j = −1 by linear extrapolation, the corner
+/// ghost extrapolated in both directions (the tensor product).
+struct GhostGrid {
+    real: Vec<Vec<Point3>>,
+}
+
+impl GhostGrid {
+    const SIZE: i32 = 5;
+    fn at(&self, i: i32, j: i32) -> Point3 {
+        match (i, j) {
+            (-1, _) => lin2(2.0, self.at(0, j), -1.0, self.at(1, j)),
+            (_, -1) => lin2(2.0, self.at(i, 0), -1.0, self.at(i, 1)),
+            _ => self.real[i as usize][j as usize],
+        }
+    }
+    fn real_cell((ci, cj): (i32, i32)) -> bool {
+        ci >= 0 && cj >= 0
+    }
+    /// Doo-Sabin image of (i, j) in the cell with lower-left corner (ci, cj).
+    fn image(&self, (i, j): (i32, i32), (ci, cj): (i32, i32)) -> Point3 {
+        let corners = [(ci, cj), (ci + 1, cj), (ci + 1, cj + 1), (ci, cj + 1)];
+        let start = corners.iter().position(|&c| c == (i, j)).expect("corner of the cell");
+        let mut w = [0.0; 4];
+        doo_sabin_weights(4, &mut w);
+        let pts: Vec<Point3> =
+            (0..4).map(|k| self.at(corners[(start + k) % 4].0, corners[(start + k) % 4].1)).collect();
+        combine(&w, &pts)
+    }
+    /// The report's closed rule at (i, j) on the extended grid: moved image in `cell`.
+    fn closed_moved(&self, v: (i32, i32), cell: (i32, i32), omega: f64) -> Point3 {
+        let cells = Grid::cells(v.0, v.1);
+        let images: Vec<Point3> = cells.iter().map(|&c| self.image(v, c)).collect();
+        let mut moved = [[0.0; 3]; 4];
+        moved_images(self.at(v.0, v.1), &images, omega, &mut moved);
+        moved[cells.iter().position(|&c| c == cell).unwrap()]
+    }
+    /// The open rule at boundary vertex v (i = 0 or j = 0): its real cells and
+    /// their moved images about the boundary centre.
+    fn open_moved(&self, (i, j): (i32, i32), omega: f64) -> Vec<((i32, i32), Point3)> {
+        let cells: Vec<(i32, i32)> = Grid::cells(i, j).into_iter().filter(|&c| Self::real_cell(c)).collect();
+        let neighbours = match (i, j) {
+            (0, 0) => None,
+            (0, _) => Some((self.at(0, j - 1), self.at(0, j + 1))),
+            _ => Some((self.at(i - 1, 0), self.at(i + 1, 0))),
+        };
+        let p = self.at(i, j);
+        let g = boundary_centre(p, neighbours);
+        let images: Vec<Point3> = cells.iter().map(|&c| self.image((i, j), c)).collect();
+        let mut moved = vec![[0.0; 3]; cells.len()];
+        moved_images_about(p, &images, g, omega, &mut moved);
+        cells.into_iter().zip(moved).collect()
+    }
+}
+
+#[test]
+fn open_grid_is_the_closed_rule_on_a_ghost_extended_grid() {
+    // Module docs, "Why this G" (b): on a regular quad grid the open rule is
+    // the report's closed rule on the grid extended by linearly extrapolated
+    // ghosts, for any data — the moved images of the boundary vertices in the
+    // real cells (hence every face and interior edge point), and the boundary
+    // edge points (the 4-point rule along the boundary, phantom at the corner).
+    let mut rng = Rng::new(47);
+    for _ in 0..10 {
+        let n = GhostGrid::SIZE as usize;
+        let grid = GhostGrid { real: (0..n).map(|_| rng.points(n, 1.0)).collect() };
+        for omega in [1.0, 0.5, 0.2] {
+            let mut worst: f64 = 0.0;
+            let boundary: Vec<(i32, i32)> = (0..4).map(|i| (i, 0)).chain((1..4).map(|j| (0, j))).collect();
+            for &v in &boundary {
+                for (cell, open) in grid.open_moved(v, omega) {
+                    worst = worst.max(dist(open, grid.closed_moved(v, cell, omega)));
+                }
+            }
+            assert!(worst < 1e-14, "ω = {omega}: moved images differ by {worst:e}");
+            // Boundary edge (i, 0)–(i + 1, 0): the ghost grid's E-face centroid
+            // is the 4-point point of the boundary row (phantom before the corner).
+            let row: Vec<Point3> = (0..n as i32).map(|i| grid.at(i, 0)).collect();
+            let curve = four_point(&row, false, omega / 16.0);
+            for i in 0..3 {
+                let four: Vec<Point3> = [(i, 0), (i, -1)]
+                    .iter()
+                    .flat_map(|&c| [grid.closed_moved((i, 0), c, omega), grid.closed_moved((i + 1, 0), c, omega)])
+                    .collect();
+                let e = dist(centroid(&four), curve[2 * i as usize + 1]);
+                assert!(e < 1e-14, "ω = {omega}, edge {i}: {e:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_centroid_centre_at_the_boundary_breaks_the_ghost_equivalence() {
+    // The check above can fail: the report's G (the centroid of the images in
+    // the real cells only) moves the images of boundary vertices off the ghost
+    // grid's.
+    let mut rng = Rng::new(48);
+    let n = GhostGrid::SIZE as usize;
+    let grid = GhostGrid { real: (0..n).map(|_| rng.points(n, 1.0)).collect() };
+    let v = (2, 0);
+    let cells = [(2, 0), (1, 0)];
+    let images: Vec<Point3> = cells.iter().map(|&c| grid.image(v, c)).collect();
+    let mut moved = [[0.0; 3]; 2];
+    moved_images(grid.at(2, 0), &images, 1.0, &mut moved);
+    let gap = dist(moved[0], grid.closed_moved(v, cells[0], 1.0));
+    assert!(gap > 1e-3, "{gap}");
+}
+
+#[test]
+fn variable_tension_is_displacement_safe_at_the_boundary() {
+    // Module docs, "Variable tension" under "Open meshes": boundary edge
+    // points (4-point rule with curve tensions, phantoms at the corners) and
+    // interior edge points next to the boundary both keep d_E ≤ (λ/4)·length.
+    // Jittered open grid of quads, 8×8 vertices, random heights, all four
+    // corners.
+    let mut rng = Rng::new(49);
+    let size = 8i32;
+    for lambda in [0.2, 0.6, 1.0] {
+        let pos: Vec<Vec<Point3>> = (0..size)
+            .map(|i| {
+                (0..size)
+                    .map(|j| [i as f64 + rng.range(-0.4, 0.4), j as f64 + rng.range(-0.4, 0.4), rng.range(-1.5, 1.5)])
+                    .collect()
+            })
+            .collect();
+        let at = |(i, j): (i32, i32)| pos[i as usize][j as usize];
+        let on_boundary = |(i, j): (i32, i32)| i == 0 || j == 0 || i == size - 1 || j == size - 1;
+        // The boundary loop, counter-clockwise from (0, 0).
+        let mut walk: Vec<(i32, i32)> = (0..size - 1).map(|i| (i, 0)).collect();
+        walk.extend((0..size - 1).map(|j| (size - 1, j)));
+        walk.extend((0..size - 1).map(|i| (size - 1 - i, size - 1)));
+        walk.extend((0..size - 1).map(|j| (0, size - 1 - j)));
+        let n = walk.len();
+        let is_corner = |v: (i32, i32)| (v.0 == 0 || v.0 == size - 1) && (v.1 == 0 || v.1 == size - 1);
+        let neighbours = |k: usize| {
+            let v = walk[k];
+            (!is_corner(v)).then(|| (at(walk[(k + n - 1) % n]), at(walk[(k + 1) % n])))
+        };
+        let tension = Tension::Variable { lambda };
+        let mut worst: f64 = 0.0;
+        // Boundary edges: ½(Pᵢ + Pᵢ₊₁) + ωᵢ(Pᵢ₊₁ − Pᵢ₋₁) + ωᵢ₊₁(Pᵢ − Pᵢ₊₂).
+        for k in 0..n {
+            let (a, b) = (walk[k], walk[(k + 1) % n]);
+            let before = if is_corner(a) { lin2(2.0, at(a), -1.0, at(b)) } else { at(walk[(k + n - 1) % n]) };
+            let after = if is_corner(b) { lin2(2.0, at(b), -1.0, at(a)) } else { at(walk[(k + 2) % n]) };
+            let (wa, wb) =
+                (tension.curve_tension(at(a), neighbours(k)), tension.curve_tension(at(b), neighbours((k + 1) % n)));
+            let e = add(lin2(0.5, at(a), 0.5, at(b)), lin2(wa, sub(at(b), before), wb, sub(at(a), after)));
+            let ratio = edge_displacement_ratio(e, at(a), at(b));
+            assert!(ratio <= lambda / 4.0 + 1e-12, "λ = {lambda}, boundary edge {k}: {ratio}");
+            worst = worst.max(ratio);
+        }
+        // Moved images of every vertex, keyed by (vertex, cell).
+        let mut moved = std::collections::HashMap::new();
+        for i in 0..size {
+            for j in 0..size {
+                let v = (i, j);
+                // Fan order: cell k lies between ring[k] and ring[k + 1]; an open
+                // fan starts after its gap.
+                let exists = |(ci, cj): (i32, i32)| ci >= 0 && cj >= 0 && ci < size - 1 && cj < size - 1;
+                let all = Grid::cells(i, j);
+                let around = [(i + 1, j), (i, j + 1), (i - 1, j), (i, j - 1)];
+                let start = (0..4).find(|&k| exists(all[k]) && !exists(all[(k + 3) % 4])).unwrap_or(0);
+                let cells: Vec<(i32, i32)> = (0..4).map(|k| all[(start + k) % 4]).take_while(|&c| exists(c)).collect();
+                let ring_len = if cells.len() == 4 { 4 } else { cells.len() + 1 };
+                let ring: Vec<Point3> = (0..ring_len).map(|k| at(around[(start + k) % 4])).collect();
+                let images: Vec<Point3> = cells
+                    .iter()
+                    .map(|&c| {
+                        let corners = [c, (c.0 + 1, c.1), (c.0 + 1, c.1 + 1), (c.0, c.1 + 1)];
+                        let s = corners.iter().position(|&x| x == v).unwrap();
+                        let mut w = [0.0; 4];
+                        doo_sabin_weights(4, &mut w);
+                        combine(&w, &(0..4).map(|k| at(corners[(s + k) % 4])).collect::<Vec<_>>())
+                    })
+                    .collect();
+                let (g, omega) = if on_boundary(v) {
+                    let k = walk.iter().position(|&x| x == v).unwrap();
+                    let g = boundary_centre(at(v), neighbours(k));
+                    (g, tension.boundary_omega(at(v), neighbours(k), &ring, &images, g))
+                } else {
+                    (centroid(&images), tension.omega(at(v), &ring, &images))
+                };
+                let mut out = vec![[0.0; 3]; cells.len()];
+                moved_images_about(at(v), &images, g, omega, &mut out);
+                for (c, q) in cells.iter().zip(out) {
+                    moved.insert((v, *c), q);
+                }
+            }
+        }
+        // Interior edges with a boundary end: horizontal (i, j)–(i+1, j), j ≥ 1, and vertical ones.
+        for i in 0..size - 1 {
+            for j in 1..size - 1 {
+                for (a, b, cells) in
+                    [((i, j), (i + 1, j), [(i, j), (i, j - 1)]), ((j, i), (j, i + 1), [(j, i), (j - 1, i)])]
+                {
+                    if !(on_boundary(a) || on_boundary(b)) {
+                        continue;
+                    }
+                    let four: Vec<Point3> = cells.iter().flat_map(|&c| [moved[&(a, c)], moved[&(b, c)]]).collect();
+                    let ratio = edge_displacement_ratio(centroid(&four), at(a), at(b));
+                    assert!(ratio <= lambda / 4.0 + 1e-12, "λ = {lambda}, edge {a:?}–{b:?}: {ratio}");
+                    worst = worst.max(ratio);
+                }
+            }
+        }
+        assert!(worst > 0.5 * lambda / 4.0, "λ = {lambda}: the bound is nearly reached ({worst})");
+    }
+}

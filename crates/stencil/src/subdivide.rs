@@ -16,7 +16,8 @@ pub enum Scheme {
     Loop(LoopBeta),
     /// Standard Doo-Sabin (any polygons).
     DooSabin,
-    /// Deng-Ma's interpolatory scheme (closed meshes), global or variable tension.
+    /// Deng-Ma's interpolatory scheme (any polygons, open or closed: 4-point
+    /// boundary curves), global or variable tension.
     DengMa(Tension),
 }
 
@@ -99,7 +100,6 @@ fn refine_level(current: &Topology, scheme: Scheme) -> Result<Refinement, Stenci
             Refinement { topology, stencil: Some(stencil?), dual: Some(dual) }
         }
         Scheme::DengMa(tension) => {
-            deng_ma::require_closed(current)?;
             deng_ma::check_tension(tension)?;
             // Evaluated geometrically even for a global ω: its matrix
             // (`deng_ma::stencil`) is dense-ish (every moved vertex
@@ -114,8 +114,9 @@ fn refine_level(current: &Topology, scheme: Scheme) -> Result<Refinement, Stenci
 fn step(level: &Refinement, scheme: Scheme, coarse: &Topology, positions: &[DVec3]) -> Vec<DVec3> {
     match (&level.stencil, scheme) {
         (Some(r), _) => apply(r, positions),
-        (None, Scheme::DengMa(tension)) => deng_ma::step_positions(coarse, positions, tension)
-            .expect("closedness and tension were checked when planning"),
+        (None, Scheme::DengMa(tension)) => {
+            deng_ma::step_positions(coarse, positions, tension).expect("the tension was checked when planning")
+        }
         (None, _) => unreachable!("only Deng-Ma has no stencil"),
     }
 }
@@ -135,8 +136,8 @@ fn limit_points_of(t: &Topology, scheme: Scheme, positions: &[DVec3]) -> Option<
 
 impl SubdivisionPlan {
     /// Plans `levels` steps of `scheme` on `t`. Fails when the scheme cannot
-    /// take the mesh (Loop on non-triangles, Deng-Ma on an open mesh), on a bad
-    /// parameter, or when the result would not fit `u32` ids.
+    /// take the mesh (Loop on non-triangles), on a bad parameter, or when the
+    /// result would not fit `u32` ids.
     pub fn new(t: &Topology, scheme: Scheme, levels: usize) -> Result<Self, StencilError> {
         let mut out: Vec<Refinement> = Vec::with_capacity(levels);
         for _ in 0..levels {
