@@ -65,7 +65,7 @@ fn save(ctx: &Ctx, table: &mut Table, name: &str, img: Image, caption: &str) -> 
 pub fn run(ctx: &Ctx) -> Result<Table> {
     let mut table = Table::new(
         "figures",
-        "Figures — input, control mesh and limit surface; parameter sweeps",
+        "Figures — input, control mesh and limit surface; parameter sweeps; Deng-Ma on open meshes",
         &["figure", "what it shows"],
     );
     table.setup = "Rendered headless by `xtask/src/render.rs` (software rasteriser, z-buffer, Lambert shading, \
@@ -135,6 +135,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         "Deng-Ma: the interpolatory scheme keeps the input vertices; the refined surface passes through them.",
     )?;
     let halftunnel = ctx.fixture("open/halftunnel.off")?;
+    let nefertiti = ctx.fixture("open/nefertiti_small.off")?;
+    save(ctx, &mut table, "fig-deng-ma-open.png", super::deng_ma_open::figure(&nefertiti, &halftunnel)?, "Beyond the paper: Deng-Ma on open meshes. Each boundary loop (orange) is refined by the 4-point rule with the surface's tension, the input vertices (red) stay, and the surface meets its boundary curve smoothly.")?;
     let r = fan_cheng_lai::interpolate(&halftunnel, &FanChengLaiOptions::default())?;
     save(ctx, &mut table, "fig-fan-cheng-lai-halftunnel.png", model_figure("Fan-Cheng-Lai on an open mesh (3 boundary loops, λ = ½)", &halftunnel, &r, "first refined mesh M¹", &View { pitch: 45.0, ..view })?, "Beyond the papers: two-phase Doo-Sabin interpolation of an open quad mesh; the boundary is the quadratic B-spline through the boundary data.")?;
 

@@ -16,6 +16,7 @@ mod cheng;
 mod common;
 mod convergence;
 mod deng;
+mod deng_ma_open;
 mod fan_cheng_lai;
 mod figures;
 mod meshes;
