@@ -5,6 +5,7 @@
 //! files (the mesh crate cannot depend on `subdiv-io`).
 #![allow(dead_code)] // each including test uses part of it
 
+use std::collections::HashSet;
 use subdiv_mesh::{newell_normal, DVec3, FaceId, Mesh, Triangulation};
 
 /// What the geometric checks covered.
@@ -14,15 +15,16 @@ pub struct Checked {
     pub split: usize,
     /// Of those, faces with a triangulation into triangles of the face's
     /// orientation — projected on the plane ⟂ the face's Newell vector,
-    /// every triangle has positive area — whose diagonals are not edges of
-    /// the input (found by exhausting all triangulations). The triangles made
-    /// of each such face were checked to be of that kind. For a simple
-    /// projection they tile the face without overlap (its winding number, 1
-    /// inside and 0 outside, is the sum of theirs).
+    /// every triangle has positive area — whose diagonals are neither edges
+    /// of the input nor diagonals of the triangles made of earlier faces
+    /// (found by exhausting all triangulations). The triangles made of each
+    /// such face were checked to be of that kind. For a simple projection
+    /// they tile the face without overlap (its winding number, 1 inside and 0
+    /// outside, is the sum of theirs).
     pub valid: usize,
     /// Of those, faces with no such triangulation (self-intersecting
-    /// projections, or every oriented split blocked by existing edges): only
-    /// the topology was checked.
+    /// projections, or every oriented split blocked by existing edges or
+    /// earlier diagonals): only the topology was checked.
     pub impossible: usize,
     /// Planar faces among `valid`: the triangles' 3D areas were checked to
     /// sum to the face's area.
@@ -147,8 +149,12 @@ pub fn check(input: &Mesh, tri: &Triangulation) -> Result<Checked, String> {
     }
     // Each face's triangles: its corners, in its cyclic order.
     let mut start = 0;
+    let mut earlier_diagonals: HashSet<(u32, u32)> = HashSet::new();
+    let pair = |a: u32, b: u32| (a.min(b), a.max(b));
     let mut checked = Checked { split, ..Checked::default() };
+    let mut pending = Vec::new();
     for f in t.face_ids() {
+        earlier_diagonals.extend(pending.drain(..));
         let face = t.face(f);
         let count = face.len() - 2;
         let tris: Vec<&[u32]> = (start..start + count).map(|k| r.face(FaceId(k as u32))).collect();
@@ -171,12 +177,24 @@ pub fn check(input: &Mesh, tri: &Triangulation) -> Result<Checked, String> {
                 return Err(format!("face {f} {face:?}: triangle {c:?} reverses the face's orientation"));
             }
         }
+        // This face's diagonals count for the faces after it.
+        for c in &tris {
+            for i in 0..3 {
+                let (a, b) = (c[i], c[(i + 1) % 3]);
+                let (ka, kb) = (corner_of(face, a).unwrap(), corner_of(face, b).unwrap());
+                if (ka + 1) % face.len() != kb && (kb + 1) % face.len() != ka {
+                    pending.push(pair(a, b));
+                }
+            }
+        }
         // Geometry in the plane ⟂ the Newell vector.
         let p: Vec<DVec3> = face.iter().map(|&v| input.positions()[v as usize]).collect();
         let Some(q) = project(&p) else { continue };
-        let input_edge =
-            |a: usize, b: usize| t.vertex_neighbors(subdiv_mesh::VertexId(face[a])).any(|w| w.0 == face[b]);
-        if !oriented_triangulation_exists(&q, &input_edge) {
+        let taken = |a: usize, b: usize| {
+            t.vertex_neighbors(subdiv_mesh::VertexId(face[a])).any(|w| w.0 == face[b])
+                || earlier_diagonals.contains(&pair(face[a], face[b]))
+        };
+        if !oriented_triangulation_exists(&q, &taken) {
             checked.impossible += 1;
             continue;
         }
