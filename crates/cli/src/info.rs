@@ -5,6 +5,7 @@ use anyhow::anyhow;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use subdiv_interp::Method;
 use subdiv_mesh::{diagnose, Mesh, Warning};
 
 /// Arguments of `subdiv info`.
@@ -45,6 +46,32 @@ struct Summary {
     problems: BTreeMap<&'static str, usize>,
     /// The first error that makes the mesh unusable, if any.
     error: Option<String>,
+    /// Per interpolation method: does it take this mesh, and if not, why
+    /// (`subdiv_interp::Method::check`, the check the method itself makes).
+    methods: BTreeMap<&'static str, MethodVerdict>,
+}
+
+/// Whether one interpolation method takes the mesh.
+#[derive(Serialize, Debug)]
+struct MethodVerdict {
+    accepts: bool,
+    reason: Option<String>,
+}
+
+/// Every method's verdict: from its own check on a valid mesh; "no" with the
+/// validation error for a mesh that is not a valid manifold.
+fn method_verdicts(mesh: Result<&Mesh, &str>) -> BTreeMap<&'static str, MethodVerdict> {
+    Method::ALL
+        .into_iter()
+        .map(|m| {
+            let verdict = match mesh.map(|mesh| m.check(mesh)) {
+                Ok(Ok(())) => MethodVerdict { accepts: true, reason: None },
+                Ok(Err(reason)) => MethodVerdict { accepts: false, reason: Some(reason) },
+                Err(error) => MethodVerdict { accepts: false, reason: Some(format!("the mesh is not valid: {error}")) },
+            };
+            (m.name(), verdict)
+        })
+        .collect()
 }
 
 /// Runs `subdiv info`.
@@ -97,6 +124,7 @@ fn valid_summary(file: String, mesh: &Mesh, warnings: &[Warning]) -> Summary {
         warnings: warnings.iter().map(ToString::to_string).collect(),
         problems: BTreeMap::new(),
         error: None,
+        methods: method_verdicts(Ok(mesh)),
     }
 }
 
@@ -137,6 +165,7 @@ fn invalid_summary(file: String, soup: &subdiv_mesh::PolygonSoup) -> Summary {
         bbox_diagonal: d.bbox.map(|b| b.diagonal()),
         warnings,
         problems,
+        methods: method_verdicts(Err(&d.first_error.as_ref().map_or_else(|| "invalid".to_string(), |e| e.to_string()))),
         error: d.first_error.map(|e| e.to_string()),
     }
 }
@@ -180,5 +209,12 @@ fn print_text(s: &Summary) {
     }
     for w in &s.warnings {
         println!("warning:              {w}");
+    }
+    println!("interpolation methods:");
+    for (name, v) in Method::ALL.iter().filter_map(|m| s.methods.get(m.name()).map(|v| (m.name(), v))) {
+        match &v.reason {
+            None => println!("  {name:<14} accepts"),
+            Some(reason) => println!("  {name:<14} refuses: {reason}"),
+        }
     }
 }

@@ -7,16 +7,27 @@
 //!
 //! # Algorithm
 //! 1. Build A = D·S from the topology.
-//! 2. Check the two structural degeneracies (ERRATA C3): an interior vertex
-//!    of valence 2 makes A indefinite — progressive iteration diverges there,
-//!    so the iterative solvers refuse and `ldl`/`dense` are suggested; a closed
-//!    all-valence-3 bipartite component (the cube) makes A singular — the
-//!    solve goes ahead (consistent data are interpolated, with a warning that
-//!    the control mesh is not unique), and data outside A's range end with the
-//!    residual reached.
+//! 2. Check the two structural degeneracies (ERRATA C3):
+//!    - an interior vertex of valence 2 voids the appendix's proof that
+//!      spec(A) ⊂ (0, 1] (the term n(n − 3)/4·x² of the quadratic form is
+//!      negative for n = 2), and A may be indefinite. Measured (dense
+//!      eigenvalues, `subdiv-solve`'s tests): one valence-2 vertex between two
+//!      quads leaves A positive definite (λ_min ≈ 0.098 on a 24 × 16 torus),
+//!      two adjacent ones give one negative eigenvalue (≈ −0.023), the pillow
+//!      has −1/7. The automatic choice then solves with **MINRES** (needs S
+//!      symmetric only, `subdiv_solve::minres`); a requested solver that needs
+//!      A positive definite (PIA diverges there, CG breaks down) is refused
+//!      with the remedy; MINRES, GMRES, LDLᵀ and dense LU are used as asked;
+//!    - a closed all-valence-3 bipartite component (the cube) makes A
+//!      singular — the solve goes ahead (consistent data are interpolated,
+//!      with a warning that the control mesh is not unique), and data outside
+//!      A's range end with the residual reached.
 //! 3. Solve A·M̂ = P: the paper's progressive iteration M ← M + (P − A·M)
-//!    (`--solver pia`, Eq. 1-3; its M_{i+1} = M_i − L(M_i) form is the same
-//!    iteration, ERRATA C6) or, by default, conjugate gradients on S·M̂ = D⁻¹P.
+//!    (`Solver::Pia`, Eq. 1-3; its M_{i+1} = M_i − L(M_i) form is the same
+//!    iteration, ERRATA C6) or, by default, conjugate gradients on
+//!    S·M̂ = D⁻¹P (MINRES when step 2 found a valence-2 vertex; the boundary
+//!    and interior blocks of an open mesh each get their own choice,
+//!    `system.rs`).
 //!
 //! # Deviations from the paper
 //! - Stopping rule: max over vertices of |P − A·M| / d ≤ tol (SPEC §4).
@@ -24,9 +35,12 @@
 //!   rule, limit (p₋ + 4p + p₊)/6, corners stay; the boundary block is solved
 //!   first, then the interior (`system.rs`).
 //! - Default solver CG (Jacobi-preconditioned): the spectrum of A is
-//!   size-independent, so it needs a few tens of products where PIA needs hundreds.
+//!   size-independent, so it needs a few tens of products where PIA needs
+//!   hundreds. With valence-2 vertices MINRES, whose matvecs stay within
+//!   2× CG's on the same mesh without them (`subdiv-solve`'s `indefinite`
+//!   bench: 19 against 12 at 524k vertices).
 
-use crate::system::interpolate_on_input_topology;
+use crate::system::{interpolate_on_input_topology, AutoSolver};
 use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method, SolverChoice};
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
@@ -39,11 +53,6 @@ pub struct ChengOptions {
     pub common: CommonOptions,
 }
 
-/// Solvers that need A positive definite (they diverge or break down on an indefinite A).
-fn needs_definite(solver: SolverChoice) -> bool {
-    !matches!(solver, SolverChoice::Use(Solver::Ldl | Solver::Dense))
-}
-
 /// Interpolates the vertices of `mesh` with a Catmull-Clark limit surface.
 pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, InterpError> {
     let start = std::time::Instant::now();
@@ -51,24 +60,31 @@ pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, Inte
     let a = limit_matrix_catmull_clark(t);
     let setup = seconds_since(start);
     let mut warnings = Vec::new();
+    let mut auto = AutoSolver::from(Solver::Cg { jacobi: true });
     match catmull_clark_degeneracy(t) {
-        Some(Degeneracy::Indefinite { vertex }) if needs_definite(opts.common.solver) => {
-            return Err(InterpError::UnsupportedMesh {
-                method: "cheng",
-                reason: format!(
-                    "vertex {vertex} has valence 2, which makes the Catmull-Clark limit matrix indefinite \
-                     (progressive iteration diverges; ERRATA C3)"
-                ),
-                suggestion: "--solver ldl (solves indefinite systems) or a Doo-Sabin method: zheng-cai, fan-cheng-lai",
-            });
-        }
+        Some(Degeneracy::Indefinite { vertex }) => match opts.common.solver {
+            SolverChoice::Use(solver) if solver.needs_definite() => {
+                return Err(InterpError::UnsupportedMesh {
+                    method: "cheng",
+                    reason: format!(
+                        "vertex {vertex} has valence 2, which can make the Catmull-Clark limit matrix indefinite \
+                         (two adjacent valence-2 vertices do; ERRATA C3), and {solver} needs it positive definite"
+                    ),
+                    suggestion: format!(
+                        "the automatic solver choice, which takes MINRES here (Solver::Minres solves symmetric \
+                         indefinite systems), a direct solver (Solver::Ldl or Solver::Dense), or another method: {}",
+                        crate::preconditions::suggestion(mesh, Method::Cheng)
+                    ),
+                });
+            }
+            _ => auto.maybe_indefinite = true,
+        },
         Some(Degeneracy::Singular { vertex }) => warnings.push(format!(
             "the Catmull-Clark limit matrix is singular (the closed component of vertex {vertex} has only \
              valence-3 vertices and a bipartite vertex graph): the interpolating control mesh is not unique"
         )),
-        _ => {}
+        None => {}
     }
-    let default_solver = Solver::Cg { jacobi: true };
     interpolate_on_input_topology(
         Method::Cheng,
         mesh,
@@ -76,7 +92,7 @@ pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, Inte
         setup,
         ControlScheme::CatmullClark,
         &opts.common,
-        default_solver,
+        auto,
         warnings,
     )
     .map_err(|e| match (e, catmull_clark_degeneracy(t)) {
@@ -85,7 +101,7 @@ pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, Inte
             reason: "the Catmull-Clark limit matrix of this mesh is singular and the data are not in its range \
                      (no Catmull-Clark surface interpolates them)"
                 .into(),
-            suggestion: "a Doo-Sabin method: zheng-cai, fan-cheng-lai or nasri",
+            suggestion: crate::preconditions::suggestion(mesh, Method::Cheng),
             source,
         },
         (e, _) => e,

@@ -292,11 +292,8 @@ pub fn interpolate(mesh: &Mesh, opts: &DengWangOptions) -> Result<Interpolant, I
     }
     let interpolated = opts.common.interpolated(mesh.topology().vertex_count())?;
     let start = std::time::Instant::now();
-    let triangulation = triangulate(mesh).map_err(|e| InterpError::UnsupportedMesh {
-        method: "deng-wang",
-        reason: e.to_string(),
-        suggestion: "cheng, zheng-cai or fan-cheng-lai (any polygons)",
-    })?;
+    let triangulation =
+        triangulate(mesh).map_err(|e| crate::preconditions::unsupported(Method::DengWang, mesh, e.to_string()))?;
     let triangulate_seconds = seconds_since(start);
     let t = triangulation.mesh.topology();
     let mut warnings = Vec::new();

@@ -17,8 +17,9 @@ pub enum InterpError {
         method: &'static str,
         /// What is wrong with the mesh for this method.
         reason: String,
-        /// Methods that work instead.
-        suggestion: &'static str,
+        /// What works instead: the methods that take this mesh
+        /// ([`crate::accepting_methods`]), or another option.
+        suggestion: String,
     },
     /// A parameter is out of range or does not fit the mesh.
     #[error("invalid parameter: {0}")]
@@ -42,8 +43,9 @@ pub enum InterpError {
         method: &'static str,
         /// Why.
         reason: String,
-        /// Methods that work instead.
-        suggestion: &'static str,
+        /// What works instead: the methods that take this mesh
+        /// ([`crate::accepting_methods`]).
+        suggestion: String,
         /// The solver's error, with the residual reached.
         #[source]
         source: Box<SolveError>,

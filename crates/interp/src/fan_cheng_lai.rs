@@ -23,12 +23,16 @@
 //! - Open meshes (beyond the paper): boundary vertices' limit points lie on
 //!   the quadratic B-spline boundary ((B₋ + 6V + B₊)/8 of M̂, the midpoint of
 //!   their two Chaikin points in M¹); the boundary block is solved first.
-//! - Interior valence-2 vertices are refused (digon V-faces).
+//! - Interior vertices of valence 2 (beyond the paper): no V-face after
+//!   phase one (it would be a digon); their limit point is the centroid of
+//!   the second-level E-face of the edge between their two phase-one images,
+//!   which is their row of B (`subdiv_stencil::doo_sabin::valence_two_corners`).
+//!   Progressive iteration still applies (B is then not of the symmetric
+//!   form, which only the accelerated symmetric solvers need).
 
 use crate::system::solve_limit_system;
 use crate::{
-    nasri::require_no_digons, seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation,
-    Method, SolverChoice,
+    seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, SolverChoice,
 };
 use subdiv_mesh::refine::dual_split;
 use subdiv_mesh::Mesh;
@@ -62,7 +66,6 @@ pub struct FanChengLaiOptions {
 
 /// Interpolates the vertices of `mesh` with a two-phase Doo-Sabin surface.
 pub fn interpolate(mesh: &Mesh, opts: &FanChengLaiOptions) -> Result<Interpolant, InterpError> {
-    require_no_digons("fan-cheng-lai", mesh)?;
     let start = std::time::Instant::now();
     let t = mesh.topology();
     let rule = match &opts.shape {

@@ -52,11 +52,18 @@ pub enum LimitAssociation {
     /// face `v_face[i]` (a Doo-Sabin limit point at every level); boundary
     /// vertex i ↦ the midpoint of its two Chaikin points `boundary_pair[i]`
     /// (the quadratic B-spline boundary's point).
+    ///
+    /// An interior vertex i of valence 2 has no V-face; it ↦ the limit point
+    /// of the edge `valence_two[i]` = (v₀, v₁) between its two images (the
+    /// centroid of that edge's E-face after one more plain step,
+    /// `subdiv_stencil::doo_sabin::edge_limit_point`).
     DualFace {
         /// The V-face of every input vertex in the control mesh.
         v_face: Vec<Option<FaceId>>,
         /// The two Chaikin points next to every boundary input vertex.
         boundary_pair: Vec<Option<(VertexId, VertexId)>>,
+        /// The two images of every interior valence-2 input vertex.
+        valence_two: Vec<Option<(VertexId, VertexId)>>,
     },
     /// The scheme interpolates: surface vertex i is input vertex i (Deng-Ma).
     Interpolatory,
@@ -84,8 +91,29 @@ impl LimitAssociation {
             .vertices()
             .map(|v| (t.is_boundary_vertex(v) && !t.is_isolated(v)).then(|| chaikin_pair(t, prov, v)))
             .collect();
-        LimitAssociation::DualFace { v_face: prov.vertex_face.clone(), boundary_pair }
+        LimitAssociation::DualFace {
+            v_face: prov.vertex_face.clone(),
+            boundary_pair,
+            valence_two: valence_two_images(t),
+        }
     }
+}
+
+/// The two images (v₀, v₁) of every interior valence-2 vertex in the first
+/// refined mesh of `dual_split(t)`: the vertices of its two corners.
+pub(crate) fn valence_two_images(t: &subdiv_mesh::Topology) -> Vec<Option<(VertexId, VertexId)>> {
+    t.vertices()
+        .map(|v| doo_sabin::valence_two_corners(t, v).map(|c| (VertexId(c[0].0 .0), VertexId(c[1].0 .0))))
+        .collect()
+}
+
+/// The limit point of the control-mesh edge a → b, a half-edge of a's fan
+/// (`None` if there is none: the control mesh is not what the association
+/// was made for).
+fn edge_limit(c: &Mesh, a: VertexId, b: VertexId) -> Option<DVec3> {
+    let t = c.topology();
+    let h = *t.vertex_fan(a).iter().find(|&&h| t.he_to(h) == b)?;
+    Some(doo_sabin::edge_limit_point(t, h, c.positions()))
 }
 
 /// How the solve went.
@@ -154,11 +182,12 @@ impl Interpolant {
         let t = c.topology();
         match (&self.association, self.scheme) {
             (LimitAssociation::Interpolatory, _) => c.positions()[..input_vertices].to_vec(),
-            (LimitAssociation::DualFace { v_face, boundary_pair }, _) => (0..input_vertices)
-                .map(|i| match (v_face[i], boundary_pair[i]) {
-                    (_, Some((a, b))) => (c.position(a) + c.position(b)) / 2.0,
-                    (Some(f), None) => c.face_centroid(f),
-                    (None, None) => c.positions().get(i).copied().unwrap_or(DVec3::NAN),
+            (LimitAssociation::DualFace { v_face, boundary_pair, valence_two }, _) => (0..input_vertices)
+                .map(|i| match (v_face[i], boundary_pair[i], valence_two[i]) {
+                    (_, Some((a, b)), _) => (c.position(a) + c.position(b)) / 2.0,
+                    (Some(f), None, _) => c.face_centroid(f),
+                    (None, None, Some((a, b))) => edge_limit(c, a, b).unwrap_or(DVec3::NAN),
+                    (None, None, None) => c.positions().get(i).copied().unwrap_or(DVec3::NAN),
                 })
                 .collect(),
             (LimitAssociation::ControlVertex, scheme) => {

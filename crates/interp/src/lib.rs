@@ -36,6 +36,7 @@ pub mod fan_cheng_lai;
 mod interpolant;
 pub mod nasri;
 mod options;
+pub mod preconditions;
 mod system;
 pub mod verify;
 pub mod zheng_cai;
@@ -48,6 +49,7 @@ pub use fan_cheng_lai::{FanChengLaiOptions, Shape};
 pub use interpolant::{ControlScheme, ErrorStats, Interpolant, LimitAssociation, SolveSummary};
 pub use nasri::NasriOptions;
 pub use options::{CommonOptions, SolverChoice, DEFAULT_MAX_ITER, DEFAULT_TOL};
+pub use preconditions::accepting_methods;
 pub use zheng_cai::ZhengCaiOptions;
 
 /// The six methods.

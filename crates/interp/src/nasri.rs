@@ -18,8 +18,13 @@
 //!   meshes (ERRATA Z8), which the tests check on every fixture.
 //! - Open meshes (beyond the paper): boundary vertices' limit points lie on
 //!   the quadratic B-spline boundary, (B₋ + 6V + B₊)/8; that block is solved first.
-//! - Interior vertices of valence 2 are refused: their V-face is a digon,
-//!   whose centroid is not a limit point of our Doo-Sabin refinement.
+//! - Interior vertices of valence 2 (beyond the paper): their V-face would
+//!   be a digon, which the Doo-Sabin refinement leaves out; their row of C is
+//!   the centroid of the second-level E-face of the edge between their two
+//!   images (`subdiv_stencil::doo_sabin::valence_two_corners`). That row is
+//!   not of the symmetric Circ form, so with such vertices the interior
+//!   block is nonsymmetric and the automatic solver choice takes GMRES
+//!   instead of CG.
 
 use crate::system::interpolate_on_input_topology;
 use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method};
@@ -34,22 +39,8 @@ pub struct NasriOptions {
     pub common: CommonOptions,
 }
 
-/// Refuses interior valence-2 vertices for the Doo-Sabin methods.
-pub(crate) fn require_no_digons(method: &'static str, mesh: &Mesh) -> Result<(), InterpError> {
-    let t = mesh.topology();
-    match t.vertices().find(|&v| !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2) {
-        Some(v) => Err(InterpError::UnsupportedMesh {
-            method,
-            reason: format!("vertex {v} has valence 2: its Doo-Sabin V-face is a digon without a limit point"),
-            suggestion: "removing the valence-2 vertex (merge its two edges), or cheng with --solver ldl",
-        }),
-        None => Ok(()),
-    }
-}
-
 /// Interpolates the vertices of `mesh` with a Doo-Sabin limit surface of M⁰.
 pub fn interpolate(mesh: &Mesh, opts: &NasriOptions) -> Result<Interpolant, InterpError> {
-    require_no_digons("nasri", mesh)?;
     let start = std::time::Instant::now();
     let c = limit_matrix_nasri(mesh.topology());
     let setup = seconds_since(start);

@@ -13,7 +13,9 @@ use subdiv_stencil::{catmull_clark, loop_subdivision, subdivide, LoopBeta, Schem
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Plain {
     /// Doo-Sabin: after one plain step, every face centroid and every
-    /// boundary-curve point (midpoint of consecutive boundary vertices).
+    /// boundary-curve point (midpoint of consecutive boundary vertices); if
+    /// the control mesh has interior vertices of valence 2 (which have no
+    /// V-face after one step), also every face centroid after a second step.
     DooSabin,
     /// Catmull-Clark: the limit mask at every vertex.
     CatmullClark,
@@ -34,6 +36,9 @@ pub fn candidate_limit_points(control: &Mesh, plain: Plain) -> Result<Vec<DVec3>
             let refined = subdivide(control, Scheme::DooSabin, 1, false)?;
             let rt = refined.topology();
             let mut points = refined.face_centroids();
+            if t.vertices().any(|v| !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2) {
+                points.extend(subdivide(&refined, Scheme::DooSabin, 1, false)?.face_centroids());
+            }
             for lp in rt.boundary_loops() {
                 points.extend(
                     lp.iter().map(|&h| (refined.position(rt.he_from(h)) + refined.position(rt.he_to(h))) / 2.0),

@@ -71,8 +71,22 @@
 //!   paper's choice); a shape handle at such a vertex scales its V-face about
 //!   its own limit point, which therefore does not move. A prescribed normal
 //!   at such a vertex is refused.
-//! - Interior vertices of valence 2 are refused: their V-face is a digon,
-//!   which our Doo-Sabin refinement leaves out (`nasri::require_no_digons`).
+//! - Interior vertices of valence 2 (beyond the paper): their V-face would
+//!   be a digon, which the Doo-Sabin refinement leaves out; their limit point
+//!   is the centroid of the second-level E-face of the edge v₀v₁ between
+//!   their two images, L = ⅜(v₀ + v₁) + 1/16·(a₀ + a₁ + b₀ + b₁) in M¹
+//!   (`subdiv_rules::doo_sabin`, "Interior vertices of valence 2"), which is
+//!   also their row of Z. Step 4 moves v₀ and v₁ by ε = (4/3)(I − L) (L moves
+//!   by ¾ε), after the V-faces and the shape handles: v₀ and v₁ belong to no
+//!   V-face, so the other
+//!   vertices' limit points stay, except those of adjacent valence-2
+//!   vertices (a₀ may be a neighbour's image), which are corrected together
+//!   by a few Gauss-Seidel sweeps of this rule (each sweep contracts the
+//!   coupling by ≥ 3) until the error is round-off. A prescribed normal at
+//!   such a vertex is refused: its tangent plane is not the plane of a face
+//!   that v₀ and v₁ can make planar (the second-level E-face's corners weigh
+//!   v₀ and v₁ alike on both sides). A shape handle S scales v₀ and v₁ about
+//!   their midpoint, which keeps L (v₀ + v₁ is unchanged).
 //!   Isolated vertices lie on no surface: they are left out of SI with a
 //!   warning.
 //!
@@ -368,6 +382,12 @@ fn validate(t: &Topology, opts: &ZhengCaiOptions, interpolated: &[bool]) -> Resu
                     "vertex {v} is on the boundary: zheng-cai prescribes normals at interior vertices only"
                 ));
             }
+            if doo_sabin::valence_two_corners(t, VertexId(v as u32)).is_some() {
+                return bad(format!(
+                    "vertex {v} has valence 2: it has no V-face whose plane could carry the normal, so zheng-cai \
+                     cannot prescribe its normal (leave it out of the normals)"
+                ));
+            }
         }
     }
     if let Some(handles) = &opts.handles {
@@ -385,13 +405,11 @@ fn validate(t: &Topology, opts: &ZhengCaiOptions, interpolated: &[bool]) -> Resu
 /// Doo-Sabin limit surface of the perturbed first refined mesh M¹.
 ///
 /// # Errors
-/// [`InterpError::UnsupportedMesh`] for interior vertices of valence 2;
 /// [`InterpError::InvalidParameter`] for a bad subset, EPS, normal or handle
 /// (naming the vertex); [`InterpError::Solve`] when a non-paper solver fails
 /// for a reason other than its iteration cap.
 #[allow(non_snake_case)]
 pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, InterpError> {
-    crate::nasri::require_no_digons(METHOD, mesh)?;
     let t = mesh.topology();
     let si = interpolated_set(mesh, opts)?;
     validate(t, opts, &si.0)?;
@@ -466,7 +484,16 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
         for v in t.vertices().filter(|v| handles[v.index()] != 1.0) {
             let i = v.index();
             let Some(f) = dual.vertex_face[i] else {
-                warnings.push(format!("vertex {v} has no V-face (isolated): its shape handle has no effect"));
+                if let Some(c) = doo_sabin::valence_two_corners(t, v) {
+                    // Valence 2: scale the two images about their midpoint (keeps L).
+                    let (a, b) = (c[0].0.index(), c[1].0.index());
+                    let mid = (W[a] + W[b]) / 2.0;
+                    W[a] = mid + handles[i] * (W[a] - mid);
+                    W[b] = mid + handles[i] * (W[b] - mid);
+                    handles_applied += 1;
+                } else {
+                    warnings.push(format!("vertex {v} has no V-face (isolated): its shape handle has no effect"));
+                }
                 continue;
             };
             let face = t1.face(f);
@@ -482,6 +509,15 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
             handles_applied += 1;
         }
     }
+    // Valence 2: no V-face; move both images so that the second-level E-face
+    // centroid of the edge between them is I. Last, because the images next
+    // to them are corners of V-faces that step 4 and the handles move.
+    let valence_two: Vec<(usize, [(subdiv_mesh::HalfEdgeId, f64); 6])> = t
+        .vertices()
+        .filter(|v| SI[v.index()])
+        .filter_map(|v| doo_sabin::valence_two_corners(t, v).map(|c| (v.index(), c)))
+        .collect();
+    correct_valence_two(&valence_two, I, &mut W, mesh.bbox_diagonal());
     let solve_seconds = steps_seconds + seconds_since(solve_start);
 
     let iteration = Iteration::of(opts.common.solver);
@@ -502,11 +538,50 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
         method: Method::ZhengCai,
         control: Mesh::from_topology(t1, W),
         scheme: ControlScheme::DooSabin,
-        association: LimitAssociation::DualFace { v_face: dual.vertex_face, boundary_pair },
+        association: LimitAssociation::DualFace {
+            v_face: dual.vertex_face,
+            boundary_pair,
+            valence_two: crate::interpolant::valence_two_images(t),
+        },
         solve: Some(aux.summary),
         setup_seconds,
         solve_seconds,
         warnings,
         parameters,
     })
+}
+
+/// Step 4 at interior valence-2 vertices: for each `(i, corners)`
+/// ([`doo_sabin::valence_two_corners`] of input vertex i), L = Σ w·W[corner]
+/// is the vertex's limit point; moving its own two images by ε moves L by
+/// 2·⅜·ε = ¾ε, so ε = (4/3)(I − L) makes it exact. Adjacent valence-2
+/// vertices see each other's images with weight 1/16 (two of them: a
+/// correction ε changes a neighbour's L by ⅛ε = ⅙(I − L)), so Gauss-Seidel
+/// sweeps contract the remaining error by at least 3 each; they run until it
+/// is below 1e-15·d or stops decreasing.
+#[allow(non_snake_case)]
+fn correct_valence_two(
+    vertices: &[(usize, [(subdiv_mesh::HalfEdgeId, f64); 6])],
+    I: &[DVec3],
+    W: &mut [DVec3],
+    d: f64,
+) {
+    let limit =
+        |W: &[DVec3], c: &[(subdiv_mesh::HalfEdgeId, f64); 6]| c.iter().map(|&(h, w)| w * W[h.index()]).sum::<DVec3>();
+    let own = subdiv_rules::doo_sabin::VALENCE_TWO_LIMIT.own;
+    let mut previous = f64::INFINITY;
+    for _ in 0..64 {
+        let mut worst = 0.0_f64;
+        for (i, c) in vertices {
+            let gap = I[*i] - limit(W, c);
+            worst = worst.max(gap.length());
+            let eps = gap / (2.0 * own); // ε = (4/3)(I − L)
+            W[c[0].0.index()] += eps;
+            W[c[1].0.index()] += eps;
+        }
+        if worst <= 1e-15 * d || worst >= previous {
+            break;
+        }
+        previous = worst;
+    }
 }

@@ -15,9 +15,9 @@ use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
 use subdiv_interp::deng_wang::{self, DEFAULT_MU};
 use subdiv_interp::{CommonOptions, ControlScheme, DengWangOptions, InterpError, Interpolant, LimitAssociation};
-use subdiv_mesh::{shapes, FaceList, Mesh};
+use subdiv_mesh::{shapes, Mesh};
 use subdiv_stencil::{apply, loop_subdivision, LoopBeta, Scheme, SubdivisionPlan};
-use support::{candidate_limit_points, fixture, fixtures, load, nearest_gap, Plain};
+use support::{candidate_limit_points, fixture, fixtures, load, nearest_gap, torus_with_untriangulable_hexagon, Plain};
 
 // ---- helpers ----------------------------------------------------------------
 
@@ -315,24 +315,6 @@ fn polygons_behave_as_their_triangulation() {
     }
 }
 
-/// The 7-vertex torus (every two vertices share an edge) with the star of
-/// vertex 0 replaced by one hexagon: every diagonal of the hexagon is an
-/// edge, so it has no triangulation keeping the mesh manifold.
-fn torus_with_untriangulable_hexagon() -> Mesh {
-    let mut faces: Vec<Vec<u32>> = Vec::new();
-    for i in 0..7u32 {
-        for tri in [[i, i + 1, i + 3], [i, i + 3, i + 2]].map(|t| t.map(|v| v % 7)) {
-            if !tri.contains(&0) {
-                faces.push(tri.to_vec());
-            }
-        }
-    }
-    faces.push(vec![1, 3, 2, 6, 4, 5]);
-    let mut rng = shapes::SplitMix64(5);
-    let p = (0..7).map(|_| DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64())).collect();
-    Mesh::new(p, FaceList::from_faces(&faces)).unwrap()
-}
-
 #[test]
 fn control_mesh_is_the_triangle_split_with_old_vertices_first() {
     let mesh = fixture("open/nefertiti_small.off");
@@ -544,7 +526,8 @@ fn a_face_without_triangulation_is_refused_naming_it() {
     assert_eq!(method, "deng-wang");
     let hexagon = mesh.topology().face_count() - 1;
     assert!(reason.starts_with(&format!("face {hexagon} (6 vertices) cannot be triangulated")), "{reason}");
-    assert_eq!(suggestion, "cheng, zheng-cai or fan-cheng-lai (any polygons)");
+    // Every other method takes it (`advice.rs` checks that each one succeeds).
+    assert_eq!(suggestion, "nasri, zheng-cai, cheng, fan-cheng-lai or deng-ma (they take this mesh)");
 }
 
 #[test]

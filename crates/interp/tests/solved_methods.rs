@@ -108,9 +108,18 @@ fn every_solver_reaches_the_same_control_mesh() {
         .map(|(a, b)| a.distance(*b))
         .fold(0.0, f64::max);
     assert!(gap <= 1e-7 * mesh.bbox_diagonal(), "jacobi vs ldl on nasri: {gap:e}");
-    for solver in
-        ["pia", "weighted-pia", "gauss-seidel", "gauss-seidel-symmetric", "chebyshev", "cg", "cg-jacobi", "dense"]
-    {
+    for solver in [
+        "pia",
+        "weighted-pia",
+        "gauss-seidel",
+        "gauss-seidel-symmetric",
+        "chebyshev",
+        "cg",
+        "cg-jacobi",
+        "minres",
+        "gmres",
+        "dense",
+    ] {
         let s: Solver = solver.parse().unwrap();
         let common = CommonOptions { solver: SolverChoice::Use(s), tol: 1e-9, ..Default::default() };
         let r = cheng::interpolate(&mesh, &ChengOptions { common }).unwrap_or_else(|e| panic!("{solver}: {e}"));
@@ -144,15 +153,23 @@ fn singular_cube_consistent_data_warns_and_inconsistent_data_fails_with_the_erro
 }
 
 #[test]
-fn valence_two_is_refused_with_a_suggestion_unless_a_direct_solver_is_asked_for() {
+fn valence_two_is_solved_by_default_and_refused_only_for_solvers_that_need_a_definite_matrix() {
+    // The pillow (every vertex of valence 2): A is indefinite, λ_min = −1/7.
     let pillow = shapes::pillow();
-    let err = cheng::interpolate(&pillow, &ChengOptions::default()).unwrap_err();
-    assert!(matches!(err, InterpError::UnsupportedMesh { .. }) && err.to_string().contains("ldl"), "{err}");
+    let r = cheng::interpolate(&pillow, &ChengOptions::default()).unwrap();
+    assert_eq!(r.solve.as_ref().unwrap().solver, "minres");
+    check("pillow auto", &pillow, &r, Plain::CatmullClark, TOL);
+    for solver in [Solver::Pia, Solver::Cg { jacobi: false }, Solver::Cg { jacobi: true }] {
+        let common = CommonOptions { solver: SolverChoice::Use(solver), ..Default::default() };
+        let err = cheng::interpolate(&pillow, &ChengOptions { common }).unwrap_err();
+        let msg = err.to_string();
+        assert!(matches!(err, InterpError::UnsupportedMesh { .. }), "{solver}: {msg}");
+        assert!(msg.contains("Solver::Minres") && msg.contains("Solver::Ldl"), "{solver}: {msg}");
+    }
     let common = CommonOptions { solver: SolverChoice::Use(Solver::Ldl), ..Default::default() };
     let r = cheng::interpolate(&pillow, &ChengOptions { common }).unwrap();
     assert!(r.warnings.iter().any(|w| w.contains("indefinite")), "{:?}", r.warnings);
     check("pillow ldl", &pillow, &r, Plain::CatmullClark, TOL);
-    assert!(matches!(nasri::interpolate(&pillow, &NasriOptions::default()), Err(InterpError::UnsupportedMesh { .. })));
 }
 
 #[test]

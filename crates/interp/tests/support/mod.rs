@@ -42,3 +42,21 @@ pub fn volume(mesh: &Mesh) -> f64 {
     }
     v
 }
+
+/// The 7-vertex torus (every two vertices share an edge) with the star of
+/// vertex 0 replaced by one hexagon: every diagonal of the hexagon is an
+/// edge, so it has no triangulation keeping the mesh manifold.
+pub fn torus_with_untriangulable_hexagon() -> Mesh {
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    for i in 0..7u32 {
+        for tri in [[i, i + 1, i + 3], [i, i + 3, i + 2]].map(|t| t.map(|v| v % 7)) {
+            if !tri.contains(&0) {
+                faces.push(tri.to_vec());
+            }
+        }
+    }
+    faces.push(vec![1, 3, 2, 6, 4, 5]);
+    let mut rng = subdiv_mesh::shapes::SplitMix64(5);
+    let p = (0..7).map(|_| DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64())).collect();
+    Mesh::new(p, subdiv_mesh::FaceList::from_faces(&faces)).unwrap()
+}

@@ -1,0 +1,83 @@
+//! Which method takes which mesh: the structural preconditions of every
+//! method in one place, so that a method's refusal, the methods it
+//! recommends instead, and `subdiv info`'s advice all come from the same
+//! checks.
+//!
+//! | method | takes | refuses |
+//! |---|---|---|
+//! | `nasri`, `zheng-cai`, `fan-cheng-lai` | every valid mesh: any polygons, open or closed, valence 2 | — |
+//! | `cheng` | every valid mesh (valence 2: MINRES on the indefinite A) | data outside the range of a singular A: a closed component with only valence-3 vertices and a bipartite vertex graph (the cube) whose checkerboard c has Σ c_v P_v ≠ 0 |
+//! | `deng-wang` | triangles; other polygons are triangulated inside the method | a polygon with no valid triangulation over its own corners |
+//! | `deng-ma` | every valid mesh, open or closed | — |
+//!
+//! The checks look at the mesh with the default options (all vertices
+//! interpolated, the default tolerance); options such as a solver that
+//! needs a definite matrix can still be refused by the method itself.
+
+use crate::{InterpError, Method, DEFAULT_TOL};
+use subdiv_mesh::Mesh;
+use subdiv_stencil::catmull_clark_kernel;
+
+impl Method {
+    /// The six methods, in the order of the documentation.
+    pub const ALL: [Method; 6] =
+        [Method::Nasri, Method::ZhengCai, Method::Cheng, Method::FanChengLai, Method::DengWang, Method::DengMa];
+
+    /// The method with command-line / report name `name`.
+    pub fn from_name(name: &str) -> Option<Method> {
+        Method::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// Whether this method interpolates every vertex of `mesh` with its
+    /// default options: `Err(reason)` says why not (module table).
+    pub fn check(self, mesh: &Mesh) -> Result<(), String> {
+        match self {
+            Method::Nasri | Method::ZhengCai | Method::FanChengLai | Method::DengMa => Ok(()),
+            Method::Cheng => cheng_range(mesh, DEFAULT_TOL),
+            Method::DengWang => subdiv_mesh::triangulate(mesh).map(|_| ()).map_err(|e| e.to_string()),
+        }
+    }
+}
+
+/// Data outside the range of a singular Catmull-Clark A: for each closed
+/// all-valence-3 bipartite component with checkerboard c (A·c = 0, D
+/// constant on it), every residual r = P − A·X has c·r = c·P, so
+/// max_v |r_v| ≥ |c·P| / n_c; interpolation to `tol`·d is possible only if
+/// |c·P| / n_c ≤ tol·d (and then the solver finds it).
+pub(crate) fn cheng_range(mesh: &Mesh, tol: f64) -> Result<(), String> {
+    let d = mesh.bbox_diagonal();
+    for c in catmull_clark_kernel(mesh.topology()) {
+        let dot: glam::DVec3 = c.iter().map(|&(v, s)| s * mesh.position(v)).sum();
+        let floor = dot.length() / c.len() as f64;
+        if floor > tol * d {
+            return Err(format!(
+                "the Catmull-Clark limit matrix is singular on the closed component of vertex {} (only valence-3 \
+                 vertices, bipartite vertex graph) and the data are outside its range: no control mesh gets \
+                 closer than {:.1e}·d",
+                c[0].0,
+                floor / d
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The methods other than `except` that take `mesh` ([`Method::check`]).
+pub fn accepting_methods(mesh: &Mesh, except: Method) -> Vec<Method> {
+    Method::ALL.into_iter().filter(|&m| m != except && m.check(mesh).is_ok()).collect()
+}
+
+/// "a, b or c" for a refusal's suggestion; "no other method" when empty.
+pub(crate) fn suggestion(mesh: &Mesh, except: Method) -> String {
+    let names: Vec<&str> = accepting_methods(mesh, except).into_iter().map(Method::name).collect();
+    match names.as_slice() {
+        [] => "no other method takes this mesh".to_string(),
+        [one] => format!("{one} (it takes this mesh)"),
+        [init @ .., last] => format!("{} or {last} (they take this mesh)", init.join(", ")),
+    }
+}
+
+/// The refusal of `method` on `mesh` for `reason`, naming the methods that take it.
+pub(crate) fn unsupported(method: Method, mesh: &Mesh, reason: String) -> InterpError {
+    InterpError::UnsupportedMesh { method: method.name(), reason, suggestion: suggestion(mesh, method) }
+}
