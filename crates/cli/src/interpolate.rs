@@ -44,7 +44,9 @@ pub struct InterpolateArgs {
     #[arg(long, value_enum)]
     method: MethodArg,
     /// Solver: auto, pia, weighted-pia, jacobi, gauss-seidel, gauss-seidel-symmetric,
-    /// gauss-seidel-multicolor, chebyshev, cg, cg-jacobi, ldl, dense.
+    /// gauss-seidel-multicolor, chebyshev, cg, cg-jacobi, minres, gmres, ldl, dense.
+    /// auto: CG on positive definite symmetric systems, MINRES on possibly
+    /// indefinite ones (cheng with valence-2 vertices), GMRES on nonsymmetric ones.
     #[arg(long, default_value = "auto")]
     solver: String,
     /// Tolerance: max over vertices of |P − limit| / d (d = bounding-box diagonal).
