@@ -64,14 +64,17 @@ fn peer_dirs() -> Vec<PathBuf> {
     vec![common::fixtures().join("peer"), common::shared().join("peer-outputs")]
 }
 
-/// Mesh folders: every folder of `fixtures/peer` and of the shared copy.
+/// Mesh folders: every folder of `fixtures/peer` and of the shared copy,
+/// except `timing-meshes` (inputs of the timing table) and `creases`
+/// (OpenSubdiv with crease/corner tags and face-varying data: one folder per
+/// tagged case, with its own conventions; not untagged surfaces).
 fn peer_meshes() -> Vec<String> {
     let mut names = std::collections::BTreeSet::new();
     for dir in peer_dirs() {
         let Ok(entries) = std::fs::read_dir(&dir) else { continue };
         for e in entries.flatten() {
             let name = e.file_name().to_string_lossy().into_owned();
-            if e.path().is_dir() && name != "timing-meshes" {
+            if e.path().is_dir() && name != "timing-meshes" && name != "creases" {
                 names.insert(name);
             }
         }
