@@ -297,7 +297,11 @@ pub enum Degeneracy {
         vertex: VertexId,
     },
     /// An interior vertex of valence 2: the term n(n−3)/4 of S is negative
-    /// there and A is indefinite in general (the pillow: λ_min = −1/7).
+    /// there, which voids the proof that A is positive definite, and A may be
+    /// indefinite. Measured: a lone valence-2 vertex between two quads leaves
+    /// it definite (λ_min ≈ 0.098 on a 24 × 16 torus), two adjacent ones give
+    /// a negative eigenvalue (≈ −0.023), the pillow λ_min = −1/7; solvers
+    /// must treat A as possibly indefinite (MINRES, LDLᵀ).
     Indefinite {
         /// The valence-2 vertex.
         vertex: VertexId,
