@@ -16,7 +16,7 @@ use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
 use subdiv_interp::{deng_ma, ControlScheme, DengMaOptions, InterpError, LimitAssociation};
 use subdiv_mesh::refine::quad_split;
-use subdiv_mesh::{shapes, FaceList, Mesh, Topology, VertexId};
+use subdiv_mesh::{shapes, Mesh, Topology, VertexId};
 use subdiv_rules::{curves, deng_ma as rules};
 use subdiv_stencil::{apply, deng_ma::step_positions, Scheme, SubdivisionPlan, Tension};
 use support::{fixture, fixtures};
@@ -99,17 +99,9 @@ fn dihedral(mesh: &Mesh) -> (f64, f64) {
     (max, rms)
 }
 
-/// Fan triangulation of every face.
+/// Every face split into triangles over its corners (`subdiv_mesh::triangulate`).
 fn triangulate(mesh: &Mesh) -> Mesh {
-    let t = mesh.topology();
-    let mut faces = FaceList::new();
-    for f in t.face_ids() {
-        let c = t.face(f);
-        for k in 1..c.len() - 1 {
-            faces.push(&[c[0], c[k], c[k + 1]]);
-        }
-    }
-    Mesh::new(mesh.positions().to_vec(), faces).unwrap()
+    subdiv_mesh::triangulate(mesh).unwrap().mesh
 }
 
 /// Mean-curvature variation of a triangle mesh: d²·RMS over edges of
