@@ -39,7 +39,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         `open/halftunnel.off` (831 v, open quads), `tri/rocker-arm.obj` (10,044 v) and `open/camelhead.off` \
         (11,381 v, open: the size closest to the paper's 11,540); generated: polygon tori (`shapes::polygon_mix`) \
         of 10⁵ and 10⁶ vertices. Deng-Wang (Loop) gets non-triangle meshes triangulated beforehand \
-        (`subdiv_mesh::triangulate`, outside its timing); Deng-Ma has no boundary rule and refuses open meshes. \
+        (`subdiv_mesh::triangulate`, outside its timing; the method itself would do the same inside); Deng-Ma \
+        takes open meshes with its 4-point boundary curves (our construction). \
         Zheng-Cai report 4.9 ms + 37 ms for 562 vertices and 79 ms + 491 ms \
         for 11,540 (2005 PC)."
         .into();
