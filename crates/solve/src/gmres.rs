@@ -158,9 +158,9 @@ pub fn gmres_restarted(
         // One cycle from the residual in r.
         let mut cyc = Cycle::new(restart);
         for c in 0..3 {
-            if !least_squares[c] && rs.norm2[c] > 0.0 {
+            if !least_squares[c] && rs.sum[c] > 0.0 {
                 cyc.active[c] = true;
-                cyc.g[0][c] = rs.norm2[c].sqrt();
+                cyc.g[0][c] = rs.sum[c].sqrt();
             }
         }
         if basis.is_empty() {
@@ -334,7 +334,7 @@ pub fn gmres_restarted(
                 // A column stopped at a least-squares solution bounds the max-row
                 // residual from below by its own; with nothing left to iterate, tol is out of reach.
                 if (0..3).any(|c| least_squares[c] && rs.col_max[c] > mon.threshold)
-                    || (0..3).all(|c| least_squares[c] || rs.norm2[c] == 0.0)
+                    || (0..3).all(|c| least_squares[c] || rs.sum[c] == 0.0)
                 {
                     return Err(mon.not_converged(StopReason::LeastSquares, x, k, rs.max));
                 }
@@ -410,16 +410,8 @@ impl Update {
     const STOPPED: Update = Update { sn2: 1.0, wcoef: 0.0, vcoef: 0.0 };
 }
 
-/// A residual evaluation of P − A X.
-#[derive(Clone, Copy, Debug, Default)]
-struct Residual {
-    /// max_i ‖r_i‖₂ (squared inside a pass).
-    max: f64,
-    /// max_i |r_ic| per column.
-    col_max: [f64; 3],
-    /// ‖r_c‖₂² per column.
-    norm2: [f64; 3],
-}
+/// A residual evaluation of P − A X; `sum` is ‖r_c‖₂² per column.
+type Residual = kernels::ResidualStats;
 
 /// r = P − A x, with its max row norm, per-column max and squared norms.
 fn true_residual(s: Csr<'_>, d: &[f64], p: &[Row], x: &[Row], r: &mut [Row], partials: &mut [Residual]) -> Residual {
@@ -431,22 +423,13 @@ fn true_residual(s: Csr<'_>, d: &[f64], p: &[Row], x: &[Row], r: &mut [Row], par
             *o = [p[i][0] - d[i] * v[0], p[i][1] - d[i] * v[1], p[i][2] - d[i] * v[2]];
             for c in 0..3 {
                 acc.col_max[c] = max_nan(acc.col_max[c], o[c].abs());
-                acc.norm2[c] += o[c] * o[c];
+                acc.sum[c] += o[c] * o[c];
             }
             acc.max = max_nan(acc.max, norm2(*o));
         }
         acc
     });
-    let mut total = Residual::default();
-    for part in partials.iter() {
-        total.max = max_nan(total.max, part.max);
-        for c in 0..3 {
-            total.col_max[c] = max_nan(total.col_max[c], part.col_max[c]);
-            total.norm2[c] += part.norm2[c];
-        }
-    }
-    total.max = total.max.sqrt();
-    total
+    Residual::merge(partials)
 }
 
 #[cfg(test)]

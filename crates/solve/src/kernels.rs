@@ -188,6 +188,37 @@ where
     }
 }
 
+/// Statistics of a residual r (n × 3) gathered chunk by chunk by the Krylov
+/// solvers (GMRES, MINRES): the max row norm (squared inside a pass), the
+/// per-column max, and a per-column sum of squares whose weighting each
+/// solver documents (‖r_c‖₂² for GMRES, rᵀM⁻¹r for MINRES).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct ResidualStats {
+    /// max_i ‖r_i‖₂ (squared inside a pass, the root after [`Self::merge`]).
+    pub max: f64,
+    /// max_i |r_ic| per column.
+    pub col_max: [f64; 3],
+    /// The per-column sum of squares.
+    pub sum: [f64; 3],
+}
+
+impl ResidualStats {
+    /// Folds the chunks' partials in order (deterministic) and takes the
+    /// root of the squared max row norm.
+    pub fn merge(partials: &[Self]) -> Self {
+        let mut total = Self::default();
+        for part in partials {
+            total.max = max_nan(total.max, part.max);
+            for c in 0..3 {
+                total.col_max[c] = max_nan(total.col_max[c], part.col_max[c]);
+                total.sum[c] += part.sum[c];
+            }
+        }
+        total.max = total.max.sqrt();
+        total
+    }
+}
+
 /// max(a, b) that propagates NaN (f64::max drops it).
 #[inline(always)]
 pub(crate) fn max_nan(a: f64, b: f64) -> f64 {

@@ -164,8 +164,8 @@ pub fn minres(a: &FactoredMatrix, p: &[[f64; 3]], opts: &SolveOptions) -> Result
         let mut cols = [Column::stopped(); 3];
         let mut inv_beta = [0.0; 3];
         for c in 0..3 {
-            if !least_squares[c] && rs.rmr[c] > 0.0 {
-                cols[c] = Column::start(rs.rmr[c].sqrt());
+            if !least_squares[c] && rs.sum[c] > 0.0 {
+                cols[c] = Column::start(rs.sum[c].sqrt());
                 inv_beta[c] = 1.0 / cols[c].beta;
             }
         }
@@ -288,7 +288,7 @@ pub fn minres(a: &FactoredMatrix, p: &[[f64; 3]], opts: &SolveOptions) -> Result
                     // A column stopped at a least-squares solution bounds the max-row
                     // residual from below by its own; with nothing left to iterate, tol is out of reach.
                     if (0..3).any(|c| least_squares[c] && rs.col_max[c] > mon.threshold)
-                        || (0..3).all(|c| least_squares[c] || rs.rmr[c] == 0.0)
+                        || (0..3).all(|c| least_squares[c] || rs.sum[c] == 0.0)
                     {
                         return Err(mon.not_converged(StopReason::LeastSquares, x, k, rs.max));
                     }
@@ -427,17 +427,10 @@ impl Column {
     }
 }
 
-/// A residual evaluation: max row norm of the A-residual, the same per
-/// column, and rᵀM⁻¹r per column.
-#[derive(Clone, Copy, Debug, Default)]
-struct Residual {
-    /// max_i d_i ‖r_i‖₂ = max_i ‖P_i − (A X)_i‖₂ (squared inside a pass).
-    max: f64,
-    /// max_i d_i |r_ic| per column.
-    col_max: [f64; 3],
-    /// Σ_i r_ic² · M⁻¹_i per column (β₁²).
-    rmr: [f64; 3],
-}
+/// A residual evaluation: max row norm of the A-residual
+/// (max_i d_i ‖r_i‖₂ = max_i ‖P_i − (A X)_i‖₂), the same per column, and
+/// `sum` = Σ_i r_ic² · M⁻¹_i = rᵀM⁻¹r per column (β₁²).
+type Residual = kernels::ResidualStats;
 
 /// r = b − S x; the A-residual's max row norm (P − A X = D r), per column,
 /// and rᵀM⁻¹r.
@@ -458,22 +451,13 @@ fn true_residual(
             *o = [b[i][0] - v[0], b[i][1] - v[1], b[i][2] - v[2]];
             for c in 0..3 {
                 acc.col_max[c] = max_nan(acc.col_max[c], d[i] * o[c].abs());
-                acc.rmr[c] += o[c] * o[c] * minv[i];
+                acc.sum[c] += o[c] * o[c] * minv[i];
             }
             acc.max = max_nan(acc.max, d[i] * d[i] * norm2(*o));
         }
         acc
     });
-    let mut total = Residual::default();
-    for part in partials.iter() {
-        total.max = max_nan(total.max, part.max);
-        for c in 0..3 {
-            total.col_max[c] = max_nan(total.col_max[c], part.col_max[c]);
-            total.rmr[c] += part.rmr[c];
-        }
-    }
-    total.max = total.max.sqrt();
-    total
+    Residual::merge(partials)
 }
 
 #[cfg(test)]
