@@ -36,7 +36,7 @@ mod triangulate;
 mod validate;
 
 pub use error::{MeshError, Warning};
-pub use geometry::{centroid, corner_angle, newell_normal, Aabb};
+pub use geometry::{centroid, corner_angle, newell_normal, Aabb, PowerOfTwoScale};
 pub use ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 pub use mesh::{Mesh, ZERO_AREA_REL};
 pub use soup::{FaceGroups, FaceList, PolygonSoup};
