@@ -1,42 +1,195 @@
-//! Atomic file output: write a temporary file beside the target, then rename.
+//! Atomic, all-or-nothing file output.
 //!
-//! A rename within one directory replaces the target in one step, so a
-//! reader sees the old file or the whole new one, and a failure at any point
-//! (full disk, killed process aside) leaves the old file untouched and no
-//! partial output (SPEC §7).
+//! Every output is first *staged*: streamed to a temporary file beside its
+//! target (`.NAME.PID.N.tmp`, same directory, so the final rename is one
+//! step), flushed and synced. A [`StagedFile`] is then *committed* by renaming
+//! it over the target; dropped uncommitted, its temporary is removed. So a
+//! failure at any point (full disk, permission, an encoder error) leaves the
+//! targets as they were and no partial output (SPEC §7).
+//!
+//! [`commit_all`] commits several staged files together: if one rename
+//! fails, the targets already replaced get their old contents back (kept
+//! through a hard link while committing), so a command's outputs appear
+//! all together or not at all.
+//!
+//! Every live temporary is listed in a process-wide registry, so a signal
+//! handler can delete them with [`remove_staged_files`] before the process
+//! exits (a SIGKILL cannot be handled: it may leave a `.tmp` file, never a
+//! partial target).
 
 use std::ffi::OsString;
 use std::fs::{self, File, OpenOptions};
-use std::io::{self, BufWriter};
+use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard};
 
 use crate::error::{Ctx, IoError};
 
-/// Removes the temporary file unless it was renamed into place.
-struct TempFile {
-    path: PathBuf,
-    keep: bool,
+/// Temporaries (staged files and commit backups) that exist right now.
+static LIVE_TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn live() -> MutexGuard<'static, Vec<PathBuf>> {
+    // A panic while holding the lock cannot leave the list inconsistent.
+    LIVE_TEMPORARIES.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
-impl Drop for TempFile {
+fn forget(path: &Path) {
+    live().retain(|p| p != path);
+}
+
+/// Deletes every temporary file this process has staged and not yet
+/// committed or dropped. For signal handlers (SIGINT, SIGTERM) that exit
+/// right after: files staged later are still cleaned up by their drop.
+pub fn remove_staged_files() {
+    for path in live().drain(..) {
+        let _ = fs::remove_file(path);
+    }
+}
+
+/// A complete output in a temporary file beside its target, not yet in place.
+///
+/// [`StagedFile::commit`] (or [`commit_all`]) renames it over the target;
+/// dropping it removes the temporary and leaves the target untouched.
+#[derive(Debug)]
+#[must_use = "a staged file is removed when dropped; commit it"]
+pub struct StagedFile {
+    temp: PathBuf,
+    target: PathBuf,
+    bytes: u64,
+}
+
+impl StagedFile {
+    /// The file this will become.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Bytes written.
+    pub fn len(&self) -> u64 {
+        self.bytes
+    }
+
+    /// True when nothing was written.
+    pub fn is_empty(&self) -> bool {
+        self.bytes == 0
+    }
+
+    /// Renames the staged file over its target.
+    ///
+    /// # Errors
+    /// [`IoError::Io`] naming the target; the target is then as it was.
+    pub fn commit(self) -> Result<(), IoError> {
+        commit_all(vec![self])
+    }
+}
+
+impl Drop for StagedFile {
     fn drop(&mut self) {
-        if !self.keep {
-            let _ = fs::remove_file(&self.path);
+        // Empty after a commit (the temporary became the target).
+        if !self.temp.as_os_str().is_empty() {
+            let _ = fs::remove_file(&self.temp);
+            forget(&self.temp);
         }
     }
+}
+
+/// Renames every staged file over its target, in order. If a rename fails,
+/// the targets replaced before it are restored (their old contents were kept
+/// through a hard link; where the file system has no hard links, a replaced
+/// target that existed before cannot be restored and keeps its new, complete
+/// contents) and the remaining staged files are removed.
+///
+/// # Errors
+/// [`IoError::Io`] naming the target that could not be replaced.
+pub fn commit_all(files: Vec<StagedFile>) -> Result<(), IoError> {
+    // (target, backup of its old contents if it had any) for each renamed file.
+    let mut replaced: Vec<(PathBuf, Option<PathBuf>)> = Vec::new();
+    let mut files = files.into_iter();
+    let failure = loop {
+        let Some(mut file) = files.next() else { break None };
+        let backup = file.target.is_file().then(|| file.temp.with_extension("old")).and_then(|backup| {
+            live().push(backup.clone());
+            match fs::hard_link(&file.target, &backup) {
+                Ok(()) => Some(backup),
+                Err(_) => {
+                    forget(&backup);
+                    None
+                }
+            }
+        });
+        match fs::rename(&file.temp, &file.target) {
+            Ok(()) => {
+                forget(&file.temp);
+                file.temp = PathBuf::new();
+                replaced.push((std::mem::take(&mut file.target), backup));
+            }
+            Err(e) => {
+                if let Some(b) = backup {
+                    let _ = fs::remove_file(&b);
+                    forget(&b);
+                }
+                break Some(Ctx::new(&file.target).io(e));
+            }
+        }
+    };
+    for (target, backup) in replaced {
+        match (&failure, backup) {
+            (None, Some(b)) => {
+                let _ = fs::remove_file(&b);
+                forget(&b);
+            }
+            (Some(_), Some(b)) => {
+                let _ = fs::rename(&b, &target);
+                forget(&b);
+            }
+            (Some(_), None) => {
+                let _ = fs::remove_file(&target);
+            }
+            (None, None) => {}
+        }
+    }
+    // The remaining staged files are dropped (removed) with the iterator.
+    failure.map_or(Ok(()), Err)
 }
 
 /// Output buffer between an encoder and the temporary file.
 const BUFFER_BYTES: usize = 1 << 20;
 
-/// Writes what `encode` produces to `path` atomically, streamed through a
-/// buffer (never the whole file in memory). An error from `encode` or from
-/// the file system removes the temporary file and leaves `path` as it was.
-pub(crate) fn write_with(
+/// How often (in bytes) the progress callback hears from a write.
+const PROGRESS_EVERY: u64 = 4 << 20;
+
+/// A writer that counts bytes and reports them every [`PROGRESS_EVERY`].
+pub(crate) struct Counting<'p, W> {
+    inner: W,
+    written: u64,
+    reported: u64,
+    progress: &'p mut dyn FnMut(u64),
+}
+
+impl<W: Write> Write for Counting<'_, W> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.written += n as u64;
+        if self.written - self.reported >= PROGRESS_EVERY {
+            self.reported = self.written;
+            (self.progress)(self.written);
+        }
+        Ok(n)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner.flush()
+    }
+}
+
+/// Streams what `encode` produces to a new temporary file beside `path`,
+/// through a buffer (never the whole file in memory), calling `progress`
+/// with the bytes written so far. On any error the temporary is removed.
+pub(crate) fn stage_with(
     path: &Path,
-    encode: impl FnOnce(&mut BufWriter<&mut File>) -> Result<(), IoError>,
-) -> Result<(), IoError> {
+    progress: &mut dyn FnMut(u64),
+    encode: impl FnOnce(&mut Counting<'_, BufWriter<&mut File>>) -> Result<(), IoError>,
+) -> Result<StagedFile, IoError> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let ctx = Ctx::new(path);
     let name = path
@@ -46,37 +199,73 @@ pub(crate) fn write_with(
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let (mut file, mut temp) = loop {
+    let (mut file, mut staged) = loop {
         let mut temp_name = OsString::from(".");
         temp_name.push(name);
         temp_name.push(format!(".{}.{}.tmp", std::process::id(), COUNTER.fetch_add(1, Ordering::Relaxed)));
-        let temp_path = dir.join(temp_name);
-        match OpenOptions::new().write(true).create_new(true).open(&temp_path) {
-            Ok(file) => break (file, TempFile { path: temp_path, keep: false }),
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(ctx.io(e)),
+        let temp = dir.join(temp_name);
+        // Registered before it exists, so a signal handler never misses it.
+        let mut registry = live();
+        registry.push(temp.clone());
+        match OpenOptions::new().write(true).create_new(true).open(&temp) {
+            Ok(file) => break (file, StagedFile { temp, target: path.to_path_buf(), bytes: 0 }),
+            Err(e) => {
+                registry.pop();
+                if e.kind() != io::ErrorKind::AlreadyExists {
+                    return Err(ctx.io(e));
+                }
+            }
         }
     };
-    let mut out = BufWriter::with_capacity(BUFFER_BYTES, &mut file);
+    let mut out =
+        Counting { inner: BufWriter::with_capacity(BUFFER_BYTES, &mut file), written: 0, reported: 0, progress };
     encode(&mut out)?;
-    out.into_inner().map_err(|e| ctx.io(e.into_error()))?;
+    staged.bytes = out.written;
+    (out.progress)(out.written);
+    let file = out.inner.into_inner().map_err(|e| ctx.io(e.into_error()))?;
     file.sync_all().map_err(|e| ctx.io(e))?;
-    drop(file);
-    fs::rename(&temp.path, path).map_err(|e| ctx.io(e))?;
-    temp.keep = true;
-    Ok(())
+    Ok(staged)
+}
+
+/// Stages `bytes` as the new contents of `path` (for reports and other
+/// non-mesh outputs that must be committed with the meshes).
+///
+/// # Errors
+/// [`IoError::Io`] naming `path`.
+pub fn stage_bytes(path: &Path, bytes: &[u8]) -> Result<StagedFile, IoError> {
+    stage_with(path, &mut |_| {}, |out| out.write_all(bytes).map_err(|e| Ctx::new(path).io(e)))
+}
+
+/// Writes what `encode` produces to `path` atomically.
+#[cfg(test)]
+fn write_with(
+    path: &Path,
+    encode: impl FnOnce(&mut Counting<'_, BufWriter<&mut File>>) -> Result<(), IoError>,
+) -> Result<(), IoError> {
+    stage_with(path, &mut |_| {}, encode)?.commit()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::io::Write;
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("subdiv-io-atomic-{name}-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut names: Vec<_> =
+            fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        names.sort();
+        names
+    }
 
     #[test]
     fn an_encoder_failing_after_streaming_leaves_the_old_file_and_no_temporary() {
-        let dir = std::env::temp_dir().join(format!("subdiv-io-atomic-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("fail");
         let target = dir.join("out.obj");
         fs::write(&target, "old contents").unwrap();
         // More than the buffer, so part of it reaches the temporary file first.
@@ -87,11 +276,61 @@ mod tests {
         .unwrap_err();
         assert!(e.to_string().contains("failed half-way"), "{e}");
         assert_eq!(fs::read_to_string(&target).unwrap(), "old contents");
-        let left: Vec<_> = fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
-        assert_eq!(left, ["out.obj"]);
+        assert_eq!(listing(&dir), ["out.obj"]);
         // A complete stream replaces the file whole.
         write_with(&target, |out| out.write_all(b"new").map_err(|e| Ctx::new(&target).io(e))).unwrap();
         assert_eq!(fs::read_to_string(&target).unwrap(), "new");
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn staged_files_appear_only_on_commit_and_vanish_when_dropped() {
+        let dir = scratch("stage");
+        let (a, b) = (dir.join("a.obj"), dir.join("b.json"));
+        let sa = stage_bytes(&a, b"A").unwrap();
+        let sb = stage_bytes(&b, b"B").unwrap();
+        assert!(!a.exists() && !b.exists());
+        assert_eq!(listing(&dir).len(), 2, "two temporaries");
+        commit_all(vec![sa, sb]).unwrap();
+        assert_eq!(listing(&dir), ["a.obj", "b.json"]);
+        drop(stage_bytes(&a, b"never").unwrap());
+        assert_eq!(fs::read_to_string(&a).unwrap(), "A");
+        assert_eq!(listing(&dir), ["a.obj", "b.json"]);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_failed_rename_restores_the_outputs_already_replaced() {
+        let dir = scratch("rollback");
+        let (a, new, blocked) = (dir.join("a.obj"), dir.join("new.off"), dir.join("c.ply"));
+        fs::write(&a, "old a").unwrap();
+        let sa = stage_bytes(&a, b"new a").unwrap();
+        let sn = stage_bytes(&new, b"new file").unwrap();
+        let sc = stage_bytes(&blocked, b"c").unwrap();
+        // A directory (with an entry) in the way makes the third rename fail.
+        fs::create_dir(&blocked).unwrap();
+        fs::write(blocked.join("keep"), "").unwrap();
+        let e = commit_all(vec![sa, sn, sc]).unwrap_err();
+        assert!(e.to_string().contains("c.ply"), "{e}");
+        assert_eq!(fs::read_to_string(&a).unwrap(), "old a");
+        assert!(!new.exists(), "a file that did not exist before is removed again");
+        assert_eq!(listing(&dir), ["a.obj", "c.ply"]);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn progress_hears_the_bytes_written() {
+        let dir = scratch("progress");
+        let mut seen = Vec::new();
+        let staged = stage_with(&dir.join("p.obj"), &mut |n| seen.push(n), |out| {
+            // Encoders write small pieces.
+            (0..144).try_for_each(|_| out.write_all(&[b'p'; 64 << 10])).map_err(|e| Ctx::new(Path::new("p")).io(e))
+        })
+        .unwrap();
+        assert_eq!(staged.len(), 9 << 20);
+        assert_eq!(seen.last(), Some(&(9 << 20)));
+        assert!(seen.len() >= 3 && seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
+        drop(staged);
         fs::remove_dir_all(&dir).unwrap();
     }
 }

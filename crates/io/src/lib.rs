@@ -10,6 +10,9 @@
 //!   the same directory is renamed over the target, so a failed write never
 //!   leaves a partial file; the encoding is streamed to it through a 1 MiB
 //!   buffer (glTF, whose header needs the buffer length, is assembled first).
+//!   [`stage_mesh`] and [`stage_bytes`] stop before the rename, so that a
+//!   command's outputs can be committed together ([`commit_all`]: all of them
+//!   or none); [`remove_staged_files`] is for signal handlers.
 //!   [`write_mesh_to_vec`] encodes in memory.
 //! - [`IoError`] names the file, and the 1-based line for text formats:
 //!   `mesh.obj:12: face index 'x' is not an integer`.
@@ -62,6 +65,7 @@ mod text;
 use glam::DVec3;
 use std::path::Path;
 
+pub use atomic::{commit_all, remove_staged_files, stage_bytes, StagedFile};
 pub use error::IoError;
 pub use format::Format;
 pub use subdiv_mesh::{FaceGroups, FaceList, PolygonSoup};
@@ -167,9 +171,26 @@ pub fn write_mesh(path: &Path, mesh: MeshView<'_>) -> Result<(), IoError> {
 /// [`IoError::InvalidMesh`] (see [`write_mesh_to_vec`]) or [`IoError::Io`];
 /// on any error the target file is left as it was.
 pub fn write_mesh_as(path: &Path, mesh: MeshView<'_>, format: Format) -> Result<(), IoError> {
+    stage_mesh(path, mesh, format, &mut |_| {})?.commit()
+}
+
+/// Encodes a mesh into a temporary file beside `path` without replacing
+/// `path` yet: commit the returned [`StagedFile`] (alone, or with a command's
+/// other outputs through [`commit_all`]) to put it in place. `progress`
+/// hears the bytes written so far, every few MiB and at the end.
+///
+/// # Errors
+/// [`IoError::InvalidMesh`] (see [`write_mesh_to_vec`]) or [`IoError::Io`];
+/// no temporary is left behind.
+pub fn stage_mesh(
+    path: &Path,
+    mesh: MeshView<'_>,
+    format: Format,
+    progress: &mut dyn FnMut(u64),
+) -> Result<StagedFile, IoError> {
     let ctx = Ctx::new(path);
     check(&mesh, format, ctx)?;
-    atomic::write_with(path, |out| encode(&mesh, format, ctx, out))
+    atomic::stage_with(path, progress, |out| encode(&mesh, format, ctx, out))
 }
 
 /// Encodes a mesh in memory.
