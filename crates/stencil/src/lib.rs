@@ -35,6 +35,7 @@ mod error;
 pub mod limit_matrix;
 pub mod loop_subdivision;
 mod rows;
+pub mod size;
 pub mod subdivide;
 
 pub use apply::{apply, apply_columns, row_sums};
