@@ -76,7 +76,7 @@ fn method_verdicts(mesh: Result<&Mesh, &str>) -> BTreeMap<&'static str, MethodVe
 
 /// Runs `subdiv info`.
 pub fn run(args: &InfoArgs) -> Result<(), Failure> {
-    let soup = subdiv_io::read_mesh(&args.mesh).map_err(bad_input)?;
+    let soup = crate::load::read_soup(&args.mesh)?;
     let file = args.mesh.display().to_string();
     let summary = match Mesh::from_soup(soup.clone()) {
         Ok((mesh, warnings)) => valid_summary(file.clone(), &mesh, &warnings),
@@ -84,9 +84,9 @@ pub fn run(args: &InfoArgs) -> Result<(), Failure> {
     };
     if args.json {
         let text = serde_json::to_string_pretty(&summary).map_err(|e| Failure::Other(e.into()))?;
-        println!("{text}");
+        crate::stdout::line(&text);
     } else {
-        print_text(&summary);
+        crate::stdout::line(print_text(&summary).trim_end());
     }
     if let Some(error) = &summary.error {
         return Err(bad_input(anyhow!("{file}: {error}")));
@@ -179,15 +179,31 @@ fn histogram(h: &BTreeMap<usize, usize>) -> String {
     }
 }
 
-fn print_text(s: &Summary) {
+/// A length for people: fixed point in the usual range, scientific outside it
+/// (a diagonal of 1e-300 is not "0.000000").
+fn length(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e7).contains(&x) {
+        format!("{x:.6}")
+    } else {
+        format!("{x:.6e}")
+    }
+}
+
+fn print_text(s: &Summary) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    // Writing to a String cannot fail.
+    macro_rules! emit {
+        ($($arg:tt)*) => {{ let _ = writeln!(out, $($arg)*); }};
+    }
     let opt = |x: Option<String>| x.unwrap_or_else(|| "undefined".into());
-    println!("file:                 {}", s.file);
-    println!("vertices:             {} ({} isolated)", s.vertices, s.isolated_vertices);
-    println!("faces:                {}", s.faces);
-    println!("edges:                {}", s.edges);
-    println!("face sizes:           {}", histogram(&s.face_sizes));
-    println!("valences:             {}", opt(s.valences.as_ref().map(histogram)));
-    println!(
+    emit!("file:                 {}", s.file);
+    emit!("vertices:             {} ({} isolated)", s.vertices, s.isolated_vertices);
+    emit!("faces:                {}", s.faces);
+    emit!("edges:                {}", s.edges);
+    emit!("face sizes:           {}", histogram(&s.face_sizes));
+    emit!("valences:             {}", opt(s.valences.as_ref().map(histogram)));
+    emit!(
         "boundary:             {}",
         match (s.boundary_loops, s.boundary_edges) {
             (Some(0), _) => "none (closed)".to_string(),
@@ -195,26 +211,23 @@ fn print_text(s: &Summary) {
             _ => "undefined".to_string(),
         }
     );
-    println!("components:           {}", s.components);
-    println!("euler characteristic: {}", opt(s.euler_characteristic.map(|x| x.to_string())));
-    println!("genus:                {}", opt(s.genus.map(|x| x.to_string())));
-    println!(
-        "manifold, oriented:   {}, {}",
-        if s.manifold { "yes" } else { "no" },
-        if s.oriented { "yes" } else { "no" }
-    );
-    println!("bbox diagonal:        {}", opt(s.bbox_diagonal.map(|x| format!("{x:.6}"))));
+    emit!("components:           {}", s.components);
+    emit!("euler characteristic: {}", opt(s.euler_characteristic.map(|x| x.to_string())));
+    emit!("genus:                {}", opt(s.genus.map(|x| x.to_string())));
+    emit!("manifold, oriented:   {}, {}", if s.manifold { "yes" } else { "no" }, if s.oriented { "yes" } else { "no" });
+    emit!("bbox diagonal:        {}", opt(s.bbox_diagonal.map(length)));
     for (k, n) in &s.problems {
-        println!("problem:              {n} {}", k.replace('_', " "));
+        emit!("problem:              {n} {}", k.replace('_', " "));
     }
     for w in &s.warnings {
-        println!("warning:              {w}");
+        emit!("warning:              {w}");
     }
-    println!("interpolation methods:");
+    emit!("interpolation methods:");
     for (name, v) in Method::ALL.iter().filter_map(|m| s.methods.get(m.name()).map(|v| (m.name(), v))) {
         match &v.reason {
-            None => println!("  {name:<14} accepts"),
-            Some(reason) => println!("  {name:<14} refuses: {reason}"),
+            None => emit!("  {name:<14} accepts"),
+            Some(reason) => emit!("  {name:<14} refuses: {reason}"),
         }
     }
+    out
 }

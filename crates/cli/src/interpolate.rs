@@ -1,9 +1,11 @@
 //! `subdiv interpolate MESH --method M [...]` (SPEC §6).
 
+use crate::budget::{Budget, MemoryArgs};
 use crate::failure::{bad_input, Failure};
 use crate::load::load_mesh;
-use crate::params;
+use crate::outputs::{self, Outputs};
 use crate::subdivide::{BetaArg, TensionArgs};
+use crate::{params, progress};
 use anyhow::anyhow;
 use clap::ValueEnum;
 use serde_json::json;
@@ -13,7 +15,7 @@ use subdiv_interp::{
     cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, CommonOptions, DengMaOptions,
     DengWangOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Shape, SolverChoice, ZhengCaiOptions,
 };
-use subdiv_io::MeshView;
+use subdiv_io::Format;
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
 use subdiv_stencil::LoopBeta;
@@ -98,6 +100,9 @@ pub struct InterpolateArgs {
     /// Write the JSON report (SPEC §6).
     #[arg(long)]
     report: Option<PathBuf>,
+    /// Memory budget of --surface and deng-ma's -o.
+    #[command(flatten)]
+    memory: MemoryArgs,
 }
 
 fn solver_choice(name: &str) -> Result<SolverChoice, Failure> {
@@ -167,21 +172,28 @@ fn classify(input: &Path, e: InterpError) -> Failure {
     }
 }
 
-fn write(path: &Path, mesh: &Mesh, normals: bool) -> Result<(), Failure> {
-    let n = normals.then(|| mesh.vertex_normals());
-    let mut view = MeshView::new(mesh.positions(), mesh.topology().faces());
-    if let Some(n) = &n {
-        view = view.with_normals(n);
-    }
-    subdiv_io::write_mesh(path, view).map_err(|e| Failure::Other(e.into()))
+/// The parameter files given: inputs that no output may overwrite.
+fn parameter_files(args: &InterpolateArgs) -> impl Iterator<Item = &Path> {
+    [&args.shape_file, &args.normals, &args.subset, &args.handles].into_iter().flatten().map(PathBuf::as_path)
 }
 
 /// Runs `subdiv interpolate`.
 pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     let total = Instant::now();
     check_applies(args)?;
+    // Every output is checked before any work, and written at the end or not at all.
+    let mut outputs = Outputs::new(std::iter::once(args.mesh.as_path()).chain(parameter_files(args)));
+    let control_format = args.output.as_deref().map(|p| outputs.mesh("--output", p)).transpose()?;
+    let surface_format = args.surface.as_deref().map(|p| outputs.mesh("--surface", p)).transpose()?;
+    if let Some(path) = &args.report {
+        outputs.other("--report", path)?;
+    }
     let mesh = load_mesh(&args.mesh)?;
-    let result = run_method(args, &mesh)?;
+    let name = args_method_name(args.method);
+    let spinner = progress::spinner(format!("{name}: interpolating {} vertices", mesh.topology().vertex_count()));
+    let result = run_method(args, &mesh);
+    spinner.finish_and_clear();
+    let result = result?;
     let d = mesh.bbox_diagonal();
     let n = mesh.topology().vertex_count();
     let interpolated = match &args.subset {
@@ -194,31 +206,61 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
         }
         None => vec![true; n],
     };
-    // Build every output before writing any, so a failure leaves no file.
+
+    // The refined meshes to write: sized before they are built.
     let is_deng_ma = args.method == MethodArg::DengMa;
-    let control_out = if is_deng_ma {
-        result.surface(args.levels).map_err(|e| classify(&args.mesh, e))?
-    } else {
-        result.control.clone()
+    let budget = Budget::new(&args.memory);
+    let plain = result.scheme.scheme();
+    let refined_outputs = [(is_deng_ma, "--output", control_format), (true, "--surface", surface_format)];
+    for (refined, flag, format) in refined_outputs {
+        if let (true, Some(format)) = (refined, format) {
+            let gltf = if matches!(format, Format::Gltf | Format::Glb) { 24 } else { 0 };
+            let per_face = if format.triangulates() { 24 } else { 0 };
+            let what = format!("{flag} (--levels {})", args.levels);
+            budget.check(&what, result.control.topology(), plain, args.levels, 48 + gltf, per_face)?;
+        }
+    }
+    let refine_surface = || {
+        crate::subdivide::refine(&result.control, plain, args.levels, true).map_err(|e| classify(&args.mesh, e.into()))
     };
-    let surface =
-        args.surface.as_ref().map(|_| result.surface(args.levels)).transpose().map_err(|e| classify(&args.mesh, e))?;
-    if let Some(path) = &args.output {
-        write(path, &control_out, is_deng_ma)?;
+    let surface = args.surface.as_ref().map(|_| refine_surface()).transpose()?;
+    let control_out = match (&args.output, is_deng_ma) {
+        (None, _) => None,
+        (Some(_), true) => Some(match &surface {
+            Some(s) => s.clone(),
+            None => refine_surface()?,
+        }),
+        (Some(_), false) => Some(result.control.clone()),
+    };
+
+    // The error, measured on the control positions exactly as they will be
+    // written (f32 formats round them), by the plain scheme's rules (SPEC §1, §6).
+    let mut measured = result.clone();
+    if let (Some(path), Some(format), false) = (&args.output, control_format, is_deng_ma) {
+        let written = crate::outputs::as_written("--output", path, format, result.control.positions())?;
+        measured.control = result.control.with_positions(written);
     }
-    if let (Some(path), Some(s)) = (&args.surface, &surface) {
-        write(path, s, true)?;
-    }
-    // The error, measured from the control mesh as written (SPEC §1, §6).
-    let measured = measured_interpolant(&result, args.output.as_deref(), is_deng_ma);
+    outputs::require_finite(name, &measured.control, None)?;
     let error = measured.error(mesh.positions(), &interpolated, d);
+    // NaN fails too.
+    if error.max_rel.is_nan() || error.max_rel > args.tol {
+        return Err(Failure::NotConverged(anyhow!(
+            "{}: {name}: the measured error {:.3e}·d exceeds --tol {:.1e} (mean {:.3e}·d); nothing written",
+            args.mesh.display(),
+            error.max_rel,
+            args.tol,
+            error.mean_rel
+        )));
+    }
+
     let total_ms = total.elapsed().as_secs_f64() * 1e3;
     let solve = result.solve.clone().unwrap_or_default();
+    let control_size = control_out.as_ref().unwrap_or(&result.control).topology();
     let report = json!({
-        "method": args_method_name(args.method),
+        "method": name,
         "control_scheme": result.scheme.report_name(),
         "input": {"file": args.mesh.display().to_string(), "vertices": n, "faces": mesh.topology().face_count(), "bbox_diagonal": d},
-        "control": {"vertices": control_out.topology().vertex_count(), "faces": control_out.topology().face_count()},
+        "control": {"vertices": control_size.vertex_count(), "faces": control_size.face_count()},
         "solver": {
             "name": if result.solve.is_some() { json!(solve.solver) } else { json!(null) },
             "iterations": solve.iterations,
@@ -232,22 +274,24 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
         "parameters": result.parameters,
         "warnings": result.warnings,
     });
-    for w in &result.warnings {
-        eprintln!("subdiv: warning: {w}");
+    if let (Some(path), Some(control)) = (&args.output, &control_out) {
+        outputs.stage_mesh("--output", path, control, is_deng_ma)?;
+    }
+    if let (Some(path), Some(s)) = (&args.surface, &surface) {
+        outputs.stage_mesh("--surface", path, s, true)?;
     }
     if let Some(path) = &args.report {
         let text = serde_json::to_string_pretty(&report).map_err(|e| Failure::Other(e.into()))?;
-        std::fs::write(path, text + "\n").map_err(|e| Failure::Other(anyhow!("{}: {e}", path.display())))?;
+        outputs.stage_bytes(path, (text + "\n").as_bytes())?;
     }
-    println!(
-        "{}: {} vertices interpolated, max error {:.3e}·d (mean {:.3e}·d), {} iterations, {:.1} ms",
-        args_method_name(args.method),
-        error.count,
-        error.max_rel,
-        error.mean_rel,
-        solve.iterations,
-        total_ms
-    );
+    outputs.commit()?;
+    for w in &result.warnings {
+        progress::warn(w);
+    }
+    progress::summary(format!(
+        "{name}: {} vertices interpolated, max error {:.3e}·d (mean {:.3e}·d), {} iterations, {:.1} ms",
+        error.count, error.max_rel, error.mean_rel, solve.iterations, total_ms
+    ));
     Ok(())
 }
 
@@ -261,21 +305,4 @@ fn args_method_name(m: MethodArg) -> &'static str {
         MethodArg::DengMa => subdiv_interp::Method::DengMa,
     };
     method.name()
-}
-
-/// The interpolant with the control positions read back from the written file
-/// when the format keeps vertices (so the report measures what was written).
-fn measured_interpolant(result: &Interpolant, written: Option<&Path>, is_deng_ma: bool) -> Interpolant {
-    let Some(path) = written.filter(|_| !is_deng_ma) else { return result.clone() };
-    match subdiv_io::read_mesh(path) {
-        Ok(soup)
-            if soup.positions.len() == result.control.topology().vertex_count()
-                && soup.faces == *result.control.topology().faces() =>
-        {
-            let mut copy = result.clone();
-            copy.control = result.control.with_positions(soup.positions);
-            copy
-        }
-        _ => result.clone(),
-    }
 }

@@ -1,16 +1,28 @@
 //! Reading and validating the input mesh, shared by every command.
 
 use crate::failure::{bad_input, Failure};
+use crate::progress;
 use anyhow::anyhow;
 use std::path::Path;
-use subdiv_mesh::Mesh;
+use subdiv_mesh::{Mesh, PolygonSoup};
+
+/// Reads a mesh file as it is (unvalidated), with a progress bar for large files.
+pub fn read_soup(path: &Path) -> Result<PolygonSoup, Failure> {
+    let spinner = progress::spinner(format!("reading {}", path.display()));
+    let soup = subdiv_io::read_mesh(path);
+    spinner.finish_and_clear();
+    soup.map_err(bad_input)
+}
 
 /// Reads and validates a mesh; warnings go to stderr (one line each).
 pub fn load_mesh(path: &Path) -> Result<Mesh, Failure> {
-    let soup = subdiv_io::read_mesh(path).map_err(bad_input)?;
-    let (mesh, warnings) = Mesh::from_soup(soup).map_err(|e| bad_input(anyhow!("{}: {e}", path.display())))?;
+    let soup = read_soup(path)?;
+    let spinner = progress::spinner(format!("validating {}", path.display()));
+    let validated = Mesh::from_soup(soup);
+    spinner.finish_and_clear();
+    let (mesh, warnings) = validated.map_err(|e| bad_input(anyhow!("{}: {e}", path.display())))?;
     for w in warnings {
-        eprintln!("subdiv: warning: {}: {w}", path.display());
+        progress::warn(format!("{}: {w}", path.display()));
     }
     Ok(mesh)
 }

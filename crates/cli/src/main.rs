@@ -1,14 +1,21 @@
 //! `subdiv`: glue between the command line and the subdiv library crates.
 //!
 //! `main` turns every failure into one line on stderr and an exit code
-//! (SPEC §6): 0 success, 2 bad input or usage, 3 a solver did not reach its
-//! tolerance, 1 anything else. Nothing here panics on user data.
+//! (SPEC §6, README "Exit codes and guarantees"): 0 success, 2 bad input or
+//! usage, 3 no acceptable result (tolerance not reached, result not finite),
+//! 4 an output could not be written, 1 anything else; a handled signal
+//! removes the temporaries and exits with 128 + its number. Nothing here
+//! panics on user data.
 
+mod budget;
 mod failure;
 mod info;
 mod interpolate;
 mod load;
+mod outputs;
 mod params;
+mod progress;
+mod stdout;
 mod subdivide;
 
 use clap::{Parser, Subcommand};
@@ -16,10 +23,32 @@ use std::process::ExitCode;
 
 /// Interpolating subdivision surfaces: smooth surfaces through a mesh's vertices.
 #[derive(Parser, Debug)]
-#[command(name = "subdiv", version, about, long_about = None)]
+#[command(name = "subdiv", version, about, long_about = None, after_help = EXIT_CODES)]
 struct Cli {
+    /// Print nothing but errors (no progress bars, warnings or summary line).
+    #[arg(long, short, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
+}
+
+/// The exit codes, in `--help`.
+const EXIT_CODES: &str = "Exit codes: 0 success; 2 bad input or usage (nothing written); \
+3 no acceptable result: the tolerance was not reached or a result is not finite (nothing written); \
+4 an output could not be written (no output changed); 1 anything else; 128+N killed by signal N \
+(temporary files removed). Outputs are all-or-nothing: every requested file is complete, or none changed.";
+
+/// Removes the temporaries of outputs being written when SIGINT, SIGTERM or
+/// SIGHUP arrives, then exits with 128 + the signal.
+fn install_signal_cleanup() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else { return };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            subdiv_io::remove_staged_files();
+            std::process::exit(failure::signal_exit_code(signal));
+        }
+    });
 }
 
 #[derive(Subcommand, Debug)]
@@ -34,6 +63,8 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    progress::set_quiet(cli.quiet);
+    install_signal_cleanup();
     let result = match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Subdivide(args) => subdivide::run(&args),

@@ -1,16 +1,16 @@
 //! `subdiv subdivide MESH --scheme S --levels N [--limit] [--beta B] -o OUT`.
 
+use crate::budget::{Budget, MemoryArgs};
 use crate::failure::{bad_input, Failure};
 use crate::load::load_mesh;
+use crate::outputs::Outputs;
+use crate::progress;
 use anyhow::anyhow;
 use clap::ValueEnum;
 use std::path::PathBuf;
-use subdiv_io::MeshView;
+use subdiv_io::Format;
 use subdiv_mesh::Mesh;
 use subdiv_stencil::{LoopBeta, Scheme, Tension};
-
-/// Largest number of faces `subdivide` will produce (≈ 10 GB of output data).
-const MAX_OUTPUT_FACES: usize = 100_000_000;
 
 /// Scheme names on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -98,11 +98,13 @@ pub struct SubdivideArgs {
     /// Output mesh (format by extension).
     #[arg(short, long)]
     output: PathBuf,
+    /// Memory budget.
+    #[command(flatten)]
+    memory: MemoryArgs,
 }
 
 /// Runs `subdiv subdivide`.
 pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
-    let mut mesh = load_mesh(&args.mesh)?;
     let scheme = match args.scheme {
         SchemeArg::DooSabin => Scheme::DooSabin,
         SchemeArg::CatmullClark => Scheme::CatmullClark,
@@ -117,18 +119,19 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
             "--limit: the Deng-Ma scheme is interpolatory and has no limit mask; its refined vertices are the surface"
         )));
     }
+    let mut outputs = Outputs::new([args.mesh.as_path()]);
+    let format = outputs.mesh("--output", &args.output)?;
+    let mut mesh = load_mesh(&args.mesh)?;
     let input = args.mesh.display();
     if args.triangulate && args.scheme == SchemeArg::Loop {
         mesh = subdiv_mesh::triangulate(&mesh).map_err(|e| bad_input(anyhow!("{input}: --triangulate: {e}")))?.mesh;
     }
-    let faces_out = predicted_faces(&mesh, args.scheme, args.levels);
-    if faces_out > MAX_OUTPUT_FACES {
-        return Err(bad_input(anyhow!(
-            "{} levels would produce about {faces_out} faces (limit {MAX_OUTPUT_FACES}); use fewer --levels",
-            args.levels
-        )));
-    }
-    let refined = subdiv_stencil::subdivide(&mesh, scheme, args.levels, args.limit).map_err(|e| {
+    // Normals and limit positions: one more array per vertex each; glTF is encoded in memory.
+    let per_vertex = 24 * (u64::from(args.normals) + u64::from(args.limit))
+        + if matches!(format, Format::Gltf | Format::Glb) { 24 } else { 0 };
+    let per_face = if format.triangulates() { 24 } else { 0 };
+    Budget::new(&args.memory).check("subdivide", mesh.topology(), scheme, args.levels, per_vertex, per_face)?;
+    let refined = refine(&mesh, scheme, args.levels, args.limit).map_err(|e| {
         let hint = if matches!(e, subdiv_stencil::StencilError::NotTriangles { .. }) {
             " (or pass --triangulate)"
         } else {
@@ -136,29 +139,23 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
         };
         bad_input(anyhow!("{input}: {e}{hint}"))
     })?;
-    let normals = args.normals.then(|| refined.vertex_normals());
-    let mut view = MeshView::new(refined.positions(), refined.topology().faces());
-    if let Some(n) = &normals {
-        view = view.with_normals(n);
-    }
-    subdiv_io::write_mesh(&args.output, view).map_err(|e| Failure::Other(e.into()))?;
-    Ok(())
+    outputs.stage_mesh("--output", &args.output, &refined, args.normals)?;
+    outputs.commit()
 }
 
-/// Face count after `levels` steps (exact: each scheme's counts are known in
-/// closed form after the first step).
-fn predicted_faces(mesh: &Mesh, scheme: SchemeArg, levels: usize) -> usize {
-    let t = mesh.topology();
-    let (mut v, mut e, mut f, mut h) = (t.vertex_count(), t.edge_count(), t.face_count(), t.half_edge_count());
-    for _ in 0..levels {
-        (v, e, f, h) = match scheme {
-            SchemeArg::CatmullClark | SchemeArg::DengMa => (v + f + e, 2 * e + h, h, 4 * h),
-            SchemeArg::Loop => (v + e, 2 * e + 3 * f, 4 * f, 12 * f),
-            SchemeArg::DooSabin => (h, 2 * e + h, f + e + v, 2 * h + 4 * e),
-        };
-        if f > MAX_OUTPUT_FACES {
-            break;
-        }
+/// `levels` steps of `scheme`, one at a time with a progress bar (the
+/// topology of each level is built once either way), then limit positions.
+pub fn refine(mesh: &Mesh, scheme: Scheme, levels: usize, limit: bool) -> Result<Mesh, subdiv_stencil::StencilError> {
+    let bar = progress::steps(format!("{} subdivision", scheme.name()), levels as u64);
+    let mut current = std::borrow::Cow::Borrowed(mesh);
+    for level in 0..levels {
+        let last = level + 1 == levels;
+        current = std::borrow::Cow::Owned(subdiv_stencil::subdivide(&current, scheme, 1, limit && last)?);
+        bar.inc(1);
     }
-    f
+    bar.finish_and_clear();
+    if levels == 0 {
+        return subdiv_stencil::subdivide(mesh, scheme, 0, limit);
+    }
+    Ok(current.into_owned())
 }

@@ -1,0 +1,230 @@
+//! The size guard of every command that refines: the exact size of the
+//! result is known before anything is allocated (`subdiv_stencil::size`), so
+//! a refinement that would not fit in memory is refused (exit 2, with the
+//! estimate) instead of aborting on a failed allocation.
+//!
+//! The budget is `--max-memory BYTES` when given, else ¾ of the memory this
+//! process can still get: the least of the system's available memory
+//! (`MemAvailable`), the cgroup's remaining limit, and the address-space and
+//! data-size limits (`ulimit -v`, `-d`) minus what the process already uses.
+
+use crate::failure::{bad_input, Failure};
+use anyhow::anyhow;
+use std::fmt;
+use subdiv_mesh::Topology;
+use subdiv_stencil::size::{estimated_subdivide_bytes, refined_sizes, LevelSize};
+use subdiv_stencil::Scheme;
+
+/// `--max-memory`, shared by the commands that refine.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct MemoryArgs {
+    /// Memory budget for refinement, in bytes (suffixes K, M, G, T: powers of 1024;
+    /// default ¾ of the memory available to the process). Larger results are refused with exit 2.
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    max_memory: Option<u64>,
+}
+
+/// A number of bytes, printed with a binary unit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Bytes(pub u64);
+
+impl fmt::Display for Bytes {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        const UNITS: [&str; 7] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+        let mut value = self.0 as f64;
+        let mut unit = 0;
+        while value >= 1024.0 && unit + 1 < UNITS.len() {
+            value /= 1024.0;
+            unit += 1;
+        }
+        if unit == 0 {
+            write!(f, "{} B", self.0)
+        } else {
+            write!(f, "{value:.1} {}", UNITS[unit])
+        }
+    }
+}
+
+/// Parses `4096`, `512M`, `8G`, `1.5GiB`, `2TB` (K/M/G/T are powers of 1024).
+pub fn parse_bytes(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let split = t.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let shift = match unit.trim().to_ascii_uppercase().trim_end_matches("IB").trim_end_matches('B') {
+        "" => 0,
+        "K" => 10,
+        "M" => 20,
+        "G" => 30,
+        "T" => 40,
+        other => return Err(format!("unknown unit '{other}' (use K, M, G or T)")),
+    };
+    let value: f64 = number.parse().map_err(|_| format!("'{text}' is not a number of bytes"))?;
+    let bytes = value * (1u64 << shift) as f64;
+    if !(1.0..1.8e19).contains(&bytes) {
+        return Err(format!("'{text}' is not a positive number of bytes below 16 EiB"));
+    }
+    Ok(bytes as u64)
+}
+
+/// How much a refinement may use, and where that figure comes from.
+#[derive(Clone, Debug)]
+pub struct Budget {
+    bytes: Option<u64>,
+    source: String,
+}
+
+impl Budget {
+    /// The budget for this process.
+    pub fn new(args: &MemoryArgs) -> Self {
+        match args.max_memory {
+            Some(b) => Budget { bytes: Some(b), source: "--max-memory".into() },
+            None => match available_memory() {
+                Some(avail) => {
+                    Budget { bytes: Some(avail / 4 * 3), source: format!("¾ of the {} available", Bytes(avail)) }
+                }
+                None => Budget { bytes: None, source: "available memory unknown".into() },
+            },
+        }
+    }
+
+    /// Refuses (exit 2) `levels` steps of `scheme` on `t` when the result
+    /// cannot have 32-bit ids or its estimated memory — plus
+    /// `extra_per_vertex` bytes for each final vertex and `extra_per_face`
+    /// for each final face (normals, an in-memory glTF encoding) — exceeds
+    /// the budget. `what` names the refinement in the message.
+    pub fn check(
+        &self,
+        what: &str,
+        t: &Topology,
+        scheme: Scheme,
+        levels: usize,
+        extra_per_vertex: u64,
+        extra_per_face: u64,
+    ) -> Result<(), Failure> {
+        let sizes = refined_sizes(t, scheme, levels);
+        let Some(last) = sizes.last() else { return Ok(()) };
+        let complete = sizes.len() == levels;
+        let describe = |s: &LevelSize| {
+            let approx = if complete { "" } else { "more than " };
+            format!("{approx}{} vertices and {approx}{} faces", group(s.vertices), group(s.faces))
+        };
+        let need = estimated_subdivide_bytes(scheme, &sizes)
+            .saturating_add(last.vertices.saturating_mul(extra_per_vertex))
+            .saturating_add(last.faces.saturating_mul(extra_per_face));
+        if !complete || !last.fits_u32_ids() {
+            return Err(bad_input(anyhow!(
+                "{what}: {levels} levels of {} make {}: more than 32-bit ids can number; use fewer levels",
+                scheme.name(),
+                describe(last)
+            )));
+        }
+        if let Some(budget) = self.bytes {
+            if need > budget {
+                return Err(bad_input(anyhow!(
+                    "{what}: {levels} levels of {} make {}, needing about {}: more than the memory budget of {} ({}); use fewer levels or set --max-memory",
+                    scheme.name(),
+                    describe(last),
+                    Bytes(need),
+                    Bytes(budget),
+                    self.source
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// 1234567 → "1,234,567".
+fn group(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// The least of the memory limits that apply to this process, in bytes
+/// (Linux: /proc and the cgroup v2 files); `None` when none can be read.
+fn available_memory() -> Option<u64> {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    let mut limits = Vec::new();
+    if let Some(meminfo) = read("/proc/meminfo") {
+        limits.extend(field_kib(&meminfo, "MemAvailable:"));
+    }
+    if let (Some(max), Some(current)) = (read("/sys/fs/cgroup/memory.max"), read("/sys/fs/cgroup/memory.current")) {
+        if let (Ok(max), Ok(current)) = (max.trim().parse::<u64>(), current.trim().parse::<u64>()) {
+            limits.push(max.saturating_sub(current));
+        }
+    }
+    if let (Some(proc_limits), Some(status)) = (read("/proc/self/limits"), read("/proc/self/status")) {
+        for (limit, used) in [("Max address space", "VmSize:"), ("Max data size", "VmData:")] {
+            if let (Some(soft), Some(used)) = (soft_limit(&proc_limits, limit), field_kib(&status, used)) {
+                limits.push(soft.saturating_sub(used));
+            }
+        }
+    }
+    limits.into_iter().min()
+}
+
+/// `Key:   123 kB` → bytes.
+fn field_kib(text: &str, key: &str) -> Option<u64> {
+    let line = text.lines().find(|l| l.starts_with(key))?;
+    let kib: u64 = line[key.len()..].split_whitespace().next()?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// The soft limit of a /proc/self/limits row, `None` when unlimited.
+fn soft_limit(limits: &str, name: &str) -> Option<u64> {
+    let line = limits.lines().find(|l| l.starts_with(name))?;
+    line[name.len()..].split_whitespace().next()?.parse().ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn byte_sizes_parse_with_binary_units() {
+        assert_eq!(parse_bytes("4096"), Ok(4096));
+        assert_eq!(parse_bytes("512M"), Ok(512 << 20));
+        assert_eq!(parse_bytes("8G"), Ok(8 << 30));
+        assert_eq!(parse_bytes("1.5GiB"), Ok(3 << 29));
+        assert_eq!(parse_bytes("2 TB"), Ok(2 << 40));
+        assert!(parse_bytes("0").is_err());
+        assert!(parse_bytes("-1G").is_err());
+        assert!(parse_bytes("12 parsecs").is_err());
+        assert!(parse_bytes("1e30").is_err());
+        assert_eq!(Bytes(3 << 29).to_string(), "1.5 GiB");
+        assert_eq!(group(1234567), "1,234,567");
+    }
+
+    #[test]
+    fn proc_fields_parse() {
+        assert_eq!(field_kib("MemTotal: 10 kB\nMemAvailable:  2048 kB\n", "MemAvailable:"), Some(2 << 20));
+        let limits = "Limit                     Soft Limit           Hard Limit           Units\n\
+                      Max address space         4294967296           unlimited            bytes\n\
+                      Max data size             unlimited            unlimited            bytes\n";
+        assert_eq!(soft_limit(limits, "Max address space"), Some(4 << 30));
+        assert_eq!(soft_limit(limits, "Max data size"), None);
+        assert!(available_memory().is_some_and(|b| b > 0), "readable on Linux");
+    }
+
+    #[test]
+    fn the_refusal_quotes_the_true_size_of_each_level() {
+        let cube = subdiv_mesh::shapes::cube();
+        let budget = Budget { bytes: Some(1 << 30), source: "test".into() };
+        let message = |levels| match budget.check("subdivide", cube.topology(), Scheme::CatmullClark, levels, 0, 0) {
+            Err(Failure::BadInput(e)) => e.to_string(),
+            other => panic!("{other:?}"),
+        };
+        // Cube: 6·4^L faces, 6·4^(L-1)·... vertices: 4^L·6 faces at level L.
+        assert!(message(11).contains("25,165,824 faces"), "{}", message(11));
+        assert!(message(12).contains("100,663,296 faces"), "{}", message(12));
+        assert!(message(40).contains("32-bit"), "{}", message(40));
+        assert!(budget.check("subdivide", cube.topology(), Scheme::CatmullClark, 5, 0, 0).is_ok());
+    }
+}

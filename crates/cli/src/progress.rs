@@ -1,0 +1,75 @@
+//! Progress bars on stderr (when it is a terminal), warnings, and `--quiet`.
+//!
+//! Long operations — reading a large file, each refinement level, solving,
+//! writing — show a bar with rate and ETA (a spinner with the elapsed time
+//! where the amount of work is not known in advance). Nothing is drawn when
+//! stderr is not a terminal; `--quiet` silences bars, warnings and the
+//! summary line, leaving errors only.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+static QUIET: AtomicBool = AtomicBool::new(false);
+
+/// Silences everything but errors from now on.
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+}
+
+/// True under `--quiet`.
+pub fn quiet() -> bool {
+    QUIET.load(Ordering::Relaxed)
+}
+
+/// Prints a warning (one line) unless `--quiet`.
+pub fn warn(message: impl std::fmt::Display) {
+    if !quiet() {
+        eprintln!("subdiv: warning: {message}");
+    }
+}
+
+/// Prints the command's summary line on stdout unless `--quiet`.
+pub fn summary(message: impl std::fmt::Display) {
+    if !quiet() {
+        crate::stdout::line(&message.to_string());
+    }
+}
+
+fn target() -> ProgressDrawTarget {
+    if quiet() || !std::io::stderr().is_terminal() {
+        ProgressDrawTarget::hidden()
+    } else {
+        ProgressDrawTarget::stderr()
+    }
+}
+
+fn style(template: &str) -> ProgressStyle {
+    ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar())
+}
+
+/// A bar over `total` bytes (reading, writing), with rate and ETA.
+pub fn bytes(message: impl Into<String>, total: u64) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(total), target());
+    bar.set_style(style("{msg} [{bar:30}] {bytes}/{total_bytes} {binary_bytes_per_sec} ETA {eta}"));
+    bar.set_message(message.into());
+    bar
+}
+
+/// A bar over `total` steps (refinement levels).
+pub fn steps(message: impl Into<String>, total: u64) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(total), target());
+    bar.set_style(style("{msg} [{bar:30}] {pos}/{len} {elapsed} ETA {eta}"));
+    bar.set_message(message.into());
+    bar
+}
+
+/// A spinner for work of unknown length (solving), with the elapsed time.
+pub fn spinner(message: impl Into<String>) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(None, target());
+    bar.set_style(style("{spinner} {msg} {elapsed}"));
+    bar.set_message(message.into());
+    bar.enable_steady_tick(Duration::from_millis(120));
+    bar
+}
