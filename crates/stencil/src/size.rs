@@ -20,9 +20,11 @@
 //!
 //! The memory estimate covers what [`crate::subdivide`] holds at its peak:
 //! every level's topology and stencil (a [`crate::SubdivisionPlan`] keeps them
-//! all) and two levels of positions; its constants were measured on meshes of
-//! 0.7–6 M faces (peak resident memory per final half-edge: Catmull-Clark 39 B,
-//! Loop 36 B, Doo-Sabin 48 B, Deng-Ma 53 B) and rounded up by about a third.
+//! all) and two levels of positions. Its constants are the peak resident
+//! memory per final-level corner measured on meshes of 0.7–73 M corners
+//! (Catmull-Clark 39 B, Loop 36–38 B, Doo-Sabin 48 B, Deng-Ma 53 B: the
+//! earlier levels and the positions add a fixed fraction, as every level has
+//! 4× the corners of the one before), rounded up by about 15%.
 
 use crate::Scheme;
 use subdiv_mesh::Topology;
@@ -67,10 +69,10 @@ impl LevelSize {
 /// its peak, per scheme (measured, rounded up; module docs).
 fn bytes_per_corner(scheme: Scheme) -> u64 {
     match scheme {
-        Scheme::CatmullClark => 52,
-        Scheme::Loop(_) => 48,
-        Scheme::DooSabin => 64,
-        Scheme::DengMa(_) => 72,
+        Scheme::CatmullClark => 45,
+        Scheme::Loop(_) => 44,
+        Scheme::DooSabin => 55,
+        Scheme::DengMa(_) => 61,
     }
 }
 
@@ -124,14 +126,12 @@ pub fn refined_sizes(t: &Topology, scheme: Scheme, levels: usize) -> Vec<LevelSi
 }
 
 /// Peak resident bytes of [`crate::subdivide`] with these level sizes
-/// (saturating), not counting the input mesh. Add 24 bytes per final vertex
+/// (saturating), not counting the input mesh: a constant per corner of the
+/// last level (module docs). Add 24 bytes per final vertex
 /// for each further per-vertex array a caller builds (normals, limit
 /// positions).
 pub fn estimated_subdivide_bytes(scheme: Scheme, sizes: &[LevelSize]) -> u64 {
-    let per_corner = bytes_per_corner(scheme);
-    let levels = sizes.iter().fold(0u64, |acc, s| acc.saturating_add(s.corners.saturating_mul(per_corner)));
-    let positions = sizes.last().map_or(0, |s| s.vertices.saturating_mul(48));
-    levels.saturating_add(positions)
+    sizes.last().map_or(0, |s| s.corners.saturating_mul(bytes_per_corner(scheme)))
 }
 
 #[cfg(test)]
