@@ -128,6 +128,11 @@ fn check_applies(args: &InterpolateArgs) -> Result<(), Failure> {
     if args.tension.given() && args.method != DengMa {
         return misuse("--omega/--variable-tension", "deng-ma");
     }
+    if let Some(lambda) = args.shape {
+        if !(lambda > 0.0 && lambda < 1.0) {
+            return Err(bad_input(anyhow!("--shape: λ = {lambda} is outside (0, 1)")));
+        }
+    }
     if !(args.tol > 0.0 && args.tol.is_finite()) {
         return Err(bad_input(anyhow!("--tol must be positive, got {}", args.tol)));
     }
