@@ -216,7 +216,12 @@ impl<'a> Ctx<'a> {
     }
 
     pub(crate) fn refused_uri(&self, uri: &str, reason: impl Into<String>) -> IoError {
-        let uri = crate::text::show(uri.as_bytes()).into_owned();
+        // Long enough for any real path, short enough for one line.
+        const MAX: usize = 200;
+        let uri = match uri.char_indices().nth(MAX) {
+            Some((cut, _)) => format!("{}…", &uri[..cut]),
+            None => uri.to_owned(),
+        };
         IoError::RefusedUri { path: self.path.to_path_buf(), uri, reason: reason.into() }
     }
 
