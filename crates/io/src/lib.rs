@@ -28,7 +28,9 @@
 //! indices, faces with fewer than three corners and NaN/infinite coordinates
 //! are read as they are, so that `subdiv_mesh`'s validator can report them.
 //! The one exception is what a `u32` cannot hold (an OBJ index 0, a relative
-//! index before the first vertex, a negative index), which is a parse error.
+//! index before the first vertex, a negative index, an index of 2³² or
+//! more: "face index 99999999999999999999 out of range"), which is a parse
+//! error.
 //!
 //! Precision: OBJ, OFF, PLY (doubles) and ASCII STL write the shortest
 //! decimal (or the bits) that reads back to the same `f64`; binary STL and

@@ -501,3 +501,36 @@ fn gltf_accessor_reuse_cannot_multiply_the_work() {
     let soup = read_mesh_from_bytes(&reuse_bomb(3000, 1, 3), Format::Gltf, "shared.gltf").unwrap();
     assert_eq!((soup.positions.len(), soup.faces.len()), (3000, 3000));
 }
+
+#[test]
+fn hardening_fixtures_give_the_real_problem_in_one_line() {
+    let cases: [(&str, fn(&IoError) -> bool, &str); 5] = [
+        (
+            "bad/utf16.obj",
+            |e| matches!(e, IoError::Utf16 { .. }),
+            "UTF-16 text is not supported; save the file as UTF-8",
+        ),
+        ("bad/binary_garbage.obj", |e| matches!(e, IoError::BinaryData { .. }), "binary data, not an OBJ file"),
+        (
+            "bad/index_too_large.obj",
+            |e| matches!(e, IoError::Parse { line: Some(9), .. }),
+            "face index 99999999999999999999 out of range",
+        ),
+        (
+            "bad/lines_only.gltf",
+            |e| matches!(e, IoError::Unsupported { .. }),
+            "no triangle primitives (found: line loops, points)",
+        ),
+        (
+            "bad/absolute_uri.gltf",
+            |e| matches!(e, IoError::RefusedUri { .. }),
+            "buffer uri '/etc/hostname' refused: it is an absolute path",
+        ),
+    ];
+    for (name, kind, message) in cases {
+        let e = error(name);
+        let shown = e.to_string();
+        assert!(kind(&e), "{name}: {e:?}");
+        assert!(shown.contains(message) && !shown.contains('\n'), "{name}: {shown}");
+    }
+}
