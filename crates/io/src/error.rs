@@ -164,6 +164,17 @@ impl fmt::Display for Location<'_> {
     }
 }
 
+/// A URI for a message: cut to a length enough for any real path, control
+/// characters escaped (a JSON string may hold a newline).
+pub(crate) fn show_uri(uri: &str) -> String {
+    const MAX: usize = 200;
+    let cut = match uri.char_indices().nth(MAX) {
+        Some((end, _)) => std::borrow::Cow::Owned(format!("{}…", &uri[..end])),
+        None => std::borrow::Cow::Borrowed(uri),
+    };
+    crate::text::escape_controls(cut).into_owned()
+}
+
 /// "an OBJ file", "a PLY file", …: the format family with its article.
 fn a_file_of(format: Format) -> &'static str {
     match format {
@@ -216,13 +227,7 @@ impl<'a> Ctx<'a> {
     }
 
     pub(crate) fn refused_uri(&self, uri: &str, reason: impl Into<String>) -> IoError {
-        // Long enough for any real path, short enough for one line.
-        const MAX: usize = 200;
-        let uri = match uri.char_indices().nth(MAX) {
-            Some((cut, _)) => format!("{}…", &uri[..cut]),
-            None => uri.to_owned(),
-        };
-        IoError::RefusedUri { path: self.path.to_path_buf(), uri, reason: reason.into() }
+        IoError::RefusedUri { path: self.path.to_path_buf(), uri: show_uri(uri), reason: reason.into() }
     }
 
     pub(crate) fn io(&self, source: std::io::Error) -> IoError {

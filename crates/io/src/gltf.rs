@@ -183,7 +183,7 @@ fn resolve(uri: &str, base_dir: Option<&Path>, ctx: Ctx<'_>) -> Result<PathBuf, 
     let Some(dir) = base_dir else {
         return Err(ctx.unsupported(format!(
             "external buffer '{}' cannot be resolved without the file's directory",
-            crate::text::show(uri.as_bytes())
+            crate::error::show_uri(uri)
         )));
     };
     let dir = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
@@ -334,6 +334,19 @@ fn read_indices(elements: &Elements<'_>, size: usize) -> Vec<u32> {
         .collect()
 }
 
+/// The gltf crate's validation errors in one short line: the first three and
+/// how many more (its own message lists every one, after a second "invalid glTF:").
+fn validation_message(error: ::gltf::Error) -> String {
+    const SHOWN: usize = 3;
+    let ::gltf::Error::Validation(errors) = error else { return format!("invalid glTF: {error}") };
+    let first: Vec<String> = errors.iter().take(SHOWN).map(|(path, e)| format!("{path}: {e}")).collect();
+    let more = match errors.len().saturating_sub(SHOWN) {
+        0 => String::new(),
+        n => format!(" (and {n} more)"),
+    };
+    crate::text::escape_controls(format!("invalid glTF: {}{more}", first.join("; ")).into()).into_owned()
+}
+
 /// How a primitive that is not read is named in "no triangle primitives (found: …)".
 fn mode_name(mode: Mode) -> &'static str {
     match mode {
@@ -359,7 +372,7 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Resul
     };
     let root: ::gltf::json::Root = ::gltf::json::deserialize::from_slice(json).map_err(|e| {
         let line = (!glb && e.line() > 0).then_some(e.line());
-        ctx.parse(line, format!("invalid glTF JSON: {e}"))
+        ctx.parse(line, crate::text::escape_controls(format!("invalid glTF JSON: {e}").into()))
     })?;
     // gltf-json 1.4.1 looks up the POSITION accessor without a bounds check
     // while validating (a panic on a dangling index): check indices first.
@@ -375,7 +388,7 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Resul
             }
         }
     }
-    let doc = Document::from_json(root).map_err(|e| ctx.parse(None, format!("invalid glTF: {e}")))?;
+    let doc = Document::from_json(root).map_err(|e| ctx.parse(None, validation_message(e)))?;
     let buffers = load_buffers(&doc, bin, base_dir, ctx)?;
 
     // Vertices plus triangles produced, against the bytes they come from:

@@ -142,7 +142,7 @@ fn parse_header(bytes: &[u8], ctx: Ctx<'_>) -> Result<Header, IoError> {
                     return Err(ctx.parse(n, "element line needs a name and a count"));
                 };
                 let count = parse_bounded(count, "element count").map_err(|message| ctx.parse(n, message))?;
-                let name = String::from_utf8_lossy(name).into_owned();
+                let name = show(name).into_owned();
                 elements.push(Element { name, count, properties: Vec::new(), line: n });
             }
             Some(b"property") => {
@@ -159,7 +159,7 @@ fn parse_header(bytes: &[u8], ctx: Ctx<'_>) -> Result<Header, IoError> {
                     (None, ty(1)?, t.get(2))
                 };
                 let name = name.ok_or_else(|| ctx.parse(n, "property has no name"))?;
-                let name = String::from_utf8_lossy(name).into_owned();
+                let name = show(name).into_owned();
                 element.properties.push(Property { name, list, ty, role: Role::Skip });
             }
             Some(other) => return Err(ctx.parse(n, format!("unknown header keyword '{}'", show(other)))),

@@ -181,10 +181,23 @@ pub(crate) fn parse_bounded<T: TryFrom<i128>>(token: &[u8], what: &str) -> Resul
 /// A token for an error message: lossy UTF-8, cut to a readable length.
 pub(crate) fn show(token: &[u8]) -> Cow<'_, str> {
     const MAX: usize = 40;
-    if token.len() <= MAX {
+    let shown = if token.len() <= MAX {
         String::from_utf8_lossy(token)
     } else {
         Cow::Owned(format!("{}…", String::from_utf8_lossy(&token[..MAX])))
+    };
+    escape_controls(shown)
+}
+
+/// Control characters written as escapes (`\n`, `\u{1b}`), so that a quoted
+/// token or name keeps a message on one line and cannot drive a terminal.
+pub(crate) fn escape_controls(text: Cow<'_, str>) -> Cow<'_, str> {
+    if text.chars().any(char::is_control) {
+        Cow::Owned(
+            text.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.into() }).collect(),
+        )
+    } else {
+        text
     }
 }
 
@@ -270,5 +283,13 @@ mod tests {
         assert_eq!(sniff(&late), None);
         assert_eq!(strip_bom(b"\xEF\xBB\xBFv"), b"v");
         assert_eq!(strip_bom(b"v"), b"v");
+    }
+
+    #[test]
+    fn shown_tokens_stay_on_one_line() {
+        assert_eq!(show(b"a\x1b[2Jb"), "a\\u{1b}[2Jb");
+        assert_eq!(show(b"x\ny"), "x\\ny");
+        assert_eq!(show(b"caf\xe9"), "caf\u{fffd}");
+        assert_eq!(show(&[b'7'; 50]), format!("{}…", "7".repeat(40)));
     }
 }

@@ -504,7 +504,8 @@ fn gltf_accessor_reuse_cannot_multiply_the_work() {
 
 #[test]
 fn hardening_fixtures_give_the_real_problem_in_one_line() {
-    let cases: [(&str, fn(&IoError) -> bool, &str); 5] = [
+    type IsKind = fn(&IoError) -> bool;
+    let cases: [(&str, IsKind, &str); 5] = [
         (
             "bad/utf16.obj",
             |e| matches!(e, IoError::Utf16 { .. }),
@@ -533,4 +534,24 @@ fn hardening_fixtures_give_the_real_problem_in_one_line() {
         assert!(kind(&e), "{name}: {e:?}");
         assert!(shown.contains(message) && !shown.contains('\n'), "{name}: {shown}");
     }
+}
+
+#[test]
+fn gltf_messages_stay_on_one_line_and_short() {
+    // 200 primitives with dangling index accessors: the gltf crate reports each one.
+    let primitives = vec![r#"{"attributes": {}, "indices": 7}"#; 200].join(",");
+    let json = format!(r#"{{"asset": {{"version": "2.0"}}, "meshes": [{{"primitives": [{primitives}]}}]}}"#);
+    let e = read_mesh_from_bytes(json.as_bytes(), Format::Gltf, "many.gltf").unwrap_err();
+    let shown = e.to_string();
+    assert!(shown.starts_with("many.gltf: invalid glTF: meshes[0].primitives[0]"), "{shown}");
+    assert!(!shown.contains("invalid glTF: invalid glTF"), "{shown}");
+    assert!(shown.ends_with(" more)") && shown.len() < 400, "{shown}");
+    // A URI and a JSON string holding a newline and an escape sequence.
+    let json = r#"{"asset": {"version": "2.0"}, "buffers": [{"byteLength": 4, "uri": "/etc/\n\u001b[2Jx"}]}"#;
+    let e = read_mesh_from_bytes(json.as_bytes(), Format::Gltf, "nl.gltf").unwrap_err();
+    assert!(matches!(e, IoError::RefusedUri { .. }), "{e}");
+    assert!(!e.to_string().contains(['\n', '\u{1b}']), "{e}");
+    let json = r#"{"asset": {"version": "2.0"}, "meshes": "a\nb"}"#;
+    let e = read_mesh_from_bytes(json.as_bytes(), Format::Gltf, "t.gltf").unwrap_err();
+    assert!(!e.to_string().contains('\n'), "{e}");
 }
