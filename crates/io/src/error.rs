@@ -4,6 +4,8 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use crate::Format;
+
 /// Everything that can go wrong reading or writing a mesh file.
 ///
 /// Every variant names the file; errors in text formats also carry the
@@ -68,6 +70,49 @@ pub enum IoError {
         /// The unsupported feature.
         what: String,
     },
+    /// The path names something that is not a regular file (a directory, a
+    /// FIFO, a device, a socket): refused before it is opened, because
+    /// opening a FIFO blocks and reading a device may never end.
+    #[error("{}: not a regular file (it is {kind})", .path.display())]
+    NotAFile {
+        /// The path that was to be read.
+        path: PathBuf,
+        /// What it is instead, with its article: `a directory`, `a FIFO`, …
+        kind: &'static str,
+    },
+    /// A glTF buffer URI that this crate will not follow: anything but a
+    /// `data:` URI or a relative path that resolves to a regular file inside
+    /// the glTF file's own directory.
+    #[error("{}: buffer uri '{uri}' refused: {reason}", .path.display())]
+    RefusedUri {
+        /// The glTF file that holds the URI.
+        path: PathBuf,
+        /// The URI as written in the file (cut to a readable length).
+        uri: String,
+        /// Why it is refused, e.g. "it is an absolute path".
+        reason: String,
+    },
+    /// A text format holds UTF-16 text (a UTF-16 byte-order mark, or NUL
+    /// bytes interleaved with ASCII).
+    #[error("{}: UTF-16 text is not supported; save the file as UTF-8", .path.display())]
+    Utf16 {
+        /// The file being read.
+        path: PathBuf,
+    },
+    /// A text format holds binary data (NUL bytes, or mostly bytes that are
+    /// neither printable nor whitespace): most likely the wrong file, or a
+    /// binary file with the wrong extension.
+    #[error("{}: binary data, not {}", Location(.path, *.line), a_file_of(*.format))]
+    BinaryData {
+        /// The file being read.
+        path: PathBuf,
+        /// 1-based line where the binary data was found, when it was found
+        /// past the start of the file.
+        line: Option<usize>,
+        /// The text format the file was read as (its family: ASCII PLY and
+        /// STL stand for PLY and STL).
+        format: Format,
+    },
     /// The mesh handed to a writer cannot be written in the requested format
     /// (an index out of range, a normal count that does not match, …).
     #[error("{}: cannot write mesh: {message}", .path.display())]
@@ -89,7 +134,11 @@ impl IoError {
             | IoError::Parse { path, .. }
             | IoError::Truncated { path, .. }
             | IoError::Unsupported { path, .. }
-            | IoError::InvalidMesh { path, .. } => path,
+            | IoError::InvalidMesh { path, .. }
+            | IoError::NotAFile { path, .. }
+            | IoError::RefusedUri { path, .. }
+            | IoError::Utf16 { path }
+            | IoError::BinaryData { path, .. } => path,
         }
     }
 
@@ -97,7 +146,7 @@ impl IoError {
     /// problem sits on a line.
     pub fn line(&self) -> Option<usize> {
         match self {
-            IoError::Parse { line, .. } | IoError::Truncated { line, .. } => *line,
+            IoError::Parse { line, .. } | IoError::Truncated { line, .. } | IoError::BinaryData { line, .. } => *line,
             _ => None,
         }
     }
@@ -112,6 +161,29 @@ impl fmt::Display for Location<'_> {
             Some(line) => write!(f, "{}:{line}", self.0.display()),
             None => write!(f, "{}", self.0.display()),
         }
+    }
+}
+
+/// A URI for a message: cut to a length enough for any real path, control
+/// characters escaped (a JSON string may hold a newline).
+pub(crate) fn show_uri(uri: &str) -> String {
+    const MAX: usize = 200;
+    let cut = match uri.char_indices().nth(MAX) {
+        Some((end, _)) => std::borrow::Cow::Owned(format!("{}…", &uri[..end])),
+        None => std::borrow::Cow::Borrowed(uri),
+    };
+    crate::text::escape_controls(cut).into_owned()
+}
+
+/// "an OBJ file", "a PLY file", …: the format family with its article.
+fn a_file_of(format: Format) -> &'static str {
+    match format {
+        Format::Obj => "an OBJ file",
+        Format::Off => "an OFF file",
+        Format::PlyAscii | Format::PlyBinary => "a PLY file",
+        Format::StlAscii | Format::StlBinary => "an STL file",
+        Format::Gltf => "a glTF file",
+        Format::Glb => "a GLB file",
     }
 }
 
@@ -146,6 +218,18 @@ impl<'a> Ctx<'a> {
         IoError::InvalidMesh { path: self.path.to_path_buf(), message: message.into() }
     }
 
+    pub(crate) fn utf16(&self) -> IoError {
+        IoError::Utf16 { path: self.path.to_path_buf() }
+    }
+
+    pub(crate) fn binary(&self, line: impl Into<Option<usize>>, format: Format) -> IoError {
+        IoError::BinaryData { path: self.path.to_path_buf(), line: line.into(), format }
+    }
+
+    pub(crate) fn refused_uri(&self, uri: &str, reason: impl Into<String>) -> IoError {
+        IoError::RefusedUri { path: self.path.to_path_buf(), uri: show_uri(uri), reason: reason.into() }
+    }
+
     pub(crate) fn io(&self, source: std::io::Error) -> IoError {
         IoError::Io { path: self.path.to_path_buf(), source }
     }
@@ -163,5 +247,32 @@ mod tests {
         assert_eq!(e.line(), Some(12));
         let e = ctx.truncated(None, "binary data ends inside vertex 3 of 8");
         assert_eq!(e.to_string(), "mesh.obj: file is truncated: binary data ends inside vertex 3 of 8");
+        assert_eq!(ctx.binary(None, Format::Obj).to_string(), "mesh.obj: binary data, not an OBJ file");
+        assert_eq!(ctx.binary(7, Format::StlAscii).to_string(), "mesh.obj:7: binary data, not an STL file");
+        assert_eq!(ctx.binary(7, Format::StlAscii).line(), Some(7));
+        assert_eq!(ctx.utf16().to_string(), "mesh.obj: UTF-16 text is not supported; save the file as UTF-8");
+    }
+
+    #[test]
+    fn every_variant_names_its_file() {
+        let ctx = Ctx::new(Path::new("dir/m.gltf"));
+        let errors = [
+            ctx.parse(1, "p"),
+            ctx.truncated(None, "t"),
+            ctx.unsupported("u"),
+            ctx.empty(),
+            ctx.invalid("i"),
+            ctx.io(std::io::Error::other("o")),
+            ctx.utf16(),
+            ctx.binary(None, Format::Gltf),
+            ctx.refused_uri("/etc/hostname", "it is an absolute path"),
+            IoError::NotAFile { path: ctx.path.to_path_buf(), kind: "a FIFO" },
+            IoError::UnknownFormat { path: ctx.path.to_path_buf() },
+        ];
+        for e in errors {
+            assert_eq!(e.path(), Path::new("dir/m.gltf"));
+            assert!(e.to_string().starts_with("dir/m.gltf"), "{e}");
+            assert!(!e.to_string().contains('\n'), "{e}");
+        }
     }
 }

@@ -2,15 +2,32 @@
 //!
 //! Read: the JSON is parsed and validated by the `gltf` crate; the GLB
 //! container, the buffers and the accessors are read here with every offset
-//! checked, so a corrupt file is an error, never a panic. Buffers come from
-//! the GLB `BIN` chunk, from `data:` URIs, or from files relative to the glTF
-//! file's directory; nothing is ever fetched from the network. Every
-//! triangle-mode primitive (`TRIANGLES`, `TRIANGLE_STRIP`, `TRIANGLE_FAN`) of
-//! every mesh is read as stored, without node transforms, and concatenated
-//! with its indices offset; non-indexed primitives take consecutive vertices.
-//! Points and lines are skipped. Positions are `f32` in glTF. Because
-//! primitives are concatenated, an index past its own primitive's vertices
-//! is an error here rather than passed through.
+//! checked, so a corrupt file is an error, never a panic. A UTF-8 byte-order
+//! mark before the JSON is skipped; UTF-16 and binary data that is not a GLB
+//! container are reported as such. Every triangle-mode primitive
+//! (`TRIANGLES`, `TRIANGLE_STRIP`, `TRIANGLE_FAN`) of every mesh is read as
+//! stored, without node transforms; non-indexed primitives take consecutive
+//! vertices. Primitives that share a `POSITION` accessor share its vertices
+//! (they are read once, so a mesh split into primitives by material stays
+//! connected); other primitives' vertices are appended, with their indices
+//! offset. Points and lines are skipped; a file with nothing but points and
+//! lines is [`IoError::Unsupported`] ("no triangle primitives (found: …)").
+//! Positions are `f32` in glTF. Because primitives are concatenated, an index
+//! past its own primitive's vertices is an error here rather than passed
+//! through.
+//!
+//! Buffers come from the GLB `BIN` chunk, from `data:` URIs, or from files
+//! named by *relative* URIs that resolve (percent-decoded, symbolic links
+//! followed) to a regular file inside the glTF file's own directory; at most
+//! the buffer's `byteLength` is read. Anything else — a scheme (`file:`,
+//! `http:`), an absolute path, a `..` that leaves the directory, a FIFO or a
+//! device — is [`IoError::RefusedUri`]: nothing is ever fetched from the
+//! network or read from outside the directory.
+//!
+//! Work is bounded by the bytes present: accessors are checked against their
+//! buffer views before anything is allocated, and a file whose primitives
+//! reuse accessors for more vertices and triangles than it has bytes (a few
+//! kilobytes of JSON can repeat one accessor a million times) is refused.
 //!
 //! Write: faces triangulated as fans from their first corner, positions as
 //! `f32` (rounded from `f64`: relative error up to 2⁻²⁴; coordinates must be
@@ -23,7 +40,8 @@
 use glam::{DVec3, Vec3};
 use serde_json::json;
 use std::borrow::Cow;
-use std::path::Path;
+use std::collections::HashMap;
+use std::path::{Component, Path, PathBuf};
 use subdiv_mesh::{FaceList, PolygonSoup};
 
 use ::gltf::accessor::{DataType, Dimensions};
@@ -32,8 +50,8 @@ use ::gltf::mesh::{Mode, Semantic};
 use ::gltf::{Accessor, Document};
 
 use crate::error::{Ctx, IoError};
-use crate::text::is_blank;
-use crate::{base64, fan, MeshView};
+use crate::text::{check_text, is_blank, strip_bom};
+use crate::{base64, fan, Format, MeshView};
 
 const GLB_MAGIC: &[u8; 4] = b"glTF";
 const CHUNK_JSON: u32 = 0x4E4F_534A;
@@ -63,15 +81,16 @@ fn split_glb<'a>(bytes: &'a [u8], ctx: Ctx<'_>) -> Result<(&'a [u8], Option<&'a 
             return Err(ctx.truncated(None, format!("GLB chunk header at byte {at} is cut off")));
         };
         let start = at + 8;
-        let chunk = data
-            .get(start..start + len as usize)
+        let end = start.checked_add(len as usize);
+        let chunk = end
+            .and_then(|end| data.get(start..end))
             .ok_or_else(|| ctx.truncated(None, format!("GLB chunk at byte {at} claims {len} bytes")))?;
         match kind {
             CHUNK_JSON if json.is_none() => json = Some(chunk),
             CHUNK_BIN if bin.is_none() => bin = Some(chunk),
             _ => {}
         }
-        at = start + len as usize;
+        at = start + chunk.len();
     }
     let json = json.ok_or_else(|| ctx.parse(None, "GLB file has no JSON chunk"))?;
     Ok((json, bin))
@@ -97,30 +116,84 @@ fn percent_decode(uri: &str) -> Vec<u8> {
     out
 }
 
-/// The bytes a buffer URI points to.
-fn uri_data(uri: &str, base_dir: Option<&Path>, ctx: Ctx<'_>) -> Result<Vec<u8>, IoError> {
-    if let Some(rest) = uri.strip_prefix("data:") {
+/// A decoded URI path as a file system path (bytes as they are on Unix).
+fn path_of(decoded: Vec<u8>) -> PathBuf {
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStringExt;
+        PathBuf::from(std::ffi::OsString::from_vec(decoded))
+    }
+    #[cfg(not(unix))]
+    {
+        PathBuf::from(String::from_utf8_lossy(&decoded).into_owned())
+    }
+}
+
+/// The bytes a buffer URI points to: at most `length` of them from a file.
+fn uri_data(uri: &str, length: usize, base_dir: Option<&Path>, ctx: Ctx<'_>) -> Result<Vec<u8>, IoError> {
+    if uri.get(..5).is_some_and(|scheme| scheme.eq_ignore_ascii_case("data:")) {
         let (meta, payload) =
-            rest.split_once(',').ok_or_else(|| ctx.parse(None, "data: URI without a ',' before its payload"))?;
+            uri[5..].split_once(',').ok_or_else(|| ctx.parse(None, "data: URI without a ',' before its payload"))?;
         return if meta.ends_with(";base64") {
             base64::decode(payload.as_bytes()).ok_or_else(|| ctx.parse(None, "data: URI payload is not valid base64"))
         } else {
             Ok(percent_decode(payload))
         };
     }
-    let scheme = uri.find(':').is_some_and(|colon| !uri[..colon].contains('/'));
-    if scheme {
-        return Err(ctx.unsupported(format!(
-            "buffer URI '{uri}' is not a relative file path (nothing is fetched from the network)"
-        )));
+    let path = resolve(uri, base_dir, ctx)?;
+    // A file longer than the buffer is fine (the rest is not part of it); shorter is truncated.
+    crate::read_file(&path, Some(length as u64), &mut |_, _| {}).map_err(|e| match e {
+        IoError::NotAFile { kind, .. } => ctx.refused_uri(uri, format!("it names {kind}, not a regular file")),
+        e => e,
+    })
+}
+
+/// The file a relative buffer URI names, checked to lie inside `base_dir`:
+/// no scheme, not absolute, no `..` above the directory (read lexically,
+/// before the file system is asked), and — comparing canonical paths — no
+/// symbolic link out of it.
+fn resolve(uri: &str, base_dir: Option<&Path>, ctx: Ctx<'_>) -> Result<PathBuf, IoError> {
+    // RFC 3986 §4.2: a relative reference has no ':' before its first '/'.
+    if uri.find(':').is_some_and(|colon| !uri[..colon].contains('/')) {
+        return Err(ctx.refused_uri(
+            uri,
+            "it has a scheme; only data: URIs and relative paths are read (nothing is fetched from the network)",
+        ));
+    }
+    let decoded = percent_decode(uri);
+    if decoded.contains(&0) {
+        return Err(ctx.refused_uri(uri, "it holds a NUL byte"));
+    }
+    if decoded.starts_with(b"/") || decoded.starts_with(b"\\") {
+        return Err(ctx.refused_uri(uri, "it is an absolute path"));
+    }
+    let relative = path_of(decoded);
+    if relative.has_root() || relative.is_absolute() {
+        return Err(ctx.refused_uri(uri, "it is an absolute path"));
+    }
+    let mut depth = 0usize;
+    for component in relative.components() {
+        match component {
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            Component::ParentDir if depth > 0 => depth -= 1,
+            _ => return Err(ctx.refused_uri(uri, "it leads out of the glTF file's directory")),
+        }
     }
     let Some(dir) = base_dir else {
-        return Err(ctx.unsupported(format!("external buffer '{uri}' cannot be resolved without the file's directory")));
+        return Err(ctx.unsupported(format!(
+            "external buffer '{}' cannot be resolved without the file's directory",
+            crate::error::show_uri(uri)
+        )));
     };
-    let decoded = percent_decode(uri);
-    let relative = String::from_utf8_lossy(&decoded);
-    let path = dir.join(relative.as_ref());
-    std::fs::read(&path).map_err(|source| IoError::Io { path, source })
+    let dir = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
+    let path = dir.join(&relative);
+    let canonical_dir = dir.canonicalize().map_err(|source| IoError::Io { path: dir.to_path_buf(), source })?;
+    let canonical = path.canonicalize().map_err(|source| IoError::Io { path: path.clone(), source })?;
+    if !canonical.starts_with(&canonical_dir) {
+        return Err(ctx.refused_uri(uri, "it leads out of the glTF file's directory (through a symbolic link)"));
+    }
+    Ok(canonical)
 }
 
 /// Every buffer's bytes, each at least as long as its declared `byteLength`.
@@ -136,7 +209,7 @@ fn load_buffers<'a>(
                 Source::Bin => Cow::Borrowed(bin.ok_or_else(|| {
                     ctx.parse(None, format!("buffer {} refers to a missing BIN chunk", buffer.index()))
                 })?),
-                Source::Uri(uri) => Cow::Owned(uri_data(uri, base_dir, ctx)?),
+                Source::Uri(uri) => Cow::Owned(uri_data(uri, buffer.length(), base_dir, ctx)?),
             };
             if data.len() < buffer.length() {
                 return Err(ctx.truncated(
@@ -149,12 +222,30 @@ fn load_buffers<'a>(
         .collect()
 }
 
-/// The bytes of an accessor's elements and their stride.
+/// The elements of an accessor, checked to lie inside their buffer view:
+/// element `k` starts at byte `k · stride` of `data`.
+struct Elements<'b> {
+    data: &'b [u8],
+    stride: usize,
+    count: usize,
+}
+
+impl Elements<'_> {
+    /// The first `N` bytes of element `k`.
+    fn get<const N: usize>(&self, k: usize) -> [u8; N] {
+        let at = k * self.stride;
+        let mut out = [0; N];
+        out.copy_from_slice(&self.data[at..at + N]);
+        out
+    }
+}
+
+/// The bytes of an accessor's elements, without reading them.
 fn accessor_data<'b>(
     accessor: &Accessor<'_>,
     buffers: &'b [Cow<'_, [u8]>],
     ctx: Ctx<'_>,
-) -> Result<(&'b [u8], usize), IoError> {
+) -> Result<Elements<'b>, IoError> {
     let i = accessor.index();
     if accessor.sparse().is_some() {
         return Err(ctx.unsupported(format!("sparse accessor {i}")));
@@ -177,7 +268,7 @@ fn accessor_data<'b>(
         .ok_or_else(|| ctx.truncated(None, format!("buffer view {} lies outside its buffer", view.index())))?;
     let count = accessor.count();
     if count == 0 {
-        return Ok((&[], stride));
+        return Ok(Elements { data: &[], stride, count });
     }
     let end = stride
         .checked_mul(count - 1)
@@ -186,10 +277,14 @@ fn accessor_data<'b>(
     let data = end
         .and_then(|end| view_data.get(accessor.offset()..end))
         .ok_or_else(|| ctx.truncated(None, format!("accessor {i} reaches past its buffer view")))?;
-    Ok((data, stride))
+    Ok(Elements { data, stride, count })
 }
 
-fn read_positions(accessor: &Accessor<'_>, buffers: &[Cow<'_, [u8]>], ctx: Ctx<'_>) -> Result<Vec<DVec3>, IoError> {
+fn position_data<'b>(
+    accessor: &Accessor<'_>,
+    buffers: &'b [Cow<'_, [u8]>],
+    ctx: Ctx<'_>,
+) -> Result<Elements<'b>, IoError> {
     if accessor.dimensions() != Dimensions::Vec3 || accessor.data_type() != DataType::F32 || accessor.normalized() {
         return Err(ctx.unsupported(format!(
             "POSITION accessor {} is {:?} {:?} (only VEC3 FLOAT is read)",
@@ -198,20 +293,23 @@ fn read_positions(accessor: &Accessor<'_>, buffers: &[Cow<'_, [u8]>], ctx: Ctx<'
             accessor.data_type()
         )));
     }
-    let (data, stride) = accessor_data(accessor, buffers, ctx)?;
-    Ok((0..accessor.count())
-        .map(|k| {
-            let at = k * stride;
-            let c = [0, 4, 8].map(|o| {
-                let b = &data[at + o..at + o + 4];
-                f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            });
-            DVec3::from(c)
-        })
-        .collect())
+    accessor_data(accessor, buffers, ctx)
 }
 
-fn read_indices(accessor: &Accessor<'_>, buffers: &[Cow<'_, [u8]>], ctx: Ctx<'_>) -> Result<Vec<u32>, IoError> {
+fn read_positions<'a>(elements: &'a Elements<'_>) -> impl Iterator<Item = DVec3> + 'a {
+    (0..elements.count).map(|k| {
+        let b: [u8; 12] = elements.get(k);
+        let c = [0, 4, 8].map(|o| f64::from(f32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]])));
+        DVec3::from(c)
+    })
+}
+
+/// The index accessor's elements and their size in bytes.
+fn index_data<'b>(
+    accessor: &Accessor<'_>,
+    buffers: &'b [Cow<'_, [u8]>],
+    ctx: Ctx<'_>,
+) -> Result<(Elements<'b>, usize), IoError> {
     let size = match (accessor.dimensions(), accessor.data_type()) {
         (Dimensions::Scalar, DataType::U8) => 1,
         (Dimensions::Scalar, DataType::U16) => 2,
@@ -223,28 +321,58 @@ fn read_indices(accessor: &Accessor<'_>, buffers: &[Cow<'_, [u8]>], ctx: Ctx<'_>
             ))
         }
     };
-    let (data, stride) = accessor_data(accessor, buffers, ctx)?;
-    Ok((0..accessor.count())
-        .map(|k| {
-            let b = &data[k * stride..k * stride + size];
-            match size {
-                1 => u32::from(b[0]),
-                2 => u32::from(u16::from_le_bytes([b[0], b[1]])),
-                _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
-            }
+    Ok((accessor_data(accessor, buffers, ctx)?, size))
+}
+
+fn read_indices(elements: &Elements<'_>, size: usize) -> Vec<u32> {
+    (0..elements.count)
+        .map(|k| match size {
+            1 => u32::from(elements.get::<1>(k)[0]),
+            2 => u32::from(u16::from_le_bytes(elements.get(k))),
+            _ => u32::from_le_bytes(elements.get(k)),
         })
-        .collect())
+        .collect()
+}
+
+/// The gltf crate's validation errors in one short line: the first three and
+/// how many more (its own message lists every one, after a second "invalid glTF:").
+fn validation_message(error: ::gltf::Error) -> String {
+    const SHOWN: usize = 3;
+    let ::gltf::Error::Validation(errors) = error else { return format!("invalid glTF: {error}") };
+    let first: Vec<String> = errors.iter().take(SHOWN).map(|(path, e)| format!("{path}: {e}")).collect();
+    let more = match errors.len().saturating_sub(SHOWN) {
+        0 => String::new(),
+        n => format!(" (and {n} more)"),
+    };
+    crate::text::escape_controls(format!("invalid glTF: {}{more}", first.join("; ")).into()).into_owned()
+}
+
+/// How a primitive that is not read is named in "no triangle primitives (found: …)".
+fn mode_name(mode: Mode) -> &'static str {
+    match mode {
+        Mode::Points => "points",
+        Mode::Lines => "lines",
+        Mode::LineLoop => "line loops",
+        Mode::LineStrip => "line strips",
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => "triangles without POSITION",
+    }
 }
 
 pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Result<PolygonSoup, IoError> {
-    if is_blank(bytes) {
-        return Err(ctx.empty());
-    }
     let glb = bytes.starts_with(GLB_MAGIC);
-    let (json, bin) = if glb { split_glb(bytes, ctx)? } else { (bytes, None) };
+    let (json, bin) = if glb {
+        split_glb(bytes, ctx)?
+    } else {
+        let text = strip_bom(bytes);
+        if is_blank(text) {
+            return Err(ctx.empty());
+        }
+        check_text(text, Format::Gltf, ctx)?;
+        (text, None)
+    };
     let root: ::gltf::json::Root = ::gltf::json::deserialize::from_slice(json).map_err(|e| {
         let line = (!glb && e.line() > 0).then_some(e.line());
-        ctx.parse(line, format!("invalid glTF JSON: {e}"))
+        ctx.parse(line, crate::text::escape_controls(format!("invalid glTF JSON: {e}").into()))
     })?;
     // gltf-json 1.4.1 looks up the POSITION accessor without a bounds check
     // while validating (a panic on a dangling index): check indices first.
@@ -260,38 +388,73 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Resul
             }
         }
     }
-    let doc = Document::from_json(root).map_err(|e| ctx.parse(None, format!("invalid glTF: {e}")))?;
+    let doc = Document::from_json(root).map_err(|e| ctx.parse(None, validation_message(e)))?;
     let buffers = load_buffers(&doc, bin, base_dir, ctx)?;
 
+    // Vertices plus triangles produced, against the bytes they come from:
+    // without accessor reuse every vertex takes 12 bytes and every triangle
+    // at least one (a strip of u8 indices).
+    let budget = bytes.len() + buffers.iter().map(|b| b.len()).sum::<usize>();
+    let mut produced = 0usize;
     let mut positions: Vec<DVec3> = Vec::new();
     let mut faces = FaceList::new();
+    // First vertex of every POSITION accessor read so far.
+    let mut first_vertex: HashMap<usize, u32> = HashMap::new();
+    let mut any_triangles = false;
+    let mut skipped: Vec<&'static str> = Vec::new();
     for mesh in doc.meshes() {
         for primitive in mesh.primitives() {
             let mode = primitive.mode();
-            if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+            let accessor = primitive.get(&Semantic::Positions);
+            let (true, Some(accessor)) =
+                (matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan), accessor)
+            else {
+                if !skipped.contains(&mode_name(mode)) {
+                    skipped.push(mode_name(mode));
+                }
                 continue;
-            }
-            let Some(accessor) = primitive.get(&Semantic::Positions) else { continue };
+            };
+            any_triangles = true;
             let where_ = format!("mesh {} primitive {}", mesh.index(), primitive.index());
-            let points = read_positions(&accessor, &buffers, ctx)?;
-            let n = points.len();
-            let indices = match primitive.indices() {
-                Some(accessor) => read_indices(&accessor, &buffers, ctx)?,
+            // Check everything against the data before allocating anything.
+            let points = position_data(&accessor, &buffers, ctx)?;
+            let n = points.count;
+            let index_elements = primitive.indices().map(|a| index_data(&a, &buffers, ctx)).transpose()?;
+            let index_count = index_elements.as_ref().map_or(n, |(e, _)| e.count);
+            let triangle_count = match mode {
+                Mode::Triangles if index_count % 3 != 0 => {
+                    return Err(ctx.parse(None, format!("{where_}: {index_count} indices is not a multiple of 3")))
+                }
+                Mode::Triangles => index_count / 3,
+                _ => index_count.saturating_sub(2),
+            };
+            let new_vertices = if first_vertex.contains_key(&accessor.index()) { 0 } else { n };
+            produced = produced.saturating_add(new_vertices).saturating_add(triangle_count);
+            if produced > budget {
+                return Err(ctx.unsupported(format!(
+                    "{where_}: primitives reuse accessors for more vertices and triangles ({produced} so far) \
+                     than the file has bytes ({budget})"
+                )));
+            }
+
+            let base = match first_vertex.get(&accessor.index()) {
+                Some(&base) => base,
+                None => {
+                    let base = u32::try_from(positions.len() + n)
+                        .map(|_| positions.len() as u32)
+                        .map_err(|_| ctx.unsupported("more than 2^32 vertices"))?;
+                    positions.extend(read_positions(&points));
+                    first_vertex.insert(accessor.index(), base);
+                    base
+                }
+            };
+            let indices = match &index_elements {
+                Some((elements, size)) => read_indices(elements, *size),
                 None => (0..n as u32).collect(),
             };
             if let Some(&bad) = indices.iter().find(|&&v| v as usize >= n) {
                 return Err(ctx.parse(None, format!("{where_}: index {bad} is out of range ({n} vertices)")));
             }
-            let base = u32::try_from(positions.len() + n)
-                .map(|_| positions.len() as u32)
-                .map_err(|_| ctx.unsupported("more than 2^32 vertices"))?;
-            let triangle_count = match mode {
-                Mode::Triangles if indices.len() % 3 != 0 => {
-                    return Err(ctx.parse(None, format!("{where_}: {} indices is not a multiple of 3", indices.len())))
-                }
-                Mode::Triangles => indices.len() / 3,
-                _ => indices.len().saturating_sub(2),
-            };
             for t in 0..triangle_count {
                 let corners = match mode {
                     Mode::Triangles => [3 * t, 3 * t + 1, 3 * t + 2],
@@ -302,8 +465,10 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Resul
                 };
                 faces.push(&corners.map(|k| base + indices[k]));
             }
-            positions.extend(points);
         }
+    }
+    if !any_triangles && !skipped.is_empty() {
+        return Err(ctx.unsupported(format!("no triangle primitives (found: {})", skipped.join(", "))));
     }
     Ok(PolygonSoup::new(positions, faces))
 }
@@ -409,10 +574,31 @@ mod tests {
     }
 
     #[test]
-    fn network_uris_are_refused() {
+    fn uris_with_a_scheme_absolute_or_escaping_are_refused_before_the_file_system_is_asked() {
         let ctx = Ctx::new(Path::new("t.gltf"));
-        let e = uri_data("https://example.com/x.bin", Some(Path::new(".")), ctx).unwrap_err();
-        assert!(matches!(e, IoError::Unsupported { .. }), "{e}");
-        assert_eq!(uri_data("data:application/octet-stream;base64,AAEC", None, ctx).unwrap(), vec![0, 1, 2]);
+        // The directory does not exist: a refusal cannot come from looking at files.
+        let dir = Some(Path::new("/nonexistent-subdiv-dir"));
+        for (uri, reason) in [
+            ("https://example.com/x.bin", "scheme"),
+            ("file:///etc/hostname", "scheme"),
+            ("FILE:x.bin", "scheme"),
+            ("c:x.bin", "scheme"),
+            ("/etc/hostname", "absolute"),
+            ("%2Fetc/hostname", "absolute"),
+            ("../x.bin", "out of the glTF file's directory"),
+            ("a/../../x.bin", "out of the glTF file's directory"),
+            ("%2E%2E/x.bin", "out of the glTF file's directory"),
+            ("a/%2e%2e%2F..%2fx.bin", "out of the glTF file's directory"),
+            ("x%00.bin", "NUL"),
+        ] {
+            let e = uri_data(uri, 4, dir, ctx).unwrap_err();
+            assert!(matches!(&e, IoError::RefusedUri { uri: u, .. } if u == uri), "{uri}: {e}");
+            assert!(e.to_string().contains(reason), "{uri}: {e}");
+        }
+        // A '..' that stays inside is resolved (here: the directory is missing).
+        let e = uri_data("a/../x.bin", 4, dir, ctx).unwrap_err();
+        assert!(matches!(e, IoError::Io { .. }), "{e}");
+        assert_eq!(uri_data("data:application/octet-stream;base64,AAEC", 3, None, ctx).unwrap(), vec![0, 1, 2]);
+        assert_eq!(uri_data("DATA:,a%20b", 3, None, ctx).unwrap(), b"a b");
     }
 }

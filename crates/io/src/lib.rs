@@ -6,6 +6,16 @@
 //!
 //! - [`read_mesh`] picks the reader by extension ([`Format::from_path`]) and
 //!   tells ASCII from binary (PLY, STL) and JSON from GLB by content.
+//!   [`read_mesh_with_progress`] does the same and reports the bytes read.
+//!   Only regular files are read: a directory, FIFO, device or socket is
+//!   [`IoError::NotAFile`], refused before it is opened.
+//! - Hostile input costs time and memory in proportion to its size: no
+//!   count in a header drives an allocation or a loop beyond what the bytes
+//!   present can hold, and glTF buffer URIs are only followed to regular
+//!   files inside the glTF file's directory ([`IoError::RefusedUri`]).
+//! - Text formats skip a UTF-8 byte-order mark and report UTF-16 text
+//!   ([`IoError::Utf16`]) and binary data ([`IoError::BinaryData`]) as such,
+//!   not as an empty or malformed file.
 //! - [`write_mesh`] / [`write_mesh_as`] write atomically: a temporary file in
 //!   the same directory is renamed over the target, so a failed write never
 //!   leaves a partial file; the encoding is streamed to it through a 1 MiB
@@ -21,7 +31,9 @@
 //! indices, faces with fewer than three corners and NaN/infinite coordinates
 //! are read as they are, so that `subdiv_mesh`'s validator can report them.
 //! The one exception is what a `u32` cannot hold (an OBJ index 0, a relative
-//! index before the first vertex, a negative index), which is a parse error.
+//! index before the first vertex, a negative index, an index of 2³² or
+//! more: "face index 99999999999999999999 out of range"), which is a parse
+//! error.
 //!
 //! Precision: OBJ, OFF, PLY (doubles) and ASCII STL write the shortest
 //! decimal (or the bits) that reads back to the same `f64`; binary STL and
@@ -63,6 +75,7 @@ mod stl;
 mod text;
 
 use glam::DVec3;
+use std::io::Read;
 use std::path::Path;
 
 pub use atomic::{commit_all, remove_staged_files, stage_bytes, StagedFile};
@@ -76,14 +89,101 @@ use error::Ctx;
 /// from the content.
 ///
 /// # Errors
-/// [`IoError::UnknownFormat`] for an unknown extension, [`IoError::Io`] when
-/// the file cannot be read, and the parse errors of
-/// [`read_mesh_from_bytes`]. External glTF buffers are looked up relative to
-/// the file's directory.
+/// [`IoError::UnknownFormat`] for an unknown extension, [`IoError::NotAFile`]
+/// for a directory, FIFO, device or socket, [`IoError::Io`] when the file
+/// cannot be read, and the errors of [`read_mesh_from_bytes`]. External glTF
+/// buffers are looked up relative to the file's directory, and only there
+/// ([`IoError::RefusedUri`] otherwise).
 pub fn read_mesh(path: &Path) -> Result<PolygonSoup, IoError> {
+    read_mesh_with_progress(path, &mut |_, _| {})
+}
+
+/// [`read_mesh`], calling `progress(bytes_read, total_bytes)` as the file is
+/// read: once with 0 before the first byte, then after every chunk of 4 MiB
+/// (and the last, shorter one). `total_bytes` is the file's size when it was
+/// opened (or the bytes read, should the file have grown since). Parsing,
+/// which follows the reading, reports nothing.
+///
+/// # Errors
+/// Those of [`read_mesh`].
+pub fn read_mesh_with_progress(path: &Path, progress: &mut dyn FnMut(u64, u64)) -> Result<PolygonSoup, IoError> {
     let format = Format::from_path(path)?;
-    let bytes = std::fs::read(path).map_err(|source| IoError::Io { path: path.to_path_buf(), source })?;
+    let bytes = read_file(path, None, progress)?;
     read_bytes(&bytes, format, path, Some(path.parent().unwrap_or(Path::new("."))))
+}
+
+/// How much [`read_file`] reads between two progress reports.
+const READ_CHUNK: u64 = 4 << 20;
+
+/// Reads a regular file, at most `limit` bytes of it, in chunks (see
+/// [`read_mesh_with_progress`]).
+///
+/// The path is checked before it is opened (opening a FIFO blocks until a
+/// writer comes, a device may never end), and the opened file again (the
+/// path may have changed in between). Memory is reserved for the file's size
+/// with a fallible allocation, so a file that does not fit is an error, not
+/// an abort.
+pub(crate) fn read_file(
+    path: &Path,
+    limit: Option<u64>,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Vec<u8>, IoError> {
+    read_file_in_chunks(path, limit, READ_CHUNK, progress)
+}
+
+fn read_file_in_chunks(
+    path: &Path,
+    limit: Option<u64>,
+    chunk: u64,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Vec<u8>, IoError> {
+    let ctx = Ctx::new(path);
+    let regular = |metadata: std::fs::Metadata| {
+        if metadata.is_file() {
+            Ok(metadata)
+        } else {
+            Err(IoError::NotAFile { path: path.to_path_buf(), kind: file_kind(metadata.file_type()) })
+        }
+    };
+    regular(std::fs::metadata(path).map_err(|e| ctx.io(e))?)?;
+    let file = std::fs::File::open(path).map_err(|e| ctx.io(e))?;
+    let size = regular(file.metadata().map_err(|e| ctx.io(e))?)?.len();
+    let limit = limit.unwrap_or(u64::MAX);
+    let total = size.min(limit);
+    let mut bytes = Vec::new();
+    usize::try_from(total).ok().and_then(|n| bytes.try_reserve_exact(n).ok()).ok_or_else(|| {
+        let message = format!("the file's {total} bytes do not fit in memory");
+        ctx.io(std::io::Error::new(std::io::ErrorKind::OutOfMemory, message))
+    })?;
+    progress(0, total);
+    let mut reader = file.take(limit);
+    while (&mut reader).take(chunk).read_to_end(&mut bytes).map_err(|e| ctx.io(e))? > 0 {
+        let read = bytes.len() as u64;
+        progress(read, total.max(read));
+    }
+    Ok(bytes)
+}
+
+/// What a file type that is not a regular file is, for [`IoError::NotAFile`].
+fn file_kind(file_type: std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if file_type.is_fifo() {
+            return "a FIFO";
+        } else if file_type.is_char_device() {
+            return "a character device";
+        } else if file_type.is_block_device() {
+            return "a block device";
+        } else if file_type.is_socket() {
+            return "a socket";
+        }
+    }
+    if file_type.is_dir() {
+        "a directory"
+    } else {
+        "a special file"
+    }
 }
 
 /// Reads a mesh from memory. `format_hint` picks the reader family (ASCII or
@@ -92,9 +192,13 @@ pub fn read_mesh(path: &Path) -> Result<PolygonSoup, IoError> {
 /// read this way ([`IoError::Unsupported`]).
 ///
 /// # Errors
-/// [`IoError::Empty`] when there are no vertices and no faces,
-/// [`IoError::Parse`], [`IoError::Truncated`] or [`IoError::Unsupported`]
-/// when the bytes do not follow the format.
+/// [`IoError::Empty`] when there are no vertices and no faces (nothing but
+/// blanks and comments), [`IoError::Utf16`] and [`IoError::BinaryData`] when
+/// a text format gets UTF-16 or binary data, [`IoError::Parse`] (naming the
+/// offending token: "face index 99999999999999999999 out of range"),
+/// [`IoError::Truncated`], [`IoError::Unsupported`] or
+/// [`IoError::RefusedUri`] when the bytes do not follow the format or use
+/// what is not read.
 pub fn read_mesh_from_bytes(bytes: &[u8], format_hint: Format, name: &str) -> Result<PolygonSoup, IoError> {
     read_bytes(bytes, format_hint, Path::new(name), None)
 }
@@ -110,6 +214,11 @@ fn read_bytes(bytes: &[u8], format: Format, path: &Path, base_dir: Option<&Path>
     }?;
     if soup.positions.is_empty() && soup.faces.is_empty() {
         return Err(ctx.empty());
+    }
+    // `FaceList` offsets are u32: past 2³² corners (a 4 GiB PLY of u8
+    // indices can hold that many) they would wrap and misplace faces.
+    if u32::try_from(soup.faces.corner_count()).is_err() {
+        return Err(ctx.unsupported(format!("{} face corners (at most 2^32 - 1 are read)", soup.faces.corner_count())));
     }
     Ok(soup)
 }
@@ -254,6 +363,25 @@ mod tests {
         assert_eq!(t, vec![[4, 5, 6], [4, 6, 7], [4, 7, 8]]);
         assert_eq!(fan(&[1, 2]).count(), 0);
         assert_eq!(fan(&[]).count(), 0);
+    }
+
+    #[test]
+    fn reading_in_chunks_reports_progress_up_to_the_size_and_stops_at_the_limit() {
+        let dir = std::env::temp_dir().join(format!("subdiv-io-chunks-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("ten.bin");
+        std::fs::write(&path, b"0123456789").unwrap();
+        let mut calls = Vec::new();
+        let bytes = read_file_in_chunks(&path, None, 4, &mut |read, total| calls.push((read, total))).unwrap();
+        assert_eq!(bytes, b"0123456789");
+        assert_eq!(calls, [(0, 10), (4, 10), (8, 10), (10, 10)]);
+        calls.clear();
+        let bytes = read_file_in_chunks(&path, Some(6), 4, &mut |read, total| calls.push((read, total))).unwrap();
+        assert_eq!(bytes, b"012345");
+        assert_eq!(calls, [(0, 6), (4, 6), (6, 6)]);
+        let e = read_file_in_chunks(&dir, None, 4, &mut |_, _| panic!("a directory is never read")).unwrap_err();
+        assert!(matches!(e, IoError::NotAFile { kind: "a directory", .. }), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

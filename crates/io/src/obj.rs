@@ -4,7 +4,10 @@
 //! with `v`, `v/vt`, `v/vt/vn` or `v//vn` corners and negative (relative)
 //! indices, `g`/`o` names recorded as face groups; `vt`, `vn`, `s`, `usemtl`,
 //! `mtllib`, `l`, `p` and unknown statements are ignored. `#` starts a comment
-//! anywhere, `\` at the end of a line continues it, CRLF is accepted.
+//! anywhere, `\` at the end of a line continues it, CRLF is accepted, a
+//! UTF-8 byte-order mark is skipped. UTF-16 and binary data are reported as
+//! such (from the first 4 KiB, and from any statement keyword holding a
+//! control character), not read as unknown statements.
 //!
 //! Not `tobj`: it renumbers vertices per model in order of first use and
 //! drops unreferenced ones, which loses the input vertex order (the order
@@ -21,8 +24,11 @@ use std::io::{self, Write};
 use subdiv_mesh::{FaceGroups, FaceList, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
-use crate::text::{parse_f64, parse_i64, show, strip_comment, tokens, write_f64, Lines};
-use crate::MeshView;
+use crate::text::{
+    check_text, is_control, parse_f64, parse_integer, show, strip_bom, strip_comment, tokens, write_f64, IntError,
+    Lines,
+};
+use crate::{Format, MeshView};
 
 /// Group names interned in order of first appearance.
 #[derive(Default)]
@@ -55,6 +61,8 @@ fn continued(line: &[u8]) -> Option<&[u8]> {
 }
 
 pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
+    let bytes = strip_bom(bytes);
+    check_text(bytes, Format::Obj, ctx)?;
     let mut positions: Vec<DVec3> = Vec::new();
     let mut faces = FaceList::new();
     let mut table = GroupTable::default();
@@ -119,6 +127,9 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
                 let name = if name.is_empty() { "default".to_owned() } else { name.join(" ") };
                 current_group = Some(table.intern(name));
             }
+            // Unknown statements are ignored, but not binary data past the
+            // part `check_text` looked at (a text file with a binary tail).
+            _ if keyword.iter().any(|&b| is_control(b)) => return Err(ctx.binary(n, Format::Obj)),
             _ => {}
         }
     }
@@ -133,15 +144,21 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
 
 /// Maps one face corner (`v`, `v/vt`, `v/vt/vn`, `v//vn`) to a 0-based vertex
 /// index. Positive indices beyond the vertex count pass through (the validator
-/// reports them); 0 and relative indices before the first vertex cannot be
-/// stored and are errors.
+/// reports them); 0, relative indices before the first vertex and indices
+/// beyond what a `u32` holds cannot be stored and are errors.
 fn face_index(token: &[u8], vertices_so_far: usize, line: usize, ctx: Ctx<'_>) -> Result<u32, IoError> {
     let v = token.split(|&b| b == b'/').next().unwrap_or(token);
-    let k = parse_i64(v).ok_or_else(|| ctx.parse(line, format!("face index '{}' is not an integer", show(token))))?;
+    let k = match parse_integer(v) {
+        Ok(k) => k,
+        Err(IntError::NotInteger) => {
+            return Err(ctx.parse(line, format!("face index '{}' is not an integer", show(token))))
+        }
+        Err(IntError::OutOfRange) => return Err(ctx.parse(line, format!("face index {} out of range", show(v)))),
+    };
     let index = match k {
         0 => return Err(ctx.parse(line, "face index 0 is invalid (OBJ indices start at 1)")),
         k if k > 0 => k - 1,
-        k => vertices_so_far as i64 + k,
+        k => vertices_so_far as i128 + k,
     };
     if index < 0 {
         return Err(ctx.parse(
@@ -149,7 +166,9 @@ fn face_index(token: &[u8], vertices_so_far: usize, line: usize, ctx: Ctx<'_>) -
             format!("relative face index {k} points before the first vertex ({vertices_so_far} vertices so far)"),
         ));
     }
-    u32::try_from(index).map_err(|_| ctx.parse(line, format!("face index {k} is too large")))
+    u32::try_from(index).map_err(|_| {
+        ctx.parse(line, format!("face index {k} out of range (the largest is {})", u64::from(u32::MAX) + 1))
+    })
 }
 
 pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()> {

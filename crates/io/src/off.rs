@@ -4,7 +4,10 @@
 //! `C`, `N` prefixes; their extra vertex columns are ignored), counts on the
 //! header line or the next one, `#` comments anywhere (also trailing a data
 //! line), blank lines, CRLF, per-face colour columns after the indices.
-//! A file without the `OFF` keyword (counts first) is accepted too.
+//! A file without the `OFF` keyword (counts first) is accepted too, and so
+//! is a leading UTF-8 byte-order mark; UTF-16 and binary data (other than
+//! `OFF BINARY`) are reported as such. Counts and indices too large for their
+//! type are "out of range", quoting the token.
 //! `4OFF` and `nOFF` (other dimensions) are reported as unsupported.
 //!
 //! ASCII data is read one vertex or face per line, which is how every writer
@@ -25,8 +28,11 @@ use std::io::{self, Write};
 use subdiv_mesh::{FaceList, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
-use crate::text::{is_blank, parse_f64, parse_i64, show, strip_comment, tokens, write_f64, Lines};
-use crate::MeshView;
+use crate::text::{
+    check_text, is_blank, parse_bounded, parse_f64, parse_integer, show, strip_bom, strip_comment, tokens, write_f64,
+    IntError, Lines,
+};
+use crate::{Format, MeshView};
 
 /// What the header keyword announces.
 #[derive(Clone, Copy, Debug, Default)]
@@ -71,23 +77,27 @@ fn at_end(lines: &Lines<'_>, bytes: &[u8]) -> bool {
 }
 
 pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
+    let bytes = strip_bom(bytes);
     let mut lines = Lines::new(bytes);
     let Some((header_line, first)) = next_content(&mut lines) else { return Err(ctx.empty()) };
     let mut toks = tokens(first).peekable();
-    if let Some(&keyword) = toks.peek() {
-        if parse_i64(keyword).is_none() {
+    // A first token that is an integer (even one too large) starts the counts of a headerless file.
+    let keyword = toks.peek().copied().filter(|&t| parse_integer(t) == Err(IntError::NotInteger));
+    let expected_header = |keyword: &[u8]| {
+        ctx.parse(header_line, format!("expected an OFF header ('OFF', 'COFF', 'NOFF', …), found '{}'", show(keyword)))
+    };
+    if let Some(keyword) = keyword {
+        toks.next();
+        if toks.peek() == Some(&&b"BINARY"[..]) {
             // ASCII data is read per line, so only binary needs the header's columns.
-            let header = parse_keyword(keyword, ctx)?.ok_or_else(|| {
-                ctx.parse(
-                    header_line,
-                    format!("expected an OFF header ('OFF', 'COFF', 'NOFF', …), found '{}'", show(keyword)),
-                )
-            })?;
-            toks.next();
-            if toks.peek() == Some(&&b"BINARY"[..]) {
-                return read_binary(&bytes[lines.offset()..], header, ctx);
-            }
+            let header = parse_keyword(keyword, ctx)?.ok_or_else(|| expected_header(keyword))?;
+            return read_binary(&bytes[lines.offset()..], header, ctx);
         }
+    }
+    // Binary OFF is binary by design; everything else must be text.
+    check_text(bytes, Format::Off, ctx)?;
+    if let Some(keyword) = keyword {
+        parse_keyword(keyword, ctx)?.ok_or_else(|| expected_header(keyword))?;
     }
 
     // Counts: on the header line, or the next line with content.
@@ -102,9 +112,7 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
     }
     let count = |i: usize, what: &str| -> Result<usize, IoError> {
         let t = counts.get(i).ok_or_else(|| ctx.parse(counts_line, format!("missing {what} count")))?;
-        parse_i64(t)
-            .and_then(|c| usize::try_from(c).ok())
-            .ok_or_else(|| ctx.parse(counts_line, format!("{what} count '{}' is not a non-negative integer", show(t))))
+        parse_bounded(t, &format!("{what} count")).map_err(|message| ctx.parse(counts_line, message))
     };
     let nv = count(0, "vertex")?;
     let nf = count(1, "face")?;
@@ -138,20 +146,14 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
         };
         let mut t = tokens(line);
         let Some(size_token) = t.next() else { continue }; // never: content lines have a token
-        let size = parse_i64(size_token).filter(|&s| s >= 0).ok_or_else(|| {
-            ctx.parse(n, format!("face corner count '{}' is not a non-negative integer", show(size_token)))
-        })?;
+        let size: u64 = parse_bounded(size_token, "face corner count").map_err(|message| ctx.parse(n, message))?;
         corners.clear();
         for i in 0..size {
             let Some(tok) = t.next() else {
                 let what = format!("face {} declares {size} corners but lists {i}", faces.len());
                 return Err(if at_end(&lines, bytes) { ctx.truncated(n, what) } else { ctx.parse(n, what) });
             };
-            let index =
-                parse_i64(tok).ok_or_else(|| ctx.parse(n, format!("face index '{}' is not an integer", show(tok))))?;
-            let index = u32::try_from(index)
-                .map_err(|_| ctx.parse(n, format!("face index {index} is not a valid vertex index")))?;
-            corners.push(index);
+            corners.push(parse_bounded(tok, "face index").map_err(|message| ctx.parse(n, message))?);
         }
         faces.push(&corners);
     }

@@ -4,8 +4,14 @@
 //! (`char`…`double` and the `int8`…`float64` aliases), other vertex
 //! properties skipped by their size; the `face` element's list property
 //! `vertex_indices` (or `vertex_index`) with any count and item types; every
-//! other element skipped (a line per record in ASCII, the property sizes in
-//! binary, lists included).
+//! other element skipped (its tokens in ASCII, the property sizes in
+//! binary, lists included). An element without properties takes no bytes,
+//! whatever its count, and is skipped at once (a `vertex` or `face` element
+//! without properties lacks the ones it needs and is an error). A leading
+//! UTF-8 byte-order mark is skipped; UTF-16, binary data where the `ply` magic
+//! should be, and binary data after an ASCII header are reported as such.
+//! Counts, list lengths and indices too large for their type are "out of
+//! range"; allocations are capped by what the remaining bytes can hold.
 //!
 //! Write: `binary_little_endian` ([`Format::PlyBinary`](crate::Format::PlyBinary))
 //! or `ascii` ([`Format::PlyAscii`](crate::Format::PlyAscii)); `double x y z`,
@@ -18,8 +24,11 @@ use std::io::{self, Write};
 use subdiv_mesh::{FaceList, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
-use crate::text::{is_blank, parse_f64, show, tokens, write_f64, Lines};
-use crate::MeshView;
+use crate::text::{
+    is_blank, parse_bounded, parse_f64, parse_integer, show, sniff, strip_bom, tokens, write_f64, IntError, Lines,
+    NotText,
+};
+use crate::{Format, MeshView};
 
 /// A PLY scalar type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -102,7 +111,13 @@ fn parse_header(bytes: &[u8], ctx: Ctx<'_>) -> Result<Header, IoError> {
     let mut lines = Lines::new(bytes);
     match lines.next() {
         Some((_, magic)) if magic.trim_ascii() == b"ply" => {}
-        _ => return Err(ctx.parse(1, "missing the 'ply' magic line")),
+        _ => {
+            return Err(match sniff(bytes) {
+                Some(NotText::Utf16) => ctx.utf16(),
+                Some(NotText::Binary) => ctx.binary(None, Format::PlyAscii),
+                None => ctx.parse(1, "missing the 'ply' magic line"),
+            })
+        }
     }
     let mut encoding = None;
     let mut elements: Vec<Element> = Vec::new();
@@ -126,10 +141,8 @@ fn parse_header(bytes: &[u8], ctx: Ctx<'_>) -> Result<Header, IoError> {
                 let (Some(name), Some(count)) = (t.get(1), t.get(2)) else {
                     return Err(ctx.parse(n, "element line needs a name and a count"));
                 };
-                let count = std::str::from_utf8(count).ok().and_then(|c| c.parse::<usize>().ok()).ok_or_else(|| {
-                    ctx.parse(n, format!("element count '{}' is not a non-negative integer", show(count)))
-                })?;
-                let name = String::from_utf8_lossy(name).into_owned();
+                let count = parse_bounded(count, "element count").map_err(|message| ctx.parse(n, message))?;
+                let name = show(name).into_owned();
                 elements.push(Element { name, count, properties: Vec::new(), line: n });
             }
             Some(b"property") => {
@@ -146,7 +159,7 @@ fn parse_header(bytes: &[u8], ctx: Ctx<'_>) -> Result<Header, IoError> {
                     (None, ty(1)?, t.get(2))
                 };
                 let name = name.ok_or_else(|| ctx.parse(n, "property has no name"))?;
-                let name = String::from_utf8_lossy(name).into_owned();
+                let name = show(name).into_owned();
                 element.properties.push(Property { name, list, ty, role: Role::Skip });
             }
             Some(other) => return Err(ctx.parse(n, format!("unknown header keyword '{}'", show(other)))),
@@ -178,10 +191,18 @@ fn parse_header(bytes: &[u8], ctx: Ctx<'_>) -> Result<Header, IoError> {
     Ok(Header { encoding, elements, body_offset: lines.offset(), body_line: lines.line() + 1 })
 }
 
-/// Converts a list count or index read as `f64` (exact for every PLY integer
-/// type) to an integer; `None` when negative, fractional or too large.
-fn to_u32(x: f64) -> Option<u32> {
-    (x >= 0.0 && x <= f64::from(u32::MAX) && x.fract() == 0.0).then_some(x as u32)
+/// Converts a list length or index read as `f64` (exact for every PLY
+/// integer type) to a `u32`; otherwise says why not, after the value's name.
+fn u32_from_f64(x: f64) -> Result<u32, String> {
+    if x.is_nan() || (x.is_finite() && x.fract() != 0.0) {
+        Err(format!("{x} is not an integer"))
+    } else if x < 0.0 {
+        Err(format!("{x} is negative"))
+    } else if x > f64::from(u32::MAX) {
+        Err(format!("{x} out of range"))
+    } else {
+        Ok(x as u32)
+    }
 }
 
 /// What stopped a record from being read.
@@ -192,12 +213,30 @@ enum Stop {
     Bad(Option<usize>, String),
 }
 
+impl Stop {
+    /// Puts the name of the value in front of the message of [`Values::integer`].
+    fn about(self, subject: impl FnOnce() -> String) -> Stop {
+        match self {
+            Stop::Bad(line, message) => Stop::Bad(line, format!("{} {message}", subject())),
+            ends => ends,
+        }
+    }
+}
+
 /// A source of property values: binary words or ASCII tokens.
 trait Values {
     fn value(&mut self, ty: Scalar) -> Result<f64, Stop>;
+    /// A list length or index; the error message leaves out the value's name
+    /// ([`Stop::about`] adds it).
+    fn integer(&mut self, ty: Scalar) -> Result<u32, Stop> {
+        let x = self.value(ty)?;
+        u32_from_f64(x).map_err(|message| Stop::Bad(self.line(), message))
+    }
     fn skip(&mut self, ty: Scalar, n: usize) -> Result<(), Stop>;
     /// Upper bound on how many more values of this type can follow (caps allocations).
     fn room(&self, ty: Scalar) -> usize;
+    /// The fewest bytes a value of this type takes.
+    fn min_size(&self, ty: Scalar) -> usize;
     /// Line of the last value (ASCII only).
     fn line(&self) -> Option<usize>;
 }
@@ -248,6 +287,10 @@ impl Values for Binary<'_> {
         (self.data.len() - self.pos) / ty.size()
     }
 
+    fn min_size(&self, ty: Scalar) -> usize {
+        ty.size()
+    }
+
     fn line(&self) -> Option<usize> {
         None
     }
@@ -290,6 +333,22 @@ impl Values for Ascii<'_> {
         parse_f64(t).ok_or_else(|| Stop::Bad(Some(self.line), format!("'{}' is not a number", show(t))))
     }
 
+    /// Parsed from the token, so that an integer too large for any type is
+    /// quoted as written ("99999999999999999999 out of range"); `3.0` is 3.
+    fn integer(&mut self, _ty: Scalar) -> Result<u32, Stop> {
+        let t = self.token()?;
+        let bad = |message: String| Stop::Bad(Some(self.line), message);
+        match parse_integer(t) {
+            Ok(v) if v < 0 => Err(bad(format!("{v} is negative"))),
+            Ok(v) => u32::try_from(v).map_err(|_| bad(format!("{v} out of range"))),
+            Err(IntError::OutOfRange) => Err(bad(format!("{} out of range", show(t)))),
+            Err(IntError::NotInteger) => match parse_f64(t) {
+                Some(x) => u32_from_f64(x).map_err(|_| bad(format!("'{}' is not an integer", show(t)))),
+                None => Err(bad(format!("'{}' is not a number", show(t)))),
+            },
+        }
+    }
+
     fn skip(&mut self, _ty: Scalar, n: usize) -> Result<(), Stop> {
         for _ in 0..n {
             self.token()?;
@@ -299,6 +358,11 @@ impl Values for Ascii<'_> {
 
     fn room(&self, _ty: Scalar) -> usize {
         (self.bytes.len() - self.pos) / 2
+    }
+
+    /// A digit and a separator (the last value of the file may lack the separator).
+    fn min_size(&self, _ty: Scalar) -> usize {
+        2
     }
 
     fn line(&self) -> Option<usize> {
@@ -313,10 +377,8 @@ fn record(src: &mut impl Values, element: &Element, xyz: &mut [f64; 3], corners:
             (None, Role::Coordinate(axis)) => xyz[axis] = src.value(p.ty)?,
             (None, _) => src.skip(p.ty, 1)?,
             (Some(count_ty), role) => {
-                let count = src.value(count_ty)?;
-                let count = to_u32(count)
-                    .ok_or_else(|| Stop::Bad(src.line(), format!("list '{}' has an invalid length {count}", p.name)))?
-                    as usize;
+                let count =
+                    src.integer(count_ty).map_err(|s| s.about(|| format!("list '{}' length", p.name)))? as usize;
                 if role != Role::Indices {
                     src.skip(p.ty, count)?;
                     continue;
@@ -326,11 +388,7 @@ fn record(src: &mut impl Values, element: &Element, xyz: &mut [f64; 3], corners:
                 }
                 corners.clear();
                 for _ in 0..count {
-                    let v = src.value(p.ty)?;
-                    let index = to_u32(v).ok_or_else(|| {
-                        Stop::Bad(src.line(), format!("vertex index {v} is not a valid vertex index"))
-                    })?;
-                    corners.push(index);
+                    corners.push(src.integer(p.ty).map_err(|s| s.about(|| "vertex index".to_owned()))?);
                 }
             }
         }
@@ -348,11 +406,19 @@ fn read_body(
     let mut faces = FaceList::new();
     let mut corners = Vec::new();
     for element in elements {
-        // Every record takes at least one byte: cap preallocation by the data size.
-        let capacity = element.count.min(body_len);
+        if element.properties.is_empty() {
+            // Records without properties take no bytes: nothing to read, and
+            // a count of 2⁶⁴−1 must not become a loop.
+            continue;
+        }
+        // Cap preallocation by the records the data can hold.
+        let record_size: usize =
+            element.properties.iter().map(|p| src.min_size(p.list.unwrap_or(p.ty))).sum::<usize>().max(1);
+        let capacity = element.count.min(body_len / record_size + 1);
         match element.name.as_str() {
             "vertex" => positions.reserve(capacity),
-            "face" => faces = FaceList::with_capacity(capacity, 0),
+            // A second face element adds to the first (FaceList cannot reserve).
+            "face" if faces.is_empty() => faces = FaceList::with_capacity(capacity, 0),
             _ => {}
         }
         let is_face = element.properties.iter().any(|p| p.role == Role::Indices);
@@ -377,6 +443,7 @@ fn read_body(
 }
 
 pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
+    let bytes = strip_bom(bytes);
     if is_blank(bytes) {
         return Err(ctx.empty());
     }
@@ -384,6 +451,12 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
     let body = &bytes[header.body_offset..];
     match header.encoding {
         Encoding::Ascii => {
+            if sniff(body).is_some() {
+                return Err(ctx.parse(
+                    header.body_line,
+                    "the header says 'format ascii', but the data after end_header is binary",
+                ));
+            }
             let mut src = Ascii { bytes: body, pos: 0, line: header.body_line };
             read_body(&mut src, &header.elements, body.len(), ctx)
         }

@@ -9,7 +9,10 @@
 //! Binary or ASCII is decided from the content, not the name: a file is
 //! binary when its size is exactly `84 + 50·n` for the triangle count `n` in
 //! its header (some binary files begin with `solid` too), unless it is plain
-//! ASCII text that ends its solid with `endsolid`.
+//! ASCII text that ends its solid with `endsolid`. A UTF-8 byte-order mark
+//! before `solid` is skipped; a file that starts with `solid` but holds
+//! binary data is read as binary (it is a binary STL whose size does not
+//! match its triangle count, or is truncated); UTF-16 text is reported as such.
 //!
 //! Write: binary ([`Format::StlBinary`](crate::Format::StlBinary), `f32`
 //! coordinates: positions are rounded to single precision) or ASCII
@@ -24,7 +27,7 @@ use std::io::{self, Write};
 use subdiv_mesh::{FaceList, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
-use crate::text::{is_blank, parse_f64, show, tokens, Lines};
+use crate::text::{is_blank, parse_f64, show, sniff, strip_bom, tokens, Lines, NotText};
 use crate::{fan, MeshView};
 
 /// Merges bit-identical positions, numbering vertices by first appearance.
@@ -52,25 +55,31 @@ fn starts_with_solid(bytes: &[u8]) -> bool {
     bytes[start..].get(..5).is_some_and(|s| s.eq_ignore_ascii_case(b"solid"))
 }
 
-fn is_binary(bytes: &[u8]) -> bool {
-    if bytes.len() >= 84 {
-        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]);
-        if 84 + 50 * u64::from(n) == bytes.len() as u64 {
-            let ascii_text = bytes.is_ascii() && bytes.windows(8).any(|w| w.eq_ignore_ascii_case(b"endsolid"));
-            return !(starts_with_solid(bytes) && ascii_text);
-        }
+/// True when the size is exactly that of a binary STL with the triangle
+/// count in its header, and the content is not ASCII STL text.
+fn has_binary_size(bytes: &[u8]) -> bool {
+    let Some(&[a, b, c, d]) = bytes.get(80..84) else { return false };
+    if 84 + 50 * u64::from(u32::from_le_bytes([a, b, c, d])) != bytes.len() as u64 {
+        return false;
     }
-    !starts_with_solid(bytes)
+    let text = strip_bom(bytes);
+    let ascii_text = text.is_ascii() && text.windows(8).any(|w| w.eq_ignore_ascii_case(b"endsolid"));
+    !(starts_with_solid(text) && ascii_text)
 }
 
 pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
-    if is_blank(bytes) {
+    let text = strip_bom(bytes);
+    if is_blank(text) {
         return Err(ctx.empty());
     }
-    if is_binary(bytes) {
-        read_binary(bytes, ctx)
-    } else {
-        read_ascii(bytes, ctx)
+    if has_binary_size(bytes) {
+        return read_binary(bytes, ctx);
+    }
+    match (starts_with_solid(text), sniff(text)) {
+        (true, None) => read_ascii(text, ctx),
+        (false, Some(NotText::Utf16)) => Err(ctx.utf16()),
+        // Binary data, whether or not its 80-byte header starts with "solid".
+        _ => read_binary(bytes, ctx),
     }
 }
 

@@ -1,5 +1,6 @@
 //! Byte-level helpers shared by the text formats: numbered lines, comment
-//! stripping, whitespace tokens and number parsing.
+//! stripping, whitespace tokens, number parsing, and telling text from what
+//! is not text (a UTF-8 byte-order mark, UTF-16, binary data).
 //!
 //! Text is handled as bytes, not `str`: a file with a stray Latin-1 byte in a
 //! comment or a group name must still read, and only the tokens we parse as
@@ -7,7 +8,78 @@
 
 use std::borrow::Cow;
 
-/// Lines of a buffer with their 1-based numbers; `\n` or `\r\n` ends a line.
+use crate::error::{Ctx, IoError};
+use crate::Format;
+
+/// The UTF-8 encoding of U+FEFF, which some editors put at the start of a file.
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// How much of a file [`check_text`] looks at: enough to see that a file is
+/// binary or UTF-16, little enough to cost nothing on a large file.
+const SAMPLE: usize = 4096;
+
+/// The buffer without a leading UTF-8 byte-order mark.
+pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes)
+}
+
+/// Why bytes are not UTF-8 text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum NotText {
+    /// A UTF-16 byte-order mark, or NUL bytes interleaved with other bytes.
+    Utf16,
+    /// NUL bytes, or more control characters than text ever has.
+    Binary,
+}
+
+/// Looks at the first [`SAMPLE`] bytes for UTF-16 or binary data.
+///
+/// Binary means a NUL byte, or more than one byte in 16 that is a control
+/// character other than whitespace (random bytes have one in 9). Bytes that
+/// are not valid UTF-8 do not count: a comment in Latin-1 or another 8-bit
+/// encoding must not make a mesh unreadable.
+pub(crate) fn sniff(bytes: &[u8]) -> Option<NotText> {
+    let sample = &bytes[..bytes.len().min(SAMPLE)];
+    if sample.starts_with(b"\xFF\xFE") || sample.starts_with(b"\xFE\xFF") || interleaved_nuls(sample) {
+        return Some(NotText::Utf16);
+    }
+    if sample.contains(&0) || 16 * sample.iter().filter(|&&b| is_control(b)).count() > sample.len() {
+        return Some(NotText::Binary);
+    }
+    None
+}
+
+/// A control character that is not whitespace: never part of a text mesh file.
+pub(crate) fn is_control(b: u8) -> bool {
+    matches!(b, 0..=8 | 0x0E..=0x1F | 0x7F)
+}
+
+/// UTF-16 text without a byte-order mark: ASCII characters are a NUL byte
+/// and the character, so one byte position of each pair is almost always
+/// NUL and the other almost never is.
+fn interleaved_nuls(sample: &[u8]) -> bool {
+    let pairs = sample.len() / 2;
+    if pairs == 0 {
+        return false;
+    }
+    let nuls_at = |parity: usize| sample.iter().skip(parity).step_by(2).take(pairs).filter(|&&b| b == 0).count();
+    let (even, odd) = (nuls_at(0), nuls_at(1));
+    let mostly = |n: usize| 4 * n >= 3 * pairs;
+    let rarely = |n: usize| 8 * n < pairs;
+    (mostly(even) && rarely(odd)) || (mostly(odd) && rarely(even))
+}
+
+/// [`sniff`] as an error of a text format (`format` names it in the message).
+pub(crate) fn check_text(bytes: &[u8], format: Format, ctx: Ctx<'_>) -> Result<(), IoError> {
+    match sniff(bytes) {
+        None => Ok(()),
+        Some(NotText::Utf16) => Err(ctx.utf16()),
+        Some(NotText::Binary) => Err(ctx.binary(None, format)),
+    }
+}
+
+/// Lines of a buffer with their 1-based numbers; `\n`, `\r\n` or a lone `\r`
+/// (classic Mac OS) ends a line.
 pub(crate) struct Lines<'a> {
     bytes: &'a [u8],
     pos: usize,
@@ -38,13 +110,11 @@ impl<'a> Iterator for Lines<'a> {
             return None;
         }
         let rest = &self.bytes[self.pos..];
-        let (mut line, advance) = match rest.iter().position(|&b| b == b'\n') {
+        let (line, advance) = match rest.iter().position(|&b| b == b'\n' || b == b'\r') {
+            Some(end) if rest[end..].starts_with(b"\r\n") => (&rest[..end], end + 2),
             Some(end) => (&rest[..end], end + 1),
             None => (rest, rest.len()),
         };
-        if let [head @ .., b'\r'] = line {
-            line = head;
-        }
         self.pos += advance;
         self.line += 1;
         Some((self.line, line))
@@ -74,18 +144,60 @@ pub(crate) fn parse_f64(token: &[u8]) -> Option<f64> {
     std::str::from_utf8(token).ok()?.parse().ok()
 }
 
-/// Parses a decimal integer (optional sign).
-pub(crate) fn parse_i64(token: &[u8]) -> Option<i64> {
-    std::str::from_utf8(token).ok()?.parse().ok()
+/// Why a token is not a usable integer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum IntError {
+    /// Not a decimal integer at all (`x`, `1.5`, empty).
+    NotInteger,
+    /// A decimal integer too large for any count or index (beyond `i128`).
+    OutOfRange,
+}
+
+/// Parses a decimal integer (optional sign, at least one digit). An integer
+/// too long for `i128` is [`IntError::OutOfRange`], not "not an integer":
+/// callers convert the value to the type they need and report anything
+/// outside it as out of range too, quoting the token.
+pub(crate) fn parse_integer(token: &[u8]) -> Result<i128, IntError> {
+    let digits = token.strip_prefix(b"-").or_else(|| token.strip_prefix(b"+")).unwrap_or(token);
+    if digits.is_empty() || !digits.iter().all(u8::is_ascii_digit) {
+        return Err(IntError::NotInteger);
+    }
+    // ASCII digits with an optional sign: valid UTF-8, and `parse` fails only on overflow.
+    std::str::from_utf8(token).ok().and_then(|t| t.parse().ok()).ok_or(IntError::OutOfRange)
+}
+
+/// Parses a token as an integer that must fit `T` (a count or an index),
+/// with the message a reader reports otherwise: `{what} 'x' is not an
+/// integer`, `{what} -1 is negative`, `{what} 99999999999999999999 out of range`.
+pub(crate) fn parse_bounded<T: TryFrom<i128>>(token: &[u8], what: &str) -> Result<T, String> {
+    match parse_integer(token) {
+        Err(IntError::NotInteger) => Err(format!("{what} '{}' is not an integer", show(token))),
+        Ok(v) if v < 0 => Err(format!("{what} {v} is negative")),
+        Ok(v) => T::try_from(v).map_err(|_| format!("{what} {v} out of range")),
+        Err(IntError::OutOfRange) => Err(format!("{what} {} out of range", show(token))),
+    }
 }
 
 /// A token for an error message: lossy UTF-8, cut to a readable length.
 pub(crate) fn show(token: &[u8]) -> Cow<'_, str> {
     const MAX: usize = 40;
-    if token.len() <= MAX {
+    let shown = if token.len() <= MAX {
         String::from_utf8_lossy(token)
     } else {
         Cow::Owned(format!("{}…", String::from_utf8_lossy(&token[..MAX])))
+    };
+    escape_controls(shown)
+}
+
+/// Control characters written as escapes (`\n`, `\u{1b}`), so that a quoted
+/// token or name keeps a message on one line and cannot drive a terminal.
+pub(crate) fn escape_controls(text: Cow<'_, str>) -> Cow<'_, str> {
+    if text.chars().any(char::is_control) {
+        Cow::Owned(
+            text.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.into() }).collect(),
+        )
+    } else {
+        text
     }
 }
 
@@ -103,6 +215,9 @@ mod tests {
     #[test]
     fn lines_number_from_one_and_strip_cr() {
         let lines: Vec<_> = Lines::new(b"a\r\nb\n\nc").collect();
+        assert_eq!(lines, vec![(1, &b"a"[..]), (2, b"b"), (3, b""), (4, b"c")]);
+        // Classic Mac OS line ends: one line each, not one line for the whole file.
+        let lines: Vec<_> = Lines::new(b"a\rb\r\rc\r\n").collect();
         assert_eq!(lines, vec![(1, &b"a"[..]), (2, b"b"), (3, b""), (4, b"c")]);
     }
 
@@ -122,7 +237,59 @@ mod tests {
     fn tokens_and_comments() {
         let t: Vec<_> = tokens(strip_comment(b" 1\t2  3 # four")).collect();
         assert_eq!(t, vec![&b"1"[..], b"2", b"3"]);
-        assert_eq!(parse_i64(b"-7"), Some(-7));
-        assert_eq!(parse_i64(b"x"), None);
+    }
+
+    #[test]
+    fn integers_too_long_are_out_of_range_not_non_integers() {
+        assert_eq!(parse_integer(b"-7"), Ok(-7));
+        assert_eq!(parse_integer(b"+7"), Ok(7));
+        assert_eq!(parse_integer(b"99999999999999999999"), Ok(99_999_999_999_999_999_999));
+        assert_eq!(parse_integer(&[b'9'; 60]), Err(IntError::OutOfRange));
+        for bad in [&b"x"[..], b"", b"-", b"1.5", b"1e3", b"--1", b" 1"] {
+            assert_eq!(parse_integer(bad), Err(IntError::NotInteger), "{}", show(bad));
+        }
+        assert_eq!(parse_bounded::<u32>(b"4294967295", "index"), Ok(u32::MAX));
+        assert_eq!(
+            parse_bounded::<u32>(b"99999999999999999999", "index").unwrap_err(),
+            "index 99999999999999999999 out of range"
+        );
+        assert_eq!(
+            parse_bounded::<u32>(&[b'9'; 60], "index").unwrap_err(),
+            format!("index {}… out of range", "9".repeat(40))
+        );
+        assert_eq!(parse_bounded::<u32>(b"-1", "index").unwrap_err(), "index -1 is negative");
+        assert_eq!(parse_bounded::<u32>(b"q", "index").unwrap_err(), "index 'q' is not an integer");
+    }
+
+    #[test]
+    fn sniffing_tells_text_from_utf16_and_binary() {
+        assert_eq!(sniff(b""), None);
+        assert_eq!(sniff(b"v 0 0 0\r\n\tf 1 2 3\x0c\n"), None);
+        // Latin-1 and other 8-bit encodings are text with invalid UTF-8.
+        assert_eq!(sniff(b"# caf\xe9 \xc0\xc1\xc2\xc3\xc4\xc5\xc6\xc7\nv 0 0 0\n"), None);
+        assert_eq!(sniff(b"\xFF\xFEv\0 \0"), Some(NotText::Utf16));
+        assert_eq!(sniff(b"\xFE\xFF\0v\0 "), Some(NotText::Utf16));
+        let le: Vec<u8> = "v 0 0 0\n".bytes().flat_map(|b| [b, 0]).collect();
+        let be: Vec<u8> = "OFF\n3 1 0\n".bytes().flat_map(|b| [0, b]).collect();
+        assert_eq!(sniff(&le), Some(NotText::Utf16));
+        assert_eq!(sniff(&be), Some(NotText::Utf16));
+        assert_eq!(sniff(b"v 0 0 0\n\0"), Some(NotText::Binary));
+        assert_eq!(sniff(b"\x01\x02\x03v 0 0 0\n"), Some(NotText::Binary));
+        // One stray control character in a line of text is not binary.
+        assert_eq!(sniff(b"v 0 0 0 \x1a\nf 1 2 3\n# some text to make it long\n"), None);
+        // Only the sample is looked at.
+        let mut late = b"v 0 0 0\n".repeat(SAMPLE);
+        late.push(0);
+        assert_eq!(sniff(&late), None);
+        assert_eq!(strip_bom(b"\xEF\xBB\xBFv"), b"v");
+        assert_eq!(strip_bom(b"v"), b"v");
+    }
+
+    #[test]
+    fn shown_tokens_stay_on_one_line() {
+        assert_eq!(show(b"a\x1b[2Jb"), "a\\u{1b}[2Jb");
+        assert_eq!(show(b"x\ny"), "x\\ny");
+        assert_eq!(show(b"caf\xe9"), "caf\u{fffd}");
+        assert_eq!(show(&[b'7'; 50]), format!("{}…", "7".repeat(40)));
     }
 }

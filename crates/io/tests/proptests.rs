@@ -91,6 +91,10 @@ fn edit() -> impl Strategy<Value = Edit> {
         b"/".to_vec(),
         b" 4294967296".to_vec(),
         b"\\".to_vec(),
+        b"\r".to_vec(),
+        b"\xEF\xBB\xBF".to_vec(),
+        b"99999999999999999999".to_vec(),
+        b"\nelement e 18446744073709551615\n".to_vec(),
     ]);
     prop_oneof![
         (any::<usize>(), any::<u8>()).prop_map(|(at, b)| Edit::Set(at, b)),
@@ -130,9 +134,9 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
     #[test]
-    fn random_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..600), prefix in 0..6usize) {
+    fn random_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..600), prefix in 0..7usize) {
         // Prefixes steer the bytes into each reader's deeper paths.
-        let prefixes: [&[u8]; 6] = [b"", b"OFF\n", b"OFF BINARY\n", b"ply\nformat binary_little_endian 1.0\n", b"solid ", b"glTF\x02\0\0\0"];
+        let prefixes: [&[u8]; 7] = [b"", b"OFF\n", b"OFF BINARY\n", b"ply\nformat binary_little_endian 1.0\n", b"solid ", b"glTF\x02\0\0\0", b"\xEF\xBB\xBF"];
         let data = [prefixes[prefix], &bytes].concat();
         for format in Format::ALL {
             let _ = read_mesh_from_bytes(&data, format, "garbage");
@@ -145,8 +149,10 @@ proptest! {
         let (format, data) = &seeds[seed % seeds.len()];
         let data = apply(data.clone(), &edits);
         // Whatever comes back, it must come back.
+        // Whatever is read is bounded by the bytes it came from.
         if let Ok(soup) = read_mesh_from_bytes(&data, *format, "mutated") {
             prop_assert!(soup.faces.corner_count() <= data.len().max(1) * 8);
+            prop_assert!(soup.positions.len() <= data.len());
         }
     }
 }

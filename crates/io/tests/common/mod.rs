@@ -103,3 +103,30 @@ pub fn assert_round_trip(original: &PolygonSoup, back: &PolygonSoup, format: For
         assert_eq!(to_original.len(), referenced.len(), "{what}: welding lost vertices");
     }
 }
+
+/// Runs `f` on its own thread and returns its result, failing the test if it
+/// has not finished after `seconds` — a guard against a reader that blocks
+/// (opening a FIFO) or loops (a zero-size record repeated 2⁶⁴ times), so that
+/// such a bug fails the test instead of hanging it. Not a speed measurement:
+/// the bound is generous and the work is small.
+pub fn within<T: Send + 'static>(seconds: u64, what: &str, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (done, result) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = done.send(f());
+    });
+    result
+        .recv_timeout(std::time::Duration::from_secs(seconds))
+        .unwrap_or_else(|_| panic!("{what}: still running after {seconds} s (blocked or looping)"))
+}
+
+/// Creates a FIFO with the `mkfifo` program; `false` (and a visible skip
+/// message) where there is none.
+pub fn make_fifo(path: &Path) -> bool {
+    match std::process::Command::new("mkfifo").arg(path).status() {
+        Ok(status) if status.success() => true,
+        _ => {
+            eprintln!("mkfifo not available; skipping the FIFO case");
+            false
+        }
+    }
+}
