@@ -8,9 +8,12 @@ use subdiv_mesh::{Mesh, PolygonSoup};
 
 /// Reads a mesh file as it is (unvalidated), with a progress bar for large files.
 pub fn read_soup(path: &Path) -> Result<PolygonSoup, Failure> {
-    let spinner = progress::spinner(format!("reading {}", path.display()));
-    let soup = subdiv_io::read_mesh(path);
-    spinner.finish_and_clear();
+    let bar = progress::bytes(format!("reading {}", path.display()), 0);
+    let soup = subdiv_io::read_mesh_with_progress(path, &mut |done, total| {
+        bar.set_length(total);
+        bar.set_position(done);
+    });
+    bar.finish_and_clear();
     soup.map_err(bad_input)
 }
 

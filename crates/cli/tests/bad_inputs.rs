@@ -18,6 +18,8 @@ enum Expect {
 fn expectations() -> Vec<(&'static str, Expect)> {
     use Expect::*;
     vec![
+        ("absolute_uri.gltf", Io(|e| matches!(e, IoError::RefusedUri { .. }))),
+        ("binary_garbage.obj", Io(|e| matches!(e, IoError::BinaryData { .. }))),
         ("degenerate_repeated_index.obj", Mesh(|e| matches!(e, MeshError::RepeatedIndex { face: 5, vertex: 6 }))),
         ("degenerate_zero_area.obj", Warn(|w| matches!(w, Warning::ZeroAreaFaces { faces } if faces.len() == 1))),
         ("duplicate_face.obj", Mesh(|e| matches!(e, MeshError::NonManifoldEdge { faces: 3, .. }))),
@@ -25,6 +27,7 @@ fn expectations() -> Vec<(&'static str, Expect)> {
         ("empty.off", Io(|e| matches!(e, IoError::Empty { .. }))),
         ("face_with_two_vertices.obj", Mesh(|e| matches!(e, MeshError::FaceTooSmall { face: 4, size: 2 }))),
         ("inconsistent_winding.obj", Mesh(|e| matches!(e, MeshError::InconsistentOrientation { .. }))),
+        ("index_too_large.obj", Io(|e| e.to_string().contains("99999999999999999999 out of range"))),
         (
             "inf_coordinate.off",
             Mesh(
@@ -32,6 +35,7 @@ fn expectations() -> Vec<(&'static str, Expect)> {
             ),
         ),
         ("isolated_vertices.obj", Warn(|w| matches!(w, Warning::IsolatedVertices { vertices } if vertices.len() == 2))),
+        ("lines_only.gltf", Io(|e| e.to_string().contains("no triangle primitives"))),
         (
             "nan_coordinate.obj",
             Mesh(
@@ -53,6 +57,7 @@ fn expectations() -> Vec<(&'static str, Expect)> {
         ),
         ("truncated.obj", Io(|e| matches!(e, IoError::Parse { line: Some(_), .. } | IoError::Truncated { .. }))),
         ("truncated.off", Io(|e| matches!(e, IoError::Truncated { .. }))),
+        ("utf16.obj", Io(|e| matches!(e, IoError::Utf16 { .. }))),
         ("zero_index.obj", Io(|e| matches!(e, IoError::Parse { line: Some(_), .. }))),
     ]
 }
