@@ -81,6 +81,23 @@ pub enum MeshError {
         /// Number of fans found around it.
         fans: usize,
     },
+    /// Every vertex the faces use is the same point: the mesh has no extent
+    /// (bounding-box diagonal 0), so no tolerance relative to its size means
+    /// anything.
+    #[error(
+        "all vertices coincide: the {vertices} vertices the faces use are all at ({x}, {y}, {z}), so the mesh \
+         has no extent (bounding-box diagonal 0)"
+    )]
+    AllVerticesCoincide {
+        /// Number of vertices the faces use.
+        vertices: usize,
+        /// The common point: x.
+        x: f64,
+        /// y.
+        y: f64,
+        /// z.
+        z: f64,
+    },
     /// A triangle-only operation (Loop) met another polygon.
     #[error("face {face} has {size} vertices; Loop subdivision needs triangles (use Catmull-Clark or Doo-Sabin, or triangulate)")]
     NotTriangles {

@@ -1,4 +1,10 @@
-//! Geometric queries: bounding box, centroids, normals, areas.
+//! Geometric queries: bounding box, centroids, normals, areas, angles.
+//!
+//! All of them are free of overflow and underflow for finite coordinates
+//! anywhere in the `f64` range: where a product or a difference could leave
+//! the range, the points are first scaled by an exact power of two
+//! ([`PowerOfTwoScale`]) and the result scaled back. In the ordinary range
+//! nothing is scaled and the results are the naive formulas', bit for bit.
 
 use glam::DVec3;
 
@@ -21,8 +27,88 @@ impl Aabb {
     }
 
     /// Length of the diagonal: the scale *d* every relative tolerance refers to (SPEC §1).
+    ///
+    /// Computed without overflow or underflow (a scaled hypot): the corners
+    /// are scaled by the power of two that brings their largest |coordinate|
+    /// into [½, 1), so that max − min cannot overflow (1.7e308 − (−1.7e308)),
+    /// the extent by the one that brings its largest component into [½, 1),
+    /// so that its squares neither overflow nor underflow, and the length is
+    /// scaled back. Powers of two are exact: wherever the naive ‖max − min‖
+    /// neither overflows nor underflows, this is the same number bit for bit.
+    ///
+    /// The result is finite whenever the diagonal is: +∞ only when it exceeds
+    /// `f64::MAX` ≈ 1.8e308 (an extent beyond about 1.04e308 on each axis, or
+    /// 1.8e308 on one), which callers must refuse (or first normalise the
+    /// data with [`PowerOfTwoScale`]). It is 0 exactly when `min == max`, and
+    /// NaN or ∞ when a corner is not finite.
     pub fn diagonal(&self) -> f64 {
-        (self.max - self.min).length()
+        self.diagonal_magnitude().value()
+    }
+
+    /// The diagonal as an unrounded [`Magnitude`] (finite even beyond `f64::MAX`).
+    pub(crate) fn diagonal_magnitude(&self) -> Magnitude {
+        let outer = PowerOfTwoScale::normalizing([self.min, self.max]);
+        let extent = outer.apply_point(self.max) - outer.apply_point(self.min);
+        Magnitude::length(extent).scaled(outer.inverse())
+    }
+}
+
+/// A non-negative number kept as mantissa · 2^exponent with the mantissa in
+/// [½, 1) (or 0; or the value itself when it is NaN or ∞), so that lengths, areas and their products and comparisons
+/// stay exact in range whatever the scale: areas of faces with coordinates
+/// near 1e200 (1e400, beyond `f64::MAX`) and of faces near 1e-200 (1e-400,
+/// below the smallest subnormal) compare correctly against d².
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Magnitude {
+    mantissa: f64,
+    exponent: i32,
+}
+
+impl Magnitude {
+    /// A non-negative `x`, exactly.
+    pub(crate) fn new(x: f64) -> Self {
+        if x == 0.0 || !x.is_finite() {
+            // Zero, or NaN/∞ from non-finite coordinates: carried as they are.
+            return Self { mantissa: x, exponent: 0 };
+        }
+        // x ∈ [2^e, 2^(e+1)) ⇒ x·2^-(e+1) ∈ [½, 1), exact (scaling up a subnormal is exact too).
+        let exponent = binary_exponent(x) + 1;
+        Self { mantissa: PowerOfTwoScale { exponent: -exponent }.apply(x), exponent }
+    }
+
+    /// ‖v‖ for a finite `v`, with its squares formed in a scaling that can
+    /// neither overflow nor underflow.
+    pub(crate) fn length(v: DVec3) -> Self {
+        let s = PowerOfTwoScale::normalizing([v]);
+        Self::new(s.apply_point(v).length()).scaled(s.inverse())
+    }
+
+    /// self · 2^`s.exponent`, exactly.
+    pub(crate) fn scaled(self, s: PowerOfTwoScale) -> Self {
+        if self.mantissa == 0.0 || !self.mantissa.is_finite() {
+            return self;
+        }
+        Self { mantissa: self.mantissa, exponent: self.exponent + s.exponent }
+    }
+
+    /// self · other, rounded once (the product of the mantissas).
+    pub(crate) fn times(self, other: Self) -> Self {
+        Self::new(self.mantissa * other.mantissa).scaled(PowerOfTwoScale { exponent: self.exponent + other.exponent })
+    }
+
+    /// The nearest `f64`: +∞ beyond `f64::MAX`, 0 or subnormal below the normal range.
+    pub(crate) fn value(self) -> f64 {
+        PowerOfTwoScale { exponent: self.exponent }.apply(self.mantissa)
+    }
+
+    /// self ≤ other, exactly (normalised mantissas compare by exponent first);
+    /// false when either is NaN.
+    pub(crate) fn le(self, other: Self) -> bool {
+        let special = |m: f64| m == 0.0 || !m.is_finite();
+        if special(self.mantissa) || special(other.mantissa) {
+            return self.value() <= other.value();
+        }
+        (self.exponent, self.mantissa) <= (other.exponent, other.mantissa)
     }
 }
 
@@ -50,11 +136,8 @@ impl PowerOfTwoScale {
     /// The scale that maps the largest finite |coordinate| of `points` into
     /// [½, 1); the identity when there is no finite non-zero coordinate.
     pub fn normalizing(points: impl IntoIterator<Item = DVec3>) -> Self {
-        let largest = points
-            .into_iter()
-            .flat_map(|p| p.to_array())
-            .filter(|c| c.is_finite())
-            .fold(0.0_f64, |m, c| m.max(c.abs()));
+        let finite = |c: f64| if c.is_finite() { c.abs() } else { 0.0 };
+        let largest = points.into_iter().fold(0.0_f64, |m, p| m.max(finite(p.x)).max(finite(p.y)).max(finite(p.z)));
         if largest == 0.0 {
             return Self::IDENTITY;
         }
@@ -73,19 +156,24 @@ impl PowerOfTwoScale {
     }
 
     /// x·2^exponent, exact unless the result is subnormal or overflows.
+    #[inline]
     pub fn apply(self, x: f64) -> f64 {
+        if (-1000..=1000).contains(&self.exponent) {
+            return x * power_of_two(self.exponent);
+        }
         // 2^k is a normal f64 only for k ∈ [-1022, 1023]: scale in steps.
         let mut k = self.exponent;
         let mut y = x;
         while k != 0 {
             let step = k.clamp(-1000, 1000);
-            y *= f64::from_bits(((step + 1023) as u64) << 52);
+            y *= power_of_two(step);
             k -= step;
         }
         y
     }
 
     /// Scales a point.
+    #[inline]
     pub fn apply_point(self, p: DVec3) -> DVec3 {
         DVec3::new(self.apply(p.x), self.apply(p.y), self.apply(p.z))
     }
@@ -96,6 +184,13 @@ impl PowerOfTwoScale {
             points.iter_mut().for_each(|p| *p = self.apply_point(*p));
         }
     }
+}
+
+/// 2^k for k ∈ [-1022, 1023] (a normal number), from its bits.
+#[inline]
+fn power_of_two(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((k + 1023) as u64) << 52)
 }
 
 /// e with |x| ∈ [2^e, 2^(e+1)) for finite non-zero x (subnormals included).
@@ -110,24 +205,127 @@ fn binary_exponent(x: f64) -> i32 {
 
 /// Newell's vector of a polygon: twice its vector area, exact for planar polygons
 /// and translation-invariant (Zheng-Cai Eq. 10 with cyclic indices, ERRATA Z5).
+///
+/// Formed in exact power-of-two scalings of the corners (see
+/// [`scaled_newell`]), so no intermediate overflows or underflows: the result
+/// is the naive Σ (Vᵢ − V₀) × (Vᵢ₊₁ − V₀) bit for bit wherever that neither
+/// overflows nor underflows, and a component is ±∞ only where the true
+/// vector's exceeds `f64::MAX` (areas beyond about 1e308: coordinates beyond
+/// about ±1e154). For a direction use [`unit_newell_normal`], finite always.
 pub fn newell_normal(corners: impl Iterator<Item = DVec3> + Clone) -> DVec3 {
-    let first = corners.clone().next().unwrap_or(DVec3::ZERO);
-    let next = corners.clone().skip(1).chain(std::iter::once(first));
-    // Translate to the first corner to keep round-off relative to the face size.
-    corners.zip(next).fold(DVec3::ZERO, |acc, (a, b)| acc + (a - first).cross(b - first))
+    let (n, s) = scaled_newell(corners);
+    s.inverse().apply_point(n)
 }
 
-/// Centroid (vertex average) of a polygon.
-pub fn centroid(corners: impl ExactSizeIterator<Item = DVec3>) -> DVec3 {
+/// The unit normal of a polygon: its Newell vector ([`newell_normal`])
+/// normalised, computed without overflow or underflow whatever the
+/// coordinates' scale (a face of size 1e-200 or 1e200 has a unit normal);
+/// zero when the Newell vector is exactly zero (fewer than three distinct
+/// corners, or collinear ones without round-off).
+pub fn unit_newell_normal(corners: impl Iterator<Item = DVec3> + Clone) -> DVec3 {
+    unit_vector(scaled_newell(corners).0)
+}
+
+/// The Newell vector of `corners` multiplied by an exact power of two `s`,
+/// returned as (N·s, s): the corners are scaled so their largest |coordinate|
+/// is in [½, 1) (offsets from the first corner then cannot overflow), the
+/// offsets so their largest component is in [½, 1) (the cross products then
+/// neither overflow nor underflow, whatever the face's size or distance from
+/// the origin). Both scalings are exact, so N·s is the naive sum scaled, bit
+/// for bit, wherever the naive sum neither overflows nor underflows.
+pub(crate) fn scaled_newell(corners: impl Iterator<Item = DVec3> + Clone) -> (DVec3, PowerOfTwoScale) {
+    let Some(first) = corners.clone().next() else { return (DVec3::ZERO, PowerOfTwoScale::IDENTITY) };
+    // The common case first: offsets within [2^-250, 2^250], whose products
+    // can neither overflow nor underflow, summed unscaled (the scaled sum
+    // would be the same bits; this saves three passes).
+    let mut reach = 0.0_f64;
+    let next = corners.clone().skip(1).chain(std::iter::once(first));
+    let naive = corners.clone().zip(next).fold(DVec3::ZERO, |acc, (a, b)| {
+        let (da, db) = (a - first, b - first);
+        reach = reach.max(da.abs().max_element());
+        acc + da.cross(db) // Newell: N = Σ (Vᵢ − V₀) × (Vᵢ₊₁ − V₀) (Zheng-Cai Eq. 10)
+    });
+    if in_safe_range(reach) {
+        return (naive, PowerOfTwoScale::IDENTITY);
+    }
+    let outer = PowerOfTwoScale::normalizing(corners.clone());
+    let origin = outer.apply_point(first);
+    let offsets = corners.map(move |p| outer.apply_point(p) - origin);
+    let inner = PowerOfTwoScale::normalizing(offsets.clone());
+    let q = offsets.map(move |d| inner.apply_point(d));
+    let next = q.clone().skip(1).chain(std::iter::once(DVec3::ZERO));
+    // Newell, as above, on the scaled offsets.
+    let n = q.zip(next).fold(DVec3::ZERO, |acc, (a, b)| acc + a.cross(b));
+    // N' = Σ (2^k dᵢ) × (2^k dᵢ₊₁) = 2^2k N for the combined exponent k.
+    (n, PowerOfTwoScale { exponent: 2 * (outer.exponent + inner.exponent) })
+}
+
+/// True when a largest |component| `x` lies in [2^-250, 2^250], where products
+/// of two such vectors (and sums of up to 2³² of them) neither overflow nor
+/// underflow in their leading terms: the naive formulas are then exact to
+/// rounding and need no scaling. False for NaN and ∞.
+#[inline]
+fn in_safe_range(x: f64) -> bool {
+    (power_of_two(-250)..=power_of_two(250)).contains(&x)
+}
+
+/// v / ‖v‖ without overflow or underflow (v is scaled by a power of two
+/// first, which changes neither its direction nor, in range, the result's
+/// bits); zero for a zero (or non-finite) vector.
+pub fn unit_vector(v: DVec3) -> DVec3 {
+    if in_safe_range(v.abs().max_element()) {
+        return v.normalize_or_zero(); // the same bits as scaled
+    }
+    PowerOfTwoScale::normalizing([v]).apply_point(v).normalize_or_zero()
+}
+
+/// Centroid (vertex average) of a polygon, summed in coordinates scaled by a
+/// power of two so the sum cannot overflow (two corners at 1.7e308); the
+/// naive Σ Vᵢ / n bit for bit wherever that does not overflow.
+pub fn centroid(corners: impl ExactSizeIterator<Item = DVec3> + Clone) -> DVec3 {
     let n = corners.len() as f64;
-    corners.sum::<DVec3>() / n
+    // A finite sum of finite numbers never overflowed on the way (∞ stays ∞).
+    let naive = corners.clone().sum::<DVec3>();
+    if naive.is_finite() {
+        return naive / n;
+    }
+    let s = PowerOfTwoScale::normalizing(corners.clone());
+    s.inverse().apply_point(corners.map(|p| s.apply_point(p)).sum::<DVec3>() / n)
 }
 
 /// Interior angle at corner `b` between `a` and `c`, in radians (0 for a degenerate corner).
+///
+/// Scale-free: the corners are scaled so that the offsets u = a − b and
+/// v = c − b cannot overflow, and u and v each by the power of two that
+/// brings their largest component into [½, 1) (the angle does not depend on
+/// their lengths), so corners near 1e300 or 1e-300 give the same angle as
+/// the same corners near 1.
+#[inline]
 pub fn corner_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    let u = a - b;
-    let v = c - b;
-    // atan2(|u×v|, u·v) is accurate for tiny and near-straight angles alike.
+    let (u, v) = (a - b, c - b);
+    if in_safe_range(u.abs().max_element()) && in_safe_range(v.abs().max_element()) {
+        // The common case: scaling would change neither the products nor the angle.
+        angle_between(u, v)
+    } else {
+        scaled_corner_angle(a, b, c)
+    }
+}
+
+/// [`corner_angle`] for offsets out of the safe range (or overflowing).
+#[cold]
+#[inline(never)]
+fn scaled_corner_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let outer = PowerOfTwoScale::normalizing([a, b, c]);
+    let (a, b, c) = (outer.apply_point(a), outer.apply_point(b), outer.apply_point(c));
+    let (u, v) = (a - b, c - b);
+    let u = PowerOfTwoScale::normalizing([u]).apply_point(u);
+    let v = PowerOfTwoScale::normalizing([v]).apply_point(v);
+    angle_between(u, v)
+}
+
+/// The angle between u and v: atan2(|u×v|, u·v) is accurate for tiny and near-straight angles alike.
+#[inline]
+fn angle_between(u: DVec3, v: DVec3) -> f64 {
     u.cross(v).length().atan2(u.dot(v))
 }
 

@@ -1,7 +1,7 @@
 //! A validated topology with positions.
 
 use crate::error::{MeshError, Warning};
-use crate::geometry::{centroid, corner_angle, newell_normal, Aabb};
+use crate::geometry::{centroid, corner_angle, scaled_newell, unit_vector, Aabb, Magnitude};
 use crate::ids::{FaceId, VertexId};
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
 use crate::topology::Topology;
@@ -25,8 +25,11 @@ pub struct Mesh {
 
 impl Mesh {
     /// Validates a soup: per-face checks, finite coordinates, then connectivity
-    /// (see [`Topology::new`]). Returns the mesh and the warning-level defects
-    /// (isolated vertices, zero-area faces), which do not prevent its use.
+    /// (see [`Topology::new`]), then extent: a mesh whose faces' vertices all
+    /// coincide (bounding-box diagonal 0, no scale for any tolerance) is
+    /// refused with [`MeshError::AllVerticesCoincide`]. Returns the mesh and
+    /// the warning-level defects (isolated vertices, zero-area faces), which
+    /// do not prevent its use. Time linear in the number of corners.
     pub fn from_soup(soup: PolygonSoup) -> Result<(Self, Vec<Warning>), MeshError> {
         let PolygonSoup { positions, faces, groups } = soup;
         if faces.is_empty() {
@@ -37,6 +40,12 @@ impl Mesh {
         }
         let topology = Topology::new(faces, positions.len())?;
         let mesh = Self { topology: Arc::new(topology), positions, groups };
+        let bbox = mesh.bbox();
+        if bbox.min == bbox.max {
+            let p = bbox.min;
+            let vertices = mesh.topology.referenced_vertex_count();
+            return Err(MeshError::AllVerticesCoincide { vertices, x: p.x, y: p.y, z: p.z });
+        }
         let warnings = mesh.warnings();
         Ok((mesh, warnings))
     }
@@ -97,7 +106,12 @@ impl Mesh {
         Aabb::of(t.vertices().filter(|&v| !t.is_isolated(v)).map(|v| self.position(v)))
             .expect("a valid mesh has at least one face")
     }
-    /// The scale *d* of SPEC §1: length of the bounding-box diagonal.
+    /// The scale *d* of SPEC §1: length of the bounding-box diagonal, without
+    /// overflow or underflow ([`Aabb::diagonal`]): finite and exact to
+    /// rounding for every mesh whose diagonal is at most `f64::MAX`, +∞ only
+    /// beyond (coordinates spanning more than about ±0.5e308 on every axis),
+    /// which callers must refuse or normalise away ([`crate::PowerOfTwoScale`]).
+    /// Never 0 for a mesh [`Self::from_soup`] accepted.
     pub fn bbox_diagonal(&self) -> f64 {
         self.bbox().diagonal()
     }
@@ -113,13 +127,23 @@ impl Mesh {
     pub fn face_centroids(&self) -> Vec<DVec3> {
         self.topology.face_ids().map(|f| self.face_centroid(f)).collect()
     }
-    /// Area of face `f` (half the Newell vector's length; exact for planar faces).
+    /// Area of face `f` (half the Newell vector's length; exact for planar
+    /// faces), formed without overflow or underflow: +∞ only when the area
+    /// exceeds `f64::MAX` (coordinates beyond about 1e154), 0 or subnormal
+    /// only when it is below the normal range. The zero-area check of
+    /// [`Self::warnings`] does not round it and is scale-free.
     pub fn face_area(&self, f: FaceId) -> f64 {
-        0.5 * newell_normal(self.face_points(f)).length()
+        self.face_area_magnitude(f).value()
     }
-    /// Unit normal of face `f` (Newell); zero for a zero-area face.
+    fn face_area_magnitude(&self, f: FaceId) -> Magnitude {
+        let (n, s) = scaled_newell(self.face_points(f));
+        Magnitude::length(n).times(Magnitude::new(0.5)).scaled(s.inverse())
+    }
+    /// Unit normal of face `f` (Newell), finite whatever the coordinates'
+    /// scale ([`crate::unit_newell_normal`]); zero for a face whose Newell
+    /// vector is exactly zero.
     pub fn face_normal(&self, f: FaceId) -> DVec3 {
-        newell_normal(self.face_points(f)).normalize_or_zero()
+        unit_vector(scaled_newell(self.face_points(f)).0)
     }
     /// Unit normals of all faces.
     pub fn face_normals(&self) -> Vec<DVec3> {
@@ -127,7 +151,8 @@ impl Mesh {
     }
     /// Angle-weighted unit vertex normals: nᵢ = Σⱼ θⱼ nⱼ / ‖Σⱼ θⱼ nⱼ‖ with θⱼ the
     /// angle of face j at vertex i (Deng-Wang Eq. 8, ERRATA W5). Zero for
-    /// isolated vertices and where the sum vanishes.
+    /// isolated vertices and where the sum vanishes. Scale-free: the face
+    /// normals and angles are ([`Self::face_normal`], [`crate::corner_angle`]).
     pub fn vertex_normals(&self) -> Vec<DVec3> {
         let t = &self.topology;
         let mut normals = vec![DVec3::ZERO; t.vertex_count()];
@@ -144,12 +169,14 @@ impl Mesh {
                 previous = here;
             }
         }
-        normals.iter_mut().for_each(|n| *n = n.normalize_or_zero());
+        normals.iter_mut().for_each(|n| *n = unit_vector(*n));
         normals
     }
 
     /// Warning-level defects: isolated vertices and zero-area faces
-    /// (area ≤ [`ZERO_AREA_REL`] · d²).
+    /// (area ≤ [`ZERO_AREA_REL`] · d²). Areas and d² are compared unrounded,
+    /// so a mesh and the same mesh scaled by any power of two (2^±900, where
+    /// d² and the areas leave the `f64` range) get the same verdict.
     pub fn warnings(&self) -> Vec<Warning> {
         let t = &self.topology;
         let mut warnings = Vec::new();
@@ -157,9 +184,10 @@ impl Mesh {
         if !isolated.is_empty() {
             warnings.push(Warning::IsolatedVertices { vertices: isolated });
         }
-        let d = self.bbox_diagonal();
-        let threshold = ZERO_AREA_REL * d * d;
-        let degenerate: Vec<u32> = t.face_ids().filter(|&f| self.face_area(f) <= threshold).map(|f| f.0).collect();
+        let d = self.bbox().diagonal_magnitude();
+        let threshold = Magnitude::new(ZERO_AREA_REL).times(d).times(d);
+        let degenerate: Vec<u32> =
+            t.face_ids().filter(|&f| self.face_area_magnitude(f).le(threshold)).map(|f| f.0).collect();
         if !degenerate.is_empty() {
             warnings.push(Warning::ZeroAreaFaces { faces: degenerate });
         }

@@ -4,7 +4,7 @@
 //! construction; parameters out of range are caller bugs and panic.
 
 use crate::soup::FaceList;
-use crate::{Mesh, PolygonSoup};
+use crate::{Mesh, PolygonSoup, PowerOfTwoScale};
 use glam::DVec3;
 use std::f64::consts::TAU;
 
@@ -349,16 +349,13 @@ pub fn split_edges(mesh: &Mesh, edges: &[crate::EdgeId], offset: f64) -> Mesh {
     let mut positions = mesh.positions().to_vec();
     for &e in edges {
         let (a, b) = t.edge_vertices(e);
-        let normal =
-            |f: crate::FaceId| crate::newell_normal(t.face(f).iter().map(|&v| mesh.position(crate::VertexId(v))));
         let (f, g) = t.edge_faces(e);
-        let n = (normal(f).normalize_or_zero() + g.map_or(DVec3::ZERO, |g| normal(g).normalize_or_zero()))
-            .normalize_or_zero();
+        let n = crate::unit_vector(mesh.face_normal(f) + g.map_or(DVec3::ZERO, |g| mesh.face_normal(g)));
         let (pa, pb) = (mesh.position(a), mesh.position(b));
         let key = (a.0.min(b.0), a.0.max(b.0));
         let fresh = positions.len() as u32;
         assert!(new_vertex.insert(key, fresh).is_none(), "edge {e:?} listed twice");
-        positions.push((pa + pb) / 2.0 + offset * pa.distance(pb) * n);
+        positions.push(crate::centroid([pa, pb].into_iter()) + offset * distance(pa, pb) * n);
     }
     let mut faces = FaceList::with_capacity(t.face_count(), t.half_edge_count() + 2 * edges.len());
     let mut face = Vec::new();
@@ -376,15 +373,24 @@ pub fn split_edges(mesh: &Mesh, edges: &[crate::EdgeId], offset: f64) -> Mesh {
     build(positions, faces)
 }
 
-/// Mean edge length of a mesh.
+/// Mean edge length of a mesh, summed in coordinates scaled by a power of
+/// two so that neither the differences nor the sum overflow (the naive mean,
+/// bit for bit, wherever that is finite).
 pub fn mean_edge_length(mesh: &Mesh) -> f64 {
     let t = mesh.topology();
+    let s = PowerOfTwoScale::normalizing(mesh.positions().iter().copied());
     let total: f64 = t
         .edges()
         .map(|e| {
             let (a, b) = t.edge_vertices(e);
-            mesh.position(a).distance(mesh.position(b))
+            s.apply_point(mesh.position(a)).distance(s.apply_point(mesh.position(b)))
         })
         .sum();
-    total / t.edge_count().max(1) as f64
+    s.inverse().apply(total / t.edge_count().max(1) as f64)
+}
+
+/// |a − b| without overflow (coordinates near ±1.7e308).
+fn distance(a: DVec3, b: DVec3) -> f64 {
+    let s = PowerOfTwoScale::normalizing([a, b]);
+    s.inverse().apply(s.apply_point(a).distance(s.apply_point(b)))
 }

@@ -50,7 +50,7 @@
 //! O(m³)).
 
 use crate::error::MeshError;
-use crate::geometry::newell_normal;
+use crate::geometry::{scaled_newell, PowerOfTwoScale};
 use crate::ids::FaceId;
 use crate::mesh::Mesh;
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
@@ -155,9 +155,19 @@ pub fn triangulate(mesh: &Mesh) -> Result<Triangulation, MeshError> {
 /// allowed and makes two valid triangles, judged against the quad's Newell
 /// vector N = (V₂ − V₀) × (V₃ − V₁). `None` for other faces and when
 /// neither diagonal qualifies (the general path then takes the least bad).
+///
+/// The tests are homogeneous (degree 2 and 3 in the coordinates), so they
+/// are evaluated on the corners scaled by the power of two that brings the
+/// largest |coordinate| into [½, 1): exact, the same decisions as unscaled
+/// wherever those do not overflow or underflow, and no overflow at 1e300.
+/// A quad tiny against its distance from the origin may underflow to no
+/// valid diagonal here; the general path, which scales by the face's own
+/// size, then decides.
 fn quad_diagonal(face: &[u32], positions: &[DVec3], edges: &EdgeSet) -> Option<usize> {
     let &[i0, i1, i2, i3] = face else { return None };
     let p = [i0, i1, i2, i3].map(|v| positions[v as usize]);
+    let s = PowerOfTwoScale::normalizing(p);
+    let p = p.map(|x| s.apply_point(x));
     let n = (p[2] - p[0]).cross(p[3] - p[1]); // Newell: N = Σ Vᵢ × Vᵢ₊₁ (Zheng-Cai Eq. 10) of a quad
     let valid = |a: usize, b: usize, c: usize| {
         let (u, v, w) = (p[b] - p[a], p[c] - p[a], p[c] - p[b]);
@@ -255,7 +265,11 @@ impl EdgeSet {
 struct Polygon {
     /// Vertex ids of the corners.
     ids: Vec<u32>,
-    /// Corner positions, relative to the first corner (round-off relative to the face).
+    /// Corner positions relative to the first corner (round-off relative to
+    /// the face), scaled by the power of two that brings the largest offset
+    /// component into [½, 1): every test is a ratio of homogeneous
+    /// expressions, which the exact scaling leaves unchanged, and none then
+    /// overflows or underflows whatever the face's size.
     p: Vec<DVec3>,
     /// Corners in the plane ⟂ the Newell vector, (u, v, n̂) right-handed.
     q: Vec<DVec2>,
@@ -265,14 +279,19 @@ struct Polygon {
 
 impl Polygon {
     fn load(&mut self, face: &[u32], positions: &[DVec3]) {
-        let origin = positions[face[0] as usize];
+        let corners = face.iter().map(|&v| positions[v as usize]);
+        // Offsets in coordinates scaled to at most 1 (no overflow), then scaled to the face's size.
+        let outer = PowerOfTwoScale::normalizing(corners.clone());
+        let origin = outer.apply_point(positions[face[0] as usize]);
         self.ids.clear();
         self.ids.extend_from_slice(face);
         self.p.clear();
-        self.p.extend(face.iter().map(|&v| positions[v as usize] - origin));
+        self.p.extend(corners.map(|p| outer.apply_point(p) - origin));
+        PowerOfTwoScale::normalizing(self.p.iter().copied()).apply_points(&mut self.p);
         let longest =
             (0..face.len()).map(|k| self.p[k].distance_squared(self.p[(k + 1) % face.len()])).fold(0.0, f64::max);
-        let n = newell_normal(self.p.iter().copied()); // Newell: N = Σ Vᵢ × Vᵢ₊₁ (Zheng-Cai Eq. 10)
+        // Newell: N = Σ Vᵢ × Vᵢ₊₁ (Zheng-Cai Eq. 10), of offsets already scaled to [½, 1) (its scaling is 2⁰).
+        let (n, _) = scaled_newell(self.p.iter().copied());
         self.oriented = n.length() > DEGENERATE_REL * longest;
         self.q.clear();
         if self.oriented {
