@@ -19,6 +19,7 @@ fn expectations() -> Vec<(&'static str, Expect)> {
     use Expect::*;
     vec![
         ("absolute_uri.gltf", Io(|e| matches!(e, IoError::RefusedUri { .. }))),
+        ("all_vertices_coincide.obj", Mesh(|e| matches!(e, MeshError::AllVerticesCoincide { vertices: 4, .. }))),
         ("binary_garbage.obj", Io(|e| matches!(e, IoError::BinaryData { .. }))),
         ("degenerate_repeated_index.obj", Mesh(|e| matches!(e, MeshError::RepeatedIndex { face: 5, vertex: 6 }))),
         ("degenerate_zero_area.obj", Warn(|w| matches!(w, Warning::ZeroAreaFaces { faces } if faces.len() == 1))),
