@@ -98,7 +98,7 @@ fn volume(mesh: &Mesh) -> f64 {
 /// loops (points of the quadratic B-spline boundary).
 fn exposed_limit_points(control: &Mesh) -> Vec<DVec3> {
     let plan = SubdivisionPlan::new(control.topology(), Scheme::DooSabin, 1).unwrap();
-    let refined = plan.subdivide(control, false);
+    let refined = plan.subdivide(control, false).unwrap();
     let t = refined.topology();
     let mut points = refined.face_centroids();
     for lp in t.boundary_loops() {
