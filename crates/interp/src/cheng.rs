@@ -54,7 +54,24 @@ pub struct ChengOptions {
 }
 
 /// Interpolates the vertices of `mesh` with a Catmull-Clark limit surface.
+///
+/// # Errors
+/// As every method ([`crate`] docs, "The numeric rule");
+/// [`InterpError::UnsupportedMesh`] for a solver that needs a definite
+/// matrix on a possibly indefinite one; [`InterpError::Unsolvable`] for data
+/// outside the range of a singular A; [`InterpError::Solve`] when the solver fails.
 pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, InterpError> {
+    crate::numeric::run(Method::Cheng, mesh, Some(&opts.common), |mesh, interpolated| {
+        interpolate_prepared(mesh, interpolated, opts)
+    })
+}
+
+/// [`interpolate`] on the prepared (scaled) mesh and interpolated set.
+pub(crate) fn interpolate_prepared(
+    mesh: &Mesh,
+    interpolated: Vec<bool>,
+    opts: &ChengOptions,
+) -> Result<Interpolant, InterpError> {
     let start = std::time::Instant::now();
     let t = mesh.topology();
     let a = limit_matrix_catmull_clark(t);
@@ -88,6 +105,7 @@ pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, Inte
     interpolate_on_input_topology(
         Method::Cheng,
         mesh,
+        interpolated,
         &a,
         setup,
         ControlScheme::CatmullClark,

@@ -50,7 +50,7 @@
 //! assert!(surface.positions().iter().all(|p| p.z == 0.0));
 //! ```
 
-use crate::{ControlScheme, InterpError, Interpolant, LimitAssociation, Method};
+use crate::{ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter};
 use subdiv_mesh::Mesh;
 use subdiv_stencil::Tension;
 
@@ -70,7 +70,7 @@ fn validate(tension: Tension) -> Result<(), InterpError> {
     if value > 0.0 && value <= 1.0 {
         Ok(())
     } else {
-        Err(InterpError::InvalidParameter(format!("Deng-Ma tension {name} = {value} is outside (0, 1]")))
+        Err(InterpError::invalid(Parameter::Tension, format!("Deng-Ma tension {name} = {value} is outside (0, 1]")))
     }
 }
 
@@ -78,24 +78,36 @@ fn validate(tension: Tension) -> Result<(), InterpError> {
 /// control mesh is `mesh` itself, its scheme Deng-Ma with the given tension,
 /// and its association [`LimitAssociation::Interpolatory`].
 ///
+/// The numeric rule ([`crate`] docs) applies with an error bound of 0: the
+/// control mesh is the input, bit for bit (nothing is scaled), and the error
+/// is measured all the same. Isolated vertices are left out with a warning,
+/// as in every method. [`Interpolant::surface`] refines on normalised
+/// positions and refuses a surface that leaves the range of f64.
+///
 /// # Errors
-/// [`InterpError::InvalidParameter`] for ω or λ outside (0, 1].
+/// [`InterpError::InvalidParameter`] for ω or λ outside (0, 1];
+/// [`InterpError::CoincidentVertices`] and [`InterpError::NotRepresentable`]
+/// for data without a finite, non-zero bounding-box diagonal.
 pub fn interpolate(mesh: &Mesh, opts: &DengMaOptions) -> Result<Interpolant, InterpError> {
     validate(opts.tension)?;
+    // Nothing is computed from the positions: the method sees them unscaled.
+    let prepared = crate::numeric::prepare(Method::DengMa, mesh, None)?.unscaled();
     let mut parameters = serde_json::Map::new();
     match opts.tension {
         Tension::Global(omega) => parameters.insert("omega".into(), omega.into()),
         Tension::Variable { lambda } => parameters.insert("lambda".into(), lambda.into()),
     };
-    Ok(Interpolant {
+    let result = Interpolant {
         method: Method::DengMa,
         control: mesh.clone(),
         scheme: ControlScheme::DengMa(opts.tension),
+        interpolated: prepared.interpolated.clone(),
         association: LimitAssociation::Interpolatory,
         solve: None,
         setup_seconds: 0.0,
         solve_seconds: 0.0,
         warnings: Vec::new(),
         parameters,
-    })
+    };
+    prepared.finish(result)
 }

@@ -50,7 +50,9 @@
 //!   under refinement of the data (icospheres of 42 to 2562 vertices: ¼
 //!   falls 4× per halving of h, ⅜ falls 12×, 8×, 5× — tending to the O(h²)
 //!   of the extraordinary vertices with a ~25× smaller constant).
-//!   Hence the default [`DEFAULT_MU`] = ⅜. Any finite μ interpolates; values
+//!   Hence the default [`DEFAULT_MU`] = ⅜. Any finite μ interpolates in exact
+//!   arithmetic (round-off grows with |μ|, and the measured-error check
+//!   refuses what exceeds the tolerance); values
 //!   outside [0, ½] give a warning.
 //! - Open meshes (the paper restricts itself to closed meshes, "extension
 //!   to open meshes is straightforward"):
@@ -92,8 +94,10 @@
 //! - Vertex subset (beyond the paper): vertices not interpolated get the
 //!   plain Loop vertex rule (Eq. 1, boundary (p₋ + 6p + p₊)/8); edge points
 //!   are computed by Eq. 9 everywhere.
-//! - Only `common.subset` of [`CommonOptions`] is read: the method is
-//!   explicit, so tolerance, iteration cap and solver do not apply.
+//! - Of [`CommonOptions`] only `subset` and `tol` are read: the method is
+//!   explicit, so iteration cap and solver do not apply; `tol` bounds the
+//!   measured error of the result (the numeric rule, [`crate`] docs), which
+//!   is round-off for moderate μ and grows with |μ| (μ = 1e300 fails it).
 //!
 //! ```
 //! use subdiv_interp::{deng_wang, DengWangOptions};
@@ -113,7 +117,10 @@
 //! assert!(result.error(cube.positions(), &[true; 8], cube.bbox_diagonal()).max_rel <= 1e-14);
 //! ```
 
-use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method};
+use crate::numeric::unit_direction;
+use crate::{
+    seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter,
+};
 use glam::DVec3;
 use subdiv_mesh::refine::triangle_split;
 use subdiv_mesh::{triangulate, EdgeId, Mesh, Topology, VertexId};
@@ -135,7 +142,8 @@ pub const TESTED_MU: (f64, f64) = (0.0, 0.5);
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct DengWangOptions {
-    /// Vertex subset (only `subset` is read: the method solves nothing).
+    /// Vertex subset and the bound `tol` on the measured error (the method
+    /// solves nothing: `max_iter` and `solver` are not read).
     pub common: CommonOptions,
     /// The free parameter μ of Eq. 9 (default [`DEFAULT_MU`] = ⅜).
     pub mu: f64,
@@ -199,16 +207,18 @@ fn normals(mesh: &Mesh, user: Option<&[Option<DVec3>]>) -> Result<Vec<DVec3>, In
     let mut n = mesh.vertex_normals(); // Eq. (8): nᵢ = Σⱼ θⱼ nⱼ / ‖Σⱼ θⱼ nⱼ‖ (ERRATA W5)
     let Some(user) = user else { return Ok(n) };
     if user.len() != n.len() {
-        return Err(InterpError::InvalidParameter(format!(
-            "{} normals given for a mesh of {} vertices",
-            user.len(),
-            n.len()
-        )));
+        return Err(InterpError::invalid(
+            Parameter::Normals,
+            format!("{} normals given for a mesh of {} vertices", user.len(), n.len()),
+        ));
     }
     for (v, given) in user.iter().enumerate() {
         if let Some(u) = *given {
-            let unit = u.try_normalize().ok_or_else(|| {
-                InterpError::InvalidParameter(format!("the normal of vertex {v} ({u}) is zero or not finite"))
+            let unit = unit_direction(u).ok_or_else(|| {
+                InterpError::invalid(
+                    Parameter::Normals,
+                    format!("the normal of vertex {v} ({u}) is zero or not finite"),
+                )
             })?;
             n[v] = unit;
         }
@@ -286,11 +296,27 @@ fn first_refined_points(
 /// mesh; same vertices), the control mesh has V + E vertices
 /// ([`triangle_split`] numbering, E the edges of M⁰) and 4F triangles (F the
 /// triangles of M⁰); vertex i < V has input vertex i as its Loop limit point.
+///
+/// # Errors
+/// As every method ([`crate`] docs, "The numeric rule": an extreme μ fails
+/// the measured-error check); [`InterpError::InvalidParameter`] for a μ that
+/// is not finite or a bad normal; [`InterpError::UnsupportedMesh`] for a
+/// polygon without a valid triangulation.
 pub fn interpolate(mesh: &Mesh, opts: &DengWangOptions) -> Result<Interpolant, InterpError> {
     if !opts.mu.is_finite() {
-        return Err(InterpError::InvalidParameter(format!("Deng-Wang μ = {} is not finite", opts.mu)));
+        return Err(InterpError::invalid(Parameter::Mu, format!("Deng-Wang μ = {} is not finite", opts.mu)));
     }
-    let interpolated = opts.common.interpolated(mesh.topology().vertex_count())?;
+    crate::numeric::run(Method::DengWang, mesh, Some(&opts.common), |mesh, interpolated| {
+        interpolate_prepared(mesh, interpolated, opts)
+    })
+}
+
+/// [`interpolate`] on the prepared (scaled) mesh and interpolated set.
+pub(crate) fn interpolate_prepared(
+    mesh: &Mesh,
+    interpolated: Vec<bool>,
+    opts: &DengWangOptions,
+) -> Result<Interpolant, InterpError> {
     let start = std::time::Instant::now();
     let triangulation =
         triangulate(mesh).map_err(|e| crate::preconditions::unsupported(Method::DengWang, mesh, e.to_string()))?;
@@ -337,12 +363,12 @@ pub fn interpolate(mesh: &Mesh, opts: &DengWangOptions) -> Result<Interpolant, I
     );
     let user_normals = opts.normals.as_ref().map_or(0, |u| u.iter().flatten().count());
     parameters.insert("user_normals".into(), user_normals.into());
-    parameters.insert("interpolated_vertices".into(), interpolated.iter().filter(|&&b| b).count().into());
     parameters.insert("triangulated_faces".into(), triangulation.split_faces.into());
     Ok(Interpolant {
         method: Method::DengWang,
         control: Mesh::from_topology(topology, positions),
         scheme: ControlScheme::Loop(opts.beta),
+        interpolated,
         association: LimitAssociation::ControlVertex,
         solve: None,
         setup_seconds,

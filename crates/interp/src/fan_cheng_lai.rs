@@ -32,13 +32,14 @@
 
 use crate::system::solve_limit_system;
 use crate::{
-    seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, SolverChoice,
+    seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter,
+    SolverChoice,
 };
 use subdiv_mesh::refine::dual_split;
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
 use subdiv_stencil::doo_sabin::{first_step, CornerRule};
-use subdiv_stencil::limit_matrix_two_phase;
+use subdiv_stencil::{limit_matrix_two_phase, StencilError};
 
 /// The shape parameters λ of phase one.
 #[derive(Clone, Debug, PartialEq)]
@@ -65,20 +66,36 @@ pub struct FanChengLaiOptions {
 }
 
 /// Interpolates the vertices of `mesh` with a two-phase Doo-Sabin surface.
+///
+/// # Errors
+/// As every method ([`crate`] docs, "The numeric rule");
+/// [`InterpError::InvalidParameter`] for a λ outside (0, 1) or a λ list of
+/// the wrong length; [`InterpError::Solve`] when the solver fails.
 pub fn interpolate(mesh: &Mesh, opts: &FanChengLaiOptions) -> Result<Interpolant, InterpError> {
+    crate::numeric::run(Method::FanChengLai, mesh, Some(&opts.common), |mesh, interpolated| {
+        interpolate_prepared(mesh, interpolated, opts)
+    })
+}
+
+/// [`interpolate`] on the prepared (scaled) mesh and interpolated set.
+pub(crate) fn interpolate_prepared(
+    mesh: &Mesh,
+    interpolated: Vec<bool>,
+    opts: &FanChengLaiOptions,
+) -> Result<Interpolant, InterpError> {
     let start = std::time::Instant::now();
     let t = mesh.topology();
     let rule = match &opts.shape {
         Shape::Uniform(l) => CornerRule::Uniform(*l),
         Shape::PerFace(ls) => CornerRule::PerFace(ls),
     };
-    let b = limit_matrix_two_phase(t, rule).map_err(|e| InterpError::InvalidParameter(e.to_string()))?;
+    let bad_shape = |e: StencilError| InterpError::invalid(Parameter::Shape, e.to_string());
+    let b = limit_matrix_two_phase(t, rule).map_err(bad_shape)?;
     let setup = seconds_since(start);
     let solver = match opts.common.solver {
         SolverChoice::Auto => Solver::Pia,
         SolverChoice::Use(s) => s,
     };
-    let interpolated = opts.common.interpolated(t.vertex_count())?;
     let start = std::time::Instant::now();
     // The refined topology of phase one does not depend on the solution: built beside the solve.
     let (solved, refined) = rayon::join(
@@ -99,7 +116,7 @@ pub fn interpolate(mesh: &Mesh, opts: &FanChengLaiOptions) -> Result<Interpolant
     let solved = solved?;
     // Phase one of the auxiliary mesh M̂: the output control mesh M¹.
     let (t1, provenance) = refined;
-    let phase_one = first_step(t, rule, &solved.x).map_err(|e| InterpError::InvalidParameter(e.to_string()))?;
+    let phase_one = first_step(t, rule, &solved.x).map_err(bad_shape)?;
     let control = Mesh::from_topology(t1, phase_one);
     let solve_seconds = seconds_since(start);
     let mut parameters = serde_json::Map::new();
@@ -117,6 +134,7 @@ pub fn interpolate(mesh: &Mesh, opts: &FanChengLaiOptions) -> Result<Interpolant
         association: LimitAssociation::for_dual_split(mesh.topology(), &provenance),
         control,
         scheme: ControlScheme::DooSabin,
+        interpolated,
         solve: Some(solved.summary),
         setup_seconds: setup,
         solve_seconds,

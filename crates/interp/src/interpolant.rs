@@ -1,9 +1,11 @@
 //! What every method returns, and the independent error measure (SPEC §1).
 
+use crate::numeric::max_nan;
 use crate::{InterpError, Method};
 use glam::DVec3;
-use subdiv_mesh::{FaceId, Mesh, VertexId};
-use subdiv_stencil::{catmull_clark, doo_sabin, loop_subdivision, subdivide, LoopBeta, Scheme, Tension};
+use std::borrow::Cow;
+use subdiv_mesh::{FaceId, Mesh, PowerOfTwoScale, VertexId};
+use subdiv_stencil::{catmull_clark, doo_sabin, loop_subdivision, subdivide, LoopBeta, Scheme, StencilError, Tension};
 
 /// The plain scheme whose limit surface of the control mesh interpolates the data.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,7 +137,8 @@ pub struct SolveSummary {
     pub negative_pivots: Option<usize>,
 }
 
-/// Interpolation error relative to d (SPEC §1).
+/// Interpolation error relative to d (SPEC §1). A NaN distance makes the
+/// maxima and means NaN: a point that is not a number is never skipped.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ErrorStats {
     /// max_i |L_i − P_i| / d.
@@ -160,6 +163,11 @@ pub struct Interpolant {
     pub control: Mesh,
     /// The control mesh's plain scheme.
     pub scheme: ControlScheme,
+    /// Per input vertex: interpolated? The subset (default every vertex)
+    /// without the isolated vertices, which have no limit point (a warning
+    /// says how many were left out). Measure the error over these
+    /// ([`Self::error`]).
+    pub interpolated: Vec<bool>,
     /// Where each input vertex's limit point lies.
     pub association: LimitAssociation,
     /// Solver diagnostics (`None` for explicit methods).
@@ -176,9 +184,25 @@ pub struct Interpolant {
 
 impl Interpolant {
     /// The limit point associated with every input vertex, computed from the
-    /// control mesh by the plain scheme's rules (SPEC §1).
+    /// control mesh by the plain scheme's rules (SPEC §1), on the control
+    /// positions scaled by a power of two (exact) so that no sum overflows.
+    /// NaN for a vertex without a limit point (isolated).
     pub fn limit_points(&self, input_vertices: usize) -> Vec<DVec3> {
-        let c = &self.control;
+        let scale = PowerOfTwoScale::normalizing(self.control.positions().iter().copied());
+        let mut limits = self.scaled_limit_points(scale, input_vertices);
+        scale.inverse().apply_points(&mut limits);
+        limits
+    }
+
+    /// [`Self::limit_points`] of the control mesh scaled by `scale`, in the scaled space.
+    fn scaled_limit_points(&self, scale: PowerOfTwoScale, input_vertices: usize) -> Vec<DVec3> {
+        let c: Cow<Mesh> = if scale.is_identity() {
+            Cow::Borrowed(&self.control)
+        } else {
+            let mut scaled = self.control.clone();
+            scale.apply_points(scaled.positions_mut());
+            Cow::Owned(scaled)
+        };
         let t = c.topology();
         match (&self.association, self.scheme) {
             (LimitAssociation::Interpolatory, _) => c.positions()[..input_vertices].to_vec(),
@@ -186,8 +210,9 @@ impl Interpolant {
                 .map(|i| match (v_face[i], boundary_pair[i], valence_two[i]) {
                     (_, Some((a, b)), _) => (c.position(a) + c.position(b)) / 2.0,
                     (Some(f), None, _) => c.face_centroid(f),
-                    (None, None, Some((a, b))) => edge_limit(c, a, b).unwrap_or(DVec3::NAN),
-                    (None, None, None) => c.positions().get(i).copied().unwrap_or(DVec3::NAN),
+                    (None, None, Some((a, b))) => edge_limit(&c, a, b).unwrap_or(DVec3::NAN),
+                    // Isolated: no face, no limit point.
+                    (None, None, None) => DVec3::NAN,
                 })
                 .collect(),
             (LimitAssociation::ControlVertex, scheme) => {
@@ -204,29 +229,44 @@ impl Interpolant {
         }
     }
 
-    /// Interpolation error of the vertices flagged in `interpolated` against `data`.
+    /// Interpolation error of the vertices flagged in `interpolated` against
+    /// `data` (usually [`Self::interpolated`]), relative to `d`. Computed on
+    /// data and control scaled by one power of two (exact), so that neither
+    /// the limit points nor the distances overflow or underflow; a NaN
+    /// distance makes the statistics NaN.
     pub fn error(&self, data: &[DVec3], interpolated: &[bool], d: f64) -> ErrorStats {
-        let limits = self.limit_points(data.len());
+        let scale = PowerOfTwoScale::normalizing(data.iter().chain(self.control.positions()).copied());
+        let limits = self.scaled_limit_points(scale, data.len());
         let mut stats = ErrorStats::default();
+        let (mut max, mut sum) = (0.0_f64, 0.0_f64);
         for ((l, p), &on) in limits.iter().zip(data).zip(interpolated) {
             if on {
-                let e = l.distance(*p);
-                stats.max_abs = stats.max_abs.max(e);
-                stats.mean_abs += e;
+                let e = l.distance(scale.apply_point(*p));
+                max = max_nan(max, e);
+                sum += e;
                 stats.count += 1;
             }
         }
-        if stats.count > 0 {
-            stats.mean_abs /= stats.count as f64;
-        }
-        stats.max_rel = stats.max_abs / d;
-        stats.mean_rel = stats.mean_abs / d;
+        let mean = if stats.count > 0 { sum / stats.count as f64 } else { 0.0 };
+        let (back, scaled_d) = (scale.inverse(), scale.apply(d));
+        (stats.max_abs, stats.mean_abs) = (back.apply(max), back.apply(mean));
+        (stats.max_rel, stats.mean_rel) = (max / scaled_d, mean / scaled_d);
         stats
     }
 
     /// The surface: the control mesh refined `levels` times by its plain
     /// scheme, vertices moved to their limit positions where a mask exists.
+    ///
+    /// # Errors
+    /// [`InterpError::NotRepresentable`] when a coordinate of the surface is
+    /// not a finite f64; [`InterpError::Stencil`] when the refined mesh would
+    /// be too large.
     pub fn surface(&self, levels: usize) -> Result<Mesh, InterpError> {
-        Ok(subdivide(&self.control, self.scheme.scheme(), levels, true)?)
+        subdivide(&self.control, self.scheme.scheme(), levels, true).map_err(|e| match e {
+            StencilError::NotRepresentable { reason, .. } => {
+                InterpError::NotRepresentable { method: self.method.name(), reason }
+            }
+            e => e.into(),
+        })
     }
 }

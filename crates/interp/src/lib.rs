@@ -17,13 +17,20 @@
 //! The error of a result is measured from the control mesh by the plain
 //! scheme's own rules ([`Interpolant::error`]), never from the solver's residual.
 //!
+//! **The numeric rule.** Every method computes on the data scaled by an exact
+//! power of two and maps its result back, and returns it only if every
+//! coordinate is a finite f64 and the measured error over
+//! [`Interpolant::interpolated`] is within the tolerance; otherwise a typed
+//! error ([`InterpError::NotRepresentable`], [`InterpError::CoincidentVertices`],
+//! [`InterpError::ToleranceNotMet`]). Isolated vertices have no limit point:
+//! every method leaves them out with a warning.
+//!
 //! ```
 //! use subdiv_interp::{cheng, ChengOptions};
 //! use subdiv_mesh::shapes;
 //! let torus = shapes::torus(12, 8);
 //! let result = cheng::interpolate(&torus, &ChengOptions::default()).unwrap();
-//! let all = vec![true; torus.topology().vertex_count()];
-//! let err = result.error(torus.positions(), &all, torus.bbox_diagonal());
+//! let err = result.error(torus.positions(), &result.interpolated, torus.bbox_diagonal());
 //! assert!(err.max_rel <= 1e-6);
 //! ```
 #![warn(missing_docs)]
@@ -35,6 +42,7 @@ mod error;
 pub mod fan_cheng_lai;
 mod interpolant;
 pub mod nasri;
+mod numeric;
 mod options;
 pub mod preconditions;
 mod system;
@@ -44,7 +52,7 @@ pub mod zheng_cai;
 pub use cheng::ChengOptions;
 pub use deng_ma::DengMaOptions;
 pub use deng_wang::DengWangOptions;
-pub use error::InterpError;
+pub use error::{InterpError, Parameter};
 pub use fan_cheng_lai::{FanChengLaiOptions, Shape};
 pub use interpolant::{ControlScheme, ErrorStats, Interpolant, LimitAssociation, SolveSummary};
 pub use nasri::NasriOptions;

@@ -40,13 +40,29 @@ pub struct NasriOptions {
 }
 
 /// Interpolates the vertices of `mesh` with a Doo-Sabin limit surface of M⁰.
+///
+/// # Errors
+/// As every method ([`crate`] docs, "The numeric rule"); [`InterpError::Solve`]
+/// when the solver fails.
 pub fn interpolate(mesh: &Mesh, opts: &NasriOptions) -> Result<Interpolant, InterpError> {
+    crate::numeric::run(Method::Nasri, mesh, Some(&opts.common), |mesh, interpolated| {
+        interpolate_prepared(mesh, interpolated, opts)
+    })
+}
+
+/// [`interpolate`] on the prepared (scaled) mesh and interpolated set.
+pub(crate) fn interpolate_prepared(
+    mesh: &Mesh,
+    interpolated: Vec<bool>,
+    opts: &NasriOptions,
+) -> Result<Interpolant, InterpError> {
     let start = std::time::Instant::now();
     let c = limit_matrix_nasri(mesh.topology());
     let setup = seconds_since(start);
     interpolate_on_input_topology(
         Method::Nasri,
         mesh,
+        interpolated,
         &c,
         setup,
         ControlScheme::DooSabin,

@@ -1,5 +1,6 @@
 //! Options shared by the methods.
 
+use crate::{InterpError, Parameter};
 use subdiv_solve::Solver;
 
 /// Default tolerance: max over interpolated vertices of |P − AX| / d.
@@ -24,7 +25,9 @@ pub struct CommonOptions {
     /// rule for non-interpolated vertices (they keep their input position in
     /// the unknown mesh).
     pub subset: Option<Vec<u32>>,
-    /// Relative tolerance (to the bounding-box diagonal d) of the solve.
+    /// Relative tolerance (to the bounding-box diagonal d): of the solve, and
+    /// the bound on the measured error every method's result must meet
+    /// (finite and > 0).
     pub tol: f64,
     /// Iteration cap.
     pub max_iter: usize,
@@ -40,17 +43,21 @@ impl Default for CommonOptions {
 
 impl CommonOptions {
     /// Per-vertex flag: interpolate this vertex? Out-of-range subset indices
-    /// are an error naming the index.
-    pub fn interpolated(&self, vertex_count: usize) -> Result<Vec<bool>, crate::InterpError> {
+    /// are an error naming the index; so is an empty subset.
+    pub fn interpolated(&self, vertex_count: usize) -> Result<Vec<bool>, InterpError> {
         match &self.subset {
             None => Ok(vec![true; vertex_count]),
+            Some(list) if list.is_empty() => {
+                Err(InterpError::invalid(Parameter::Subset, "the subset is empty: there is nothing to interpolate"))
+            }
             Some(list) => {
                 let mut flags = vec![false; vertex_count];
                 for &v in list {
                     let slot = flags.get_mut(v as usize).ok_or_else(|| {
-                        crate::InterpError::InvalidParameter(format!(
-                            "subset vertex {v} does not exist (the mesh has {vertex_count} vertices)"
-                        ))
+                        InterpError::invalid(
+                            Parameter::Subset,
+                            format!("subset vertex {v} does not exist (the mesh has {vertex_count} vertices)"),
+                        )
                     })?;
                     *slot = true;
                 }

@@ -15,7 +15,7 @@
 //! needs a definite matrix can still be refused by the method itself.
 
 use crate::{InterpError, Method, DEFAULT_TOL};
-use subdiv_mesh::Mesh;
+use subdiv_mesh::{Mesh, PowerOfTwoScale};
 use subdiv_stencil::catmull_clark_kernel;
 
 impl Method {
@@ -45,11 +45,19 @@ impl Method {
 /// max_v |r_v| ≥ |c·P| / n_c; interpolation to `tol`·d is possible only if
 /// |c·P| / n_c ≤ tol·d (and then the solver finds it).
 pub(crate) fn cheng_range(mesh: &Mesh, tol: f64) -> Result<(), String> {
-    let d = mesh.bbox_diagonal();
-    for c in catmull_clark_kernel(mesh.topology()) {
-        let dot: glam::DVec3 = c.iter().map(|&(v, s)| s * mesh.position(v)).sum();
+    let kernel = catmull_clark_kernel(mesh.topology());
+    if kernel.is_empty() {
+        return Ok(());
+    }
+    // On positions scaled by a power of two (exact; the ratio floor/d does
+    // not change), so that neither c·P nor d overflows near ±1e308.
+    let mut scaled = mesh.clone();
+    PowerOfTwoScale::normalizing(mesh.positions().iter().copied()).apply_points(scaled.positions_mut());
+    let d = scaled.bbox_diagonal();
+    for c in kernel {
+        let dot: glam::DVec3 = c.iter().map(|&(v, s)| s * scaled.position(v)).sum();
         let floor = dot.length() / c.len() as f64;
-        if floor > tol * d {
+        if floor.is_nan() || floor > tol * d {
             return Err(format!(
                 "the Catmull-Clark limit matrix is singular on the closed component of vertex {} (only valence-3 \
                  vertices, bipartite vertex graph) and the data are outside its range: no control mesh gets \

@@ -26,6 +26,7 @@
 //! The summary names the solvers actually used, stage by stage
 //! ("cg-jacobi+gmres" when the boundary block took CG and the interior GMRES).
 
+use crate::numeric::max_nan;
 use crate::{InterpError, SolveSummary, SolverChoice};
 use glam::DVec3;
 use subdiv_solve::{FactoredMatrix, SolveOptions, Solver, SparseMatrix};
@@ -143,7 +144,7 @@ pub(crate) fn solve_limit_system_with(
         }
         summary.iterations += sol.iterations;
         summary.matvecs += sol.matvecs;
-        summary.residual = summary.residual.max(sol.residual);
+        summary.residual = max_nan(summary.residual, sol.residual);
         summary.history.extend(sol.history);
         summary.negative_pivots = sol.negative_pivots.or(summary.negative_pivots);
     }
@@ -197,13 +198,14 @@ pub(crate) fn restrict(
 }
 
 /// The shared tail of the methods whose control mesh has the input's
-/// topology (Nasri, Cheng): solve A·X = P for the interpolated vertices and
-/// wrap the result. `auto` is the method's automatic choice (a plain
+/// topology (Nasri, Cheng): solve A·X = P for the `interpolated` vertices
+/// and wrap the result. `auto` is the method's automatic choice (a plain
 /// [`Solver`] is its default for definite symmetric blocks).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn interpolate_on_input_topology(
     method: crate::Method,
     mesh: &subdiv_mesh::Mesh,
+    interpolated: Vec<bool>,
     a: &LimitMatrix,
     setup_seconds: f64,
     scheme: crate::ControlScheme,
@@ -211,7 +213,6 @@ pub(crate) fn interpolate_on_input_topology(
     auto: impl Into<AutoSolver>,
     mut warnings: Vec<String>,
 ) -> Result<crate::Interpolant, InterpError> {
-    let interpolated = common.interpolated(mesh.topology().vertex_count())?;
     let start = std::time::Instant::now();
     let solved = solve_limit_system_with(
         method.name(),
@@ -231,11 +232,11 @@ pub(crate) fn interpolate_on_input_topology(
     let mut parameters = serde_json::Map::new();
     parameters.insert("solver".into(), solved.summary.solver.clone().into());
     parameters.insert("tol".into(), common.tol.into());
-    parameters.insert("interpolated_vertices".into(), interpolated.iter().filter(|&&b| b).count().into());
     Ok(crate::Interpolant {
         method,
         control: mesh.with_positions(solved.x),
         scheme,
+        interpolated,
         association: crate::LimitAssociation::ControlVertex,
         solve: Some(solved.summary),
         setup_seconds,

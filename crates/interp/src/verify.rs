@@ -4,9 +4,10 @@
 //! nearest of them. Nothing here knows which method produced the mesh or
 //! which limit point belongs to which vertex.
 
+use crate::numeric::max_nan;
 use glam::DVec3;
 use std::collections::HashMap;
-use subdiv_mesh::Mesh;
+use subdiv_mesh::{Mesh, PowerOfTwoScale};
 use subdiv_stencil::{catmull_clark, loop_subdivision, subdivide, LoopBeta, Scheme, StencilError};
 
 /// The plain scheme of a control mesh.
@@ -25,8 +26,19 @@ pub enum Plain {
     Interpolatory,
 }
 
-/// Every limit point the plain scheme exposes on `control`.
+/// Every limit point the plain scheme exposes on `control`, computed on the
+/// control positions scaled by a power of two (exact) so that no sum
+/// overflows, and scaled back.
 pub fn candidate_limit_points(control: &Mesh, plain: Plain) -> Result<Vec<DVec3>, StencilError> {
+    let scale = PowerOfTwoScale::normalizing(control.positions().iter().copied());
+    let mut scaled = control.clone();
+    scale.apply_points(scaled.positions_mut());
+    let mut points = scaled_candidates(&scaled, plain)?;
+    scale.inverse().apply_points(&mut points);
+    Ok(points)
+}
+
+fn scaled_candidates(control: &Mesh, plain: Plain) -> Result<Vec<DVec3>, StencilError> {
     let t = control.topology();
     Ok(match plain {
         Plain::CatmullClark => catmull_clark::limit_points(t, control.positions()),
@@ -50,10 +62,22 @@ pub fn candidate_limit_points(control: &Mesh, plain: Plain) -> Result<Vec<DVec3>
 }
 
 /// Max over `targets` of the distance to the nearest candidate, relative to
-/// `d` (exact nearest neighbour through a uniform grid of cell d/64).
+/// `d` (exact nearest neighbour through a uniform grid of cell d/64). NaN
+/// when a target or a nearest candidate is not a number (never hidden by
+/// the maximum). Computed on points scaled by one power of two (exact), so
+/// that distances between coordinates near ±1e308 do not overflow.
 pub fn nearest_gap(targets: &[DVec3], candidates: &[DVec3], d: f64) -> f64 {
     if candidates.is_empty() {
         return f64::INFINITY;
+    }
+    let scale = PowerOfTwoScale::normalizing(targets.iter().chain(candidates).copied());
+    let targets: Vec<DVec3> = targets.iter().map(|&p| scale.apply_point(p)).collect();
+    let candidates: Vec<DVec3> = candidates.iter().map(|&p| scale.apply_point(p)).collect();
+    let d = scale.apply(d);
+    let non_finite = |p: &DVec3| !p.is_finite();
+    if targets.iter().any(non_finite) || candidates.iter().any(non_finite) || !(d > 0.0 && d.is_finite()) {
+        // The grid needs finite points; the answer is then not a number.
+        return f64::NAN;
     }
     let cell = d / 64.0;
     let key = |p: DVec3| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64, (p.z / cell).floor() as i64);
@@ -62,7 +86,7 @@ pub fn nearest_gap(targets: &[DVec3], candidates: &[DVec3], d: f64) -> f64 {
         grid.entry(key(c)).or_default().push(i);
     }
     let mut worst = 0.0f64;
-    for &p in targets {
+    for &p in &targets {
         let (kx, ky, kz) = key(p);
         let mut best = f64::INFINITY;
         // Search growing shells; a candidate found within r−1 cells cannot be beaten outside r.
@@ -88,7 +112,7 @@ pub fn nearest_gap(targets: &[DVec3], candidates: &[DVec3], d: f64) -> f64 {
         if best.is_infinite() {
             best = candidates.iter().map(|c| p.distance(*c)).fold(f64::INFINITY, f64::min);
         }
-        worst = worst.max(best);
+        worst = max_nan(worst, best);
     }
     worst / d
 }

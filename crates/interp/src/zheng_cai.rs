@@ -57,8 +57,10 @@
 //!   is run on the restricted system Z·M⁰ = I with its own residual rule,
 //!   tol = EPS and at most ITE_MAX iterations, keeping its last iterate; on
 //!   open meshes the boundary block is solved before the interior (as in
-//!   `system.rs`). `CommonOptions::tol` and `max_iter` are not used: EPS and
-//!   ITE_MAX are this method's names for them.
+//!   `system.rs`). `CommonOptions::max_iter` is not used and `tol` does not
+//!   stop the iteration: EPS and ITE_MAX are this method's names for them;
+//!   `tol` bounds the error measured at the end (the numeric rule, [`crate`]
+//!   docs), which is round-off unless shape handles are extreme.
 //! - Open meshes (beyond the paper, which treats closed meshes, §5; SPEC §5):
 //!   Z's boundary rows are the quadratic B-spline point (B₋ + 6V + B₊)/8,
 //!   which is the midpoint of V's two Chaikin points in M¹; step 4 moves
@@ -104,9 +106,10 @@
 //! assert_eq!(result.control.topology().vertex_count(), mesh.topology().half_edge_count());
 //! ```
 
+use crate::numeric::{max_nan, unit_direction};
 use crate::{
-    seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, SolveSummary,
-    SolverChoice,
+    seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter,
+    SolveSummary, SolverChoice,
 };
 use glam::DVec3;
 use subdiv_mesh::{newell_normal, Mesh, Topology, VertexId};
@@ -129,7 +132,8 @@ pub struct ZhengCaiOptions {
     /// storage order) = Eq. 7 as the paper sweeps it; `Use(Solver::Jacobi)` =
     /// the Jacobi form of §3.2; any other solver runs on the Z system with
     /// its residual rule.
-    /// `tol` and `max_iter` are not used (see [`Self::eps`], [`Self::ite_max`]).
+    /// `max_iter` is not used and `tol` only bounds the measured error of the
+    /// result (the iteration stops by [`Self::eps`] and [`Self::ite_max`]).
     pub common: CommonOptions,
     /// ITE_MAX: the most sweeps of Eq. 7 (0 = the auxiliary mesh is the input).
     pub ite_max: usize,
@@ -206,42 +210,40 @@ impl Iteration {
 }
 
 /// Steps 1-2: the auxiliary mesh M⁰ (input topology) whose Eq. 4 step has
-/// V-face centroids close to the data.
+/// V-face centroids close to the data. Computed on the data scaled by a
+/// power of two and mapped back, as every method ([`crate`] docs, "The
+/// numeric rule"); isolated vertices are left out of SI with a warning.
 ///
 /// # Errors
 /// [`InterpError::InvalidParameter`] for a bad subset or EPS;
-/// [`InterpError::Solve`] when a solver other than the paper's fails for a
-/// reason other than its iteration cap.
+/// [`InterpError::CoincidentVertices`] and [`InterpError::NotRepresentable`]
+/// for data without a finite, non-zero d; [`InterpError::Solve`] when a
+/// solver other than the paper's fails for a reason other than its
+/// iteration cap.
 pub fn auxiliary_mesh(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<AuxiliaryMesh, InterpError> {
-    let si = interpolated_set(mesh, opts)?;
+    check_eps(opts)?;
+    let prepared = crate::numeric::prepare(Method::ZhengCai, mesh, Some(&opts.common))?;
     let z = limit_matrix_zheng_cai(mesh.topology());
-    auxiliary_from(mesh, opts, &z, si)
+    let mut aux = auxiliary_from(&prepared.mesh, opts, &z, prepared.interpolated.clone())?;
+    prepared.map_back("the auxiliary mesh", aux.mesh.positions_mut())?;
+    aux.warnings = prepared.warnings;
+    Ok(aux)
 }
 
-/// SI as flags (isolated vertices left out, with a warning), after checking EPS.
-fn interpolated_set(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<(Vec<bool>, Vec<String>), InterpError> {
-    if !(opts.eps.is_finite() && opts.eps >= 0.0) {
-        return Err(InterpError::InvalidParameter(format!("EPS = {} must be finite and ≥ 0", opts.eps)));
+/// EPS must be finite and ≥ 0.
+fn check_eps(opts: &ZhengCaiOptions) -> Result<(), InterpError> {
+    if opts.eps.is_finite() && opts.eps >= 0.0 {
+        Ok(())
+    } else {
+        Err(InterpError::invalid(Parameter::Eps, format!("EPS = {} must be finite and ≥ 0", opts.eps)))
     }
-    let t = mesh.topology();
-    let mut interpolated = opts.common.interpolated(t.vertex_count())?;
-    let mut warnings = Vec::new();
-    let isolated: Vec<VertexId> = t.vertices().filter(|&v| interpolated[v.index()] && t.is_isolated(v)).collect();
-    if let Some(first) = isolated.first() {
-        isolated.iter().for_each(|v| interpolated[v.index()] = false);
-        warnings.push(format!(
-            "{} isolated vertices (first: {first}) lie on no face and are not interpolated",
-            isolated.len()
-        ));
-    }
-    Ok((interpolated, warnings))
 }
 
 fn auxiliary_from(
     mesh: &Mesh,
     opts: &ZhengCaiOptions,
     z: &LimitMatrix,
-    (interpolated, warnings): (Vec<bool>, Vec<String>),
+    interpolated: Vec<bool>,
 ) -> Result<AuxiliaryMesh, InterpError> {
     let d = mesh.bbox_diagonal();
     let iteration = Iteration::of(opts.common.solver);
@@ -249,7 +251,7 @@ fn auxiliary_from(
         Iteration::Paper { jacobi } => paper_sweeps(z, mesh.positions(), &interpolated, jacobi, opts, d),
         Iteration::Other(solver) => solver_iterations(solver, z, mesh.positions(), &interpolated, opts, d)?,
     };
-    Ok(AuxiliaryMesh { mesh: mesh.with_positions(positions), summary, interpolated, warnings })
+    Ok(AuxiliaryMesh { mesh: mesh.with_positions(positions), summary, interpolated, warnings: Vec::new() })
 }
 
 /// λ of Eq. 4, V' = λV + (1 − λ)A with λ = ½.
@@ -289,7 +291,7 @@ fn paper_sweeps(
             // Eq. (7): V = 2mC·I − C Σ (1/mᵢ + 1/mᵢ₋₁) Eᵢ − C Σ (1/mᵢ) Σⱼ Vⱼⁱ, with
             // 1/z_vv = 2mC; on the boundary V = (8I − B₋ − B₊)/6.
             let updated = (I[v] - z.d[v] * others) / (z.d[v] * diagonal);
-            max_update = max_update.max(updated.distance(V[v]));
+            max_update = max_nan(max_update, updated.distance(V[v]));
             if jacobi {
                 fresh[k] = updated;
             } else {
@@ -309,7 +311,7 @@ fn paper_sweeps(
     }
     let ZV = z.apply(&V);
     summary.matvecs += 1;
-    summary.residual = SI.iter().map(|&v| I[v].distance(ZV[v])).fold(0.0, f64::max) / d;
+    summary.residual = SI.iter().map(|&v| I[v].distance(ZV[v])).fold(0.0, max_nan) / d;
     summary.solver = if jacobi { Solver::Jacobi } else { Solver::GaussSeidel(SweepOrder::Storage) }.name().into();
     (V, summary)
 }
@@ -358,20 +360,21 @@ fn solver_iterations(
         summary.history.extend(history);
     }
     let ZV = z.apply(&V);
-    summary.residual = (0..n).filter(|&v| interpolated[v]).map(|v| I[v].distance(ZV[v])).fold(0.0, f64::max) / d;
+    summary.residual = (0..n).filter(|&v| interpolated[v]).map(|v| I[v].distance(ZV[v])).fold(0.0, max_nan) / d;
     Ok((V, summary))
 }
 
 /// Checks normals and handles against the mesh and the subset.
 fn validate(t: &Topology, opts: &ZhengCaiOptions, interpolated: &[bool]) -> Result<(), InterpError> {
     let nv = t.vertex_count();
-    let bad = |msg: String| Err(InterpError::InvalidParameter(msg));
+    let bad = |parameter, msg: String| Err(InterpError::invalid(parameter, msg));
     if let Some(normals) = &opts.normals {
+        let bad = |msg| bad(Parameter::Normals, msg);
         if normals.len() != nv {
             return bad(format!("{} normals for {nv} vertices", normals.len()));
         }
         for (v, n) in normals.iter().enumerate().filter_map(|(v, n)| n.map(|n| (v, n))) {
-            if !n.is_finite() || n.length() == 0.0 {
+            if unit_direction(n).is_none() {
                 return bad(format!("the normal of vertex {v} is zero or not finite: {n}"));
             }
             if !interpolated[v] {
@@ -391,6 +394,7 @@ fn validate(t: &Topology, opts: &ZhengCaiOptions, interpolated: &[bool]) -> Resu
         }
     }
     if let Some(handles) = &opts.handles {
+        let bad = |msg| bad(Parameter::Handles, msg);
         if handles.len() != nv {
             return bad(format!("{} shape handles for {nv} vertices", handles.len()));
         }
@@ -405,14 +409,27 @@ fn validate(t: &Topology, opts: &ZhengCaiOptions, interpolated: &[bool]) -> Resu
 /// Doo-Sabin limit surface of the perturbed first refined mesh M¹.
 ///
 /// # Errors
-/// [`InterpError::InvalidParameter`] for a bad subset, EPS, normal or handle
-/// (naming the vertex); [`InterpError::Solve`] when a non-paper solver fails
-/// for a reason other than its iteration cap.
-#[allow(non_snake_case)]
+/// As every method ([`crate`] docs, "The numeric rule": extreme shape
+/// handles fail the measured-error check); [`InterpError::InvalidParameter`]
+/// for a bad subset, EPS, normal or handle (naming the vertex);
+/// [`InterpError::Solve`] when a non-paper solver fails for a reason other
+/// than its iteration cap.
 pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, InterpError> {
+    check_eps(opts)?;
+    crate::numeric::run(Method::ZhengCai, mesh, Some(&opts.common), |mesh, interpolated| {
+        interpolate_prepared(mesh, interpolated, opts)
+    })
+}
+
+/// [`interpolate`] on the prepared (scaled) mesh and interpolated set SI.
+#[allow(non_snake_case)]
+pub(crate) fn interpolate_prepared(
+    mesh: &Mesh,
+    si: Vec<bool>,
+    opts: &ZhengCaiOptions,
+) -> Result<Interpolant, InterpError> {
     let t = mesh.topology();
-    let si = interpolated_set(mesh, opts)?;
-    validate(t, opts, &si.0)?;
+    validate(t, opts, &si)?;
     // The connectivity of M¹ is needed only from step 4 on: it is built on
     // one core while the other builds Z and runs steps 1-3 (step 3 evaluated
     // directly, without building the Eq. (4) stencil).
@@ -425,8 +442,7 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
             let solve_start = std::time::Instant::now();
             // Steps 1-2, then step 3: M¹ = Eq. (4) step of M⁰.
             let aux = auxiliary_from(mesh, opts, &z, si)?;
-            let W = doo_sabin::first_step(t, CornerRule::Uniform(EQ4_LAMBDA), aux.mesh.positions())
-                .map_err(|e| InterpError::InvalidParameter(e.to_string()))?;
+            let W = doo_sabin::first_step(t, CornerRule::Uniform(EQ4_LAMBDA), aux.mesh.positions())?;
             Ok((aux, W, operators_seconds, seconds_since(solve_start)))
         },
     );
@@ -437,7 +453,7 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
     let setup_seconds = operators_seconds.max(topology_seconds);
     let solve_start = std::time::Instant::now();
     let SI = &aux.interpolated;
-    let mut warnings = aux.warnings;
+    let mut warnings = Vec::new();
     let I = mesh.positions();
     let boundary_pair: Vec<Option<(VertexId, VertexId)>> =
         t.vertices().map(|v| t.is_boundary_vertex(v).then(|| crate::interpolant::chaikin_pair(t, &dual, v))).collect();
@@ -467,7 +483,8 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
         let W_c = EQ4_LAMBDA * V[i] + (1.0 - EQ4_LAMBDA) * (ring.iter().sum::<DVec3>() / ring.len() as f64);
         let given = opts.normals.as_ref().and_then(|n| n[i]);
         // §4.1: the required normal replaces Eq. (10)'s Newell normal (cyclic, ERRATA Z5).
-        let n = given.unwrap_or_else(|| newell_normal(ring.iter().copied())).normalize_or_zero();
+        // Normalised by a power of two first: a given normal of 1e-200 keeps its direction.
+        let n = unit_direction(given.unwrap_or_else(|| newell_normal(ring.iter().copied()))).unwrap_or(DVec3::ZERO);
         frame[i] = Some((W_c, n));
     }
     // M¹ vertex k < H is corner k of M⁰, in the V-face of the corner's vertex.
@@ -526,7 +543,6 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
     parameters.insert("ite_max".into(), opts.ite_max.into());
     parameters.insert("eps".into(), opts.eps.into());
     parameters.insert("history".into(), iteration.history_quantity().into());
-    parameters.insert("interpolated_vertices".into(), SI.iter().filter(|&&b| b).count().into());
     let normals_given = opts.normals.as_ref().map_or(0, |n| n.iter().flatten().count());
     parameters.insert("normals".into(), normals_given.into());
     let handles = opts.handles.as_ref().map(|h| {
@@ -538,6 +554,7 @@ pub fn interpolate(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<Interpolant, I
         method: Method::ZhengCai,
         control: Mesh::from_topology(t1, W),
         scheme: ControlScheme::DooSabin,
+        interpolated: aux.interpolated,
         association: LimitAssociation::DualFace {
             v_face: dual.vertex_face,
             boundary_pair,
@@ -574,12 +591,13 @@ fn correct_valence_two(
         let mut worst = 0.0_f64;
         for (i, c) in vertices {
             let gap = I[*i] - limit(W, c);
-            worst = worst.max(gap.length());
+            worst = max_nan(worst, gap.length());
             let eps = gap / (2.0 * own); // ε = (4/3)(I − L)
             W[c[0].0.index()] += eps;
             W[c[1].0.index()] += eps;
         }
-        if worst <= 1e-15 * d || worst >= previous {
+        // Stop at round-off, when the error stops decreasing, or on NaN.
+        if worst.is_nan() || worst <= 1e-15 * d || worst >= previous {
             break;
         }
         previous = worst;

@@ -14,7 +14,7 @@ use glam::DVec3;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
-use subdiv_interp::{deng_ma, ControlScheme, DengMaOptions, InterpError, LimitAssociation};
+use subdiv_interp::{deng_ma, ControlScheme, DengMaOptions, InterpError, LimitAssociation, Parameter};
 use subdiv_mesh::refine::quad_split;
 use subdiv_mesh::{shapes, Mesh, Topology, VertexId};
 use subdiv_rules::{curves, deng_ma as rules};
@@ -809,7 +809,10 @@ fn tension_outside_zero_one_is_an_invalid_parameter() {
         Tension::Variable { lambda: f64::INFINITY },
     ] {
         let err = deng_ma::interpolate(&cube, &with(tension)).unwrap_err();
-        assert!(matches!(err, InterpError::InvalidParameter(_)), "{tension:?}: {err:?}");
+        assert!(
+            matches!(err, InterpError::InvalidParameter { parameter: Parameter::Tension, .. }),
+            "{tension:?}: {err:?}"
+        );
     }
     for tension in [Tension::Global(1.0), Tension::Global(1e-3), Tension::Variable { lambda: 1.0 }] {
         assert!(deng_ma::interpolate(&cube, &with(tension)).is_ok());

@@ -14,7 +14,9 @@ use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
 use subdiv_interp::deng_wang::{self, DEFAULT_MU};
-use subdiv_interp::{CommonOptions, ControlScheme, DengWangOptions, InterpError, Interpolant, LimitAssociation};
+use subdiv_interp::{
+    CommonOptions, ControlScheme, DengWangOptions, InterpError, Interpolant, LimitAssociation, Parameter,
+};
 use subdiv_mesh::{shapes, Mesh};
 use subdiv_stencil::{apply, loop_subdivision, LoopBeta, Scheme, SubdivisionPlan};
 use support::{candidate_limit_points, fixture, fixtures, load, nearest_gap, torus_with_untriangulable_hexagon, Plain};
@@ -534,17 +536,23 @@ fn a_face_without_triangulation_is_refused_naming_it() {
 fn bad_options_are_invalid_parameters() {
     let ico = shapes::icosahedron();
     let cases = [
-        DengWangOptions { mu: f64::NAN, ..DengWangOptions::default() },
-        DengWangOptions { normals: Some(vec![None; 5]), ..DengWangOptions::default() },
-        DengWangOptions { normals: Some(vec![Some(DVec3::ZERO); 12]), ..DengWangOptions::default() },
-        DengWangOptions {
-            common: CommonOptions { subset: Some(vec![12]), ..CommonOptions::default() },
-            ..DengWangOptions::default()
-        },
+        (DengWangOptions { mu: f64::NAN, ..DengWangOptions::default() }, Parameter::Mu),
+        (DengWangOptions { normals: Some(vec![None; 5]), ..DengWangOptions::default() }, Parameter::Normals),
+        (
+            DengWangOptions { normals: Some(vec![Some(DVec3::ZERO); 12]), ..DengWangOptions::default() },
+            Parameter::Normals,
+        ),
+        (
+            DengWangOptions {
+                common: CommonOptions { subset: Some(vec![12]), ..CommonOptions::default() },
+                ..DengWangOptions::default()
+            },
+            Parameter::Subset,
+        ),
     ];
-    for o in cases {
+    for (o, expected) in cases {
         let err = deng_wang::interpolate(&ico, &o).unwrap_err();
-        assert!(matches!(err, InterpError::InvalidParameter(_)), "{err:?}");
+        assert!(matches!(err, InterpError::InvalidParameter { parameter, .. } if parameter == expected), "{err:?}");
     }
     // μ outside the tested range still interpolates, with a warning.
     let result = deng_wang::interpolate(&ico, &DengWangOptions { mu: 2.0, ..DengWangOptions::default() }).unwrap();

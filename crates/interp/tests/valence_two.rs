@@ -10,7 +10,7 @@ mod support;
 use glam::DVec3;
 use subdiv_interp::{
     cheng, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, CommonOptions, DengWangOptions,
-    FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Shape, ZhengCaiOptions,
+    FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Parameter, Shape, ZhengCaiOptions,
 };
 use subdiv_mesh::{shapes, EdgeId, FaceId, Mesh, Topology, VertexId};
 use support::{candidate_limit_points, fixture, nearest_gap, Plain};
@@ -159,7 +159,7 @@ fn shape_control_and_subsets_with_valence_two_vertices() {
     normals[v.index()] = Some(DVec3::Z);
     let err =
         zheng_cai::interpolate(&mesh, &ZhengCaiOptions { normals: Some(normals), ..Default::default() }).unwrap_err();
-    assert!(matches!(err, InterpError::InvalidParameter(_)), "{err}");
+    assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Normals, .. }), "{err}");
     assert!(err.to_string().contains(&format!("vertex {v}")) && err.to_string().contains("valence 2"), "{err}");
 }
 

@@ -10,7 +10,7 @@ use glam::DVec3;
 use proptest::prelude::*;
 use std::collections::HashMap;
 use subdiv_interp::{
-    zheng_cai, CommonOptions, InterpError, Interpolant, LimitAssociation, SolverChoice, ZhengCaiOptions,
+    zheng_cai, CommonOptions, InterpError, Interpolant, LimitAssociation, Parameter, SolverChoice, ZhengCaiOptions,
 };
 use subdiv_mesh::{newell_normal, shapes, FaceId, FaceList, Mesh, Topology, VertexId};
 use subdiv_solve::{Solver, SweepOrder};
@@ -98,7 +98,7 @@ fn volume(mesh: &Mesh) -> f64 {
 /// loops (points of the quadratic B-spline boundary).
 fn exposed_limit_points(control: &Mesh) -> Vec<DVec3> {
     let plan = SubdivisionPlan::new(control.topology(), Scheme::DooSabin, 1).unwrap();
-    let refined = plan.subdivide(control, false);
+    let refined = plan.subdivide(control, false).unwrap();
     let t = refined.topology();
     let mut points = refined.face_centroids();
     for lp in t.boundary_loops() {
@@ -579,20 +579,26 @@ fn bad_parameters_are_refused_naming_the_vertex() {
     let err =
         zheng_cai::interpolate(&open, &ZhengCaiOptions { normals: Some(normals), ..Default::default() }).unwrap_err();
     assert!(
-        matches!(&err, InterpError::InvalidParameter(m) if m.contains(&format!("vertex {}", b.0)) && m.contains("boundary")),
+        matches!(&err, InterpError::InvalidParameter { parameter: Parameter::Normals, reason: m }
+            if m.contains(&format!("vertex {}", b.0)) && m.contains("boundary")),
         "{err}"
     );
 
     let closed = fixture("poly/mpi.off");
     let nv = closed.topology().vertex_count();
-    let cases: Vec<(ZhengCaiOptions, &str)> = vec![
-        (ZhengCaiOptions { normals: Some(vec![None; nv - 1]), ..Default::default() }, "normals for"),
+    let cases: Vec<(ZhengCaiOptions, &str, Parameter)> = vec![
+        (
+            ZhengCaiOptions { normals: Some(vec![None; nv - 1]), ..Default::default() },
+            "normals for",
+            Parameter::Normals,
+        ),
         (
             ZhengCaiOptions {
                 normals: Some((0..nv).map(|i| (i == 7).then_some(DVec3::ZERO)).collect()),
                 ..Default::default()
             },
             "vertex 7",
+            Parameter::Normals,
         ),
         (
             ZhengCaiOptions {
@@ -601,14 +607,20 @@ fn bad_parameters_are_refused_naming_the_vertex() {
                 ..Default::default()
             },
             "vertex 4 has a normal but is not interpolated",
+            Parameter::Normals,
         ),
-        (ZhengCaiOptions { handles: Some(vec![1.0; nv + 1]), ..Default::default() }, "shape handles for"),
+        (
+            ZhengCaiOptions { handles: Some(vec![1.0; nv + 1]), ..Default::default() },
+            "shape handles for",
+            Parameter::Handles,
+        ),
         (
             ZhengCaiOptions {
                 handles: Some((0..nv).map(|i| if i == 9 { -1.0 } else { 1.0 }).collect()),
                 ..Default::default()
             },
             "vertex 9",
+            Parameter::Handles,
         ),
         (
             ZhengCaiOptions {
@@ -616,21 +628,23 @@ fn bad_parameters_are_refused_naming_the_vertex() {
                 ..Default::default()
             },
             "vertex 3",
+            Parameter::Handles,
         ),
-        (ZhengCaiOptions { eps: -1.0, ..Default::default() }, "EPS"),
+        (ZhengCaiOptions { eps: -1.0, ..Default::default() }, "EPS", Parameter::Eps),
         (
             ZhengCaiOptions {
                 common: CommonOptions { subset: Some(vec![nv as u32]), ..Default::default() },
                 ..Default::default()
             },
             "does not exist",
+            Parameter::Subset,
         ),
     ];
-    for (opts, needle) in cases {
+    for (opts, needle, expected) in cases {
         let err = zheng_cai::interpolate(&closed, &opts).unwrap_err();
         assert!(
-            matches!(&err, InterpError::InvalidParameter(m) if m.contains(needle)),
-            "expected {needle:?}, got {err}"
+            matches!(&err, InterpError::InvalidParameter { parameter, reason } if reason.contains(needle) && *parameter == expected),
+            "expected {needle:?} about {expected}, got {err}"
         );
     }
     // Interior valence 2 (no V-face, the digon is left out) is interpolated:

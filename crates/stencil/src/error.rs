@@ -30,4 +30,15 @@ pub enum StencilError {
     /// The refined mesh would exceed the `u32` index range.
     #[error("the refined mesh would have more than 2³² elements")]
     TooLarge,
+    /// A refined or limit position is not a finite `f64`: the surface leaves
+    /// the range of f64 (|coordinate| > 1.8e308), or the input already had a
+    /// non-finite coordinate. The reason names the vertex and the magnitude.
+    #[error("{scheme}: {reason}")]
+    NotRepresentable {
+        /// Scheme name.
+        scheme: &'static str,
+        /// What cannot be represented, e.g. "the refined surface leaves the
+        /// range of f64: vertex 12 would have a coordinate of about -2.1e308".
+        reason: String,
+    },
 }

@@ -1,9 +1,17 @@
 //! Multi-level subdivision: topology once, geometry as one sparse product per level.
+//!
+//! Geometry is computed on positions scaled by the normalising power of two
+//! and scaled back ([`crate::normalized`]): exact, so ordinary meshes give the
+//! same bits, and free of overflow and underflow for coordinates near
+//! ±1e308 or 1e-300. [`subdivide`] and [`SubdivisionPlan::subdivide`] then
+//! check that every output coordinate is a finite f64
+//! ([`StencilError::NotRepresentable`] otherwise).
 
+use crate::normalized::{map_back, normalize};
 use crate::{apply, catmull_clark, deng_ma, doo_sabin, loop_subdivision, SparseMatrix, StencilError};
 use glam::DVec3;
 use subdiv_mesh::refine::{quad_split, DualProvenance};
-use subdiv_mesh::{Mesh, Topology};
+use subdiv_mesh::{Mesh, PowerOfTwoScale, Topology};
 use subdiv_rules::deng_ma::Tension;
 use subdiv_rules::LoopBeta;
 
@@ -134,6 +142,33 @@ fn limit_points_of(t: &Topology, scheme: Scheme, positions: &[DVec3]) -> Option<
     }
 }
 
+/// Maps `positions` (computed on `input` scaled by `scale`) back and checks
+/// that every coordinate is a finite f64. When `copies_input`, the first
+/// positions are input vertices by construction (zero levels without limit;
+/// the old vertices of the interpolatory Deng-Ma step) and are copied from
+/// `input` instead, so they stay bit for bit even where their scaled copy
+/// was subnormal.
+fn map_back_checked(
+    scheme: Scheme,
+    scale: PowerOfTwoScale,
+    positions: &mut [DVec3],
+    input: &[DVec3],
+    copies_input: bool,
+) -> Result<(), StencilError> {
+    let kept = if copies_input { input.len() } else { 0 };
+    positions[..kept].copy_from_slice(&input[..kept]);
+    let mapped = map_back(scale.inverse(), &mut positions[kept..]);
+    let reason = match (input.iter().position(|p| !p.is_finite()), mapped) {
+        (Some(v), _) => format!("input vertex {v} has a non-finite coordinate ({})", input[v]),
+        (None, Err(mut out)) => {
+            out.index += kept;
+            format!("the refined surface leaves the range of f64: {out}")
+        }
+        (None, Ok(())) => return Ok(()),
+    };
+    Err(StencilError::NotRepresentable { scheme: scheme.name(), reason })
+}
+
 impl SubdivisionPlan {
     /// Plans `levels` steps of `scheme` on `t`. Fails when the scheme cannot
     /// take the mesh (Loop on non-triangles), on a bad parameter, or when the
@@ -164,13 +199,23 @@ impl SubdivisionPlan {
         self.levels.last().map_or(&self.base, |r| &r.topology)
     }
 
-    /// Positions after every level, from positions of the input's vertices.
+    /// Positions after every level, from positions of the input's vertices
+    /// (computed on normalised positions and scaled back, module docs; a
+    /// coordinate beyond the range of f64 comes back as ±inf —
+    /// [`Self::subdivide`] checks for that).
     ///
     /// # Panics
     /// If `positions.len()` differs from the input's vertex count (a caller bug).
     pub fn apply(&self, positions: &[DVec3]) -> Vec<DVec3> {
         assert_eq!(positions.len(), self.base.vertex_count(), "one position per input vertex");
-        let mut current = positions.to_vec();
+        let (scale, scaled) = normalize(positions);
+        let mut current = self.apply_unscaled(scaled);
+        scale.inverse().apply_points(&mut current);
+        current
+    }
+
+    /// The levels applied to `current` as it is.
+    fn apply_unscaled(&self, mut current: Vec<DVec3>) -> Vec<DVec3> {
         let mut coarse = &self.base;
         for level in &self.levels {
             current = step(level, self.scheme, coarse, &current);
@@ -193,21 +238,43 @@ impl SubdivisionPlan {
 
     /// The limit points of the final level's vertices from their positions
     /// (`apply(&self.limit_stencil()?, positions)` up to round-off, without
-    /// building the stencil; `None` for Deng-Ma).
+    /// building the stencil; `None` for Deng-Ma). Computed on normalised
+    /// positions and scaled back, as [`Self::apply`].
     ///
     /// # Panics
     /// If `positions.len()` differs from the final vertex count (a caller bug).
     pub fn limit_points(&self, positions: &[DVec3]) -> Option<Vec<DVec3>> {
-        limit_points_of(self.topology(), self.scheme, positions)
+        let (scale, scaled) = normalize(positions);
+        let mut limits = limit_points_of(self.topology(), self.scheme, &scaled)?;
+        scale.inverse().apply_points(&mut limits);
+        Some(limits)
     }
 
     /// Subdivides a mesh: positions after every level, moved to their limit
     /// positions when `limit` is set and the scheme has a limit mask.
-    pub fn subdivide(&self, mesh: &Mesh, limit: bool) -> Mesh {
-        let positions = self.apply(mesh.positions());
-        let positions = limit.then(|| self.limit_points(&positions)).flatten().unwrap_or(positions);
-        Mesh::from_topology(self.topology().clone(), positions)
+    ///
+    /// # Errors
+    /// [`StencilError::NotRepresentable`] when an output coordinate is not a
+    /// finite f64 (the surface leaves the range of f64).
+    ///
+    /// # Panics
+    /// If `mesh` does not have the plan's input vertex count (a caller bug).
+    pub fn subdivide(&self, mesh: &Mesh, limit: bool) -> Result<Mesh, StencilError> {
+        assert_eq!(mesh.positions().len(), self.base.vertex_count(), "one position per input vertex");
+        let (scale, scaled) = normalize(mesh.positions());
+        let positions = self.apply_unscaled(scaled);
+        let mut positions =
+            limit.then(|| limit_points_of(self.topology(), self.scheme, &positions)).flatten().unwrap_or(positions);
+        let copies_input = copies_input(self.scheme, self.levels.len(), limit);
+        map_back_checked(self.scheme, scale, &mut positions, mesh.positions(), copies_input)?;
+        Ok(Mesh::from_topology(self.topology().clone(), positions))
     }
+}
+
+/// Whether the first output positions are the input's vertices themselves:
+/// after zero levels without limit, or Deng-Ma (whose old vertices stay).
+fn copies_input(scheme: Scheme, levels: usize, limit: bool) -> bool {
+    matches!(scheme, Scheme::DengMa(_)) || (levels == 0 && !limit)
 }
 
 /// `levels` steps of `scheme` applied to `mesh`, moved to the limit positions
@@ -220,11 +287,14 @@ impl SubdivisionPlan {
 /// [`loop_subdivision::step_points`] row by row); the final connectivity is
 /// moved into the mesh rather than copied.
 ///
+/// Computed on normalised positions and scaled back (module docs).
+///
 /// # Errors
-/// As [`SubdivisionPlan::new`].
+/// As [`SubdivisionPlan::new`]; [`StencilError::NotRepresentable`] when an
+/// output coordinate is not a finite f64 (the surface leaves the range of f64).
 pub fn subdivide(mesh: &Mesh, scheme: Scheme, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
     let mut fine: Option<Topology> = None; // None: still the input's connectivity
-    let mut positions = mesh.positions().to_vec();
+    let (scale, mut positions) = normalize(mesh.positions());
     for _ in 0..levels {
         let coarse = fine.as_ref().unwrap_or(mesh.topology());
         check_size(coarse, scheme)?;
@@ -258,7 +328,8 @@ pub fn subdivide(mesh: &Mesh, scheme: Scheme, levels: usize, limit: bool) -> Res
         fine = Some(topology);
     }
     let t = fine.as_ref().unwrap_or(mesh.topology());
-    let positions = limit.then(|| limit_points_of(t, scheme, &positions)).flatten().unwrap_or(positions);
+    let mut positions = limit.then(|| limit_points_of(t, scheme, &positions)).flatten().unwrap_or(positions);
+    map_back_checked(scheme, scale, &mut positions, mesh.positions(), copies_input(scheme, levels, limit))?;
     Ok(match fine {
         Some(t) => Mesh::from_topology(t, positions),
         None => mesh.with_positions(positions),

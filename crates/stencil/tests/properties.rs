@@ -256,7 +256,8 @@ fn single_use_subdivide_equals_the_plan() {
         let d = mesh.bbox_diagonal();
         for scheme in schemes_for(mesh.topology()) {
             for (levels, limit) in [(0, true), (1, false), (2, true), (3, false)] {
-                let planned = SubdivisionPlan::new(mesh.topology(), scheme, levels).unwrap().subdivide(&mesh, limit);
+                let planned =
+                    SubdivisionPlan::new(mesh.topology(), scheme, levels).unwrap().subdivide(&mesh, limit).unwrap();
                 let single = subdiv_stencil::subdivide(&mesh, scheme, levels, limit).unwrap();
                 let what = format!("{name}: {scheme:?}, {levels} levels, limit {limit}");
                 assert_eq!(single.topology().faces(), planned.topology().faces(), "{what}");
