@@ -13,7 +13,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use subdiv_interp::{
     cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, CommonOptions, DengMaOptions,
-    DengWangOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Shape, SolverChoice, ZhengCaiOptions,
+    DengWangOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Parameter, Shape, SolverChoice,
+    ZhengCaiOptions,
 };
 use subdiv_io::Format;
 use subdiv_mesh::Mesh;
@@ -164,12 +165,32 @@ fn run_method(args: &InterpolateArgs, mesh: &Mesh) -> Result<Interpolant, Failur
         MethodArg::DengWang => deng_wang::interpolate(mesh, &DengWangOptions { common, mu: args.mu, beta, normals }),
         MethodArg::DengMa => deng_ma::interpolate(mesh, &DengMaOptions { tension: args.tension.tension() }),
     };
-    result.map_err(|e| classify(&args.mesh, e))
+    result.map_err(|e| classify(args, e))
 }
 
 /// Exit 3 when the solver did not get there (with the error reached), 2 otherwise.
-fn classify(input: &Path, e: InterpError) -> Failure {
-    let error = anyhow!("{}: {e}", input.display());
+/// What an error is about: the parameter file or flag a parameter error
+/// concerns, else the mesh file.
+fn subject(args: &InterpolateArgs, e: &InterpError) -> String {
+    let file = |p: &Option<PathBuf>, flag: &str| p.as_ref().map_or_else(|| flag.to_string(), |p| p.display().to_string());
+    match e {
+        InterpError::InvalidParameter { parameter, .. } => match parameter {
+            Parameter::Normals => file(&args.normals, "--normals"),
+            Parameter::Handles => file(&args.handles, "--handles"),
+            Parameter::Subset => file(&args.subset, "--subset"),
+            Parameter::Shape => file(&args.shape_file, "--shape"),
+            Parameter::Tol => "--tol".into(),
+            Parameter::Eps => "--eps".into(),
+            Parameter::Mu => "--mu".into(),
+            Parameter::Tension => "--omega/--variable-tension".into(),
+            _ => args.mesh.display().to_string(),
+        },
+        _ => args.mesh.display().to_string(),
+    }
+}
+
+fn classify(args: &InterpolateArgs, e: InterpError) -> Failure {
+    let error = anyhow!("{}: {e}", subject(args, &e));
     if e.is_not_converged() {
         Failure::NotConverged(error)
     } else {
@@ -201,16 +222,8 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     let result = result?;
     let d = mesh.bbox_diagonal();
     let n = mesh.topology().vertex_count();
-    let interpolated = match &args.subset {
-        Some(p) => {
-            let mut flags = vec![false; n];
-            for v in params::subset(p, n).map_err(bad_input)? {
-                flags[v as usize] = true;
-            }
-            flags
-        }
-        None => vec![true; n],
-    };
+    // The subset, less the isolated vertices every method leaves out (with a warning).
+    let interpolated = &result.interpolated;
 
     // The refined meshes to write: sized before they are built.
     let is_deng_ma = args.method == MethodArg::DengMa;
@@ -226,7 +239,7 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
         }
     }
     let refine_surface = || {
-        crate::subdivide::refine(&result.control, plain, args.levels, true).map_err(|e| classify(&args.mesh, e.into()))
+        crate::subdivide::refine(&result.control, plain, args.levels, true).map_err(|e| classify(args, e.into()))
     };
     let surface = args.surface.as_ref().map(|_| refine_surface()).transpose()?;
     let control_out = match (&args.output, is_deng_ma) {
@@ -246,7 +259,7 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
         measured.control = result.control.with_positions(written);
     }
     outputs::require_finite(name, &measured.control, None)?;
-    let error = measured.error(mesh.positions(), &interpolated, d);
+    let error = measured.error(mesh.positions(), interpolated, d);
     // NaN fails too.
     if error.max_rel.is_nan() || error.max_rel > args.tol {
         return Err(Failure::NotConverged(anyhow!(
