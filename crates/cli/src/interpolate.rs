@@ -172,7 +172,8 @@ fn run_method(args: &InterpolateArgs, mesh: &Mesh) -> Result<Interpolant, Failur
 /// What an error is about: the parameter file or flag a parameter error
 /// concerns, else the mesh file.
 fn subject(args: &InterpolateArgs, e: &InterpError) -> String {
-    let file = |p: &Option<PathBuf>, flag: &str| p.as_ref().map_or_else(|| flag.to_string(), |p| p.display().to_string());
+    let file =
+        |p: &Option<PathBuf>, flag: &str| p.as_ref().map_or_else(|| flag.to_string(), |p| p.display().to_string());
     match e {
         InterpError::InvalidParameter { parameter, .. } => match parameter {
             Parameter::Normals => file(&args.normals, "--normals"),
@@ -238,9 +239,8 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
             budget.check(&what, result.control.topology(), plain, args.levels, 48 + gltf, per_face)?;
         }
     }
-    let refine_surface = || {
-        crate::subdivide::refine(&result.control, plain, args.levels, true).map_err(|e| classify(args, e.into()))
-    };
+    let refine_surface =
+        || crate::subdivide::refine(&result.control, plain, args.levels, true).map_err(|e| classify(args, e.into()));
     let surface = args.surface.as_ref().map(|_| refine_surface()).transpose()?;
     let control_out = match (&args.output, is_deng_ma) {
         (None, _) => None,

@@ -15,52 +15,7 @@ use std::path::{Path, PathBuf};
 /// must keep failing until then — when it passes, this test fails and asks
 /// for its removal, so the list only shrinks. Paths relative to
 /// `fuzz/regressions/`.
-const PENDING_FIX: &[&str] = &[
-    // Mesh::bbox_diagonal overflows to inf for finite coordinates (|x| ≳ 1e154).
-    "from_soup/bbox_diagonal_overflow_1e306",
-    "from_soup/bbox_diagonal_overflow_1e308",
-    "ply/bbox_diagonal_overflow_binary_doubles",
-    // Binary STL stores f32: coordinates beyond f32::MAX are written as inf.
-    "obj/stl_binary_write_overflows_f32",
-    "off/stl_binary_write_overflows_f32",
-    // subdivide(Loop, 0 levels, limit) on quads panics in limit_points_of
-    // (`subdiv subdivide cube.obj --scheme loop --levels 0 --limit`: exit 101).
-    "end_to_end/subdivide_loop_zero_levels_limit_on_quads_panics",
-    // d underflows to 0 (scale ≲ 1e-160): Ok with NaN·d.
-    "end_to_end/cheng_d_underflows_to_zero_nan_error",
-    "end_to_end/deng_ma_d_underflows_to_zero_nan_error",
-    "end_to_end/deng_wang_d_underflows_to_zero_nan_error",
-    "end_to_end/deng_wang_d_zero_error_inf",
-    "end_to_end/nasri_d_underflows_to_zero_nan_error",
-    "end_to_end/zheng_cai_d_underflows_to_zero_nan_error",
-    "end_to_end/fan_cheng_lai_d_underflows_to_zero_nan_error",
-    // d overflows to inf (scale ≳ 1e154): Ok with NaN·d.
-    "end_to_end/deng_wang_d_overflows_to_inf_nan_error",
-    "end_to_end/zheng_cai_d_overflows_to_inf_nan_error",
-    // Tiny coordinates, no normalisation: errors far above tol.
-    "end_to_end/cheng_tiny_scale_error_above_tol",
-    "end_to_end/deng_wang_tiny_scale_error_above_tol",
-    "end_to_end/nasri_tiny_scale_absolute_error_floor",
-    "end_to_end/zheng_cai_tiny_scale_handles_error_far_above_tol",
-    // Limit points overflow to inf while the control mesh is finite.
-    "end_to_end/deng_wang_limit_points_overflow_to_inf",
-    "end_to_end/nasri_limit_points_overflow_to_inf",
-    "end_to_end/zheng_cai_limit_points_overflow_to_inf",
-    "end_to_end/zheng_cai_limit_points_overflow_at_scale_1e79",
-    "end_to_end/cheng_tiny_scale_limit_points_overflow_to_inf",
-    // Fan-Cheng-Lai, λ = 1e-12 with Jacobi: Ok with infinite limit points.
-    "end_to_end/fan_cheng_lai_tiny_lambda_jacobi_limit_points_inf",
-    // Ok with a NaN or infinite control mesh.
-    "end_to_end/deng_wang_control_mesh_nan",
-    "end_to_end/zheng_cai_control_mesh_overflows_to_inf",
-    // Isolated vertices: Ok with an error of about 1·d.
-    "end_to_end/fan_cheng_lai_isolated_vertex_error_above_tol",
-    "end_to_end/zheng_cai_isolated_vertices_error_above_tol",
-    // Interpolant::error squares underflow: it reports 0 for an error of
-    // 0.07·d (the method stops early, believing it converged).
-    "end_to_end/error_measure_underflows_nasri",
-    "end_to_end/fan_cheng_lai_tiny_scale_error_measure_underflows",
-];
+const PENDING_FIX: &[&str] = &[];
 
 fn fuzz_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz")

@@ -241,7 +241,7 @@ impl Interpolant {
         let (mut max, mut sum) = (0.0_f64, 0.0_f64);
         for ((l, p), &on) in limits.iter().zip(data).zip(interpolated) {
             if on {
-                let e = l.distance(scale.apply_point(*p));
+                let e = subdiv_mesh::distance(*l, scale.apply_point(*p));
                 max = max_nan(max, e);
                 sum += e;
                 stats.count += 1;

@@ -99,7 +99,7 @@ pub fn nearest_gap(targets: &[DVec3], candidates: &[DVec3], d: f64) -> f64 {
                         }
                         if let Some(list) = grid.get(&(kx + dx, ky + dy, kz + dz)) {
                             for &i in list {
-                                best = best.min(p.distance(candidates[i]));
+                                best = best.min(subdiv_mesh::distance(p, candidates[i]));
                             }
                         }
                     }
@@ -110,7 +110,7 @@ pub fn nearest_gap(targets: &[DVec3], candidates: &[DVec3], d: f64) -> f64 {
             }
         }
         if best.is_infinite() {
-            best = candidates.iter().map(|c| p.distance(*c)).fold(f64::INFINITY, f64::min);
+            best = candidates.iter().map(|c| subdiv_mesh::distance(p, *c)).fold(f64::INFINITY, f64::min);
         }
         worst = max_nan(worst, best);
     }

@@ -350,6 +350,12 @@ fn check(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>) -> Result<(), IoErro
             return Err(ctx.invalid(format!("face {f} has {} corners; {format} needs at least 3", face.len())));
         }
     }
+    if !format.keeps_f64() {
+        // f32 formats: a finite f64 beyond f32::MAX would be written as inf.
+        if let Some((v, p)) = mesh.positions.iter().enumerate().find(|(_, p)| !p.as_vec3().is_finite()) {
+            return Err(ctx.invalid(format!("vertex {v} at {p} does not fit the 32-bit floats of {format}")));
+        }
+    }
     Ok(())
 }
 

@@ -203,6 +203,22 @@ fn binary_exponent(x: f64) -> i32 {
     ((x.to_bits() >> 52) & 0x7ff) as i32 - 1023
 }
 
+/// ‖a − b‖ without overflow or underflow: the difference (of the halves, if
+/// the full difference overflows) is scaled by an exact power of two before
+/// it is squared, so the result is the naive `a.distance(b)` bit for bit
+/// wherever that neither overflows nor underflows, and correct where it
+/// would (coordinates near ±1e308, or differences of 1e-300 whose squares
+/// vanish). +∞ only when the distance exceeds `f64::MAX`; NaN when a
+/// coordinate is NaN.
+pub fn distance(a: DVec3, b: DVec3) -> f64 {
+    let (diff, factor) = match a - b {
+        d if d.is_finite() => (d, 1.0),
+        _ => (a * 0.5 - b * 0.5, 2.0),
+    };
+    let scale = PowerOfTwoScale::normalizing([diff]);
+    factor * scale.inverse().apply(scale.apply_point(diff).length())
+}
+
 /// Newell's vector of a polygon: twice its vector area, exact for planar polygons
 /// and translation-invariant (Zheng-Cai Eq. 10 with cyclic indices, ERRATA Z5).
 ///
@@ -332,6 +348,21 @@ fn angle_between(u: DVec3, v: DVec3) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn distance_neither_overflows_nor_underflows() {
+        let (a, b) = (DVec3::new(3.0, 0.0, 0.0), DVec3::new(0.0, 4.0, 0.0));
+        assert_eq!(distance(a, b), a.distance(b));
+        assert!((distance(a * 1e-300, b * 1e-300) / 5e-300 - 1.0).abs() < 1e-15);
+        assert!((distance(a * 1e300, b * 1e300) / 5e300 - 1.0).abs() < 1e-15);
+        let far = DVec3::new(1.7e308, 0.0, 0.0);
+        assert_eq!(distance(far, -far), f64::INFINITY);
+        assert!((distance(far, DVec3::ZERO) / 1.7e308 - 1.0).abs() < 1e-15);
+        // A tiny difference on top of a huge offset.
+        let offset = DVec3::new(1e-301, 0.9, 0.0);
+        assert_eq!(distance(offset, DVec3::new(0.0, 0.9, 0.0)), 1e-301);
+        assert!(distance(DVec3::splat(f64::NAN), a).is_nan());
+    }
 
     #[test]
     fn power_of_two_scale_normalises_extremes_exactly_and_inverts() {

@@ -44,7 +44,9 @@ mod triangulate;
 mod validate;
 
 pub use error::{MeshError, Warning};
-pub use geometry::{centroid, corner_angle, newell_normal, unit_newell_normal, unit_vector, Aabb, PowerOfTwoScale};
+pub use geometry::{
+    centroid, corner_angle, distance, newell_normal, unit_newell_normal, unit_vector, Aabb, PowerOfTwoScale,
+};
 pub use ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 pub use mesh::{Mesh, ZERO_AREA_REL};
 pub use soup::{FaceGroups, FaceList, PolygonSoup};

@@ -15,7 +15,7 @@ use subdiv_mesh::{EdgeId, MeshError, Topology, VertexId};
 use subdiv_rules::loop_scheme::{edge_point_mask, limit_mask, vertex_point_mask};
 use subdiv_rules::{LoopBeta, VertexKind};
 
-fn require_triangles(t: &Topology) -> Result<(), StencilError> {
+pub(crate) fn require_triangles(t: &Topology) -> Result<(), StencilError> {
     match t.face_ids().find(|&f| t.face_size(f) != 3) {
         Some(f) => Err(StencilError::NotTriangles { face: f.0, size: t.face_size(f) }),
         None => Ok(()),

@@ -174,6 +174,10 @@ impl SubdivisionPlan {
     /// take the mesh (Loop on non-triangles), on a bad parameter, or when the
     /// result would not fit `u32` ids.
     pub fn new(t: &Topology, scheme: Scheme, levels: usize) -> Result<Self, StencilError> {
+        // Also with 0 levels: the plan's limit points need triangles.
+        if let Scheme::Loop(_) = scheme {
+            loop_subdivision::require_triangles(t)?;
+        }
         let mut out: Vec<Refinement> = Vec::with_capacity(levels);
         for _ in 0..levels {
             let level = refine_level(out.last().map_or(t, |r| &r.topology), scheme)?;
@@ -293,6 +297,10 @@ fn copies_input(scheme: Scheme, levels: usize, limit: bool) -> bool {
 /// As [`SubdivisionPlan::new`]; [`StencilError::NotRepresentable`] when an
 /// output coordinate is not a finite f64 (the surface leaves the range of f64).
 pub fn subdivide(mesh: &Mesh, scheme: Scheme, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
+    // Also with 0 levels and limit: Loop's limit mask needs triangles.
+    if let Scheme::Loop(_) = scheme {
+        loop_subdivision::require_triangles(mesh.topology())?;
+    }
     let mut fine: Option<Topology> = None; // None: still the input's connectivity
     let (scale, mut positions) = normalize(mesh.positions());
     for _ in 0..levels {
