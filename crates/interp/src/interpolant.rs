@@ -235,22 +235,23 @@ impl Interpolant {
     /// the limit points nor the distances overflow or underflow; a NaN
     /// distance makes the statistics NaN.
     pub fn error(&self, data: &[DVec3], interpolated: &[bool], d: f64) -> ErrorStats {
-        let scale = PowerOfTwoScale::normalizing(data.iter().chain(self.control.positions()).copied());
-        let limits = self.scaled_limit_points(scale, data.len());
+        // Limit points in the original units, compared with the data as given:
+        // scaling the data too would round coordinates far below the largest one
+        // onto the subnormal grid, where a wrong limit point can look exact.
+        let limits = self.limit_points(data.len());
         let mut stats = ErrorStats::default();
         let (mut max, mut sum) = (0.0_f64, 0.0_f64);
         for ((l, p), &on) in limits.iter().zip(data).zip(interpolated) {
             if on {
-                let e = subdiv_mesh::distance(*l, scale.apply_point(*p));
+                let e = subdiv_mesh::distance(*l, *p);
                 max = max_nan(max, e);
                 sum += e;
                 stats.count += 1;
             }
         }
         let mean = if stats.count > 0 { sum / stats.count as f64 } else { 0.0 };
-        let (back, scaled_d) = (scale.inverse(), scale.apply(d));
-        (stats.max_abs, stats.mean_abs) = (back.apply(max), back.apply(mean));
-        (stats.max_rel, stats.mean_rel) = (max / scaled_d, mean / scaled_d);
+        (stats.max_abs, stats.mean_abs) = (max, mean);
+        (stats.max_rel, stats.mean_rel) = (max / d, mean / d);
         stats
     }
 
