@@ -519,7 +519,7 @@ fn interpolate(mesh: &Mesh, method: Operation, levels: usize, head: &mut Bytes, 
         0..=199 => None,
         count => Some((0..count % 8).map(|_| u32::from(tail.u8()) % (n as u32 + 1)).collect()),
     };
-    let common = CommonOptions { subset, tol, max_iter, solver };
+    let common = CommonOptions { subset, tol, max_iter, solver, ..Default::default() };
     let result = match method {
         Operation::Nasri => nasri::interpolate(mesh, &NasriOptions { common: common.clone() }),
         Operation::Cheng => cheng::interpolate(mesh, &ChengOptions { common: common.clone() }),

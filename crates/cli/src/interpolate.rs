@@ -18,7 +18,7 @@ use subdiv_interp::{
 };
 use subdiv_io::Format;
 use subdiv_mesh::Mesh;
-use subdiv_solve::Solver;
+use subdiv_solve::{IterationObserver, Solver};
 use subdiv_stencil::LoopBeta;
 
 /// Method names on the command line.
@@ -140,10 +140,16 @@ fn check_applies(args: &InterpolateArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn run_method(args: &InterpolateArgs, mesh: &Mesh) -> Result<Interpolant, Failure> {
+fn run_method(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserver) -> Result<Interpolant, Failure> {
     let n = mesh.topology().vertex_count();
     let subset = args.subset.as_deref().map(|p| params::subset(p, n)).transpose().map_err(bad_input)?;
-    let common = CommonOptions { subset, tol: args.tol, max_iter: args.max_iter, solver: solver_choice(&args.solver)? };
+    let common = CommonOptions {
+        subset,
+        tol: args.tol,
+        max_iter: args.max_iter,
+        solver: solver_choice(&args.solver)?,
+        observer,
+    };
     let normals = args.normals.as_deref().map(|p| params::normals(p, n)).transpose().map_err(bad_input)?;
     let beta: LoopBeta = args.beta.into();
     let result = match args.method {
@@ -217,9 +223,9 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     }
     let mesh = load_mesh(&args.mesh)?;
     let name = args_method_name(args.method);
-    let spinner = progress::spinner(format!("{name}: interpolating {} vertices", mesh.topology().vertex_count()));
-    let result = run_method(args, &mesh);
-    spinner.finish_and_clear();
+    let (bar, observer) = progress::solver(format!("{name}: {} vertices", mesh.topology().vertex_count()), args.tol);
+    let result = run_method(args, &mesh, observer);
+    bar.finish_and_clear();
     let result = result?;
     let d = mesh.bbox_diagonal();
     let n = mesh.topology().vertex_count();

@@ -73,3 +73,26 @@ pub fn spinner(message: impl Into<String>) -> ProgressBar {
     bar.enable_steady_tick(Duration::from_millis(120));
     bar
 }
+
+/// A bar over a solve and the observer that drives it: iterations and their
+/// rate, the residual against the tolerance, and an ETA from the convergence
+/// so far (the log of the residual falls about linearly with the iterations,
+/// so the iterations left are log(r/tol) over the mean decrease per iteration).
+pub fn solver(message: impl Into<String>, tol: f64) -> (ProgressBar, subdiv_solve::IterationObserver) {
+    let message = message.into();
+    let bar = ProgressBar::with_draw_target(None, target());
+    bar.set_style(style("{spinner} {msg} [{bar:20}] {pos} it {per_sec} ETA {eta}"));
+    bar.set_message(message.clone());
+    bar.enable_steady_tick(Duration::from_millis(120));
+    let shown = bar.clone();
+    let first = std::sync::Mutex::new(None::<f64>);
+    let observer = subdiv_solve::IterationObserver::new(move |k, residual| {
+        let r0 = *first.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(residual);
+        let per_iteration = if k > 0 && residual > 0.0 { (r0 / residual).ln() / k as f64 } else { 0.0 };
+        let left = if per_iteration > 0.0 && residual > tol { (residual / tol).ln() / per_iteration } else { 0.0 };
+        shown.set_length(k as u64 + left.min(1e9).ceil() as u64);
+        shown.set_position(k as u64);
+        shown.set_message(format!("{message}: residual {residual:.2e} → {tol:.0e}"));
+    });
+    (bar, observer)
+}

@@ -109,6 +109,7 @@ pub(crate) fn interpolate_prepared(
                 opts.common.tol,
                 opts.common.max_iter,
                 mesh.bbox_diagonal(),
+                &opts.common.observer,
             )
         },
         || dual_split(t),

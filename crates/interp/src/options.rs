@@ -1,7 +1,7 @@
 //! Options shared by the methods.
 
 use crate::{InterpError, Parameter};
-use subdiv_solve::Solver;
+use subdiv_solve::{IterationObserver, Solver};
 
 /// Default tolerance: max over interpolated vertices of |P − AX| / d.
 pub const DEFAULT_TOL: f64 = 1e-6;
@@ -33,11 +33,19 @@ pub struct CommonOptions {
     pub max_iter: usize,
     /// Solver.
     pub solver: SolverChoice,
+    /// Told every iterate's relative residual (progress bars); none by default.
+    pub observer: IterationObserver,
 }
 
 impl Default for CommonOptions {
     fn default() -> Self {
-        Self { subset: None, tol: DEFAULT_TOL, max_iter: DEFAULT_MAX_ITER, solver: SolverChoice::Auto }
+        Self {
+            subset: None,
+            tol: DEFAULT_TOL,
+            max_iter: DEFAULT_MAX_ITER,
+            solver: SolverChoice::Auto,
+            observer: IterationObserver::default(),
+        }
     }
 }
 

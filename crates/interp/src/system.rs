@@ -29,7 +29,7 @@
 use crate::numeric::max_nan;
 use crate::{InterpError, SolveSummary, SolverChoice};
 use glam::DVec3;
-use subdiv_solve::{FactoredMatrix, SolveOptions, Solver, SparseMatrix};
+use subdiv_solve::{FactoredMatrix, IterationObserver, SolveOptions, Solver, SparseMatrix};
 use subdiv_stencil::LimitMatrix;
 
 /// What [`SolverChoice::Auto`] does for a method: its default solver for
@@ -100,9 +100,10 @@ pub(crate) fn solve_limit_system(
     tol: f64,
     max_iter: usize,
     scale: f64,
+    observer: &IterationObserver,
 ) -> Result<SystemSolution, InterpError> {
     let choice = SolverChoice::Use(solver);
-    solve_limit_system_with(method, a, data, interpolated, choice, solver.into(), tol, max_iter, scale)
+    solve_limit_system_with(method, a, data, interpolated, choice, solver.into(), tol, max_iter, scale, observer)
 }
 
 /// As [`solve_limit_system`], the solver of each stage picked by
@@ -118,6 +119,7 @@ pub(crate) fn solve_limit_system_with(
     tol: f64,
     max_iter: usize,
     scale: f64,
+    observer: &IterationObserver,
 ) -> Result<SystemSolution, InterpError> {
     assert_eq!(data.len(), a.size(), "one data point per row");
     let mut x = data.to_vec();
@@ -135,6 +137,7 @@ pub(crate) fn solve_limit_system_with(
             max_iter,
             history: true,
             initial: Some(unknowns.iter().map(|&v| data[v].to_array()).collect()),
+            observer: observer.clone(),
         };
         let sol = solver
             .solve(&sub, &rhs, &opts)
@@ -224,6 +227,7 @@ pub(crate) fn interpolate_on_input_topology(
         common.tol,
         common.max_iter,
         mesh.bbox_diagonal(),
+        &common.observer,
     )?;
     let solve_seconds = crate::seconds_since(start);
     if let Some(k) = solved.summary.negative_pivots.filter(|&k| k > 0) {
@@ -283,16 +287,39 @@ mod tests {
             (AutoSolver::from(cg), SolverChoice::Use(Solver::Gmres), "gmres"),
             (AutoSolver::from(cg), SolverChoice::Use(Solver::Pia), "pia"),
         ] {
-            let solved = solve_limit_system_with("test", &a, &data, &all, choice, auto, 1e-12, 10_000, 10.0).unwrap();
+            let solved = solve_limit_system_with(
+                "test",
+                &a,
+                &data,
+                &all,
+                choice,
+                auto,
+                1e-12,
+                10_000,
+                10.0,
+                &Default::default(),
+            )
+            .unwrap();
             assert_eq!(solved.summary.solver, name);
             let limits = a.apply(&solved.x);
             let gap = limits.iter().zip(&data).map(|(l, p)| l.distance(*p)).fold(0.0, f64::max);
             assert!(gap <= 1e-11 * 10.0 * 1.0001, "{name}: A·X misses P by {gap:e}");
         }
         // A solver that needs symmetry, asked for on the nonsymmetric block: the solver's error.
-        let err = solve_limit_system_with("test", &a, &data, &all, SolverChoice::Use(cg), cg.into(), 1e-9, 100, 1.0)
-            .err()
-            .expect("CG refuses the nonsymmetric block");
+        let err = solve_limit_system_with(
+            "test",
+            &a,
+            &data,
+            &all,
+            SolverChoice::Use(cg),
+            cg.into(),
+            1e-9,
+            100,
+            1.0,
+            &Default::default(),
+        )
+        .err()
+        .expect("CG refuses the nonsymmetric block");
         assert!(err.to_string().contains("gmres"), "{err}");
     }
 

@@ -341,6 +341,7 @@ fn solver_iterations(
             scale: d,
             max_iter: opts.ite_max,
             history: true,
+            observer: opts.common.observer.clone(),
             initial: Some(unknowns.iter().map(|&v| I[v].to_array()).collect()),
         };
         let (x, iterations, matvecs, history) = match solver.solve(&sub, &rhs, &solve_opts) {

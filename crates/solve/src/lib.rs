@@ -105,7 +105,7 @@ pub use matrix::{is_symmetric, FactoredMatrix, SparseMatrix};
 pub use minres::minres;
 pub use ordering::{nested_dissection, Ordering};
 pub use pia::pia;
-pub use report::{Solution, SolveOptions};
+pub use report::{IterationObserver, Solution, SolveOptions};
 pub use spectrum::{extreme_eigenvalues, power_iteration, Spectrum};
 pub use weighted_pia::{weighted_pia, weighted_pia_with};
 

@@ -25,11 +25,52 @@ pub struct SolveOptions {
     /// Start X₀ of the iterative solvers (default: X₀ = P, the natural start
     /// since every limit matrix is close to the identity).
     pub initial: Option<Vec<[f64; 3]>>,
+    /// Told the relative residual of every iterate (progress bars).
+    pub observer: IterationObserver,
+}
+
+/// A callback told `(iteration, relative residual)` after every iterate of an
+/// iterative solver (a progress bar); none by default. Observers never change
+/// a result: they compare equal to each other.
+#[derive(Clone, Default)]
+pub struct IterationObserver(Option<std::sync::Arc<dyn Fn(usize, f64) + Send + Sync>>);
+
+impl IterationObserver {
+    /// An observer calling `f(iteration, relative residual)`.
+    pub fn new(f: impl Fn(usize, f64) + Send + Sync + 'static) -> Self {
+        Self(Some(std::sync::Arc::new(f)))
+    }
+
+    /// Tells the observer, if any.
+    pub fn notify(&self, iteration: usize, relative_residual: f64) {
+        if let Some(f) = &self.0 {
+            f(iteration, relative_residual);
+        }
+    }
+}
+
+impl std::fmt::Debug for IterationObserver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.is_some() { "IterationObserver(set)" } else { "IterationObserver(none)" })
+    }
+}
+
+impl PartialEq for IterationObserver {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 impl Default for SolveOptions {
     fn default() -> Self {
-        SolveOptions { tol: DEFAULT_TOL, scale: 1.0, max_iter: DEFAULT_MAX_ITER, history: true, initial: None }
+        SolveOptions {
+            tol: DEFAULT_TOL,
+            scale: 1.0,
+            max_iter: DEFAULT_MAX_ITER,
+            history: true,
+            initial: None,
+            observer: IterationObserver::default(),
+        }
     }
 }
 
@@ -87,6 +128,7 @@ pub(crate) struct Monitor {
     window_start: usize,
     pub matvecs: usize,
     start: Instant,
+    observer: IterationObserver,
 }
 
 impl Monitor {
@@ -104,11 +146,13 @@ impl Monitor {
             window_start: 0,
             matvecs: 0,
             start,
+            observer: opts.observer.clone(),
         }
     }
 
     /// Records the absolute residual `res` of iterate `k` and decides.
     pub fn observe(&mut self, k: usize, res: f64) -> Verdict {
+        self.observer.notify(k, res / self.scale);
         if self.record {
             self.history.push(res / self.scale);
         }
@@ -198,6 +242,27 @@ pub(crate) fn initial_guess(p: &[Row], opts: &crate::SolveOptions) -> Vec<Row> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_observer_hears_every_iterate_relative_to_scale() {
+        let seen = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let log = seen.clone();
+        let opts = crate::SolveOptions {
+            scale: 2.0,
+            observer: IterationObserver::new(move |k, r| log.lock().unwrap().push((k, r))),
+            ..Default::default()
+        };
+        let mut mon = Monitor::new("test", &opts, Instant::now());
+        for (k, res) in [1.0, 0.5, 0.25].into_iter().enumerate() {
+            mon.observe(k, res);
+        }
+        assert_eq!(*seen.lock().unwrap(), [(0, 0.5), (1, 0.25), (2, 0.125)]);
+        assert_eq!(
+            opts,
+            crate::SolveOptions { scale: 2.0, ..Default::default() },
+            "observers never make options differ"
+        );
+    }
 
     #[test]
     fn monitor_detects_divergence_stagnation_and_cap() {
