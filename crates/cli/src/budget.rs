@@ -11,6 +11,7 @@
 use crate::failure::{bad_input, Failure};
 use anyhow::anyhow;
 use std::fmt;
+use subdiv_io::Format;
 use subdiv_mesh::Topology;
 use subdiv_stencil::size::{estimated_subdivide_bytes, refined_sizes, LevelSize};
 use subdiv_stencil::Scheme;
@@ -88,9 +89,9 @@ impl Budget {
     }
 
     /// Refuses (exit 2) `levels` steps of `scheme` on `t` when the result
-    /// cannot have 32-bit ids or its estimated memory — plus
-    /// `extra_per_vertex` bytes for each final vertex and `extra_per_face`
-    /// for each final face (normals, an in-memory glTF encoding) — exceeds
+    /// cannot have 32-bit ids or its estimated memory — plus `vertex_arrays`
+    /// further arrays of one point per final vertex (normals, limit
+    /// positions) and what writing it as `format` holds in memory — exceeds
     /// the budget. `what` names the refinement in the message.
     pub fn check(
         &self,
@@ -98,9 +99,13 @@ impl Budget {
         t: &Topology,
         scheme: Scheme,
         levels: usize,
-        extra_per_vertex: u64,
-        extra_per_face: u64,
+        vertex_arrays: u64,
+        format: Format,
     ) -> Result<(), Failure> {
+        // glTF is encoded in memory (positions and normals as f32); triangulating formats hold the triangles.
+        let gltf = if matches!(format, Format::Gltf | Format::Glb) { 24 } else { 0 };
+        let extra_per_vertex = 24 * vertex_arrays + gltf;
+        let extra_per_face = if format.triangulates() { 24 } else { 0 };
         let sizes = refined_sizes(t, scheme, levels);
         let Some(last) = sizes.last() else { return Ok(()) };
         let complete = sizes.len() == levels;
@@ -217,14 +222,15 @@ mod tests {
     fn the_refusal_quotes_the_true_size_of_each_level() {
         let cube = subdiv_mesh::shapes::cube();
         let budget = Budget { bytes: Some(1 << 30), source: "test".into() };
-        let message = |levels| match budget.check("subdivide", cube.topology(), Scheme::CatmullClark, levels, 0, 0) {
-            Err(Failure::BadInput(e)) => e.to_string(),
-            other => panic!("{other:?}"),
-        };
+        let message =
+            |levels| match budget.check("subdivide", cube.topology(), Scheme::CatmullClark, levels, 0, Format::Obj) {
+                Err(Failure::BadInput(e)) => e.to_string(),
+                other => panic!("{other:?}"),
+            };
         // Cube: 6·4^L faces, 6·4^(L-1)·... vertices: 4^L·6 faces at level L.
         assert!(message(11).contains("25,165,824 faces"), "{}", message(11));
         assert!(message(12).contains("100,663,296 faces"), "{}", message(12));
         assert!(message(40).contains("32-bit"), "{}", message(40));
-        assert!(budget.check("subdivide", cube.topology(), Scheme::CatmullClark, 5, 0, 0).is_ok());
+        assert!(budget.check("subdivide", cube.topology(), Scheme::CatmullClark, 5, 0, Format::Obj).is_ok());
     }
 }

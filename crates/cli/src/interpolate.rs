@@ -16,7 +16,6 @@ use subdiv_interp::{
     DengWangOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Parameter, Shape, SolverChoice,
     ZhengCaiOptions,
 };
-use subdiv_io::Format;
 use subdiv_mesh::Mesh;
 use subdiv_solve::{IterationObserver, Solver};
 use subdiv_stencil::LoopBeta;
@@ -239,10 +238,9 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     let refined_outputs = [(is_deng_ma, "--output", control_format), (true, "--surface", surface_format)];
     for (refined, flag, format) in refined_outputs {
         if let (true, Some(format)) = (refined, format) {
-            let gltf = if matches!(format, Format::Gltf | Format::Glb) { 24 } else { 0 };
-            let per_face = if format.triangulates() { 24 } else { 0 };
             let what = format!("{flag} (--levels {})", args.levels);
-            budget.check(&what, result.control.topology(), plain, args.levels, 48 + gltf, per_face)?;
+            // Limit positions and normals.
+            budget.check(&what, result.control.topology(), plain, args.levels, 2, format)?;
         }
     }
     let refine_surface =

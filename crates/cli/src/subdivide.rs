@@ -8,7 +8,6 @@ use crate::progress;
 use anyhow::anyhow;
 use clap::ValueEnum;
 use std::path::PathBuf;
-use subdiv_io::Format;
 use subdiv_mesh::Mesh;
 use subdiv_stencil::{LoopBeta, Scheme, Tension};
 
@@ -126,11 +125,9 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
     if args.triangulate && args.scheme == SchemeArg::Loop {
         mesh = subdiv_mesh::triangulate(&mesh).map_err(|e| bad_input(anyhow!("{input}: --triangulate: {e}")))?.mesh;
     }
-    // Normals and limit positions: one more array per vertex each; glTF is encoded in memory.
-    let per_vertex = 24 * (u64::from(args.normals) + u64::from(args.limit))
-        + if matches!(format, Format::Gltf | Format::Glb) { 24 } else { 0 };
-    let per_face = if format.triangulates() { 24 } else { 0 };
-    Budget::new(&args.memory).check("subdivide", mesh.topology(), scheme, args.levels, per_vertex, per_face)?;
+    // Normals and limit positions: one more array per vertex each.
+    let vertex_arrays = u64::from(args.normals) + u64::from(args.limit);
+    Budget::new(&args.memory).check("subdivide", mesh.topology(), scheme, args.levels, vertex_arrays, format)?;
     let refined = refine(&mesh, scheme, args.levels, args.limit).map_err(|e| {
         let hint = if matches!(e, subdiv_stencil::StencilError::NotTriangles { .. }) {
             " (or pass --triangulate)"
