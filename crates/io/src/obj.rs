@@ -139,7 +139,7 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
     }
     let groups =
         if saw_group_statement { FaceGroups { names: table.groups.names, face_group } } else { FaceGroups::default() };
-    Ok(PolygonSoup { positions, faces, groups })
+    Ok(PolygonSoup { positions, faces, groups, ..PolygonSoup::default() })
 }
 
 /// Maps one face corner (`v`, `v/vt`, `v/vt/vn`, `v//vn`) to a 0-based vertex

@@ -121,6 +121,68 @@ pub enum MeshError {
         /// Its number of corners.
         size: usize,
     },
+    /// A crease tag names two vertices that share no edge.
+    #[error("crease tag {a}-{b}: vertices {a} and {b} share no edge")]
+    TagNotAnEdge {
+        /// One end.
+        a: u32,
+        /// Other end.
+        b: u32,
+    },
+    /// A tag names a vertex that does not exist.
+    #[error("a tag refers to vertex {vertex}, but there are only {vertex_count} vertices")]
+    TagVertexOutOfRange {
+        /// The out-of-range index.
+        vertex: u32,
+        /// Number of vertices.
+        vertex_count: usize,
+    },
+    /// A sharpness is negative or NaN.
+    #[error("{what} has sharpness {value}; sharpness must be ≥ 0 (0 smooth, ≥ 10 infinitely sharp)")]
+    InvalidSharpness {
+        /// The tagged element.
+        what: String,
+        /// The value.
+        value: f32,
+    },
+    /// A per-element sharpness array has the wrong length.
+    #[error("{found} sharpness values for {expected} {what}")]
+    TagCount {
+        /// "edges" or "vertices".
+        what: &'static str,
+        /// The element count.
+        expected: usize,
+        /// The array length.
+        found: usize,
+    },
+    /// A face-varying channel does not have one index per face corner.
+    #[error("the texture coordinates give {indices} face-corner indices for {corners} face corners")]
+    FaceVaryingCount {
+        /// Face corners of the mesh.
+        corners: usize,
+        /// Indices given.
+        indices: usize,
+    },
+    /// A face corner refers to a face-varying value that does not exist.
+    #[error("face corner {corner} refers to texture coordinate {index}, but there are only {values}")]
+    FaceVaryingIndexOutOfRange {
+        /// The corner (position in the face list).
+        corner: usize,
+        /// The out-of-range index.
+        index: u32,
+        /// Number of values.
+        values: usize,
+    },
+    /// A face-varying value is NaN or infinite.
+    #[error("texture coordinate {value} is not finite ({u}, {v})")]
+    NonFiniteFaceVarying {
+        /// The value index.
+        value: u32,
+        /// u.
+        u: f64,
+        /// v.
+        v: f64,
+    },
     /// The mesh needs more than `u32::MAX` elements.
     #[error("the mesh is too large: {what}")]
     TooLarge {

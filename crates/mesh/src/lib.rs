@@ -5,7 +5,9 @@
 //! - [`Topology`]: validated connectivity — manifold, consistently oriented,
 //!   faces of any size ≥ 3 — with the half-edge queries every subdivision rule
 //!   and limit matrix needs in O(1) or O(valence).
-//! - [`Mesh`]: a topology plus `f64` positions, with geometric queries.
+//! - [`Mesh`]: a topology plus `f64` positions, with geometric queries, and
+//!   optionally sharpness [`Tags`] (OpenSubdiv's creases and corners) and
+//!   texture coordinates ([`FaceVarying`]).
 //! - [`triangulate`]: every polygon split into triangles over its own corners,
 //!   the mesh kept manifold ([`Triangulation`] records each triangle's face).
 //!
@@ -39,6 +41,7 @@ mod mesh;
 pub mod refine;
 pub mod shapes;
 mod soup;
+mod tags;
 mod topology;
 mod triangulate;
 mod validate;
@@ -50,9 +53,10 @@ pub use geometry::{
 pub use ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 pub use mesh::{Mesh, ZERO_AREA_REL};
 pub use soup::{FaceGroups, FaceList, PolygonSoup};
+pub use tags::{EdgeTag, FaceVarying, TagList, Tags, VertexTag, SHARPNESS_INFINITE, SHARPNESS_SMOOTH};
 pub use topology::{Corner, Topology};
 pub use triangulate::{triangulate, Triangulation};
 pub use validate::{diagnose, Diagnosis};
 
-/// Re-exported vector type used for all positions.
-pub use glam::DVec3;
+/// Re-exported vector types: positions ([`DVec3`]) and texture coordinates ([`DVec2`]).
+pub use glam::{DVec2, DVec3};

@@ -4,6 +4,7 @@ use crate::error::{MeshError, Warning};
 use crate::geometry::{centroid, corner_angle, scaled_newell, unit_vector, Aabb, Magnitude};
 use crate::ids::{FaceId, VertexId};
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
+use crate::tags::{EdgeTag, FaceVarying, TagList, Tags, VertexTag};
 use crate::topology::Topology;
 use glam::DVec3;
 use std::sync::Arc;
@@ -21,6 +22,8 @@ pub struct Mesh {
     topology: Arc<Topology>,
     positions: Vec<DVec3>,
     groups: FaceGroups,
+    tags: Tags,
+    uvs: Option<Arc<FaceVarying>>,
 }
 
 impl Mesh {
@@ -31,7 +34,7 @@ impl Mesh {
     /// the warning-level defects (isolated vertices, zero-area faces), which
     /// do not prevent its use. Time linear in the number of corners.
     pub fn from_soup(soup: PolygonSoup) -> Result<(Self, Vec<Warning>), MeshError> {
-        let PolygonSoup { positions, faces, groups } = soup;
+        let PolygonSoup { positions, faces, groups, tags, uvs } = soup;
         if faces.is_empty() {
             return Err(MeshError::NoFaces);
         }
@@ -39,7 +42,11 @@ impl Mesh {
             return Err(MeshError::NonFiniteCoordinate { vertex: v as u32, x: p.x, y: p.y, z: p.z });
         }
         let topology = Topology::new(faces, positions.len())?;
-        let mesh = Self { topology: Arc::new(topology), positions, groups };
+        let tags = Tags::from_list(&topology, &tags)?;
+        if let Some(uvs) = &uvs {
+            uvs.validate(topology.half_edge_count())?;
+        }
+        let mesh = Self { topology: Arc::new(topology), positions, groups, tags, uvs: uvs.map(Arc::new) };
         let bbox = mesh.bbox();
         if bbox.min == bbox.max {
             let p = bbox.min;
@@ -55,13 +62,14 @@ impl Mesh {
         Self::from_soup(PolygonSoup::new(positions, faces)).map(|(m, _)| m)
     }
 
-    /// The same connectivity with other positions (e.g. a solved control mesh).
+    /// The same connectivity (and tags and texture coordinates) with other
+    /// positions (e.g. a solved control mesh).
     ///
     /// # Panics
     /// If `positions.len()` differs from the vertex count (a caller bug).
     pub fn with_positions(&self, positions: Vec<DVec3>) -> Self {
         assert_eq!(positions.len(), self.positions.len(), "one position per vertex");
-        Self { topology: self.topology.clone(), positions, groups: self.groups.clone() }
+        Self { positions, ..self.clone_without_positions() }
     }
 
     /// Builds from an already validated topology.
@@ -70,7 +78,48 @@ impl Mesh {
     /// If `positions.len()` differs from the topology's vertex count (a caller bug).
     pub fn from_topology(topology: Topology, positions: Vec<DVec3>) -> Self {
         assert_eq!(positions.len(), topology.vertex_count(), "one position per vertex");
-        Self { topology: Arc::new(topology), positions, groups: FaceGroups::default() }
+        Self { topology: Arc::new(topology), positions, groups: FaceGroups::default(), tags: Tags::none(), uvs: None }
+    }
+
+    /// Everything but the positions, shared (the connectivity and texture
+    /// coordinates are reference-counted).
+    fn clone_without_positions(&self) -> Self {
+        Self {
+            topology: self.topology.clone(),
+            positions: Vec::new(),
+            groups: self.groups.clone(),
+            tags: self.tags.clone(),
+            uvs: self.uvs.clone(),
+        }
+    }
+
+    /// The same mesh with other sharpness tags (validated against this
+    /// topology: [`Tags::from_arrays`], [`Tags::from_list`]).
+    pub fn with_tags(mut self, tags: Tags) -> Self {
+        self.tags = tags;
+        self
+    }
+
+    /// The same mesh with other texture coordinates.
+    ///
+    /// # Errors
+    /// As [`FaceVarying::validate`] for this mesh's face corners.
+    pub fn with_uvs(mut self, uvs: Option<FaceVarying>) -> Result<Self, MeshError> {
+        if let Some(uvs) = &uvs {
+            uvs.validate(self.topology.half_edge_count())?;
+        }
+        self.uvs = uvs.map(Arc::new);
+        Ok(self)
+    }
+
+    /// Crease and corner sharpness (all smooth when the input had no tags).
+    pub fn tags(&self) -> &Tags {
+        &self.tags
+    }
+
+    /// Texture coordinates (one face-varying channel), if any.
+    pub fn uvs(&self) -> Option<&FaceVarying> {
+        self.uvs.as_deref()
     }
 
     /// The connectivity.
@@ -95,9 +144,10 @@ impl Mesh {
     }
     /// Back to plain data.
     pub fn into_soup(self) -> PolygonSoup {
-        let groups = self.groups;
+        let tags = self.tags.to_list(&self.topology);
+        let uvs = self.uvs.map(|uvs| Arc::try_unwrap(uvs).unwrap_or_else(|shared| (*shared).clone()));
         let faces = self.topology.faces().clone();
-        PolygonSoup { positions: self.positions, faces, groups }
+        PolygonSoup { positions: self.positions, faces, groups: self.groups, tags, uvs }
     }
 
     /// Bounding box of the vertices that faces use.
@@ -219,6 +269,14 @@ impl PolygonSoup {
         let indices =
             self.faces.indices().iter().map(|&v| map.get(v as usize).copied().flatten().unwrap_or(v)).collect();
         let faces = FaceList::from_raw(self.faces.offsets().to_vec(), indices);
-        (PolygonSoup { positions, faces, groups: self.groups.clone() }, map)
+        // Tags follow their vertices; a tag on a removed vertex names no edge
+        // and no face corner, so it goes.
+        let new = |v: u32| map.get(v as usize).copied().flatten();
+        let creases =
+            (self.tags.creases.iter()).filter_map(|t| Some(EdgeTag { a: new(t.a)?, b: new(t.b)?, ..*t })).collect();
+        let corners =
+            (self.tags.corners.iter()).filter_map(|t| Some(VertexTag { vertex: new(t.vertex)?, ..*t })).collect();
+        let tags = TagList { creases, corners };
+        (PolygonSoup { positions, faces, groups: self.groups.clone(), tags, uvs: self.uvs.clone() }, map)
     }
 }

@@ -1,5 +1,6 @@
 //! Unvalidated polygon data: what a file holds before we trust it.
 
+use crate::tags::{FaceVarying, TagList};
 use glam::DVec3;
 
 /// Faces of any size stored contiguously (CSR): face `f` is
@@ -144,12 +145,16 @@ pub struct PolygonSoup {
     pub faces: FaceList,
     /// Optional face groups (empty `names` when the format has none).
     pub groups: FaceGroups,
+    /// Crease and corner tags by vertex index (empty when the file has none).
+    pub tags: TagList,
+    /// Texture coordinates as a face-varying channel, when the file has them.
+    pub uvs: Option<FaceVarying>,
 }
 
 impl PolygonSoup {
     /// A soup of the given positions and faces, without groups.
     pub fn new(positions: Vec<DVec3>, faces: FaceList) -> Self {
-        Self { positions, faces, groups: FaceGroups::default() }
+        Self { positions, faces, ..Self::default() }
     }
 }
 

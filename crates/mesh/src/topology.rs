@@ -759,6 +759,12 @@ impl Topology {
 
     // ---- vertices ----------------------------------------------------------
 
+    /// The edge between `a` and `b`, if they share one (O(valence of a and b)).
+    pub fn find_edge(&self, a: VertexId, b: VertexId) -> Option<EdgeId> {
+        let from = |x: VertexId, y: VertexId| self.vertex_fan(x).iter().find(|&&h| self.he_to(h) == y).copied();
+        from(a, b).or_else(|| from(b, a)).map(|h| self.he_edge(h))
+    }
+
     /// Outgoing half-edges of `v` in cyclic order: the i-th one, V→Eᵢ, lies in
     /// face fᵢ = (V, Eᵢ, …, Eᵢ₊₁). On the boundary the first one is the
     /// boundary half-edge, and the fan is open. Empty for isolated vertices.

@@ -54,6 +54,7 @@ use crate::geometry::{scaled_newell, PowerOfTwoScale};
 use crate::ids::FaceId;
 use crate::mesh::Mesh;
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
+use crate::tags::FaceVarying;
 use glam::{DVec2, DVec3};
 use std::collections::HashSet;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -145,7 +146,25 @@ pub fn triangulate(mesh: &Mesh) -> Result<Triangulation, MeshError> {
     } else {
         groups.clone()
     };
-    let soup = PolygonSoup { positions: positions.to_vec(), faces: FaceList::from_uniform(3, corners), groups };
+    // Tags name vertex pairs, which stay edges; each triangle corner is a
+    // corner of its source face and keeps that corner's texture coordinate.
+    let tags = mesh.tags().to_list(t);
+    let uvs = mesh.uvs().map(|uvs| {
+        let offsets = t.faces().offsets();
+        let indices = (corners.chunks_exact(3).zip(&source_face))
+            .flat_map(|(triangle, &f)| {
+                let start = offsets[f.index()] as usize;
+                let face = t.face(f);
+                triangle.iter().map(move |&v| {
+                    let k = face.iter().position(|&c| c == v).expect("a triangle corner is a corner of its face");
+                    uvs.indices[start + k]
+                })
+            })
+            .collect();
+        FaceVarying { values: uvs.values.clone(), indices }
+    });
+    let faces = FaceList::from_uniform(3, corners);
+    let soup = PolygonSoup { positions: positions.to_vec(), faces, groups, tags, uvs };
     let (mesh, _warnings) = Mesh::from_soup(soup)?;
     Ok(Triangulation { mesh, source_face, split_faces })
 }

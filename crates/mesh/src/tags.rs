@@ -1,0 +1,253 @@
+//! Sharp features and face-varying data on a mesh: OpenSubdiv's topology tags
+//! (per-edge crease sharpness, per-vertex corner sharpness) and one
+//! face-varying channel (texture coordinates, with seams).
+//!
+//! Sharpness follows OpenSubdiv (`Sdc::Crease`): 0 is smooth, a value ≥
+//! [`SHARPNESS_INFINITE`] (10) is infinitely sharp and never decays, values in
+//! between are semi-sharp and decay by one per level. Values are `f32`, as
+//! OpenSubdiv stores them, so the decay (and Chaikin's averaging) rounds as
+//! it does there.
+//!
+//! As read from a file, tags name vertices ([`TagList`], unvalidated); on a
+//! validated mesh they are [`Tags`], indexed by [`EdgeId`] and [`VertexId`].
+//! Boundary edges and boundary corners are not stored here: the boundary
+//! option decides how they are treated (they are *implied* sharp, never
+//! written back as tags).
+
+use crate::error::MeshError;
+use crate::ids::{EdgeId, VertexId};
+use crate::topology::Topology;
+use glam::DVec2;
+
+/// Sharpness of a smooth edge or vertex.
+pub const SHARPNESS_SMOOTH: f32 = 0.0;
+/// Sharpness from which an edge or vertex is infinitely sharp (OpenSubdiv's
+/// `Sdc::Crease::SHARPNESS_INFINITE`).
+pub const SHARPNESS_INFINITE: f32 = 10.0;
+
+/// A crease tag as read: the edge between vertices `a` and `b` gets `sharpness`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EdgeTag {
+    /// One end (0-based vertex index).
+    pub a: u32,
+    /// The other end.
+    pub b: u32,
+    /// Crease sharpness (0 smooth, ≥ 10 infinitely sharp).
+    pub sharpness: f32,
+}
+
+/// A corner tag as read: `vertex` gets corner sharpness `sharpness`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VertexTag {
+    /// The vertex (0-based).
+    pub vertex: u32,
+    /// Corner sharpness (0 smooth, ≥ 10 infinitely sharp).
+    pub sharpness: f32,
+}
+
+/// Tags by vertex indices, as a file or a tag file gives them (unvalidated;
+/// [`crate::Mesh::from_soup`] checks them). A later tag of the same edge or
+/// vertex replaces an earlier one.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TagList {
+    /// Crease tags.
+    pub creases: Vec<EdgeTag>,
+    /// Corner tags.
+    pub corners: Vec<VertexTag>,
+}
+
+impl TagList {
+    /// Whether there is no tag at all.
+    pub fn is_empty(&self) -> bool {
+        self.creases.is_empty() && self.corners.is_empty()
+    }
+}
+
+/// Validated sharpness tags of a topology: one value per edge and per vertex
+/// (stored only when some value is non-zero).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Tags {
+    /// Per edge, or empty when every edge is smooth.
+    edges: Vec<f32>,
+    /// Per vertex, or empty when every vertex is smooth.
+    vertices: Vec<f32>,
+}
+
+fn check_sharpness(value: f32, what: impl FnOnce() -> String) -> Result<f32, MeshError> {
+    if value.is_nan() || value < 0.0 {
+        return Err(MeshError::InvalidSharpness { what: what(), value });
+    }
+    Ok(value)
+}
+
+impl Tags {
+    /// No tags: every edge and vertex smooth.
+    pub fn none() -> Self {
+        Self::default()
+    }
+
+    /// Tags from per-edge and per-vertex sharpness arrays (either may be
+    /// empty: all smooth). Values must be ≥ 0 and not NaN (+∞ is infinitely
+    /// sharp, as any value ≥ 10).
+    ///
+    /// # Errors
+    /// [`MeshError::TagCount`] when a non-empty array has the wrong length,
+    /// [`MeshError::InvalidSharpness`] for a negative or NaN value.
+    pub fn from_arrays(t: &Topology, edges: Vec<f32>, vertices: Vec<f32>) -> Result<Self, MeshError> {
+        for (values, count, what) in [(&edges, t.edge_count(), "edges"), (&vertices, t.vertex_count(), "vertices")] {
+            if !values.is_empty() && values.len() != count {
+                return Err(MeshError::TagCount { what, expected: count, found: values.len() });
+            }
+        }
+        for (e, &s) in edges.iter().enumerate() {
+            check_sharpness(s, || format!("edge {e}"))?;
+        }
+        for (v, &s) in vertices.iter().enumerate() {
+            check_sharpness(s, || format!("vertex {v}"))?;
+        }
+        Ok(Self::compact(edges, vertices))
+    }
+
+    /// Drops an array whose values are all smooth.
+    fn compact(mut edges: Vec<f32>, mut vertices: Vec<f32>) -> Self {
+        if edges.iter().all(|&s| s <= 0.0) {
+            edges = Vec::new();
+        }
+        if vertices.iter().all(|&s| s <= 0.0) {
+            vertices = Vec::new();
+        }
+        Self { edges, vertices }
+    }
+
+    /// Resolves tags by vertex indices on `t`: each crease pair must be an
+    /// edge, each corner an existing vertex. A later tag of the same element
+    /// replaces an earlier one. Time linear in the tags times the valences.
+    ///
+    /// # Errors
+    /// [`MeshError::TagNotAnEdge`], [`MeshError::TagVertexOutOfRange`],
+    /// [`MeshError::InvalidSharpness`].
+    pub fn from_list(t: &Topology, list: &TagList) -> Result<Self, MeshError> {
+        if list.is_empty() {
+            return Ok(Self::none());
+        }
+        let nv = t.vertex_count();
+        let in_range = |v: u32| -> Result<VertexId, MeshError> {
+            if (v as usize) < nv {
+                Ok(VertexId(v))
+            } else {
+                Err(MeshError::TagVertexOutOfRange { vertex: v, vertex_count: nv })
+            }
+        };
+        let mut edges = if list.creases.is_empty() { Vec::new() } else { vec![SHARPNESS_SMOOTH; t.edge_count()] };
+        for tag in &list.creases {
+            let (a, b) = (in_range(tag.a)?, in_range(tag.b)?);
+            let e = t.find_edge(a, b).ok_or(MeshError::TagNotAnEdge { a: tag.a, b: tag.b })?;
+            edges[e.index()] = check_sharpness(tag.sharpness, || format!("crease {}-{}", tag.a, tag.b))?;
+        }
+        let mut vertices = if list.corners.is_empty() { Vec::new() } else { vec![SHARPNESS_SMOOTH; nv] };
+        for tag in &list.corners {
+            let v = in_range(tag.vertex)?;
+            vertices[v.index()] = check_sharpness(tag.sharpness, || format!("corner {}", tag.vertex))?;
+        }
+        Ok(Self::compact(edges, vertices))
+    }
+
+    /// Whether every edge and vertex is smooth.
+    pub fn is_empty(&self) -> bool {
+        self.edges.is_empty() && self.vertices.is_empty()
+    }
+
+    /// Sharpness of edge `e` (0 when untagged).
+    #[inline]
+    pub fn edge_sharpness(&self, e: EdgeId) -> f32 {
+        self.edges.get(e.index()).copied().unwrap_or(SHARPNESS_SMOOTH)
+    }
+
+    /// Corner sharpness of vertex `v` (0 when untagged).
+    #[inline]
+    pub fn vertex_sharpness(&self, v: VertexId) -> f32 {
+        self.vertices.get(v.index()).copied().unwrap_or(SHARPNESS_SMOOTH)
+    }
+
+    /// Per-edge sharpness, or an empty slice when every edge is smooth.
+    pub fn edge_values(&self) -> &[f32] {
+        &self.edges
+    }
+
+    /// Per-vertex sharpness, or an empty slice when every vertex is smooth.
+    pub fn vertex_values(&self) -> &[f32] {
+        &self.vertices
+    }
+
+    /// Number of edges with sharpness > 0.
+    pub fn crease_count(&self) -> usize {
+        self.edges.iter().filter(|&&s| s > 0.0).count()
+    }
+
+    /// Number of vertices with corner sharpness > 0.
+    pub fn corner_count(&self) -> usize {
+        self.vertices.iter().filter(|&&s| s > 0.0).count()
+    }
+
+    /// Whether some value is semi-sharp (in (0, 10)): such tags decay with
+    /// the levels, and a limit needs ⌈largest⌉ levels first.
+    pub fn largest_semi_sharp(&self) -> Option<f32> {
+        self.edges
+            .iter()
+            .chain(&self.vertices)
+            .copied()
+            .filter(|&s| s > 0.0 && s < SHARPNESS_INFINITE)
+            .fold(None, |m: Option<f32>, s| Some(m.map_or(s, |m| m.max(s))))
+    }
+
+    /// The tags as a list by vertex indices, in edge and vertex order (each
+    /// edge as its first half-edge's ends), with only the non-zero values:
+    /// what a writer puts in a file.
+    pub fn to_list(&self, t: &Topology) -> TagList {
+        let creases = (self.edges.iter().enumerate())
+            .filter(|(_, &s)| s > 0.0)
+            .map(|(e, &sharpness)| {
+                let (a, b) = t.edge_vertices(EdgeId(e as u32));
+                EdgeTag { a: a.0, b: b.0, sharpness }
+            })
+            .collect();
+        let corners = (self.vertices.iter().enumerate())
+            .filter(|(_, &s)| s > 0.0)
+            .map(|(v, &sharpness)| VertexTag { vertex: v as u32, sharpness })
+            .collect();
+        TagList { creases, corners }
+    }
+}
+
+/// One face-varying channel (texture coordinates): a pool of values and, for
+/// every face corner, the index of its value. Two faces meeting at a vertex
+/// may use different values there: a seam.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FaceVarying {
+    /// The values (u, v).
+    pub values: Vec<DVec2>,
+    /// One value index per face corner, in face-list order (parallel to
+    /// [`crate::FaceList::indices`]).
+    pub indices: Vec<u32>,
+}
+
+impl FaceVarying {
+    /// Checks the channel against a face list of `corners` corners.
+    ///
+    /// # Errors
+    /// [`MeshError::FaceVaryingCount`], [`MeshError::FaceVaryingIndexOutOfRange`],
+    /// [`MeshError::NonFiniteFaceVarying`].
+    pub fn validate(&self, corners: usize) -> Result<(), MeshError> {
+        if self.indices.len() != corners {
+            return Err(MeshError::FaceVaryingCount { corners, indices: self.indices.len() });
+        }
+        if let Some((corner, &index)) = self.indices.iter().enumerate().find(|(_, &i)| i as usize >= self.values.len())
+        {
+            return Err(MeshError::FaceVaryingIndexOutOfRange { corner, index, values: self.values.len() });
+        }
+        if let Some((value, uv)) = self.values.iter().enumerate().find(|(_, uv)| !uv.is_finite()) {
+            return Err(MeshError::NonFiniteFaceVarying { value: value as u32, u: uv.x, v: uv.y });
+        }
+        Ok(())
+    }
+}
