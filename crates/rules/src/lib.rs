@@ -17,16 +17,19 @@
 //! | [`loop_scheme`] | Loop, Warren's or Loop's β, limit masks | Deng-Wang Eq. 1-2, 5-6 |
 //! | [`deng_ma`] | Deng-Ma interpolatory scheme: moved vertices, ω_P | Deng-Ma §3.3-3.4 |
 //! | [`curves`] | Chaikin, cubic B-spline, 4-point (variable tension) | Deng-Ma §3.1 |
+//! | [`crease`] | sharpness decay, vertex rules, semi-sharp weights | OpenSubdiv `Sdc::Crease` (DeRose, Kass & Truong 1998) |
 //!
 //! Key types: [`VertexMask`] and [`EdgeMask`] (weights over named neighbours),
-//! [`VertexKind`] (interior / boundary / corner), [`SchemeOptions`] (every
-//! parameter that changes a surface), [`CurveScheme`]. Default parameters live
+//! [`VertexKind`] (interior / boundary / corner), [`Rule`] and the sharpness
+//! rules of [`crease`] (OpenSubdiv's `Sdc::Crease`: decay, Chaikin, vertex
+//! rules, semi-sharp transitions), the option enums [`BoundaryInterpolation`],
+//! [`CreaseMethod`], [`FVarInterpolation`], [`CurveScheme`]. Default parameters live
 //! in [`constants`]. Corrections to the papers follow `shared/ERRATA.md` and are
 //! cited by item (C1, D1, W4, …) on the line that applies them.
 //!
 //! Contract violations (a face with fewer than 3 corners, a buffer of the
 //! wrong length) panic; parameter ranges that come from users are checked by
-//! [`SchemeOptions::validate`].
+//! [`deng_ma::Tension::validate`] and [`validate_four_point_tension`].
 //!
 //! ```
 //! use subdiv_rules::{doo_sabin_weights, centroid, catmull_clark, loop_scheme, LoopBeta, VertexKind};
@@ -58,6 +61,7 @@
 
 pub mod catmull_clark;
 pub mod constants;
+pub mod crease;
 pub mod curves;
 pub mod deng_ma;
 pub mod doo_sabin;
@@ -69,9 +73,10 @@ mod vec3;
 #[cfg(test)]
 mod test_util;
 
+pub use crease::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Rule};
 pub use curves::CurveScheme;
 pub use doo_sabin::{doo_sabin_weights, two_phase_weights, zheng_cai_weights};
 pub use loop_scheme::LoopBeta;
 pub use mask::{EdgeMask, VertexKind, VertexMask};
-pub use options::{OptionsError, SchemeOptions};
+pub use options::{validate_four_point_tension, OptionsError};
 pub use vec3::{centroid, Point3};

@@ -1,55 +1,38 @@
-//! The options that change a surface or curve, collected in one struct
-//! (OpenSubdiv's `Sdc::Options`).
+//! Range checks of the parameters that change a surface or curve (the
+//! surface options themselves are `subdiv_stencil::Options`, which call these).
 
 use std::fmt;
 
-use crate::constants::{DEFAULT_FOUR_POINT_TENSION, DENG_MA_TENSION_MAX, FOUR_POINT_TENSION_MAX};
+use crate::constants::{DENG_MA_TENSION_MAX, FOUR_POINT_TENSION_MAX};
 use crate::deng_ma::Tension;
-use crate::loop_scheme::LoopBeta;
 
-/// Every scheme parameter that changes the limit surface or curve. Defaults:
-/// Warren's β, 4-point ω = 1/16, Deng-Ma global ω = 1.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SchemeOptions {
-    /// β of the Loop vertex rule.
-    pub loop_beta: LoopBeta,
-    /// Tension ω of the 4-point curve scheme, in (0, 1/8).
-    pub four_point_tension: f64,
-    /// Tension of the Deng-Ma surface scheme.
-    pub deng_ma_tension: Tension,
-}
-
-impl Default for SchemeOptions {
-    fn default() -> Self {
-        Self {
-            loop_beta: LoopBeta::default(),
-            four_point_tension: DEFAULT_FOUR_POINT_TENSION,
-            deng_ma_tension: Tension::default(),
-        }
-    }
-}
-
-impl SchemeOptions {
-    /// Checks every parameter against its admissible range.
+impl Tension {
+    /// Checks the parameter against its range: ω or λ in (0, 1]. The one
+    /// place Deng-Ma's tension is validated (the surface options and the
+    /// interpolation method both call it).
     ///
     /// ```
-    /// use subdiv_rules::{SchemeOptions, OptionsError};
-    /// assert!(SchemeOptions::default().validate().is_ok());
-    /// let bad = SchemeOptions { four_point_tension: 0.2, ..Default::default() };
-    /// assert_eq!(bad.validate(), Err(OptionsError::FourPointTension(0.2)));
+    /// use subdiv_rules::{deng_ma::Tension, OptionsError};
+    /// assert!(Tension::default().validate().is_ok());
+    /// assert_eq!(Tension::Global(1.5).validate(), Err(OptionsError::DengMaOmega(1.5)));
     /// ```
     pub fn validate(&self) -> Result<(), OptionsError> {
-        let t = self.four_point_tension;
-        if !(t > 0.0 && t < FOUR_POINT_TENSION_MAX) {
-            return Err(OptionsError::FourPointTension(t));
-        }
-        match self.deng_ma_tension {
+        match *self {
             Tension::Global(w) if !(w > 0.0 && w <= DENG_MA_TENSION_MAX) => Err(OptionsError::DengMaOmega(w)),
             Tension::Variable { lambda } if !(lambda > 0.0 && lambda <= DENG_MA_TENSION_MAX) => {
                 Err(OptionsError::DengMaLambda(lambda))
             }
             _ => Ok(()),
         }
+    }
+}
+
+/// Checks a 4-point curve tension: in (0, 1/8).
+pub fn validate_four_point_tension(t: f64) -> Result<(), OptionsError> {
+    if t > 0.0 && t < FOUR_POINT_TENSION_MAX {
+        Ok(())
+    } else {
+        Err(OptionsError::FourPointTension(t))
     }
 }
 

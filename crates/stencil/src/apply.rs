@@ -73,6 +73,14 @@ pub fn apply_columns(r: &SparseMatrix, x: &[f64], k: usize) -> Vec<f64> {
     out
 }
 
+/// The first `rows` rows of `r`.
+pub(crate) fn first_rows(r: &SparseMatrix, rows: usize) -> SparseMatrix {
+    let indptr = r.indptr();
+    let indptr = &indptr.raw_storage()[..=rows];
+    let end = indptr[rows] as usize;
+    SparseMatrix::new((rows, r.cols()), indptr.to_vec(), r.indices()[..end].to_vec(), r.data()[..end].to_vec())
+}
+
 /// Sum of every row (1 for an affine stencil).
 pub fn row_sums(r: &SparseMatrix) -> Vec<f64> {
     r.outer_iterator().map(|row| row.data().iter().sum()).collect()

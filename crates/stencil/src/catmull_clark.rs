@@ -8,22 +8,17 @@
 //! Row order of R is the [`subdiv_mesh::refine::quad_split`] numbering: old
 //! vertices, then face points, then edge points.
 
+use crate::scheme::{SchemeRules, Split};
+use crate::sharpness::{EdgeStep, LevelSharpness};
+use crate::StencilError;
 use crate::{face_ring_size, vertex_kind, RowBuilder, SparseMatrix, Summation};
 use glam::DVec3;
 use subdiv_mesh::refine::quad_split;
 use subdiv_mesh::{EdgeId, FaceId, HalfEdgeId, Topology, VertexId};
 use subdiv_rules::catmull_clark::{
-    edge_point_mask, face_point_weight, limit_stencil as cheng_limit, vertex_point_mask,
+    edge_point_mask, face_point_weight, limit_mask, limit_stencil as cheng_limit, vertex_point_mask,
 };
-use subdiv_rules::VertexKind;
-
-/// Adds the boundary part of a vertex mask (the two boundary neighbours).
-pub(crate) fn add_boundary_neighbors(rows: &mut RowBuilder, t: &Topology, v: VertexId, weight: f64) {
-    if let Some((prev, next)) = t.boundary_neighbors(v) {
-        rows.add(prev.0, weight);
-        rows.add(next.0, weight);
-    }
-}
+use subdiv_rules::{Rule, VertexKind};
 
 /// (V + F + E) × V refinement stencil: P₁ = R·P₀ on [`quad_split`]'s numbering.
 ///
@@ -32,6 +27,12 @@ pub(crate) fn add_boundary_neighbors(rows: &mut RowBuilder, t: &Topology, v: Ver
 /// so a row holds its distinct columns once unless the mesh makes two of them
 /// coincide, which [`RowBuilder`] still sums. Rows are built in parallel.
 pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
+    refinement_stencil_sharp(t, &LevelSharpness::plain())
+}
+
+/// [`refinement_stencil`] with creases, corners and the boundary option of
+/// `sharp` (OpenSubdiv's rules, [`LevelSharpness`]).
+pub fn refinement_stencil_sharp(t: &Topology, sharp: &LevelSharpness) -> SparseMatrix {
     let (nv, nf, ne) = (t.vertex_count(), t.face_count(), t.edge_count());
     let size = |h: HalfEdgeId| t.face_size(t.he_face(h));
     // Columns of each row when its neighbours are distinct (the usual case).
@@ -40,8 +41,8 @@ pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
             let v = VertexId(i as u32);
             match vertex_kind(t, v) {
                 VertexKind::Interior => face_ring_size(t, v), // 1 for an isolated vertex
-                VertexKind::Boundary => 3,
-                _ => 1,
+                // A boundary crease (or, under edge-only, a one-face vertex on it).
+                _ => 3,
             }
         } else if i < nv + nf {
             t.face_size(FaceId((i - nv) as u32))
@@ -51,7 +52,7 @@ pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
         }
     };
     RowBuilder::build_parallel_bounded(nv + nf + ne, nv, Summation::InOrder, max_len, |i, rows, _: &mut ()| {
-        refinement_row(t, i, rows)
+        refinement_row(t, sharp, i, rows)
     })
 }
 
@@ -61,22 +62,46 @@ pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
 /// # Panics
 /// If `x.len()` differs from the vertex count (a caller bug).
 pub fn step_points(t: &Topology, x: &[DVec3]) -> Vec<DVec3> {
+    step_points_sharp(t, &LevelSharpness::plain(), x)
+}
+
+/// [`step_points`] with the creases, corners and boundary option of `sharp`.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn step_points_sharp(t: &Topology, sharp: &LevelSharpness, x: &[DVec3]) -> Vec<DVec3> {
     assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
     let rows = t.vertex_count() + t.face_count() + t.edge_count();
-    RowBuilder::evaluate_parallel_with_scratch(rows, x, |i, rows, _: &mut ()| refinement_row(t, i, rows))
+    RowBuilder::evaluate_parallel_with_scratch(rows, x, |i, rows, _: &mut ()| refinement_row(t, sharp, i, rows))
 }
 
 /// Row `i` of the refinement stencil on [`quad_split`]'s numbering.
-fn refinement_row(t: &Topology, i: usize, rows: &mut RowBuilder) {
+fn refinement_row(t: &Topology, sharp: &LevelSharpness, i: usize, rows: &mut RowBuilder) {
     let (nv, nf) = (t.vertex_count(), t.face_count());
     if i < nv {
-        vertex_point_row(t, VertexId(i as u32), rows);
+        vertex_point_row(t, sharp, VertexId(i as u32), rows);
     } else if i < nv + nf {
         let face = t.face(FaceId((i - nv) as u32));
         rows.add_all(face, face_point_weight(face.len())); // Eq. (4): f = (Σ corners)/m
     } else {
-        edge_point_row(t, EdgeId((i - nv - nf) as u32), rows);
+        let e = EdgeId((i - nv - nf) as u32);
+        match sharp.edge_step(t, e) {
+            EdgeStep::Smooth => edge_point_row(t, e, 1.0, rows),
+            EdgeStep::Midpoint => midpoint_row(t, e, 1.0, rows),
+            EdgeStep::Blend(s) => {
+                // OpenSubdiv's semi-sharp edge: s·midpoint + (1 − s)·smooth.
+                midpoint_row(t, e, s, rows);
+                edge_point_row(t, e, 1.0 - s, rows);
+            }
+        }
     }
+}
+
+/// The midpoint of `e`, times `scale`: the rule of a sharp edge.
+fn midpoint_row(t: &Topology, e: EdgeId, scale: f64, rows: &mut RowBuilder) {
+    let (a, b) = t.edge_vertices(e);
+    rows.add(a.0, scale * 0.5);
+    rows.add(b.0, scale * 0.5);
 }
 
 /// The corners of `h`'s face rotated to start at `h`'s corner: `ring(j)` is
@@ -93,54 +118,81 @@ fn face_ring(t: &Topology, h: HalfEdgeId) -> (impl Fn(usize) -> u32 + '_, usize)
     (ring, face.len())
 }
 
-/// Row of the new vertex point of `v` (Eq. 4, first line; boundary (E₋ + 6V + E₊)/8; corner V).
-fn vertex_point_row(t: &Topology, v: VertexId, rows: &mut RowBuilder) {
-    let kind = vertex_kind(t, v);
+/// Row of the new vertex point of `v` by the rules of its [`VertexStep`]:
+/// smooth (Eq. 4, first line), crease (E₋ + 6V + E₊)/8 along its two sharp
+/// edges (the boundary rule), corner V; where the rule changes in the step,
+/// w·(parent mask) + (1 − w)·(child mask).
+fn vertex_point_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, rows: &mut RowBuilder) {
     if t.is_isolated(v) {
         rows.add(v.0, 1.0);
-    } else if kind == VertexKind::Interior {
-        // Eq. (4): v = (n−2)/n V + 1/n² Σ Eᵢ + 1/n² Σ fᵢ, fᵢ expanded over its
-        // corners: V, Eᵢ and Eᵢ₊₁ (each shared with a neighbouring face) and
-        // the far corners F₁ⁱ…F_{mᵢ−3}ⁱ.
-        let fan = t.vertex_fan(v);
-        let mask = vertex_point_mask(kind, fan.len());
-        let face_weight = |m: usize| mask.face * face_point_weight(m);
-        let mut previous = face_weight(t.face_size(t.he_face(fan[fan.len() - 1]))); // E₀ is in the last face too
-        let mut centre = mask.vertex;
-        for &h in fan {
-            let (ring, m) = face_ring(t, h);
-            let w = face_weight(m);
-            centre += w;
-            rows.add(ring(1), mask.interior_neighbor + previous + w); // Eᵢ ∈ fᵢ₋₁, fᵢ
-            for j in 2..m - 1 {
-                rows.add(ring(j), w); // far corners of fᵢ
-            }
-            previous = w;
-        }
-        rows.add(v.0, centre);
-    } else {
-        let mask = vertex_point_mask(kind, t.valence(v));
-        rows.add(v.0, mask.vertex);
-        if kind == VertexKind::Boundary {
-            add_boundary_neighbors(rows, t, v, mask.boundary_neighbor); // a corner stays: no zero entries
-        }
+        return;
     }
+    let step = sharp.vertex_step(t, v);
+    let (w, ends) =
+        if step.parent == step.child { (1.0, step.parent_ends) } else { (step.parent_weight, step.parent_ends) };
+    vertex_mask_row(t, v, step.parent, ends, w, rows);
+    if step.parent != step.child {
+        vertex_mask_row(t, v, step.child, step.child_ends, 1.0 - w, rows);
+    }
+}
+
+/// One vertex-point mask of `rule` at `v`, times `scale`.
+fn vertex_mask_row(
+    t: &Topology,
+    v: VertexId,
+    rule: Rule,
+    ends: Option<(VertexId, VertexId)>,
+    scale: f64,
+    rows: &mut RowBuilder,
+) {
+    match (rule, ends) {
+        (Rule::Smooth | Rule::Dart, _) => smooth_vertex_row(t, v, scale, rows),
+        (Rule::Crease, Some((a, b))) => {
+            let mask = vertex_point_mask(VertexKind::Boundary, 2); // (E₋ + 6V + E₊)/8
+            rows.add(v.0, scale * mask.vertex);
+            rows.add(b.0, scale * mask.boundary_neighbor);
+            rows.add(a.0, scale * mask.boundary_neighbor);
+        }
+        (Rule::Corner, _) | (Rule::Crease, None) => rows.add(v.0, scale),
+    }
+}
+
+/// Eq. (4) at an interior vertex, times `scale`: v = (n−2)/n V + 1/n² Σ Eᵢ +
+/// 1/n² Σ fᵢ, fᵢ expanded over its corners: V, Eᵢ and Eᵢ₊₁ (each shared with
+/// a neighbouring face) and the far corners F₁ⁱ…F_{mᵢ−3}ⁱ.
+fn smooth_vertex_row(t: &Topology, v: VertexId, scale: f64, rows: &mut RowBuilder) {
+    let fan = t.vertex_fan(v);
+    let mask = vertex_point_mask(VertexKind::Interior, fan.len());
+    let face_weight = |m: usize| mask.face * face_point_weight(m);
+    let mut previous = face_weight(t.face_size(t.he_face(fan[fan.len() - 1]))); // E₀ is in the last face too
+    let mut centre = mask.vertex;
+    for &h in fan {
+        let (ring, m) = face_ring(t, h);
+        let w = face_weight(m);
+        centre += w;
+        rows.add(ring(1), scale * (mask.interior_neighbor + previous + w)); // Eᵢ ∈ fᵢ₋₁, fᵢ
+        for j in 2..m - 1 {
+            rows.add(ring(j), scale * w); // far corners of fᵢ
+        }
+        previous = w;
+    }
+    rows.add(v.0, scale * centre);
 }
 
 /// Row of the new edge point of `e`: ERRATA C2, e = (V + Eᵢ + fᵢ₋₁ + fᵢ)/4 with
 /// the face points expanded (the corners of each face other than the ends);
-/// the midpoint on the boundary.
-fn edge_point_row(t: &Topology, e: EdgeId, rows: &mut RowBuilder) {
+/// the midpoint on the boundary; times `scale`.
+fn edge_point_row(t: &Topology, e: EdgeId, scale: f64, rows: &mut RowBuilder) {
     let h = t.edge_half_edge(e);
     let twin = t.he_twin(h);
     let mask = edge_point_mask(t.face_size(t.he_face(h)), twin.map(|g| t.face_size(t.he_face(g))));
-    rows.add(t.he_from(h).0, mask.end);
-    rows.add(t.he_to(h).0, mask.end);
+    rows.add(t.he_from(h).0, scale * mask.end);
+    rows.add(t.he_to(h).0, scale * mask.end);
     for (side, w) in [(Some(h), mask.left), (twin, mask.right)] {
         if let Some(side) = side.filter(|_| w != 0.0) {
             let (ring, m) = face_ring(t, side);
             for j in 2..m {
-                rows.add(ring(j), w);
+                rows.add(ring(j), scale * w);
             }
         }
     }
@@ -154,43 +206,70 @@ pub fn refine(t: &Topology) -> (Topology, SparseMatrix) {
 /// Working memory of a limit row: the fan's face sizes, edge and far-corner weights.
 type LimitScratch = (Vec<usize>, Vec<f64>, Vec<f64>);
 
-/// Row v of the limit stencil on any polygon mesh. Interior: Cheng's Eq. 5
-/// (one step composed with the quad limit mask, ERRATA C1/C2); boundary:
-/// (E₋ + 4V + E₊)/6; corner: V.
-fn limit_row(t: &Topology, v: VertexId, rows: &mut RowBuilder, scratch: &mut LimitScratch) {
-    match vertex_kind(t, v) {
-        _ if t.is_isolated(v) => rows.add(v.0, 1.0),
-        VertexKind::Interior => {
+/// Row v of the limit stencil on any polygon mesh, by the vertex's rule at
+/// this level ([`LevelSharpness::limit_rule`]). Smooth: Cheng's Eq. 5 (one
+/// step composed with the quad limit mask, ERRATA C1/C2); dart: the smooth
+/// quad limit mask on an all-quad fan, as OpenSubdiv's `Limit` (Eq. 5 on
+/// other fans); crease: (E₋ + 4V + E₊)/6 along its sharp edges (the cubic
+/// B-spline of the crease polygon); corner: V. Exact where no semi-sharp
+/// value is left around v (refine until the tags have decayed first).
+fn limit_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, rows: &mut RowBuilder, scratch: &mut LimitScratch) {
+    if t.is_isolated(v) {
+        rows.add(v.0, 1.0);
+        return;
+    }
+    match sharp.limit_rule(t, v) {
+        (Rule::Dart, _) if t.vertex_fan(v).iter().all(|&h| t.face_size(t.he_face(h)) == 4) => {
             let fan = t.vertex_fan(v);
-            let (sizes, edge_w, far_w) = scratch;
-            sizes.clear();
-            sizes.extend(fan.iter().map(|&h| t.face_size(t.he_face(h))));
-            edge_w.resize(fan.len(), 0.0);
-            far_w.resize(fan.len(), 0.0);
-            let wv = cheng_limit(sizes, edge_w, far_w); // Eq. (5)
-            rows.add(v.0, wv);
-            for (i, &h) in fan.iter().enumerate() {
-                let (ring, m) = face_ring(t, h);
-                rows.add(ring(1), edge_w[i]);
-                // Far corners of face i = (V, Eᵢ, F₁ⁱ…F_{m−3}ⁱ, Eᵢ₊₁).
-                for j in 2..m - 1 {
-                    rows.add(ring(j), far_w[i]);
-                }
+            let mask = limit_mask(VertexKind::Interior, fan.len()); // (n²V + 4ΣEᵢ + ΣFᵢ)/(n(n+5))
+            rows.add(v.0, mask.vertex);
+            for &h in fan {
+                let (ring, _) = face_ring(t, h);
+                rows.add(ring(1), mask.interior_neighbor);
+                rows.add(ring(2), mask.face);
             }
         }
-        VertexKind::Boundary => {
+        (Rule::Smooth | Rule::Dart, _) => smooth_limit_row(t, v, rows, scratch),
+        (Rule::Crease, Some((a, b))) => {
             rows.add(v.0, 4.0 / 6.0);
-            add_boundary_neighbors(rows, t, v, 1.0 / 6.0);
+            rows.add(b.0, 1.0 / 6.0);
+            rows.add(a.0, 1.0 / 6.0);
         }
-        VertexKind::Corner => rows.add(v.0, 1.0),
+        (Rule::Corner, _) | (Rule::Crease, None) => rows.add(v.0, 1.0),
+    }
+}
+
+/// Cheng's Eq. (5) at a smooth interior vertex of any polygon mesh.
+fn smooth_limit_row(t: &Topology, v: VertexId, rows: &mut RowBuilder, scratch: &mut LimitScratch) {
+    let fan = t.vertex_fan(v);
+    let (sizes, edge_w, far_w) = scratch;
+    sizes.clear();
+    sizes.extend(fan.iter().map(|&h| t.face_size(t.he_face(h))));
+    edge_w.resize(fan.len(), 0.0);
+    far_w.resize(fan.len(), 0.0);
+    let wv = cheng_limit(sizes, edge_w, far_w); // Eq. (5)
+    rows.add(v.0, wv);
+    for (i, &h) in fan.iter().enumerate() {
+        let (ring, m) = face_ring(t, h);
+        rows.add(ring(1), edge_w[i]);
+        // Far corners of face i = (V, Eᵢ, F₁ⁱ…F_{m−3}ⁱ, Eᵢ₊₁).
+        for j in 2..m - 1 {
+            rows.add(ring(j), far_w[i]);
+        }
     }
 }
 
 /// V × V limit stencil: row v gives the limit point of vertex v ([`limit_row`]).
 pub fn limit_stencil(t: &Topology) -> SparseMatrix {
+    limit_stencil_sharp(t, &LevelSharpness::plain(), t.vertex_count())
+}
+
+/// The first `rows` rows of the limit stencil with the rules of `sharp`
+/// ([`limit_row`]): exact where no semi-sharp value is left.
+pub fn limit_stencil_sharp(t: &Topology, sharp: &LevelSharpness, rows: usize) -> SparseMatrix {
     let nv = t.vertex_count();
-    RowBuilder::build_parallel_with_scratch(nv, nv, Summation::InOrder, |i, rows, scratch: &mut LimitScratch| {
-        limit_row(t, VertexId(i as u32), rows, scratch)
+    RowBuilder::build_parallel_with_scratch(rows, nv, Summation::InOrder, |i, out, scratch: &mut LimitScratch| {
+        limit_row(t, sharp, VertexId(i as u32), out, scratch)
     })
 }
 
@@ -200,8 +279,60 @@ pub fn limit_stencil(t: &Topology) -> SparseMatrix {
 /// # Panics
 /// If `x.len()` differs from the vertex count (a caller bug).
 pub fn limit_points(t: &Topology, x: &[DVec3]) -> Vec<DVec3> {
+    limit_points_sharp(t, &LevelSharpness::plain(), x, t.vertex_count())
+}
+
+/// The limit points of the first `count` vertices with the rules of `sharp`.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn limit_points_sharp(t: &Topology, sharp: &LevelSharpness, x: &[DVec3], count: usize) -> Vec<DVec3> {
     assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
-    RowBuilder::evaluate_parallel_with_scratch(t.vertex_count(), x, |i, rows, scratch: &mut LimitScratch| {
-        limit_row(t, VertexId(i as u32), rows, scratch)
+    RowBuilder::evaluate_parallel_with_scratch(count, x, |i, rows, scratch: &mut LimitScratch| {
+        limit_row(t, sharp, VertexId(i as u32), rows, scratch)
     })
+}
+
+/// Catmull-Clark as a [`SchemeRules`]: the quad split, OpenSubdiv's crease
+/// rules (any tags, any boundary option).
+pub(crate) struct CatmullClarkRules;
+
+impl SchemeRules for CatmullClarkRules {
+    fn check(&self, _: &Topology, _: &LevelSharpness) -> Result<(), StencilError> {
+        Ok(())
+    }
+
+    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError> {
+        let topology = quad_split(t);
+        // The half of h's edge at from(h) is corner 0 of quad h: half-edge 4h.
+        let sharpness = sharp.refine(t, &topology, |h| 4 * h);
+        Ok(Split { topology, sharpness, dual: None })
+    }
+
+    fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {
+        Ok(Some(refinement_stencil_sharp(t, sharp)))
+    }
+
+    fn step_points(&self, t: &Topology, sharp: &LevelSharpness, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
+        Ok(step_points_sharp(t, sharp, x))
+    }
+
+    fn limit_points(
+        &self,
+        t: &Topology,
+        sharp: &LevelSharpness,
+        x: &[DVec3],
+        count: usize,
+    ) -> Option<Result<Vec<DVec3>, StencilError>> {
+        Some(Ok(limit_points_sharp(t, sharp, x, count)))
+    }
+
+    fn limit_stencil(
+        &self,
+        t: &Topology,
+        sharp: &LevelSharpness,
+        rows: usize,
+    ) -> Option<Result<SparseMatrix, StencilError>> {
+        Some(Ok(limit_stencil_sharp(t, sharp, rows)))
+    }
 }

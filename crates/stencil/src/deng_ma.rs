@@ -27,6 +27,8 @@
 
 use crate::apply::fill_in_chunks;
 use crate::doo_sabin::{first_step, refinement_stencil as doo_sabin_stencil, CornerRule};
+use crate::scheme::{SchemeRules, Split};
+use crate::sharpness::LevelSharpness;
 use crate::{vertex_kind, RowBuilder, SparseMatrix, StencilError};
 use glam::DVec3;
 use subdiv_mesh::refine::quad_split;
@@ -35,15 +37,7 @@ use subdiv_rules::deng_ma::{boundary_centre, Tension, BOUNDARY_CENTRE, CURVE_TEN
 use subdiv_rules::VertexKind;
 
 pub(crate) fn check_tension(tension: Tension) -> Result<(), StencilError> {
-    let (name, value) = match tension {
-        Tension::Global(w) => ("ω", w),
-        Tension::Variable { lambda } => ("λ", lambda),
-    };
-    if value > 0.0 && value <= 1.0 {
-        Ok(())
-    } else {
-        Err(StencilError::InvalidParameter(format!("Deng-Ma {name} = {value} is outside (0, 1]")))
-    }
+    tension.validate().map_err(|e| StencilError::InvalidParameter(e.to_string()))
 }
 
 /// Where a vertex sits for the Deng-Ma rules.
@@ -332,6 +326,60 @@ pub fn stencil(t: &Topology, omega: f64) -> Result<SparseMatrix, StencilError> {
         rows.finish_row();
     }
     Ok(rows.build(t.vertex_count()))
+}
+
+/// Deng-Ma as a [`SchemeRules`]: the quad split, evaluated geometrically
+/// (no stencil, no limit masks: the scheme interpolates). No tags.
+pub(crate) struct DengMaRules(pub(crate) Tension);
+
+impl SchemeRules for DengMaRules {
+    fn check(&self, _: &Topology, sharp: &LevelSharpness) -> Result<(), StencilError> {
+        check_tension(self.0)?;
+        if sharp.is_untagged() {
+            Ok(())
+        } else {
+            Err(StencilError::TagsNotSupported {
+                scheme: "deng-ma",
+                reason: "the interpolatory scheme has no crease rules".into(),
+            })
+        }
+    }
+
+    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError> {
+        self.check(t, sharp)?;
+        Ok(Split { topology: quad_split(t), sharpness: sharp.clone(), dual: None })
+    }
+
+    fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {
+        // Evaluated geometrically even for a global ω: its matrix
+        // (`stencil`) is dense-ish (every moved vertex expands over all
+        // corners around its vertex) and measured 3-4× slower to build and
+        // apply than the direct step.
+        self.check(t, sharp).map(|()| None)
+    }
+
+    fn step_points(&self, t: &Topology, sharp: &LevelSharpness, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
+        self.check(t, sharp)?;
+        step_positions(t, x, self.0)
+    }
+
+    fn limit_points(
+        &self,
+        _: &Topology,
+        _: &LevelSharpness,
+        _: &[DVec3],
+        _: usize,
+    ) -> Option<Result<Vec<DVec3>, StencilError>> {
+        None
+    }
+
+    fn limit_stencil(&self, _: &Topology, _: &LevelSharpness, _: usize) -> Option<Result<SparseMatrix, StencilError>> {
+        None
+    }
+
+    fn levels_before_limit(&self, _: &Topology, _: &LevelSharpness, _: bool) -> usize {
+        0
+    }
 }
 
 #[cfg(test)]

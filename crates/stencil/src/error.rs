@@ -27,6 +27,14 @@ pub enum StencilError {
     /// A per-face parameter array has the wrong length or an out-of-range value.
     #[error("invalid shape parameter: {0}")]
     InvalidParameter(String),
+    /// The scheme cannot honour the mesh's tags.
+    #[error("{scheme} cannot take these tags: {reason}")]
+    TagsNotSupported {
+        /// Scheme name.
+        scheme: &'static str,
+        /// Why.
+        reason: String,
+    },
     /// The refined mesh would exceed the `u32` index range.
     #[error("the refined mesh would have more than 2³² elements")]
     TooLarge,

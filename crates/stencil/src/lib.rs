@@ -35,7 +35,10 @@ mod error;
 pub mod limit_matrix;
 pub mod loop_subdivision;
 pub mod normalized;
+mod options;
 mod rows;
+pub mod scheme;
+pub mod sharpness;
 pub mod size;
 pub mod subdivide;
 
@@ -45,10 +48,14 @@ pub use limit_matrix::{
     catmull_clark_degeneracy, catmull_clark_kernel, limit_matrix_catmull_clark, limit_matrix_loop, limit_matrix_nasri,
     limit_matrix_two_phase, limit_matrix_zheng_cai, Degeneracy, LimitMatrix,
 };
+pub use options::{Options, Scheme};
 pub use rows::{RowBuilder, Summation};
+pub use scheme::{SchemeRules, Split};
+pub use sharpness::{EdgeStep, LevelSharpness, VertexStep};
 pub use subdiv_rules::deng_ma::Tension;
 pub use subdiv_rules::LoopBeta;
-pub use subdivide::{subdivide, Refinement, Scheme, SubdivisionPlan};
+pub use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Rule};
+pub use subdivide::{subdivide, Refinement, SubdivisionPlan};
 
 /// Sparse matrix type of the workspace: CSR, `f64` values, `u32` indices
 /// (half the index bandwidth of `usize` in every sparse product).

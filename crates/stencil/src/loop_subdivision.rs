@@ -7,13 +7,14 @@
 //! Row order of R is the [`subdiv_mesh::refine::triangle_split`] numbering:
 //! old vertices, then edge points.
 
-use crate::catmull_clark::add_boundary_neighbors;
-use crate::{vertex_kind, RowBuilder, SparseMatrix, StencilError, Summation};
+use crate::scheme::{SchemeRules, Split};
+use crate::sharpness::{EdgeStep, LevelSharpness};
+use crate::{RowBuilder, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
 use subdiv_mesh::refine::triangle_split;
 use subdiv_mesh::{EdgeId, MeshError, Topology, VertexId};
 use subdiv_rules::loop_scheme::{edge_point_mask, limit_mask, vertex_point_mask};
-use subdiv_rules::{LoopBeta, VertexKind};
+use subdiv_rules::{LoopBeta, Rule, VertexKind, VertexMask};
 
 pub(crate) fn require_triangles(t: &Topology) -> Result<(), StencilError> {
     match t.face_ids().find(|&f| t.face_size(f) != 3) {
@@ -22,23 +23,49 @@ pub(crate) fn require_triangles(t: &Topology) -> Result<(), StencilError> {
     }
 }
 
-/// Adds a vertex-centred Loop mask (vertex point or limit point).
-fn add_vertex_mask(rows: &mut RowBuilder, t: &Topology, v: subdiv_mesh::VertexId, mask: subdiv_rules::VertexMask) {
-    rows.add(v.0, mask.vertex);
-    if vertex_kind(t, v) == VertexKind::Interior {
-        for e in t.vertex_neighbors(v) {
-            rows.add(e.0, mask.interior_neighbor);
+/// Adds a vertex-centred Loop mask of `rule` (vertex point or limit point),
+/// times `scale`: smooth masks over the neighbours, crease masks along the
+/// two sharp edges (`ends`), corners the point itself.
+fn add_vertex_mask(
+    rows: &mut RowBuilder,
+    t: &Topology,
+    v: VertexId,
+    (rule, ends): (Rule, Option<(VertexId, VertexId)>),
+    mask: impl Fn(VertexKind) -> VertexMask,
+    scale: f64,
+) {
+    match (rule, ends) {
+        (Rule::Smooth | Rule::Dart, _) => {
+            let mask = mask(VertexKind::Interior);
+            rows.add(v.0, scale * mask.vertex);
+            for e in t.vertex_neighbors(v) {
+                rows.add(e.0, scale * mask.interior_neighbor);
+            }
         }
-    } else {
-        add_boundary_neighbors(rows, t, v, mask.boundary_neighbor);
+        (Rule::Crease, Some((a, b))) => {
+            let mask = mask(VertexKind::Boundary);
+            rows.add(v.0, scale * mask.vertex);
+            rows.add(b.0, scale * mask.boundary_neighbor);
+            rows.add(a.0, scale * mask.boundary_neighbor);
+        }
+        (Rule::Corner, _) | (Rule::Crease, None) => rows.add(v.0, scale),
     }
 }
 
 /// (V + E) × V refinement stencil: P₁ = R·P₀ on [`triangle_split`]'s numbering.
 pub fn refinement_stencil(t: &Topology, beta: LoopBeta) -> Result<SparseMatrix, StencilError> {
+    refinement_stencil_sharp(t, &LevelSharpness::plain(), beta)
+}
+
+/// [`refinement_stencil`] with the creases, corners and boundary option of `sharp`.
+pub fn refinement_stencil_sharp(
+    t: &Topology,
+    sharp: &LevelSharpness,
+    beta: LoopBeta,
+) -> Result<SparseMatrix, StencilError> {
     require_triangles(t)?;
     let (nv, ne) = (t.vertex_count(), t.edge_count());
-    Ok(RowBuilder::build_parallel(nv + ne, nv, Summation::InOrder, |i, rows| refinement_row(t, beta, i, rows)))
+    Ok(RowBuilder::build_parallel(nv + ne, nv, Summation::InOrder, |i, rows| refinement_row(t, sharp, beta, i, rows)))
 }
 
 /// The points of one Loop step, `apply(&refinement_stencil(t, beta)?, x)` up
@@ -50,34 +77,78 @@ pub fn refinement_stencil(t: &Topology, beta: LoopBeta) -> Result<SparseMatrix, 
 /// # Panics
 /// If `x.len()` differs from the vertex count (a caller bug).
 pub fn step_points(t: &Topology, beta: LoopBeta, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
+    step_points_sharp(t, &LevelSharpness::plain(), beta, x)
+}
+
+/// [`step_points`] with the creases, corners and boundary option of `sharp`.
+///
+/// # Errors
+/// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn step_points_sharp(
+    t: &Topology,
+    sharp: &LevelSharpness,
+    beta: LoopBeta,
+    x: &[DVec3],
+) -> Result<Vec<DVec3>, StencilError> {
     require_triangles(t)?;
     assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
     let rows = t.vertex_count() + t.edge_count();
-    Ok(RowBuilder::evaluate_parallel_with_scratch(rows, x, |i, rows, _: &mut ()| refinement_row(t, beta, i, rows)))
+    Ok(RowBuilder::evaluate_parallel_with_scratch(rows, x, |i, rows, _: &mut ()| {
+        refinement_row(t, sharp, beta, i, rows)
+    }))
 }
 
 /// Row `i` of the refinement stencil: vertex points, then edge points.
-fn refinement_row(t: &Topology, beta: LoopBeta, i: usize, rows: &mut RowBuilder) {
+fn refinement_row(t: &Topology, sharp: &LevelSharpness, beta: LoopBeta, i: usize, rows: &mut RowBuilder) {
     let nv = t.vertex_count();
     if i < nv {
         let v = VertexId(i as u32);
         if t.is_isolated(v) {
             rows.add(v.0, 1.0);
+            return;
+        }
+        // Eq. (1): p' = (1 − kβ)p + βΣpⱼ; crease (1, 6, 1)/8; corner p;
+        // w·parent + (1 − w)·child where the rule changes (semi-sharp).
+        let step = sharp.vertex_step(t, v);
+        let mask = |kind| vertex_point_mask(kind, t.valence(v), beta);
+        if step.parent == step.child {
+            add_vertex_mask(rows, t, v, (step.parent, step.parent_ends), mask, 1.0);
         } else {
-            // Eq. (1): p' = (1 − kβ)p + βΣpⱼ; boundary (1, 6, 1)/8; corner p.
-            add_vertex_mask(rows, t, v, vertex_point_mask(vertex_kind(t, v), t.valence(v), beta));
+            let w = step.parent_weight;
+            add_vertex_mask(rows, t, v, (step.parent, step.parent_ends), mask, w);
+            add_vertex_mask(rows, t, v, (step.child, step.child_ends), mask, 1.0 - w);
         }
         return;
     }
-    let h = t.edge_half_edge(EdgeId((i - nv) as u32));
-    let twin = t.he_twin(h);
-    let mask = edge_point_mask(twin.is_none());
-    rows.add(t.he_from(h).0, mask.end);
-    rows.add(t.he_to(h).0, mask.end);
-    // The opposite corner of a triangle is the start of the half-edge before h.
-    rows.add(t.he_from(t.he_prev(h)).0, mask.left);
-    if let Some(g) = twin {
-        rows.add(t.he_from(t.he_prev(g)).0, mask.right);
+    let e = EdgeId((i - nv) as u32);
+    let (a, b) = t.edge_vertices(e);
+    let smooth = |rows: &mut RowBuilder, scale: f64| {
+        let h = t.edge_half_edge(e);
+        let twin = t.he_twin(h);
+        let mask = edge_point_mask(twin.is_none());
+        rows.add(a.0, scale * mask.end);
+        rows.add(b.0, scale * mask.end);
+        // The opposite corner of a triangle is the start of the half-edge before h.
+        rows.add(t.he_from(t.he_prev(h)).0, scale * mask.left);
+        if let Some(g) = twin {
+            rows.add(t.he_from(t.he_prev(g)).0, scale * mask.right);
+        }
+    };
+    let midpoint = |rows: &mut RowBuilder, scale: f64| {
+        rows.add(a.0, scale * 0.5);
+        rows.add(b.0, scale * 0.5);
+    };
+    match sharp.edge_step(t, e) {
+        EdgeStep::Smooth => smooth(rows, 1.0),
+        EdgeStep::Midpoint if t.is_boundary_edge(e) => smooth(rows, 1.0), // the boundary mask is the midpoint
+        EdgeStep::Midpoint => midpoint(rows, 1.0),
+        EdgeStep::Blend(s) => {
+            midpoint(rows, s);
+            smooth(rows, 1.0 - s);
+        }
     }
 }
 
@@ -91,14 +162,15 @@ pub fn refine(t: &Topology, beta: LoopBeta) -> Result<(Topology, SparseMatrix), 
     Ok((topology, stencil))
 }
 
-/// Row v of the limit stencil: interior (1 − kγ)p + γΣpⱼ with
-/// γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, ERRATA W4); boundary
-/// (p₋ + 4p + p₊)/6; corner p.
-fn limit_row(t: &Topology, v: VertexId, beta: LoopBeta, rows: &mut RowBuilder) {
+/// Row v of the limit stencil by the vertex's rule at this level: smooth and
+/// dart (1 − kγ)p + γΣpⱼ with γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, ERRATA
+/// W4); crease (p₋ + 4p + p₊)/6 along its sharp edges; corner p. Exact where
+/// no semi-sharp value is left around v.
+fn limit_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, beta: LoopBeta, rows: &mut RowBuilder) {
     if t.is_isolated(v) {
         rows.add(v.0, 1.0);
     } else {
-        add_vertex_mask(rows, t, v, limit_mask(vertex_kind(t, v), t.valence(v), beta));
+        add_vertex_mask(rows, t, v, sharp.limit_rule(t, v), |kind| limit_mask(kind, t.valence(v), beta), 1.0);
     }
 }
 
@@ -107,9 +179,24 @@ fn limit_row(t: &Topology, v: VertexId, beta: LoopBeta, rows: &mut RowBuilder) {
 /// # Errors
 /// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
 pub fn limit_stencil(t: &Topology, beta: LoopBeta) -> Result<SparseMatrix, StencilError> {
+    limit_stencil_sharp(t, &LevelSharpness::plain(), beta, t.vertex_count())
+}
+
+/// The first `rows` rows of the limit stencil with the rules of `sharp`.
+///
+/// # Errors
+/// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
+pub fn limit_stencil_sharp(
+    t: &Topology,
+    sharp: &LevelSharpness,
+    beta: LoopBeta,
+    rows: usize,
+) -> Result<SparseMatrix, StencilError> {
     require_triangles(t)?;
     let nv = t.vertex_count();
-    Ok(RowBuilder::build_parallel(nv, nv, Summation::InOrder, |i, rows| limit_row(t, VertexId(i as u32), beta, rows)))
+    Ok(RowBuilder::build_parallel(rows, nv, Summation::InOrder, |i, out| {
+        limit_row(t, sharp, VertexId(i as u32), beta, out)
+    }))
 }
 
 /// The limit point of every vertex, `apply(&limit_stencil(t, beta)?, x)` up
@@ -121,9 +208,73 @@ pub fn limit_stencil(t: &Topology, beta: LoopBeta) -> Result<SparseMatrix, Stenc
 /// # Panics
 /// If `x.len()` differs from the vertex count (a caller bug).
 pub fn limit_points(t: &Topology, beta: LoopBeta, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
+    limit_points_sharp(t, &LevelSharpness::plain(), beta, x, t.vertex_count())
+}
+
+/// The limit points of the first `count` vertices with the rules of `sharp`.
+///
+/// # Errors
+/// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
+///
+/// # Panics
+/// If `x.len()` differs from the vertex count (a caller bug).
+pub fn limit_points_sharp(
+    t: &Topology,
+    sharp: &LevelSharpness,
+    beta: LoopBeta,
+    x: &[DVec3],
+    count: usize,
+) -> Result<Vec<DVec3>, StencilError> {
     require_triangles(t)?;
     assert_eq!(x.len(), t.vertex_count(), "one point per vertex");
-    Ok(RowBuilder::evaluate_parallel_with_scratch(t.vertex_count(), x, |i, rows, _: &mut ()| {
-        limit_row(t, VertexId(i as u32), beta, rows)
+    Ok(RowBuilder::evaluate_parallel_with_scratch(count, x, |i, rows, _: &mut ()| {
+        limit_row(t, sharp, VertexId(i as u32), beta, rows)
     }))
+}
+
+/// Loop as a [`SchemeRules`]: the triangle split, OpenSubdiv's crease rules
+/// (any tags, any boundary option), Warren's or Loop's β.
+pub(crate) struct LoopRules(pub(crate) LoopBeta);
+
+impl SchemeRules for LoopRules {
+    fn check(&self, t: &Topology, _: &LevelSharpness) -> Result<(), StencilError> {
+        require_triangles(t)
+    }
+
+    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError> {
+        let topology = triangle_split(t).map_err(|e| match e {
+            MeshError::NotTriangles { face, size } => StencilError::NotTriangles { face, size },
+            _ => unreachable!("triangle_split only rejects non-triangles"),
+        })?;
+        // The half of h = 3f + k's edge at from(h) is corner 0 of child triangle 4f + k.
+        let sharpness = sharp.refine(t, &topology, |h| 3 * (4 * (h / 3) + h % 3));
+        Ok(Split { topology, sharpness, dual: None })
+    }
+
+    fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {
+        refinement_stencil_sharp(t, sharp, self.0).map(Some)
+    }
+
+    fn step_points(&self, t: &Topology, sharp: &LevelSharpness, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
+        step_points_sharp(t, sharp, self.0, x)
+    }
+
+    fn limit_points(
+        &self,
+        t: &Topology,
+        sharp: &LevelSharpness,
+        x: &[DVec3],
+        count: usize,
+    ) -> Option<Result<Vec<DVec3>, StencilError>> {
+        Some(limit_points_sharp(t, sharp, self.0, x, count))
+    }
+
+    fn limit_stencil(
+        &self,
+        t: &Topology,
+        sharp: &LevelSharpness,
+        rows: usize,
+    ) -> Option<Result<SparseMatrix, StencilError>> {
+        Some(limit_stencil_sharp(t, sharp, self.0, rows))
+    }
 }

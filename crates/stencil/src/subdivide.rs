@@ -8,41 +8,16 @@
 //! ([`StencilError::NotRepresentable`] otherwise).
 
 use crate::normalized::{map_back, normalize};
-use crate::{apply, catmull_clark, deng_ma, doo_sabin, loop_subdivision, SparseMatrix, StencilError};
+use crate::scheme::SchemeRules;
+use crate::sharpness::LevelSharpness;
+use crate::{apply, Options, Scheme, SparseMatrix, StencilError};
 use glam::DVec3;
-use subdiv_mesh::refine::{quad_split, DualProvenance};
-use subdiv_mesh::{Mesh, PowerOfTwoScale, Topology};
-use subdiv_rules::deng_ma::Tension;
-use subdiv_rules::LoopBeta;
+use std::borrow::Cow;
+use subdiv_mesh::refine::DualProvenance;
+use subdiv_mesh::{Mesh, PowerOfTwoScale, Tags, Topology};
 
-/// A subdivision scheme with the options that change its surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Scheme {
-    /// Catmull-Clark (any polygons; quads after one step).
-    CatmullClark,
-    /// Loop (triangles only), with Warren's or Loop's β.
-    Loop(LoopBeta),
-    /// Standard Doo-Sabin (any polygons).
-    DooSabin,
-    /// Deng-Ma's interpolatory scheme (any polygons, open or closed: 4-point
-    /// boundary curves), global or variable tension.
-    DengMa(Tension),
-}
-
-impl Scheme {
-    /// Short name, as on the command line.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Scheme::CatmullClark => "catmull-clark",
-            Scheme::Loop(_) => "loop",
-            Scheme::DooSabin => "doo-sabin",
-            Scheme::DengMa(_) => "deng-ma",
-        }
-    }
-}
-
-/// One level of a plan: the refined connectivity and the operator producing
-/// its positions from the previous level's.
+/// One level of a plan: the refined connectivity, the operator producing
+/// its positions from the previous level's, and its tags.
 #[derive(Clone, Debug)]
 pub struct Refinement {
     /// Connectivity after this level.
@@ -53,14 +28,17 @@ pub struct Refinement {
     pub stencil: Option<SparseMatrix>,
     /// Doo-Sabin provenance of the new faces and vertices.
     pub dual: Option<DualProvenance>,
+    /// Sharpness of this level (the tags decayed by the crease method).
+    pub sharpness: LevelSharpness,
 }
 
 /// The topology of `levels` steps of a scheme, computed once; [`Self::apply`]
 /// maps any positions through them.
 #[derive(Clone, Debug)]
 pub struct SubdivisionPlan {
-    scheme: Scheme,
+    options: Options,
     base: Topology,
+    base_sharpness: LevelSharpness,
     levels: Vec<Refinement>,
 }
 
@@ -80,65 +58,57 @@ fn check_size(t: &Topology, scheme: Scheme) -> Result<(), StencilError> {
     Ok(())
 }
 
-/// One level of `scheme` on `current`: the refined connectivity and its stencil.
-fn refine_level(current: &Topology, scheme: Scheme) -> Result<Refinement, StencilError> {
+/// One level of `scheme` on `current`: the refined connectivity (and its
+/// sharpness) and the stencil, built on both cores at once (both depend on
+/// the coarse level only).
+fn refine_level(
+    rules: &dyn SchemeRules,
+    scheme: Scheme,
+    current: &Topology,
+    sharp: &LevelSharpness,
+) -> Result<Refinement, StencilError> {
     check_size(current, scheme)?;
-    Ok(match scheme {
-        // The refined connectivity and the stencil depend on the coarse
-        // topology only: build them on both cores at once.
-        Scheme::CatmullClark => {
-            let (topology, stencil) =
-                rayon::join(|| quad_split(current), || catmull_clark::refinement_stencil(current));
-            Refinement { topology, stencil: Some(stencil), dual: None }
-        }
-        Scheme::Loop(beta) => {
-            let (topology, stencil) = rayon::join(
-                || subdiv_mesh::refine::triangle_split(current),
-                || loop_subdivision::refinement_stencil(current, beta),
-            );
-            let stencil = stencil?;
-            let topology = topology.expect("the stencil accepted the mesh, so it is a triangle mesh");
-            Refinement { topology, stencil: Some(stencil), dual: None }
-        }
-        Scheme::DooSabin => {
-            let ((topology, dual), stencil) = rayon::join(
-                || subdiv_mesh::refine::dual_split(current),
-                || doo_sabin::refinement_stencil(current, doo_sabin::CornerRule::Standard),
-            );
-            Refinement { topology, stencil: Some(stencil?), dual: Some(dual) }
-        }
-        Scheme::DengMa(tension) => {
-            deng_ma::check_tension(tension)?;
-            // Evaluated geometrically even for a global ω: its matrix
-            // (`deng_ma::stencil`) is dense-ish (every moved vertex
-            // expands over all corners around its vertex) and measured
-            // 3-4× slower to build and apply than the direct step.
-            Refinement { topology: quad_split(current), stencil: None, dual: None }
-        }
-    })
+    rules.check(current, sharp)?;
+    let (split, stencil) = rayon::join(|| rules.split(current, sharp), || rules.stencil(current, sharp));
+    let (split, stencil) = (split?, stencil?);
+    Ok(Refinement { topology: split.topology, stencil, dual: split.dual, sharpness: split.sharpness })
 }
 
-/// Positions after `level`, from the positions on its coarse connectivity.
-fn step(level: &Refinement, scheme: Scheme, coarse: &Topology, positions: &[DVec3]) -> Vec<DVec3> {
-    match (&level.stencil, scheme) {
-        (Some(r), _) => apply(r, positions),
-        (None, Scheme::DengMa(tension)) => {
-            deng_ma::step_positions(coarse, positions, tension).expect("the tension was checked when planning")
-        }
-        (None, _) => unreachable!("only Deng-Ma has no stencil"),
+/// The limit points of the first `count` vertices of level `t` (`None` for
+/// Deng-Ma). Where semi-sharp tags are left (or on a tagged base level),
+/// the positions are refined the levels the masks need first
+/// ([`SchemeRules::levels_before_limit`]; only the points, no stencil is
+/// kept): the first vertices of every primal level descend from the
+/// previous level's, in order.
+fn limit_points_of(
+    rules: &dyn SchemeRules,
+    scheme: Scheme,
+    t: &Topology,
+    sharp: &LevelSharpness,
+    positions: &[DVec3],
+    is_base: bool,
+) -> Option<Result<Vec<DVec3>, StencilError>> {
+    let count = t.vertex_count();
+    let extra = rules.levels_before_limit(t, sharp, is_base);
+    if extra == 0 {
+        return rules.limit_points(t, sharp, positions, count);
     }
-}
-
-/// The limit points of the vertices of `t` (a mesh refined at least once by
-/// `scheme`, or any mesh for the primal schemes); `None` for Deng-Ma.
-fn limit_points_of(t: &Topology, scheme: Scheme, positions: &[DVec3]) -> Option<Vec<DVec3>> {
-    match scheme {
-        Scheme::CatmullClark => Some(catmull_clark::limit_points(t, positions)),
-        Scheme::Loop(beta) => {
-            Some(loop_subdivision::limit_points(t, beta, positions).expect("Loop levels stay triangular"))
+    let refined = (|| {
+        let (mut topology, mut sharp, mut x) = (Cow::Borrowed(t), Cow::Borrowed(sharp), Cow::Borrowed(positions));
+        for _ in 0..extra {
+            check_size(&topology, scheme)?;
+            let (split, next) =
+                rayon::join(|| rules.split(&topology, &sharp), || rules.step_points(&topology, &sharp, &x));
+            let split = split?;
+            x = Cow::Owned(next?);
+            topology = Cow::Owned(split.topology);
+            sharp = Cow::Owned(split.sharpness);
         }
-        Scheme::DooSabin => Some(doo_sabin::limit_points(t, positions)),
-        Scheme::DengMa(_) => None,
+        Ok((topology.into_owned(), sharp.into_owned(), x.into_owned()))
+    })();
+    match refined {
+        Ok((topology, sharp, x)) => rules.limit_points(&topology, &sharp, &x, count),
+        Err(e) => Some(Err(e)),
     }
 }
 
@@ -170,25 +140,44 @@ fn map_back_checked(
 }
 
 impl SubdivisionPlan {
-    /// Plans `levels` steps of `scheme` on `t`. Fails when the scheme cannot
-    /// take the mesh (Loop on non-triangles), on a bad parameter, or when the
-    /// result would not fit `u32` ids.
-    pub fn new(t: &Topology, scheme: Scheme, levels: usize) -> Result<Self, StencilError> {
-        // Also with 0 levels: the plan's limit points need triangles.
-        if let Scheme::Loop(_) = scheme {
-            loop_subdivision::require_triangles(t)?;
-        }
+    /// Plans `levels` steps on the untagged topology `t` with `options` (a
+    /// [`Scheme`] for the defaults). Fails when the scheme cannot take the
+    /// mesh (Loop on non-triangles), on a bad parameter, or when the result
+    /// would not fit `u32` ids.
+    pub fn new(t: &Topology, options: impl Into<Options>, levels: usize) -> Result<Self, StencilError> {
+        Self::with_tags(t, &Tags::none(), options, levels)
+    }
+
+    /// Plans `levels` steps on `t` with sharpness `tags` (creases and
+    /// corners, refined and decayed level by level).
+    pub fn with_tags(
+        t: &Topology,
+        tags: &Tags,
+        options: impl Into<Options>,
+        levels: usize,
+    ) -> Result<Self, StencilError> {
+        let options = options.into();
+        options.validate()?;
+        let rules = options.scheme.rules();
+        let base_sharpness = LevelSharpness::new(tags, options.boundary, options.crease_method);
+        // Also with 0 levels: the plan's limit points need what the scheme needs.
+        rules.check(t, &base_sharpness)?;
         let mut out: Vec<Refinement> = Vec::with_capacity(levels);
         for _ in 0..levels {
-            let level = refine_level(out.last().map_or(t, |r| &r.topology), scheme)?;
+            let (coarse, sharp) = out.last().map_or((t, &base_sharpness), |r| (&r.topology, &r.sharpness));
+            let level = refine_level(rules.as_ref(), options.scheme, coarse, sharp)?;
             out.push(level);
         }
-        Ok(Self { scheme, base: t.clone(), levels: out })
+        Ok(Self { options, base: t.clone(), base_sharpness, levels: out })
     }
 
     /// The scheme.
     pub fn scheme(&self) -> Scheme {
-        self.scheme
+        self.options.scheme
+    }
+    /// The options.
+    pub fn options(&self) -> &Options {
+        &self.options
     }
     /// The levels, coarse to fine.
     pub fn levels(&self) -> &[Refinement] {
@@ -201,6 +190,10 @@ impl SubdivisionPlan {
     /// Connectivity after the last level (the input for zero levels).
     pub fn topology(&self) -> &Topology {
         self.levels.last().map_or(&self.base, |r| &r.topology)
+    }
+    /// Sharpness after the last level (the input's for zero levels).
+    pub fn sharpness(&self) -> &LevelSharpness {
+        self.levels.last().map_or(&self.base_sharpness, |r| &r.sharpness)
     }
 
     /// Positions after every level, from positions of the input's vertices
@@ -220,24 +213,52 @@ impl SubdivisionPlan {
 
     /// The levels applied to `current` as it is.
     fn apply_unscaled(&self, mut current: Vec<DVec3>) -> Vec<DVec3> {
-        let mut coarse = &self.base;
+        let rules = self.options.scheme.rules();
+        let (mut coarse, mut sharp) = (&self.base, &self.base_sharpness);
         for level in &self.levels {
-            current = step(level, self.scheme, coarse, &current);
-            coarse = &level.topology;
+            current = match &level.stencil {
+                Some(r) => apply(r, &current),
+                None => rules.step_points(coarse, sharp, &current).expect("the level was checked when planning"),
+            };
+            (coarse, sharp) = (&level.topology, &level.sharpness);
         }
         current
     }
 
     /// Limit stencil of the final level's vertices (`None` for Deng-Ma,
-    /// an interpolatory scheme whose refined vertices already lie on the surface).
-    pub fn limit_stencil(&self) -> Option<SparseMatrix> {
-        let t = self.topology();
-        match self.scheme {
-            Scheme::CatmullClark => Some(catmull_clark::limit_stencil(t)),
-            Scheme::Loop(beta) => Some(loop_subdivision::limit_stencil(t, beta).expect("Loop levels stay triangular")),
-            Scheme::DooSabin => Some(doo_sabin::limit_stencil(t)),
-            Scheme::DengMa(_) => None,
+    /// an interpolatory scheme whose refined vertices already lie on the
+    /// surface). Where semi-sharp tags are left (or on a tagged base level)
+    /// it is the product L·R_k⋯R_1 of the limit rows after the levels the
+    /// masks need and their refinement stencils, restricted to the final
+    /// level's vertices.
+    ///
+    /// # Errors
+    /// As [`Self::new`] for the extra levels.
+    pub fn limit_stencil(&self) -> Option<Result<SparseMatrix, StencilError>> {
+        let rules = self.options.scheme.rules();
+        let (t, sharp) = (self.topology(), self.sharpness());
+        let n = t.vertex_count();
+        let extra = rules.levels_before_limit(t, sharp, self.levels.is_empty());
+        if extra == 0 {
+            return rules.limit_stencil(t, sharp, n);
         }
+        let composed = (|| {
+            let (mut topology, mut sharp) = (Cow::Borrowed(t), Cow::Borrowed(sharp));
+            let mut product: Option<SparseMatrix> = None; // R_k⋯R_1
+            for _ in 0..extra {
+                let level = refine_level(rules.as_ref(), self.options.scheme, &topology, &sharp)?;
+                let r = level.stencil.expect("the schemes with limit masks have stencils");
+                product = Some(match product {
+                    None => r,
+                    Some(p) => &r * &p,
+                });
+                topology = Cow::Owned(level.topology);
+                sharp = Cow::Owned(level.sharpness);
+            }
+            let limit = rules.limit_stencil(&topology, &sharp, n).expect("the scheme has limit masks")?;
+            Ok(&limit * &product.expect("extra > 0"))
+        })();
+        Some(composed)
     }
 
     /// The limit points of the final level's vertices from their positions
@@ -249,13 +270,18 @@ impl SubdivisionPlan {
     /// If `positions.len()` differs from the final vertex count (a caller bug).
     pub fn limit_points(&self, positions: &[DVec3]) -> Option<Vec<DVec3>> {
         let (scale, scaled) = normalize(positions);
-        let mut limits = limit_points_of(self.topology(), self.scheme, &scaled)?;
+        let rules = self.options.scheme.rules();
+        let is_base = self.levels.is_empty();
+        let mut limits =
+            limit_points_of(rules.as_ref(), self.scheme(), self.topology(), self.sharpness(), &scaled, is_base)?
+                .expect("the plan's levels were checked; the extra levels are of the same kind");
         scale.inverse().apply_points(&mut limits);
         Some(limits)
     }
 
     /// Subdivides a mesh: positions after every level, moved to their limit
-    /// positions when `limit` is set and the scheme has a limit mask.
+    /// positions when `limit` is set and the scheme has a limit mask; the
+    /// tags of the final level.
     ///
     /// # Errors
     /// [`StencilError::NotRepresentable`] when an output coordinate is not a
@@ -267,11 +293,17 @@ impl SubdivisionPlan {
         assert_eq!(mesh.positions().len(), self.base.vertex_count(), "one position per input vertex");
         let (scale, scaled) = normalize(mesh.positions());
         let positions = self.apply_unscaled(scaled);
-        let mut positions =
-            limit.then(|| limit_points_of(self.topology(), self.scheme, &positions)).flatten().unwrap_or(positions);
-        let copies_input = copies_input(self.scheme, self.levels.len(), limit);
-        map_back_checked(self.scheme, scale, &mut positions, mesh.positions(), copies_input)?;
-        Ok(Mesh::from_topology(self.topology().clone(), positions))
+        let rules = self.options.scheme.rules();
+        let (t, sharp) = (self.topology(), self.sharpness());
+        let limits = if limit {
+            limit_points_of(rules.as_ref(), self.scheme(), t, sharp, &positions, self.levels.is_empty()).transpose()?
+        } else {
+            None
+        };
+        let mut positions = limits.unwrap_or(positions);
+        let copies_input = copies_input(self.scheme(), self.levels.len(), limit);
+        map_back_checked(self.scheme(), scale, &mut positions, mesh.positions(), copies_input)?;
+        Ok(Mesh::from_topology(t.clone(), positions).with_tags(sharp.tags(t)))
     }
 }
 
@@ -281,65 +313,55 @@ fn copies_input(scheme: Scheme, levels: usize, limit: bool) -> bool {
     matches!(scheme, Scheme::DengMa(_)) || (levels == 0 && !limit)
 }
 
-/// `levels` steps of `scheme` applied to `mesh`, moved to the limit positions
+/// `levels` steps of the scheme of `options` (a [`Scheme`] for the
+/// defaults) applied to `mesh` with its tags, moved to the limit positions
 /// when `limit` is set and the scheme has a limit mask — the mesh of
-/// [`SubdivisionPlan::subdivide`] up to round-off, for a
-/// single use: each level is refined and applied in turn and dropped once
-/// the next exists, so only two connectivities are held at a time, and no
-/// stencil is built: the points are evaluated directly
-/// ([`doo_sabin::first_step`] face by face, [`catmull_clark::step_points`],
-/// [`loop_subdivision::step_points`] row by row); the final connectivity is
-/// moved into the mesh rather than copied.
+/// [`SubdivisionPlan::subdivide`] up to round-off, for a single use: each
+/// level is refined and applied in turn and dropped once the next exists, so
+/// only two connectivities are held at a time, and no stencil is built: the
+/// points are evaluated directly ([`SchemeRules::step_points`]: Doo-Sabin
+/// face by face, Catmull-Clark and Loop row by row); the final connectivity
+/// is moved into the mesh rather than copied.
 ///
 /// Computed on normalised positions and scaled back (module docs).
 ///
 /// # Errors
 /// As [`SubdivisionPlan::new`]; [`StencilError::NotRepresentable`] when an
 /// output coordinate is not a finite f64 (the surface leaves the range of f64).
-pub fn subdivide(mesh: &Mesh, scheme: Scheme, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
+pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
+    let options = options.into();
+    options.validate()?;
+    let scheme = options.scheme;
+    let rules = scheme.rules();
+    let mut sharp = LevelSharpness::new(mesh.tags(), options.boundary, options.crease_method);
     // Also with 0 levels and limit: Loop's limit mask needs triangles.
-    if let Scheme::Loop(_) = scheme {
-        loop_subdivision::require_triangles(mesh.topology())?;
-    }
+    rules.check(mesh.topology(), &sharp)?;
     let mut fine: Option<Topology> = None; // None: still the input's connectivity
     let (scale, mut positions) = normalize(mesh.positions());
     for _ in 0..levels {
         let coarse = fine.as_ref().unwrap_or(mesh.topology());
         check_size(coarse, scheme)?;
         // The refined connectivity on one core, the points on the other.
-        let (topology, next) = match scheme {
-            Scheme::DooSabin => {
-                let ((topology, _), next) = rayon::join(
-                    || subdiv_mesh::refine::dual_split(coarse),
-                    || doo_sabin::first_step(coarse, doo_sabin::CornerRule::Standard, &positions),
-                );
-                (topology, next?)
-            }
-            Scheme::CatmullClark => {
-                rayon::join(|| quad_split(coarse), || catmull_clark::step_points(coarse, &positions))
-            }
-            Scheme::Loop(beta) => {
-                let (topology, next) = rayon::join(
-                    || subdiv_mesh::refine::triangle_split(coarse),
-                    || loop_subdivision::step_points(coarse, beta, &positions),
-                );
-                let next = next?;
-                (topology.expect("the step accepted the mesh, so it is a triangle mesh"), next)
-            }
-            Scheme::DengMa(_) => {
-                let level = refine_level(coarse, scheme)?;
-                let next = step(&level, scheme, coarse, &positions);
-                (level.topology, next)
-            }
-        };
-        positions = next;
-        fine = Some(topology);
+        let (split, next) =
+            rayon::join(|| rules.split(coarse, &sharp), || rules.step_points(coarse, &sharp, &positions));
+        let split = split?;
+        positions = next?;
+        sharp = split.sharpness;
+        fine = Some(split.topology);
     }
     let t = fine.as_ref().unwrap_or(mesh.topology());
-    let mut positions = limit.then(|| limit_points_of(t, scheme, &positions)).flatten().unwrap_or(positions);
+    let limits = if limit {
+        limit_points_of(rules.as_ref(), scheme, t, &sharp, &positions, levels == 0).transpose()?
+    } else {
+        None
+    };
+    let mut positions = limits.unwrap_or(positions);
     map_back_checked(scheme, scale, &mut positions, mesh.positions(), copies_input(scheme, levels, limit))?;
     Ok(match fine {
-        Some(t) => Mesh::from_topology(t, positions),
+        Some(t) => {
+            let tags = sharp.tags(&t);
+            Mesh::from_topology(t, positions).with_tags(tags)
+        }
         None => mesh.with_positions(positions),
     })
 }

@@ -79,7 +79,7 @@ fn normalising_changes_no_bit_on_ordinary_meshes() {
                 coarse = &level.topology;
             }
             assert!(bits(&plan.apply(mesh.positions())) == bits(&x), "{scheme:?} apply");
-            if let (Some(limits), Some(r)) = (plan.limit_points(&x), plan.limit_stencil()) {
+            if let (Some(limits), Some(Ok(r))) = (plan.limit_points(&x), plan.limit_stencil()) {
                 let raw_limits = match scheme {
                     Scheme::DooSabin => doo_sabin::limit_points(plan.topology(), &x),
                     Scheme::CatmullClark => catmull_clark::limit_points(plan.topology(), &x),

@@ -1,0 +1,346 @@
+//! The sharpness of one level as the rules see it, and the rule of every
+//! vertex and edge point of a step: the one place where boundaries, creases
+//! and corners are decided (OpenSubdiv's `Vtr` tags and `Sdc::Crease` logic).
+//!
+//! A [`LevelSharpness`] holds the user's tags at that level (decayed level by
+//! level with the crease method) and the boundary option. Boundary edges are
+//! infinitely sharp in every boundary mode and, under `edge-and-corner`, a
+//! boundary vertex in one face is an infinitely sharp corner: these are
+//! derived from the topology when asked, not stored, so an untagged mesh
+//! costs nothing and follows exactly the rules it always had (interior
+//! vertices smooth, boundary vertices on the cubic B-spline crease, one-face
+//! corners fixed).
+//!
+//! Everything a step needs is a function of the parent level alone: the
+//! child sharpness of an edge half at vertex v is
+//! `CreaseMethod::subdivide_edge_sharpness` of the parent values at v, so a
+//! row can be computed before (or while) the child connectivity is built.
+
+use subdiv_mesh::{EdgeId, HalfEdgeId, Tags, Topology, VertexId};
+use subdiv_rules::crease::{decrement, fractional_weight, is_sharp, is_smooth, vertex_rule, SHARPNESS_INFINITE};
+use subdiv_rules::{BoundaryInterpolation, CreaseMethod, Rule};
+
+/// Largest valence whose incident sharpness fits the stack buffers below;
+/// larger valences use a heap buffer.
+const STACK_VALENCE: usize = 16;
+
+/// Sharpness of one level: the tags at that level, the boundary option and
+/// the crease method that decays them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LevelSharpness {
+    /// Per edge (tag values at this level), or empty: all smooth.
+    edges: Vec<f32>,
+    /// Per vertex, or empty: all smooth.
+    vertices: Vec<f32>,
+    boundary: BoundaryInterpolation,
+    method: CreaseMethod,
+}
+
+/// The new vertex point of an old vertex: the rule before the step
+/// (`parent`), after it (`child`), and the weight of the parent mask where they
+/// differ (OpenSubdiv's fractional transition).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VertexStep {
+    /// Rule from the sharpness before the step.
+    pub parent: Rule,
+    /// Rule from the sharpness after it.
+    pub child: Rule,
+    /// Weight of the parent mask, w·parent + (1 − w)·child, when the rules differ.
+    pub parent_weight: f64,
+    /// The two neighbours along the sharp edges when `parent` is a crease.
+    pub parent_ends: Option<(VertexId, VertexId)>,
+    /// The two neighbours along the edges still sharp after the step, when
+    /// `child` is a crease.
+    pub child_ends: Option<(VertexId, VertexId)>,
+}
+
+/// The new point of an edge.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EdgeStep {
+    /// A smooth edge: the scheme's edge mask.
+    Smooth,
+    /// A sharp edge that stays sharp on both halves: the midpoint.
+    Midpoint,
+    /// A sharp edge whose halves do not both stay sharp: s·midpoint +
+    /// (1 − s)·smooth with s the edge's sharpness, not clamped (OpenSubdiv:
+    /// under Chaikin an edge with s > 1 can get here, an extrapolation).
+    Blend(f64),
+}
+
+/// Sharpness of the edges at a vertex, in fan order (with a boundary vertex's
+/// incoming boundary edge last), and their far ends.
+struct Incident {
+    sharpness: smallvec_free::Buffer<f32>,
+    ends: smallvec_free::Buffer<u32>,
+}
+
+/// A tiny inline-or-heap buffer (no dependency for one use).
+mod smallvec_free {
+    use super::STACK_VALENCE;
+
+    pub(super) enum Buffer<T: Copy + Default> {
+        Inline([T; STACK_VALENCE], usize),
+        Heap(Vec<T>),
+    }
+
+    impl<T: Copy + Default> Buffer<T> {
+        pub(super) fn with_capacity(n: usize) -> Self {
+            if n <= STACK_VALENCE {
+                Self::Inline([T::default(); STACK_VALENCE], 0)
+            } else {
+                Self::Heap(Vec::with_capacity(n))
+            }
+        }
+        pub(super) fn push(&mut self, x: T) {
+            match self {
+                Self::Inline(a, n) => {
+                    a[*n] = x;
+                    *n += 1;
+                }
+                Self::Heap(v) => v.push(x),
+            }
+        }
+        pub(super) fn as_slice(&self) -> &[T] {
+            match self {
+                Self::Inline(a, n) => &a[..*n],
+                Self::Heap(v) => v,
+            }
+        }
+    }
+}
+
+impl LevelSharpness {
+    /// The base level of a mesh with `tags` under the given options.
+    pub fn new(tags: &Tags, boundary: BoundaryInterpolation, method: CreaseMethod) -> Self {
+        Self { edges: tags.edge_values().to_vec(), vertices: tags.vertex_values().to_vec(), boundary, method }
+    }
+
+    /// The rules of an untagged mesh with `edge-and-corner` boundaries.
+    pub fn plain() -> Self {
+        Self::untagged(BoundaryInterpolation::EdgeAndCorner, CreaseMethod::Uniform)
+    }
+
+    /// An untagged level (only what the boundary option implies).
+    pub fn untagged(boundary: BoundaryInterpolation, method: CreaseMethod) -> Self {
+        Self { edges: Vec::new(), vertices: Vec::new(), boundary, method }
+    }
+
+    /// Whether no edge or vertex carries a tag (boundaries may still be sharp).
+    pub fn is_untagged(&self) -> bool {
+        self.edges.is_empty() && self.vertices.is_empty()
+    }
+
+    /// Whether the rules are those of an untagged mesh with OpenSubdiv's
+    /// `EDGE_AND_CORNER` boundary: the schemes' plain masks apply as they are.
+    pub fn is_plain(&self) -> bool {
+        self.is_untagged() && self.boundary == BoundaryInterpolation::EdgeAndCorner
+    }
+
+    /// The boundary option.
+    pub fn boundary(&self) -> BoundaryInterpolation {
+        self.boundary
+    }
+
+    /// The crease method.
+    pub fn method(&self) -> CreaseMethod {
+        self.method
+    }
+
+    /// Sharpness of edge `e` as the rules see it: infinite on the boundary,
+    /// else its tag.
+    #[inline]
+    pub fn edge(&self, t: &Topology, e: EdgeId) -> f32 {
+        if t.is_boundary_edge(e) {
+            SHARPNESS_INFINITE
+        } else {
+            self.edges.get(e.index()).copied().unwrap_or(0.0)
+        }
+    }
+
+    /// Sharpness of vertex `v` as the rules see it: its tag, or infinite for
+    /// a boundary vertex in one face under `edge-and-corner`.
+    #[inline]
+    pub fn vertex(&self, t: &Topology, v: VertexId) -> f32 {
+        if self.boundary == BoundaryInterpolation::EdgeAndCorner
+            && t.is_boundary_vertex(v)
+            && t.vertex_face_count(v) == 1
+        {
+            SHARPNESS_INFINITE
+        } else {
+            self.vertices.get(v.index()).copied().unwrap_or(0.0)
+        }
+    }
+
+    /// The edges at `v` and their other ends, in fan order, the incoming
+    /// boundary edge last.
+    fn incident(&self, t: &Topology, v: VertexId) -> Incident {
+        let fan = t.vertex_fan(v);
+        let boundary = t.is_boundary_vertex(v);
+        let n = fan.len() + usize::from(boundary);
+        let mut out = Incident {
+            sharpness: smallvec_free::Buffer::with_capacity(n),
+            ends: smallvec_free::Buffer::with_capacity(n),
+        };
+        for &h in fan {
+            out.sharpness.push(self.edge(t, t.he_edge(h)));
+            out.ends.push(t.he_to(h).0);
+        }
+        if boundary {
+            let incoming: HalfEdgeId = t.he_prev(fan[fan.len() - 1]);
+            out.sharpness.push(SHARPNESS_INFINITE);
+            out.ends.push(t.he_from(incoming).0);
+        }
+        out
+    }
+
+    /// The rule of the new vertex point of old vertex `v`.
+    pub fn vertex_step(&self, t: &Topology, v: VertexId) -> VertexStep {
+        let vertex = self.vertex(t, v);
+        // Fast path: an interior vertex of an untagged level is smooth before and after.
+        if self.is_untagged() && !t.is_boundary_vertex(v) {
+            return VertexStep {
+                parent: Rule::Smooth,
+                child: Rule::Smooth,
+                parent_weight: 0.0,
+                parent_ends: None,
+                child_ends: None,
+            };
+        }
+        let incident = self.incident(t, v);
+        let sharp = incident.sharpness.as_slice();
+        let ends = incident.ends.as_slice();
+        let mut child = smallvec_free::Buffer::with_capacity(sharp.len());
+        for &s in sharp {
+            child.push(self.method.subdivide_edge_sharpness(s, sharp));
+        }
+        let child = child.as_slice();
+        let child_vertex = decrement(vertex);
+        let count = |values: &[f32]| values.iter().filter(|&&s| is_sharp(s)).count();
+        let parent_rule = vertex_rule(vertex, count(sharp));
+        let child_rule = vertex_rule(child_vertex, count(child));
+        let pair = |values: &[f32]| {
+            // The first and last sharp edge (OpenSubdiv's GetSharpEdgePairOfCrease).
+            let first = values.iter().position(|&s| !is_smooth(s))?;
+            let last = values.iter().rposition(|&s| !is_smooth(s))?;
+            Some((VertexId(ends[first]), VertexId(ends[last])))
+        };
+        let parent_weight = if parent_rule == child_rule || parent_rule.is_smooth_mask() {
+            0.0
+        } else {
+            fractional_weight(self.method, vertex, child_vertex, sharp, child) as f64
+        };
+        VertexStep {
+            parent: parent_rule,
+            child: child_rule,
+            parent_weight,
+            parent_ends: (parent_rule == Rule::Crease).then(|| pair(sharp)).flatten(),
+            child_ends: (child_rule == Rule::Crease).then(|| pair(child)).flatten(),
+        }
+    }
+
+    /// The rule of vertex `v` at this level, for its limit point
+    /// (OpenSubdiv's `Limit` takes it from the sharpness left, so a limit is
+    /// exact only where no semi-sharp value remains), with the crease ends.
+    pub fn limit_rule(&self, t: &Topology, v: VertexId) -> (Rule, Option<(VertexId, VertexId)>) {
+        if self.is_untagged() && !t.is_boundary_vertex(v) {
+            return (Rule::Smooth, None);
+        }
+        let incident = self.incident(t, v);
+        let sharp = incident.sharpness.as_slice();
+        let rule = vertex_rule(self.vertex(t, v), sharp.iter().filter(|&&s| is_sharp(s)).count());
+        let ends = (rule == Rule::Crease)
+            .then(|| {
+                let first = sharp.iter().position(|&s| is_sharp(s))?;
+                let last = sharp.iter().rposition(|&s| is_sharp(s))?;
+                Some((VertexId(incident.ends.as_slice()[first]), VertexId(incident.ends.as_slice()[last])))
+            })
+            .flatten();
+        (rule, ends)
+    }
+
+    /// Sharpness of the half of edge `e` at its end `v` after the step.
+    fn child_half(&self, t: &Topology, e: EdgeId, v: VertexId) -> f32 {
+        let s = self.edge(t, e);
+        if self.method == CreaseMethod::Uniform || is_smooth(s) || s >= SHARPNESS_INFINITE {
+            return decrement(s);
+        }
+        let incident = self.incident(t, v);
+        self.method.subdivide_edge_sharpness(s, incident.sharpness.as_slice())
+    }
+
+    /// The rule of the new point of edge `e`.
+    pub fn edge_step(&self, t: &Topology, e: EdgeId) -> EdgeStep {
+        let s = self.edge(t, e);
+        if is_smooth(s) {
+            return EdgeStep::Smooth;
+        }
+        let (a, b) = t.edge_vertices(e);
+        if is_sharp(self.child_half(t, e, a)) && is_sharp(self.child_half(t, e, b)) {
+            EdgeStep::Midpoint
+        } else {
+            EdgeStep::Blend(s as f64)
+        }
+    }
+
+    /// The sharpness of the next level, on `child` = the primal split of
+    /// `parent` where the half of parent half-edge h's edge at from(h) is the
+    /// child half-edge `child_half_edge(h)` (quad split: 4h; triangle split:
+    /// 3(4f + k) for h = 3f + k). Edges inside a parent face are smooth;
+    /// vertex sharpness decays on the old vertices (numbered first).
+    pub(crate) fn refine(
+        &self,
+        parent: &Topology,
+        child: &Topology,
+        child_half_edge: impl Fn(usize) -> usize,
+    ) -> LevelSharpness {
+        let edges = if self.edges.is_empty() {
+            Vec::new()
+        } else {
+            let mut edges = vec![0.0f32; child.edge_count()];
+            for h in 0..parent.half_edge_count() {
+                let ph = HalfEdgeId(h as u32);
+                let e = parent.he_edge(ph);
+                if parent.is_boundary_edge(e) || is_smooth(self.edges[e.index()]) {
+                    continue; // boundary edges are sharp by topology at every level
+                }
+                let half = self.child_half(parent, e, parent.he_from(ph));
+                edges[child.he_edge(HalfEdgeId(child_half_edge(h) as u32)).index()] = half;
+            }
+            edges
+        };
+        let vertices = if self.vertices.is_empty() {
+            Vec::new()
+        } else {
+            let mut vertices = vec![0.0f32; child.vertex_count()];
+            for (c, &p) in vertices.iter_mut().zip(&self.vertices) {
+                *c = decrement(p);
+            }
+            vertices
+        };
+        let compact = |v: Vec<f32>| if v.iter().all(|&s| is_smooth(s)) { Vec::new() } else { v };
+        LevelSharpness {
+            edges: compact(edges),
+            vertices: compact(vertices),
+            boundary: self.boundary,
+            method: self.method,
+        }
+    }
+
+    /// The tags of this level as a user sees them (what a file stores):
+    /// the tag values, without what the boundary option implies.
+    pub fn tags(&self, t: &Topology) -> Tags {
+        Tags::from_arrays(t, self.edges.clone(), self.vertices.clone())
+            .expect("decayed tags keep their lengths and stay ≥ 0")
+    }
+
+    /// The largest semi-sharp value left (edges of the interior and
+    /// vertices), if any: a limit needs ⌈that⌉ more levels.
+    pub fn largest_semi_sharp(&self, t: &Topology) -> Option<f32> {
+        let edges =
+            (self.edges.iter().enumerate()).filter(|(e, _)| !t.is_boundary_edge(EdgeId(*e as u32))).map(|(_, &s)| s);
+        edges
+            .chain(self.vertices.iter().copied())
+            .filter(|&s| s > 0.0 && s < SHARPNESS_INFINITE)
+            .fold(None, |m: Option<f32>, s| Some(m.map_or(s, |m| m.max(s))))
+    }
+}
