@@ -41,6 +41,10 @@ struct Summary {
     oriented: bool,
     isolated_vertices: usize,
     bbox_diagonal: Option<f64>,
+    /// Crease and corner tags (OBJ `t` lines); boundaries are not counted.
+    tags: TagCounts,
+    /// Texture coordinates (face-varying values), when the file has them.
+    uvs: Option<UvCounts>,
     warnings: Vec<String>,
     /// Error-level defect counts (all zero for a valid mesh).
     problems: BTreeMap<&'static str, usize>,
@@ -49,6 +53,65 @@ struct Summary {
     /// Per interpolation method: does it take this mesh, and if not, why
     /// (`subdiv_interp::Method::check`, the check the method itself makes).
     methods: BTreeMap<&'static str, MethodVerdict>,
+}
+
+/// How many tags, by kind.
+#[derive(Serialize, Debug, Default)]
+struct TagCounts {
+    /// Edges with sharpness > 0.
+    creases: usize,
+    /// Vertices with corner sharpness > 0.
+    corners: usize,
+    /// Of both, those ≥ 10 (infinitely sharp).
+    infinitely_sharp: usize,
+    /// Of both, those in (0, 10) (semi-sharp: they decay level by level).
+    semi_sharp: usize,
+}
+
+impl TagCounts {
+    fn of(creases: impl Iterator<Item = f32>, corners: impl Iterator<Item = f32>) -> Self {
+        let mut counts = TagCounts::default();
+        let mut count = |s: f32, kind: &mut usize| {
+            if s > 0.0 {
+                *kind += 1;
+                if s >= subdiv_mesh::SHARPNESS_INFINITE {
+                    counts.infinitely_sharp += 1;
+                } else {
+                    counts.semi_sharp += 1;
+                }
+            }
+        };
+        let (mut c, mut v) = (0, 0);
+        creases.for_each(|s| count(s, &mut c));
+        corners.for_each(|s| count(s, &mut v));
+        TagCounts { creases: c, corners: v, ..counts }
+    }
+}
+
+/// The texture-coordinate channel.
+#[derive(Serialize, Debug)]
+struct UvCounts {
+    /// Distinct values.
+    values: usize,
+    /// Vertices with more than one value (on a seam).
+    seam_vertices: usize,
+}
+
+impl UvCounts {
+    fn of(uvs: &subdiv_mesh::FaceVarying, faces: &subdiv_mesh::FaceList, vertices: usize) -> Self {
+        // First value seen per vertex; a vertex with another one is on a seam.
+        let mut first = vec![u32::MAX; vertices];
+        let mut seam = vec![false; vertices];
+        for (&v, &value) in faces.indices().iter().zip(&uvs.indices) {
+            let Some(slot) = first.get_mut(v as usize) else { continue };
+            if *slot == u32::MAX {
+                *slot = value;
+            } else if *slot != value {
+                seam[v as usize] = true;
+            }
+        }
+        UvCounts { values: uvs.values.len(), seam_vertices: seam.iter().filter(|&&s| s).count() }
+    }
 }
 
 /// Whether one interpolation method takes the mesh.
@@ -121,6 +184,11 @@ fn valid_summary(file: String, mesh: &Mesh, warnings: &[Warning]) -> Summary {
         oriented: true,
         isolated_vertices: t.vertices().filter(|&v| t.is_isolated(v)).count(),
         bbox_diagonal: Some(mesh.bbox_diagonal()),
+        tags: TagCounts::of(
+            mesh.tags().edge_values().iter().copied(),
+            mesh.tags().vertex_values().iter().copied(),
+        ),
+        uvs: mesh.uvs().map(|uvs| UvCounts::of(uvs, t.faces(), t.vertex_count())),
         warnings: warnings.iter().map(ToString::to_string).collect(),
         problems: BTreeMap::new(),
         error: None,
@@ -163,6 +231,11 @@ fn invalid_summary(file: String, soup: &subdiv_mesh::PolygonSoup) -> Summary {
         oriented: d.inconsistently_oriented_edges == 0,
         isolated_vertices: d.isolated_vertices,
         bbox_diagonal: d.bbox.map(|b| b.diagonal()),
+        tags: TagCounts::of(
+            soup.tags.creases.iter().map(|t| t.sharpness),
+            soup.tags.corners.iter().map(|t| t.sharpness),
+        ),
+        uvs: soup.uvs.as_ref().map(|uvs| UvCounts::of(uvs, &soup.faces, soup.positions.len())),
         warnings,
         problems,
         methods: method_verdicts(Err(&d.first_error.as_ref().map_or_else(|| "invalid".to_string(), |e| e.to_string()))),
@@ -216,6 +289,19 @@ fn print_text(s: &Summary) -> String {
     emit!("genus:                {}", opt(s.genus.map(|x| x.to_string())));
     emit!("manifold, oriented:   {}, {}", if s.manifold { "yes" } else { "no" }, if s.oriented { "yes" } else { "no" });
     emit!("bbox diagonal:        {}", opt(s.bbox_diagonal.map(length)));
+    let t = &s.tags;
+    if t.creases + t.corners > 0 {
+        emit!(
+            "tags:                 {} creases, {} corners ({} infinitely sharp, {} semi-sharp)",
+            t.creases,
+            t.corners,
+            t.infinitely_sharp,
+            t.semi_sharp
+        );
+    }
+    if let Some(uv) = &s.uvs {
+        emit!("texture coordinates:  {} values, {} seam vertices", uv.values, uv.seam_vertices);
+    }
     for (k, n) in &s.problems {
         emit!("problem:              {n} {}", k.replace('_', " "));
     }

@@ -220,7 +220,19 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     if let Some(path) = &args.report {
         outputs.other("--report", path)?;
     }
-    let mesh = load_mesh(&args.mesh)?;
+    let mut mesh = load_mesh(&args.mesh)?;
+    if !mesh.tags().is_empty() {
+        // A control mesh written with tags it was not solved for would give
+        // any OpenSubdiv tool another surface.
+        progress::warn(format!(
+            "{}: {} crease and {} corner tags ignored: the interpolation methods do not take sharp features \
+             yet; the control mesh is solved and written without them",
+            args.mesh.display(),
+            mesh.tags().crease_count(),
+            mesh.tags().corner_count()
+        ));
+        mesh = mesh.with_tags(subdiv_mesh::Tags::none());
+    }
     let name = args_method_name(args.method);
     let (bar, observer) = progress::solver(format!("{name}: {} vertices", mesh.topology().vertex_count()), args.tol);
     let result = run_method(args, &mesh, observer);

@@ -1,4 +1,5 @@
-//! `subdiv subdivide MESH --scheme S --levels N [--limit] [--beta B] -o OUT`.
+//! `subdiv subdivide MESH --scheme S --levels N [--limit] [--beta B]
+//! [--boundary B] [--crease-method M] -o OUT`.
 
 use crate::budget::{Budget, MemoryArgs};
 use crate::failure::{bad_input, Failure};
@@ -9,7 +10,34 @@ use anyhow::anyhow;
 use clap::ValueEnum;
 use std::path::PathBuf;
 use subdiv_mesh::Mesh;
-use subdiv_stencil::{LoopBeta, Scheme, Tension};
+use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, LoopBeta, Options, Scheme, Tension};
+
+/// A value parser for the option enums that name their values (`FromStr`).
+pub fn named<T: std::str::FromStr<Err = String>>(s: &str) -> Result<T, String> {
+    s.parse()
+}
+
+/// OpenSubdiv's surface options on the command line, shared by `subdivide`
+/// and `interpolate`.
+#[derive(clap::Args, Debug)]
+pub struct SurfaceArgs {
+    /// Boundary interpolation (OpenSubdiv): edge-and-corner (boundary curves, one-face corners
+    /// kept), edge-only (boundary curves, corners rounded), none (as edge-only; OpenSubdiv's
+    /// boundary holes).
+    #[arg(long, default_value = "edge-and-corner", value_parser = named::<BoundaryInterpolation>)]
+    pub boundary: BoundaryInterpolation,
+    /// How semi-sharp creases decay per level: uniform (s − 1) or chaikin (averaged with the
+    /// other semi-sharp edges at each end).
+    #[arg(long, default_value = "uniform", value_parser = named::<CreaseMethod>)]
+    pub crease_method: CreaseMethod,
+}
+
+impl SurfaceArgs {
+    /// The options for `scheme`.
+    pub fn options(&self, scheme: Scheme) -> Options {
+        Options::new(scheme).with_boundary(self.boundary).with_crease_method(self.crease_method)
+    }
+}
 
 /// Scheme names on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -87,6 +115,9 @@ pub struct SubdivideArgs {
     /// Deng-Ma's tension.
     #[command(flatten)]
     tension: TensionArgs,
+    /// Boundary and crease options.
+    #[command(flatten)]
+    surface: SurfaceArgs,
     /// Loop on a mesh with non-triangles: triangulate every face first (over its own corners,
     /// keeping the mesh manifold: quads along the shorter valid diagonal, larger faces by ear clipping).
     #[arg(long)]
@@ -128,7 +159,7 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
     // Normals and limit positions: one more array per vertex each.
     let vertex_arrays = u64::from(args.normals) + u64::from(args.limit);
     Budget::new(&args.memory).check("subdivide", mesh.topology(), scheme, args.levels, vertex_arrays, format)?;
-    let refined = refine(&mesh, scheme, args.levels, args.limit).map_err(|e| {
+    let refined = refine(&mesh, args.surface.options(scheme), args.levels, args.limit).map_err(|e| {
         let hint = if matches!(e, subdiv_stencil::StencilError::NotTriangles { .. }) {
             " (or pass --triangulate)"
         } else {
@@ -140,19 +171,26 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
     outputs.commit()
 }
 
-/// `levels` steps of `scheme`, one at a time with a progress bar (the
-/// topology of each level is built once either way), then limit positions.
-pub fn refine(mesh: &Mesh, scheme: Scheme, levels: usize, limit: bool) -> Result<Mesh, subdiv_stencil::StencilError> {
-    let bar = progress::steps(format!("{} subdivision", scheme.name()), levels as u64);
+/// `levels` steps with `options`, one at a time with a progress bar (the
+/// topology of each level is built once either way; each level's mesh
+/// carries its decayed tags to the next), then limit positions.
+pub fn refine(
+    mesh: &Mesh,
+    options: impl Into<Options>,
+    levels: usize,
+    limit: bool,
+) -> Result<Mesh, subdiv_stencil::StencilError> {
+    let options = options.into();
+    let bar = progress::steps(format!("{} subdivision", options.scheme.name()), levels as u64);
     let mut current = std::borrow::Cow::Borrowed(mesh);
     for level in 0..levels {
         let last = level + 1 == levels;
-        current = std::borrow::Cow::Owned(subdiv_stencil::subdivide(&current, scheme, 1, limit && last)?);
+        current = std::borrow::Cow::Owned(subdiv_stencil::subdivide(&current, options, 1, limit && last)?);
         bar.inc(1);
     }
     bar.finish_and_clear();
     if levels == 0 {
-        return subdiv_stencil::subdivide(mesh, scheme, 0, limit);
+        return subdiv_stencil::subdivide(mesh, options, 0, limit);
     }
     Ok(current.into_owned())
 }
