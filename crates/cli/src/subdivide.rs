@@ -160,10 +160,12 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
     let vertex_arrays = u64::from(args.normals) + u64::from(args.limit);
     Budget::new(&args.memory).check("subdivide", mesh.topology(), scheme, args.levels, vertex_arrays, format)?;
     let refined = refine(&mesh, args.surface.options(scheme), args.levels, args.limit).map_err(|e| {
-        let hint = if matches!(e, subdiv_stencil::StencilError::NotTriangles { .. }) {
-            " (or pass --triangulate)"
-        } else {
-            ""
+        let hint = match e {
+            subdiv_stencil::StencilError::NotTriangles { .. } => " (or pass --triangulate)",
+            subdiv_stencil::StencilError::TagsNotSupported { .. } => {
+                " (catmull-clark and loop take every crease and corner tag, doo-sabin infinitely sharp ones)"
+            }
+            _ => "",
         };
         bad_input(anyhow!("{input}: {e}{hint}"))
     })?;
