@@ -440,9 +440,10 @@ fn check(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>) -> Result<(), IoErro
         }
         if !format.keeps_f64() {
             if let Some((i, uv)) = uvs.values.iter().enumerate().find(|(_, uv)| !uv.as_vec2().is_finite()) {
-                return Err(
-                    ctx.invalid(format!("texture coordinate {i} ({uv}) does not fit the 32-bit floats of {format}"))
-                );
+                return Err(ctx.invalid(format!(
+                    "texture coordinate {i} ({:?}, {:?}) does not fit the 32-bit floats of {format}",
+                    uv.x, uv.y
+                )));
             }
         }
     }

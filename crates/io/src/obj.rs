@@ -367,10 +367,11 @@ fn read_tag<'a>(
     let (Some(ni), Some(nf), Some(ns), None) = (parts.next(), parts.next(), parts.next(), parts.next()) else {
         return Err(bad(format!("tag '{shown}': counts '{}' are not NI/NF/NS", show(counts))));
     };
+    // Messages are formatted only on error: a tag line can hold millions of values.
     let count = |t: &[u8], what: &str| -> Result<usize, IoError> {
-        parse_bounded(t, &format!("tag '{shown}': {what} count")).map_err(bad)
+        parse_bounded(t, what).map_err(|m| bad(format!("tag '{shown}': {m}")))
     };
-    let (ni, nf, ns) = (count(ni, "integer")?, count(nf, "float")?, count(ns, "string")?);
+    let (ni, nf, ns) = (count(ni, "integer count")?, count(nf, "float count")?, count(ns, "string count")?);
     // The counts are checked against the tokens the line has before anything else.
     let values: Vec<&[u8]> = toks.collect();
     let declared = ni.checked_add(nf).and_then(|c| c.checked_add(ns));
@@ -392,7 +393,7 @@ fn read_tag<'a>(
         })
         .collect::<Result<_, _>>()?;
     let vertex = |t: &[u8]| -> Result<u32, IoError> {
-        parse_bounded::<u32>(t, &format!("tag '{shown}': vertex index")).map_err(bad)
+        parse_bounded::<u32>(t, "vertex index").map_err(|m| bad(format!("tag '{shown}': {m}")))
     };
     match name {
         b"crease" => {

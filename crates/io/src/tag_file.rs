@@ -142,6 +142,15 @@ struct Entries<T> {
     convert: fn(&[Value]) -> Result<T, String>,
 }
 
+// Not derived: a derive would ask `T: Copy`, and only the function pointer is copied.
+impl<T> Clone for Entries<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T> Copy for Entries<T> {}
+
 impl<'de, T> DeserializeSeed<'de> for Entries<T> {
     type Value = Vec<T>;
 
@@ -159,15 +168,43 @@ impl<'de, T> Visitor<'de> for Entries<T> {
 
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<T>, A::Error> {
         let mut out = Vec::new();
-        while let Some(entry) = seq.next_element::<Value>()? {
-            let converted = match &entry {
-                Value::Array(items) => (self.convert)(items),
-                other => Err(format!("expected {}, found {}", self.shape, brief(other))),
-            };
-            let index = out.len();
-            out.push(converted.map_err(|message| A::Error::custom(format!("{}[{index}]: {message}", self.key)))?);
+        while let Some(tag) = seq.next_element_seed(Entry { entries: self, index: out.len() })? {
+            out.push(tag);
         }
         Ok(out)
+    }
+}
+
+/// One entry, checked where it is parsed, so that an error carries the
+/// entry's own line (serde_json gives an error the position of the value
+/// being deserialized when it is raised).
+struct Entry<T> {
+    entries: Entries<T>,
+    index: usize,
+}
+
+impl<'de, T> DeserializeSeed<'de> for Entry<T> {
+    type Value = T;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<T, D::Error> {
+        deserializer.deserialize_seq(self)
+    }
+}
+
+impl<'de, T> Visitor<'de> for Entry<T> {
+    type Value = T;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} for {}[{}]", self.entries.shape, self.entries.key, self.index)
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<T, A::Error> {
+        let mut items = Vec::with_capacity(3);
+        while let Some(item) = seq.next_element::<Value>()? {
+            items.push(item);
+        }
+        (self.entries.convert)(&items)
+            .map_err(|message| A::Error::custom(format!("{}[{}]: {message}", self.entries.key, self.index)))
     }
 }
 
