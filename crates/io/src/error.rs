@@ -152,6 +152,75 @@ impl IoError {
     }
 }
 
+/// Something a reader dropped or did not apply instead of failing: the mesh
+/// is read, and the caller decides whether to tell the user
+/// ([`crate::read_mesh_with_warnings`]). The message names the file and,
+/// for text formats, the line, like an [`IoError`]'s.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum ReadWarning {
+    /// Some faces have texture coordinates and others have none, so there
+    /// is no face-varying channel to build: the mesh is read without
+    /// texture coordinates. This is what an OBJ exported from several
+    /// objects looks like when only some of them have a UV map (Blender
+    /// writes `f v/vt/vn` for those and `f v//vn` for the others).
+    UvsDropped {
+        /// The file being read.
+        path: PathBuf,
+        /// 1-based line of the first face that breaks the pattern (text formats only).
+        line: Option<usize>,
+        /// Which faces or primitives have them and which do not.
+        reason: String,
+    },
+    /// OBJ tag lines (`t NAME …`) whose name is neither `crease` nor
+    /// `corner`: OpenSubdiv's `interpolateboundary`, `creasemethod`, `hole`,
+    /// `facevaryingpropagatecorners`, …. They are well formed but not applied
+    /// (the options they set are the caller's, e.g. command-line flags).
+    TagsIgnored {
+        /// The file being read.
+        path: PathBuf,
+        /// 1-based line of the first such tag.
+        line: usize,
+        /// How many such lines there are.
+        lines: usize,
+        /// Their distinct names in order of first appearance, at most
+        /// [`ReadWarning::NAMES_KEPT`] of them.
+        names: Vec<String>,
+    },
+}
+
+impl ReadWarning {
+    /// How many distinct ignored tag names [`ReadWarning::TagsIgnored`] keeps.
+    pub const NAMES_KEPT: usize = 8;
+
+    /// The file the warning is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            ReadWarning::UvsDropped { path, .. } | ReadWarning::TagsIgnored { path, .. } => path,
+        }
+    }
+}
+
+impl fmt::Display for ReadWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ReadWarning::UvsDropped { path, line, reason } => {
+                write!(f, "{}: texture coordinates dropped: {reason}", Location(path, *line))
+            }
+            ReadWarning::TagsIgnored { path, line, lines, names } => {
+                let more = if *lines > names.len() && names.len() == Self::NAMES_KEPT { ", …" } else { "" };
+                let plural = if *lines == 1 { "line" } else { "lines" };
+                write!(
+                    f,
+                    "{}: {lines} tag {plural} not applied ({}{more}): only crease and corner tags are read",
+                    Location(path, Some(*line)),
+                    names.join(", ")
+                )
+            }
+        }
+    }
+}
+
 /// `path` or `path:line`, for messages.
 struct Location<'a>(&'a Path, Option<usize>);
 

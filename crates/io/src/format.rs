@@ -93,9 +93,33 @@ impl Format {
     }
 
     /// True when vertex order and unreferenced vertices survive a write and
-    /// read (all but STL, which stores corners per triangle and is welded on read).
+    /// read (all but STL, which stores corners per triangle and is welded on
+    /// read). glTF keeps them too, but a mesh with texture-coordinate seams
+    /// gains vertices there ([`Format::splits_uv_seams`]).
     pub fn keeps_vertices(self) -> bool {
         !matches!(self, Format::StlAscii | Format::StlBinary)
+    }
+
+    /// True when the writer writes texture coordinates ([`crate::MeshView::uvs`]):
+    /// OBJ (`vt`, seams kept), PLY (per vertex, or per face corner when
+    /// there are seams) and glTF (`TEXCOORD_0`, vertices split at seams).
+    /// OFF and STL leave them out (OFF's `ST` variant is read, not written).
+    pub fn carries_uvs(self) -> bool {
+        matches!(self, Format::Obj | Format::PlyAscii | Format::PlyBinary | Format::Gltf | Format::Glb)
+    }
+
+    /// True when the writer splits vertices where the texture coordinates
+    /// have seams (glTF: its attributes are per vertex), so that a mesh with
+    /// seams reads back with more vertices, cut open along the seams.
+    pub fn splits_uv_seams(self) -> bool {
+        matches!(self, Format::Gltf | Format::Glb)
+    }
+
+    /// True when the writer writes crease and corner tags
+    /// ([`crate::MeshView::tags`]): OBJ only, as OpenSubdiv's `t` lines. No
+    /// other format has a standard place for them (glTF included).
+    pub fn carries_tags(self) -> bool {
+        matches!(self, Format::Obj)
     }
 }
 

@@ -16,6 +16,17 @@
 //! past its own primitive's vertices is an error here rather than passed
 //! through.
 //!
+//! `TEXCOORD_0` (`FLOAT`, or `UNSIGNED_BYTE` / `UNSIGNED_SHORT` normalized,
+//! as the spec allows) becomes [`PolygonSoup::uvs`], one value per vertex of
+//! its accessor (an accessor shared by primitives is read once); a primitive
+//! whose `TEXCOORD_0` count differs from its `POSITION` count is an error. When
+//! some triangle primitives have `TEXCOORD_0` and others do not, or one is
+//! stored in another type, the mesh is read without texture coordinates
+//! ([`ReadWarning::UvsDropped`]). glTF puts the origin of texture space at the
+//! top left, OBJ and PLY at the bottom left: `v` is flipped (`1 − v`) on
+//! read and on write, as Blender's importer and exporter do, so that a
+//! texture maps the same way in every format.
+//!
 //! Buffers come from the GLB `BIN` chunk, from `data:` URIs, or from files
 //! named by *relative* URIs that resolve (percent-decoded, symbolic links
 //! followed) to a regular file inside the glTF file's own directory; at most
@@ -35,21 +46,29 @@
 //! (normalised, as glTF requires; a zero normal is written as +Z), `u32`
 //! indices, and the `min`/`max` bounds the spec requires on `POSITION`.
 //! `.glb` holds the buffer in its `BIN` chunk, `.gltf` embeds it as a base64
-//! `data:` URI, so either output is a single file.
+//! `data:` URI, so either output is a single file. Texture coordinates are
+//! written as `TEXCOORD_0` (`f32`). glTF attributes are per vertex, so where a
+//! vertex has several texture coordinates (a seam) it is split, as every
+//! exporter does: the vertices keep their order and positions, each vertex
+//! gets the coordinate of its first corner, and a copy of it is appended for
+//! every other coordinate its corners use (value indices, not values, tell
+//! them apart). Such a file reads back with more vertices, cut open along the
+//! seams ([`Format::splits_uv_seams`]). Crease and corner tags are not written:
+//! glTF has no standard place for them ([`Format::carries_tags`]).
 
-use glam::{DVec3, Vec3};
+use glam::{DVec2, DVec3, Vec2, Vec3};
 use serde_json::json;
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
-use subdiv_mesh::{FaceList, PolygonSoup};
+use subdiv_mesh::{FaceList, FaceVarying, PolygonSoup};
 
 use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::buffer::Source;
 use ::gltf::mesh::{Mode, Semantic};
 use ::gltf::{Accessor, Document};
 
-use crate::error::{Ctx, IoError};
+use crate::error::{Ctx, IoError, ReadWarning};
 use crate::text::{check_text, is_blank, strip_bom};
 use crate::{base64, fan, Format, MeshView};
 
@@ -324,6 +343,69 @@ fn index_data<'b>(
     Ok((accessor_data(accessor, buffers, ctx)?, size))
 }
 
+/// How a `TEXCOORD_0` accessor stores its values, if it is one the spec
+/// allows (glTF 2.0 §3.7.2.1: `FLOAT`, normalized `UNSIGNED_BYTE` or
+/// `UNSIGNED_SHORT`, as `VEC2`); otherwise why not.
+fn texcoord_type(accessor: &Accessor<'_>) -> Result<DataType, String> {
+    match (accessor.dimensions(), accessor.data_type(), accessor.normalized()) {
+        (Dimensions::Vec2, DataType::F32, false) => Ok(DataType::F32),
+        (Dimensions::Vec2, t @ (DataType::U8 | DataType::U16), true) => Ok(t),
+        (d, t, normalized) => Err(format!(
+            "TEXCOORD_0 accessor {} is {d:?} {t:?}{} (only VEC2 FLOAT and normalized UNSIGNED_BYTE or \
+             UNSIGNED_SHORT are read)",
+            accessor.index(),
+            if normalized { " normalized" } else { "" }
+        )),
+    }
+}
+
+/// The texture coordinates of an accessor that passed [`texcoord_type`],
+/// `v` flipped from glTF's top-left origin to the bottom-left one of OBJ.
+fn read_texcoords<'a>(elements: &'a Elements<'_>, ty: DataType) -> impl Iterator<Item = DVec2> + 'a {
+    (0..elements.count).map(move |k| {
+        let [u, v] = match ty {
+            DataType::U8 => elements.get::<2>(k).map(|c| f64::from(c) / 255.0),
+            DataType::U16 => {
+                let b: [u8; 4] = elements.get(k);
+                [0, 2].map(|o| f64::from(u16::from_le_bytes([b[o], b[o + 1]])) / 65535.0)
+            }
+            _ => {
+                let b: [u8; 8] = elements.get(k);
+                [0, 4].map(|o| f64::from(f32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]])))
+            }
+        };
+        DVec2::new(u, 1.0 - v)
+    })
+}
+
+/// The texture coordinates of the primitives read so far: the values of
+/// every `TEXCOORD_0` accessor (each read once) and one index per corner,
+/// while every primitive has them.
+#[derive(Default)]
+struct UvChannel {
+    values: Vec<DVec2>,
+    indices: Vec<u32>,
+    /// First value of every accessor read so far.
+    first_value: HashMap<usize, u32>,
+    /// A primitive that has them and one that has not, by name.
+    with: Option<String>,
+    without: Option<String>,
+    /// Why they are dropped, once they are.
+    dropped: Option<String>,
+}
+
+impl UvChannel {
+    fn finish(self, path: &Path) -> (Option<FaceVarying>, Option<ReadWarning>) {
+        let reason = match (self.dropped, self.with, self.without) {
+            (Some(reason), _, _) => reason,
+            (None, Some(with), Some(without)) => format!("{without} has no TEXCOORD_0, but {with} has"),
+            (None, Some(_), None) => return (Some(FaceVarying { values: self.values, indices: self.indices }), None),
+            (None, None, _) => return (None, None),
+        };
+        (None, Some(ReadWarning::UvsDropped { path: path.to_path_buf(), line: None, reason }))
+    }
+}
+
 fn read_indices(elements: &Elements<'_>, size: usize) -> Vec<u32> {
     (0..elements.count)
         .map(|k| match size {
@@ -358,7 +440,11 @@ fn mode_name(mode: Mode) -> &'static str {
     }
 }
 
-pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Result<PolygonSoup, IoError> {
+pub(crate) fn read(
+    bytes: &[u8],
+    ctx: Ctx<'_>,
+    base_dir: Option<&Path>,
+) -> Result<(PolygonSoup, Vec<ReadWarning>), IoError> {
     let glb = bytes.starts_with(GLB_MAGIC);
     let (json, bin) = if glb {
         split_glb(bytes, ctx)?
@@ -400,6 +486,7 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Resul
     let mut faces = FaceList::new();
     // First vertex of every POSITION accessor read so far.
     let mut first_vertex: HashMap<usize, u32> = HashMap::new();
+    let mut uvs = UvChannel::default();
     let mut any_triangles = false;
     let mut skipped: Vec<&'static str> = Vec::new();
     for mesh in doc.meshes() {
@@ -420,6 +507,31 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Resul
             let points = position_data(&accessor, &buffers, ctx)?;
             let n = points.count;
             let index_elements = primitive.indices().map(|a| index_data(&a, &buffers, ctx)).transpose()?;
+            let texcoords = match primitive.get(&Semantic::TexCoords(0)) {
+                None => {
+                    uvs.without.get_or_insert_with(|| where_.clone());
+                    None
+                }
+                Some(accessor) => {
+                    uvs.with.get_or_insert_with(|| where_.clone());
+                    match texcoord_type(&accessor) {
+                        Err(reason) => {
+                            uvs.dropped.get_or_insert(format!("{where_}: {reason}"));
+                            None
+                        }
+                        Ok(ty) => {
+                            let elements = accessor_data(&accessor, &buffers, ctx)?;
+                            if elements.count != n {
+                                return Err(ctx.parse(
+                                    None,
+                                    format!("{where_}: TEXCOORD_0 has {} elements, POSITION {n}", elements.count),
+                                ));
+                            }
+                            Some((accessor.index(), elements, ty))
+                        }
+                    }
+                }
+            };
             let index_count = index_elements.as_ref().map_or(n, |(e, _)| e.count);
             let triangle_count = match mode {
                 Mode::Triangles if index_count % 3 != 0 => {
@@ -455,6 +567,26 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Resul
             if let Some(&bad) = indices.iter().find(|&&v| v as usize >= n) {
                 return Err(ctx.parse(None, format!("{where_}: index {bad} is out of range ({n} vertices)")));
             }
+            // Texture coordinates are kept only while every primitive has them.
+            let uv_base = match texcoords {
+                Some((index, elements, ty)) if uvs.without.is_none() && uvs.dropped.is_none() => {
+                    Some(match uvs.first_value.get(&index) {
+                        Some(&base) => base,
+                        None => {
+                            let base = u32::try_from(uvs.values.len() + n)
+                                .map(|_| uvs.values.len() as u32)
+                                .map_err(|_| ctx.unsupported("more than 2^32 texture coordinates"))?;
+                            uvs.values.extend(read_texcoords(&elements, ty));
+                            uvs.first_value.insert(index, base);
+                            base
+                        }
+                    })
+                }
+                _ => {
+                    uvs.indices = Vec::new();
+                    None
+                }
+            };
             for t in 0..triangle_count {
                 let corners = match mode {
                     Mode::Triangles => [3 * t, 3 * t + 1, 3 * t + 2],
@@ -463,26 +595,77 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>, base_dir: Option<&Path>) -> Resul
                     // Fan triangle i is (p_{i+1}, p_{i+2}, p_0).
                     _ => [t + 1, t + 2, 0],
                 };
-                faces.push(&corners.map(|k| base + indices[k]));
+                let corners = corners.map(|k| indices[k]);
+                faces.push(&corners.map(|v| base + v));
+                if let Some(uv_base) = uv_base {
+                    uvs.indices.extend(corners.map(|v| uv_base + v));
+                }
             }
         }
     }
     if !any_triangles && !skipped.is_empty() {
         return Err(ctx.unsupported(format!("no triangle primitives (found: {})", skipped.join(", "))));
     }
-    Ok(PolygonSoup::new(positions, faces))
+    let (uvs, warning) = uvs.finish(ctx.path);
+    Ok((PolygonSoup { uvs, ..PolygonSoup::new(positions, faces) }, warning.into_iter().collect()))
+}
+
+/// A mesh with per-vertex texture coordinates: vertices split where their
+/// corners use different values (see the module doc).
+struct Split {
+    /// The vertices that are copies, in order: the vertex each copies.
+    copies: Vec<u32>,
+    /// The faces on the split vertices.
+    faces: FaceList,
+    /// The texture coordinate index of every vertex, copies included
+    /// (`None` for a vertex no face uses).
+    uv_of_vertex: Vec<Option<u32>>,
+}
+
+fn split_at_seams(faces: &FaceList, vertex_count: usize, uvs: &FaceVarying) -> Split {
+    let mut uv_of_vertex: Vec<Option<u32>> = vec![None; vertex_count];
+    let mut copy_of: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut copies = Vec::new();
+    let corners = (faces.indices().iter().zip(&uvs.indices))
+        .map(|(&v, &uv)| match uv_of_vertex[v as usize] {
+            None => {
+                uv_of_vertex[v as usize] = Some(uv);
+                v
+            }
+            Some(first) if first == uv => v,
+            Some(_) => *copy_of.entry((v, uv)).or_insert_with(|| {
+                copies.push(v);
+                uv_of_vertex.push(Some(uv));
+                (uv_of_vertex.len() - 1) as u32
+            }),
+        })
+        .collect();
+    Split { copies, faces: FaceList::from_raw(faces.offsets().to_vec(), corners), uv_of_vertex }
 }
 
 pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, ctx: Ctx<'_>) -> Result<Vec<u8>, IoError> {
-    let positions: Vec<Vec3> = mesh.positions.iter().map(|p| p.as_vec3()).collect();
+    let mut positions: Vec<Vec3> = mesh.positions.iter().map(|p| p.as_vec3()).collect();
     if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
         return Err(
             ctx.invalid(format!("glTF needs finite coordinates within f32 range; vertex {i} is {}", mesh.positions[i]))
         );
     }
-    let normals: Option<Vec<Vec3>> =
+    let mut normals: Option<Vec<Vec3>> =
         mesh.normals.map(|ns| ns.iter().map(|n| n.as_vec3().try_normalize().unwrap_or(Vec3::Z)).collect());
-    let indices: Vec<u32> = mesh.faces.iter().flat_map(fan).flatten().collect();
+    let split = mesh.uvs.map(|uvs| split_at_seams(mesh.faces, mesh.positions.len(), uvs));
+    let faces = split.as_ref().map_or(mesh.faces, |s| &s.faces);
+    let indices: Vec<u32> = faces.iter().flat_map(fan).flatten().collect();
+    let texcoords: Option<Vec<Vec2>> = split.as_ref().zip(mesh.uvs).map(|(split, uvs)| {
+        for &v in &split.copies {
+            positions.push(positions[v as usize]);
+            if let Some(normals) = &mut normals {
+                normals.push(normals[v as usize]);
+            }
+        }
+        // Flipped to glTF's top-left origin; a vertex no face uses gets (0, 0).
+        let uv = |i: Option<u32>| i.map_or(DVec2::new(0.0, 1.0), |i| uvs.values[i as usize]);
+        split.uv_of_vertex.iter().map(|&i| uv(i)).map(|p| Vec2::new(p.x as f32, (1.0 - p.y) as f32)).collect()
+    });
 
     let mut bin: Vec<u8> = Vec::new();
     let mut views = Vec::new();
@@ -507,6 +690,13 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, ctx: Ctx<'_>) -> Result<V
             let view = add_view(&vec3_bytes(normals), 34962);
             accessors.push(json!({"bufferView": view, "componentType": 5126, "count": normals.len(), "type": "VEC3"}));
             attributes.insert("NORMAL".into(), json!(accessors.len() - 1));
+        }
+        if let Some(texcoords) = &texcoords {
+            let bytes: Vec<u8> = texcoords.iter().flat_map(|p| p.to_array()).flat_map(f32::to_le_bytes).collect();
+            let view = add_view(&bytes, 34962);
+            accessors
+                .push(json!({"bufferView": view, "componentType": 5126, "count": texcoords.len(), "type": "VEC2"}));
+            attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
         }
         if indices.is_empty() {
             // No faces: keep the points (glTF has no empty index accessors).

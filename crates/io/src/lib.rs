@@ -72,6 +72,7 @@ mod obj;
 mod off;
 mod ply;
 mod stl;
+mod tag_file;
 mod text;
 
 use glam::DVec3;
@@ -79,9 +80,10 @@ use std::io::Read;
 use std::path::Path;
 
 pub use atomic::{commit_all, remove_staged_files, stage_bytes, StagedFile};
-pub use error::IoError;
+pub use error::{IoError, ReadWarning};
 pub use format::Format;
-pub use subdiv_mesh::{FaceGroups, FaceList, PolygonSoup};
+pub use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, PolygonSoup, TagList, VertexTag};
+pub use tag_file::{parse_tag_json, read_tag_file, TAG_FILE_LIMIT};
 
 use error::Ctx;
 
@@ -107,6 +109,21 @@ pub fn read_mesh(path: &Path) -> Result<PolygonSoup, IoError> {
 /// # Errors
 /// Those of [`read_mesh`].
 pub fn read_mesh_with_progress(path: &Path, progress: &mut dyn FnMut(u64, u64)) -> Result<PolygonSoup, IoError> {
+    read_mesh_with_warnings(path, progress).map(|(soup, _)| soup)
+}
+
+/// [`read_mesh_with_progress`], also returning what the reader dropped or
+/// did not apply instead of failing ([`ReadWarning`]: texture coordinates
+/// on only some faces, OBJ tag lines other than creases and corners), for
+/// the caller to print. [`read_mesh`] and [`read_mesh_with_progress`] read
+/// the same soup and leave the warnings out.
+///
+/// # Errors
+/// Those of [`read_mesh`].
+pub fn read_mesh_with_warnings(
+    path: &Path,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<(PolygonSoup, Vec<ReadWarning>), IoError> {
     let format = Format::from_path(path)?;
     let bytes = read_file(path, None, progress)?;
     read_bytes(&bytes, format, path, Some(path.parent().unwrap_or(Path::new("."))))
@@ -200,18 +217,36 @@ fn file_kind(file_type: std::fs::FileType) -> &'static str {
 /// [`IoError::RefusedUri`] when the bytes do not follow the format or use
 /// what is not read.
 pub fn read_mesh_from_bytes(bytes: &[u8], format_hint: Format, name: &str) -> Result<PolygonSoup, IoError> {
+    read_mesh_from_bytes_with_warnings(bytes, format_hint, name).map(|(soup, _)| soup)
+}
+
+/// [`read_mesh_from_bytes`], also returning the reader's [`ReadWarning`]s
+/// (see [`read_mesh_with_warnings`]).
+///
+/// # Errors
+/// Those of [`read_mesh_from_bytes`].
+pub fn read_mesh_from_bytes_with_warnings(
+    bytes: &[u8],
+    format_hint: Format,
+    name: &str,
+) -> Result<(PolygonSoup, Vec<ReadWarning>), IoError> {
     read_bytes(bytes, format_hint, Path::new(name), None)
 }
 
-fn read_bytes(bytes: &[u8], format: Format, path: &Path, base_dir: Option<&Path>) -> Result<PolygonSoup, IoError> {
+fn read_bytes(
+    bytes: &[u8],
+    format: Format,
+    path: &Path,
+    base_dir: Option<&Path>,
+) -> Result<(PolygonSoup, Vec<ReadWarning>), IoError> {
     let ctx = Ctx::new(path);
-    let soup = match format {
-        Format::Obj => obj::read(bytes, ctx),
-        Format::Off => off::read(bytes, ctx),
-        Format::PlyAscii | Format::PlyBinary => ply::read(bytes, ctx),
-        Format::StlAscii | Format::StlBinary => stl::read(bytes, ctx),
-        Format::Gltf | Format::Glb => gltf::read(bytes, ctx, base_dir),
-    }?;
+    let (soup, warnings) = match format {
+        Format::Obj => obj::read(bytes, ctx)?,
+        Format::Off => (off::read(bytes, ctx)?, Vec::new()),
+        Format::PlyAscii | Format::PlyBinary => (ply::read(bytes, ctx)?, Vec::new()),
+        Format::StlAscii | Format::StlBinary => (stl::read(bytes, ctx)?, Vec::new()),
+        Format::Gltf | Format::Glb => gltf::read(bytes, ctx, base_dir)?,
+    };
     if soup.positions.is_empty() && soup.faces.is_empty() {
         return Err(ctx.empty());
     }
@@ -220,12 +255,16 @@ fn read_bytes(bytes: &[u8], format: Format, path: &Path, base_dir: Option<&Path>
     if u32::try_from(soup.faces.corner_count()).is_err() {
         return Err(ctx.unsupported(format!("{} face corners (at most 2^32 - 1 are read)", soup.faces.corner_count())));
     }
-    Ok(soup)
+    Ok((soup, warnings))
 }
 
-/// A mesh to write: borrowed positions, faces and optional per-vertex normals.
+/// A mesh to write: borrowed positions, faces and optional per-vertex
+/// normals, texture coordinates and sharpness tags.
 ///
-/// Faces index `positions`; `normals`, when given, has one entry per position.
+/// Faces index `positions`; `normals`, when given, has one entry per
+/// position; `uvs`, when given, one index per face corner. A writer writes
+/// what its format can hold ([`Format::carries_uvs`],
+/// [`Format::carries_tags`]) and leaves the rest out.
 #[derive(Clone, Copy, Debug)]
 pub struct MeshView<'a> {
     /// Vertex positions.
@@ -235,23 +274,50 @@ pub struct MeshView<'a> {
     /// Optional per-vertex normals (written by OBJ, OFF, PLY and glTF; STL
     /// computes facet normals instead).
     pub normals: Option<&'a [DVec3]>,
+    /// Optional texture coordinates, one channel (written by OBJ, PLY and
+    /// glTF: [`Format::carries_uvs`]).
+    pub uvs: Option<&'a FaceVarying>,
+    /// Optional crease and corner tags by vertex index (written by OBJ only:
+    /// [`Format::carries_tags`]).
+    pub tags: Option<&'a TagList>,
 }
 
 impl<'a> MeshView<'a> {
-    /// A view of positions and faces, without normals.
+    /// A view of positions and faces, without normals, texture coordinates or tags.
     pub fn new(positions: &'a [DVec3], faces: &'a FaceList) -> Self {
-        Self { positions, faces, normals: None }
+        Self { positions, faces, normals: None, uvs: None, tags: None }
     }
 
     /// The same view with per-vertex normals.
     pub fn with_normals(self, normals: &'a [DVec3]) -> Self {
         Self { normals: Some(normals), ..self }
     }
+
+    /// The same view with texture coordinates (one value index per face corner).
+    pub fn with_uvs(self, uvs: &'a FaceVarying) -> Self {
+        Self { uvs: Some(uvs), ..self }
+    }
+
+    /// The same view with crease and corner tags.
+    pub fn with_tags(self, tags: &'a TagList) -> Self {
+        Self { tags: Some(tags), ..self }
+    }
 }
 
 impl<'a> From<&'a PolygonSoup> for MeshView<'a> {
+    /// Positions, faces, the soup's texture coordinates (if any) and its tags
+    /// (if any).
     fn from(soup: &'a PolygonSoup) -> Self {
-        MeshView::new(&soup.positions, &soup.faces)
+        let view = MeshView::new(&soup.positions, &soup.faces);
+        let view = match &soup.uvs {
+            Some(uvs) => view.with_uvs(uvs),
+            None => view,
+        };
+        if soup.tags.is_empty() {
+            view
+        } else {
+            view.with_tags(&soup.tags)
+        }
     }
 }
 
@@ -334,7 +400,10 @@ fn encode(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>, out: &mut impl std:
 }
 
 /// What every writer relies on: indices in range, one normal per position,
-/// and at least three corners per face where faces become triangles.
+/// at least three corners per face where faces become triangles, and — for
+/// the formats that write them — one texture coordinate index in range per
+/// corner, tags on existing vertices, and texture coordinates that fit the
+/// `f32` of glTF.
 fn check(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>) -> Result<(), IoError> {
     let n = mesh.positions.len();
     if let Some(normals) = mesh.normals {
@@ -354,6 +423,37 @@ fn check(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>) -> Result<(), IoErro
         // f32 formats: a finite f64 beyond f32::MAX would be written as inf.
         if let Some((v, p)) = mesh.positions.iter().enumerate().find(|(_, p)| !p.as_vec3().is_finite()) {
             return Err(ctx.invalid(format!("vertex {v} at {p} does not fit the 32-bit floats of {format}")));
+        }
+    }
+    if let Some(uvs) = mesh.uvs.filter(|_| format.carries_uvs()) {
+        let corners = mesh.faces.corner_count();
+        if uvs.indices.len() != corners {
+            return Err(
+                ctx.invalid(format!("{} texture coordinate indices for {corners} face corners", uvs.indices.len()))
+            );
+        }
+        let values = uvs.values.len();
+        if let Some((corner, &i)) = uvs.indices.iter().enumerate().find(|(_, &i)| i as usize >= values) {
+            return Err(
+                ctx.invalid(format!("face corner {corner} refers to texture coordinate {i}, but there are {values}"))
+            );
+        }
+        if !format.keeps_f64() {
+            if let Some((i, uv)) = uvs.values.iter().enumerate().find(|(_, uv)| !uv.as_vec2().is_finite()) {
+                return Err(ctx.invalid(format!(
+                    "texture coordinate {i} ({:?}, {:?}) does not fit the 32-bit floats of {format}",
+                    uv.x, uv.y
+                )));
+            }
+        }
+    }
+    if let Some(tags) = mesh.tags.filter(|_| format.carries_tags()) {
+        let out_of_range = |v: u32| v as usize >= n;
+        if let Some(t) = tags.creases.iter().find(|t| out_of_range(t.a) || out_of_range(t.b)) {
+            return Err(ctx.invalid(format!("crease tag {}-{} refers to a vertex beyond the {n} vertices", t.a, t.b)));
+        }
+        if let Some(t) = tags.corners.iter().find(|t| out_of_range(t.vertex)) {
+            return Err(ctx.invalid(format!("corner tag {} refers to a vertex beyond the {n} vertices", t.vertex)));
         }
     }
     Ok(())

@@ -1,13 +1,42 @@
 //! Wavefront OBJ, read and written by hand.
 //!
-//! Read: `v x y z [w]` (further columns such as vertex colours ignored), `f`
-//! with `v`, `v/vt`, `v/vt/vn` or `v//vn` corners and negative (relative)
-//! indices, `g`/`o` names recorded as face groups; `vt`, `vn`, `s`, `usemtl`,
-//! `mtllib`, `l`, `p` and unknown statements are ignored. `#` starts a comment
-//! anywhere, `\` at the end of a line continues it, CRLF is accepted, a
-//! UTF-8 byte-order mark is skipped. UTF-16 and binary data are reported as
-//! such (from the first 4 KiB, and from any statement keyword holding a
-//! control character), not read as unknown statements.
+//! Read: `v x y z [w]` (further columns such as vertex colours ignored),
+//! `vt u [v] [w]` (texture coordinates; `v` defaults to 0 as the OBJ spec
+//! says, `w` is ignored), `f` with `v`, `v/vt`, `v/vt/vn` or `v//vn` corners
+//! and negative (relative) indices for `v` and `vt`, `g`/`o` names recorded
+//! as face groups, and OpenSubdiv's tag lines (below); `vn` (normals are
+//! recomputed), `s`, `usemtl`, `mtllib`, `l`, `p` and unknown statements are
+//! ignored. `#` starts a comment anywhere, `\` at the end of a line
+//! continues it, CRLF is accepted, a UTF-8 byte-order mark is skipped.
+//! UTF-16 and binary data are reported as such (from the first 4 KiB, and
+//! from any statement keyword holding a control character), not read as
+//! unknown statements.
+//!
+//! Texture coordinates become [`PolygonSoup::uvs`]: the `vt` pool and, per
+//! face corner, its 0-based `vt` index, when every face gives them. A face
+//! that gives them for some corners only is a parse error; a file in which
+//! whole faces have them and others do not (several exported objects, only
+//! some with a UV map) is read without them, with
+//! [`ReadWarning::UvsDropped`]. `vt` lines that no face uses give no channel.
+//!
+//! Tags ([`PolygonSoup::tags`]), as OpenSubdiv's regression shapes write
+//! them (`regression/common/shape_utils.cpp`): `t NAME NI/NF/NS` followed by
+//! NI integers, NF floats and NS strings.
+//! - `t crease NI/NF/0 a b [c d …] s…`: the integers are vertex pairs
+//!   (0-based), each pair an edge: `t crease 4/1/0 a b c d s` tags the edges
+//!   a-b and c-d, not a chain. NF is 1 (one sharpness for every pair) or
+//!   NI/2 (pair k gets float k).
+//! - `t corner NI/NF/0 v… s…`: corner sharpness of vertices (0-based); NF is
+//!   1 or NI.
+//! - Any other name (`interpolateboundary`, `creasemethod`, `hole`, …) is
+//!   checked for form and not applied ([`ReadWarning::TagsIgnored`]).
+//!
+//! A `t` line whose counts do not match its values, a crease with an odd
+//! number of integers, a float count other than those above, a value that is
+//! not a number, or a vertex index that is negative or beyond `u32` is a
+//! parse error naming the line. Sharpness is read as `f32` (as OpenSubdiv
+//! stores it) and passed through unchecked: a negative or NaN value, or a
+//! pair that is not an edge, is for the validator (`subdiv_mesh::Tags`).
 //!
 //! Not `tobj`: it renumbers vertices per model in order of first use and
 //! drops unreferenced ones, which loses the input vertex order (the order
@@ -15,18 +44,22 @@
 //! validator must see.
 //!
 //! Write: `v` with the shortest decimal form that parses back to the same
-//! `f64` bits, `vn` when normals are given, 1-based `f` lines (`f a//a` with
-//! normals).
+//! `f64` bits, `vn` when normals are given, `vt` (same form) when texture
+//! coordinates are given, 1-based `f` lines (`f a/t`, `f a//a` with normals,
+//! `f a/t/a` with both), then one `t crease 2/1/0 a b s` line per crease tag
+//! and one `t corner 1/1/0 v s` line per corner tag, sharpness in the
+//! shortest form that reads back to the same `f32`.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use std::collections::HashMap;
 use std::io::{self, Write};
-use subdiv_mesh::{FaceGroups, FaceList, PolygonSoup};
+use std::path::Path;
+use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, PolygonSoup, TagList, VertexTag};
 
-use crate::error::{Ctx, IoError};
+use crate::error::{Ctx, IoError, ReadWarning};
 use crate::text::{
-    check_text, is_control, parse_f64, parse_integer, show, strip_bom, strip_comment, tokens, write_f64, IntError,
-    Lines,
+    check_text, is_control, parse_bounded, parse_f64, parse_integer, show, strip_bom, strip_comment, tokens, write_f64,
+    IntError, Lines,
 };
 use crate::{Format, MeshView};
 
@@ -60,16 +93,104 @@ fn continued(line: &[u8]) -> Option<&[u8]> {
     trim_end(line).strip_suffix(b"\\")
 }
 
-pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
+/// The texture coordinates of the faces read so far, and whether every face
+/// (with corners) has them.
+#[derive(Default)]
+struct UvChannel {
+    values: Vec<DVec2>,
+    /// One per corner of the faces read so far, while all of them have
+    /// texture coordinates (cleared once a face without them is mixed in).
+    indices: Vec<u32>,
+    faces_with: usize,
+    faces_without: usize,
+    /// (face, line) of the first face with and the first without.
+    first_with: Option<(usize, usize)>,
+    first_without: Option<(usize, usize)>,
+}
+
+impl UvChannel {
+    /// Records face `face` of line `line`; `corner_uvs` is empty when the
+    /// face gives no texture coordinates.
+    fn face(&mut self, face: usize, line: usize, corner_uvs: &[u32]) {
+        if corner_uvs.is_empty() {
+            self.faces_without += 1;
+            self.first_without.get_or_insert((face, line));
+            // Mixed: the channel is lost, and its indices need not be kept.
+            self.indices = Vec::new();
+        } else {
+            self.faces_with += 1;
+            self.first_with.get_or_insert((face, line));
+            if self.faces_without == 0 {
+                self.indices.extend_from_slice(corner_uvs);
+            }
+        }
+    }
+
+    /// The channel when every face has texture coordinates; otherwise why not.
+    fn finish(self, path: &Path) -> (Option<FaceVarying>, Option<ReadWarning>) {
+        match (self.first_with, self.first_without) {
+            (None, _) => (None, None),
+            (Some(_), None) => (Some(FaceVarying { values: self.values, indices: self.indices }), None),
+            (Some((with_face, with_line)), Some((without_face, without_line))) => {
+                let (line, reason) = if with_face < without_face {
+                    let reason = format!(
+                        "face {without_face} has none, but {} faces have them (the first, face {with_face}, \
+                         on line {with_line})",
+                        self.faces_with
+                    );
+                    (without_line, reason)
+                } else {
+                    let reason = format!(
+                        "face {with_face} has them, but {} faces have none (the first, face {without_face}, \
+                         on line {without_line})",
+                        self.faces_without
+                    );
+                    (with_line, reason)
+                };
+                (None, Some(ReadWarning::UvsDropped { path: path.to_path_buf(), line: Some(line), reason }))
+            }
+        }
+    }
+}
+
+/// Tag lines read but not applied, for [`ReadWarning::TagsIgnored`].
+#[derive(Default)]
+struct IgnoredTags {
+    first_line: Option<usize>,
+    lines: usize,
+    names: Vec<String>,
+}
+
+impl IgnoredTags {
+    fn add(&mut self, name: &[u8], line: usize) {
+        self.first_line.get_or_insert(line);
+        self.lines += 1;
+        let name = show(name);
+        if self.names.len() < ReadWarning::NAMES_KEPT && !self.names.iter().any(|n| *n == name) {
+            self.names.push(name.into_owned());
+        }
+    }
+
+    fn finish(self, path: &Path) -> Option<ReadWarning> {
+        let line = self.first_line?;
+        Some(ReadWarning::TagsIgnored { path: path.to_path_buf(), line, lines: self.lines, names: self.names })
+    }
+}
+
+pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<(PolygonSoup, Vec<ReadWarning>), IoError> {
     let bytes = strip_bom(bytes);
     check_text(bytes, Format::Obj, ctx)?;
     let mut positions: Vec<DVec3> = Vec::new();
     let mut faces = FaceList::new();
+    let mut uvs = UvChannel::default();
+    let mut tags = TagList::default();
+    let mut ignored = IgnoredTags::default();
     let mut table = GroupTable::default();
     let mut face_group: Vec<u32> = Vec::new();
     let mut current_group: Option<u32> = None;
     let mut saw_group_statement = false;
     let mut corners: Vec<u32> = Vec::new();
+    let mut corner_uvs: Vec<u32> = Vec::new();
     let mut joined: Vec<u8> = Vec::new();
 
     let mut lines = Lines::new(bytes);
@@ -109,10 +230,44 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
                 }
                 positions.push(DVec3::from(c));
             }
+            b"vt" => {
+                let Some(u) = toks.next() else {
+                    return Err(ctx.truncated(n, "texture coordinate has no value"));
+                };
+                let number = |t: &[u8]| {
+                    parse_f64(t)
+                        .ok_or_else(|| ctx.parse(n, format!("texture coordinate '{}' is not a number", show(t))))
+                };
+                let u = number(u)?;
+                let v = toks.next().map_or(Ok(0.0), number)?;
+                uvs.values.push(DVec2::new(u, v));
+            }
             b"f" | b"fo" => {
                 corners.clear();
+                corner_uvs.clear();
                 for t in toks {
-                    corners.push(face_index(t, positions.len(), n, ctx)?);
+                    let mut parts = t.split(|&b| b == b'/');
+                    let v = parts.next().unwrap_or(t);
+                    corners.push(obj_index(v, t, Element::Vertex, positions.len(), n, ctx)?);
+                    if let Some(vt) = parts.next().filter(|vt| !vt.is_empty()) {
+                        corner_uvs.push(obj_index(vt, t, Element::Texture, uvs.values.len(), n, ctx)?);
+                    }
+                }
+                if !corner_uvs.is_empty() && corner_uvs.len() != corners.len() {
+                    return Err(ctx.parse(
+                        n,
+                        format!(
+                            "face {} gives texture coordinates for {} of its {} corners",
+                            faces.len(),
+                            corner_uvs.len(),
+                            corners.len()
+                        ),
+                    ));
+                }
+                // A face without corners (a defect the validator reports) has
+                // no corner to give a texture coordinate to.
+                if !corners.is_empty() {
+                    uvs.face(faces.len(), n, &corner_uvs);
                 }
                 faces.push(&corners);
                 let g = match current_group {
@@ -127,6 +282,7 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
                 let name = if name.is_empty() { "default".to_owned() } else { name.join(" ") };
                 current_group = Some(table.intern(name));
             }
+            b"t" => read_tag(toks, n, ctx, &mut tags, &mut ignored)?,
             // Unknown statements are ignored, but not binary data past the
             // part `check_text` looked at (a text file with a binary tail).
             _ if keyword.iter().any(|&b| is_control(b)) => return Err(ctx.binary(n, Format::Obj)),
@@ -139,36 +295,144 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
     }
     let groups =
         if saw_group_statement { FaceGroups { names: table.groups.names, face_group } } else { FaceGroups::default() };
-    Ok(PolygonSoup { positions, faces, groups, ..PolygonSoup::default() })
+    let (uvs, uv_warning) = uvs.finish(ctx.path);
+    let warnings = uv_warning.into_iter().chain(ignored.finish(ctx.path)).collect();
+    Ok((PolygonSoup { positions, faces, groups, tags, uvs }, warnings))
 }
 
-/// Maps one face corner (`v`, `v/vt`, `v/vt/vn`, `v//vn`) to a 0-based vertex
-/// index. Positive indices beyond the vertex count pass through (the validator
-/// reports them); 0, relative indices before the first vertex and indices
-/// beyond what a `u32` holds cannot be stored and are errors.
-fn face_index(token: &[u8], vertices_so_far: usize, line: usize, ctx: Ctx<'_>) -> Result<u32, IoError> {
-    let v = token.split(|&b| b == b'/').next().unwrap_or(token);
-    let k = match parse_integer(v) {
+/// What an OBJ index refers to.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Element {
+    Vertex,
+    Texture,
+}
+
+/// Maps one index of a face corner (`v`, `v/vt`, `v/vt/vn`, `v//vn`: the
+/// `v` or the `vt` part of `token`) to a 0-based index. Positive indices
+/// beyond the count so far pass through (the validator reports them); 0,
+/// relative indices before the first element and indices beyond what a
+/// `u32` holds cannot be stored and are errors.
+fn obj_index(
+    part: &[u8],
+    token: &[u8],
+    element: Element,
+    so_far: usize,
+    line: usize,
+    ctx: Ctx<'_>,
+) -> Result<u32, IoError> {
+    let (what, first) = match element {
+        Element::Vertex => ("face index", "vertex"),
+        Element::Texture => ("texture index", "texture coordinate"),
+    };
+    let k = match parse_integer(part) {
         Ok(k) => k,
         Err(IntError::NotInteger) => {
-            return Err(ctx.parse(line, format!("face index '{}' is not an integer", show(token))))
+            let quoted = if element == Element::Vertex { token } else { part };
+            return Err(ctx.parse(line, format!("{what} '{}' is not an integer", show(quoted))));
         }
-        Err(IntError::OutOfRange) => return Err(ctx.parse(line, format!("face index {} out of range", show(v)))),
+        Err(IntError::OutOfRange) => return Err(ctx.parse(line, format!("{what} {} out of range", show(part)))),
     };
     let index = match k {
-        0 => return Err(ctx.parse(line, "face index 0 is invalid (OBJ indices start at 1)")),
+        0 => return Err(ctx.parse(line, format!("{what} 0 is invalid (OBJ indices start at 1)"))),
         k if k > 0 => k - 1,
-        k => vertices_so_far as i128 + k,
+        k => so_far as i128 + k,
     };
     if index < 0 {
-        return Err(ctx.parse(
-            line,
-            format!("relative face index {k} points before the first vertex ({vertices_so_far} vertices so far)"),
-        ));
+        let counted = if element == Element::Vertex { "vertices" } else { "texture coordinates" };
+        return Err(
+            ctx.parse(line, format!("relative {what} {k} points before the first {first} ({so_far} {counted} so far)"))
+        );
     }
-    u32::try_from(index).map_err(|_| {
-        ctx.parse(line, format!("face index {k} out of range (the largest is {})", u64::from(u32::MAX) + 1))
-    })
+    u32::try_from(index)
+        .map_err(|_| ctx.parse(line, format!("{what} {k} out of range (the largest is {})", u64::from(u32::MAX) + 1)))
+}
+
+/// Reads one tag line after its `t`: `NAME NI/NF/NS`, then NI integers, NF
+/// floats and NS strings (see the module doc). Crease and corner tags go to
+/// `tags`, others to `ignored`. Nothing is allocated beyond the line's own
+/// tokens, whatever the counts say.
+fn read_tag<'a>(
+    mut toks: impl Iterator<Item = &'a [u8]>,
+    line: usize,
+    ctx: Ctx<'_>,
+    tags: &mut TagList,
+    ignored: &mut IgnoredTags,
+) -> Result<(), IoError> {
+    let bad = |message: String| ctx.parse(line, message);
+    let (Some(name), Some(counts)) = (toks.next(), toks.next()) else {
+        return Err(bad("tag line needs a name and its counts (t NAME NI/NF/NS …)".to_owned()));
+    };
+    let shown = show(name);
+    let mut parts = counts.split(|&b| b == b'/');
+    let (Some(ni), Some(nf), Some(ns), None) = (parts.next(), parts.next(), parts.next(), parts.next()) else {
+        return Err(bad(format!("tag '{shown}': counts '{}' are not NI/NF/NS", show(counts))));
+    };
+    // Messages are formatted only on error: a tag line can hold millions of values.
+    let count = |t: &[u8], what: &str| -> Result<usize, IoError> {
+        parse_bounded(t, what).map_err(|m| bad(format!("tag '{shown}': {m}")))
+    };
+    let (ni, nf, ns) = (count(ni, "integer count")?, count(nf, "float count")?, count(ns, "string count")?);
+    // The counts are checked against the tokens the line has before anything else.
+    let values: Vec<&[u8]> = toks.collect();
+    let declared = ni.checked_add(nf).and_then(|c| c.checked_add(ns));
+    if declared != Some(values.len()) {
+        return Err(bad(format!(
+            "tag '{shown}' declares {ni}/{nf}/{ns} values but has {} after its counts",
+            values.len()
+        )));
+    }
+    let (ints, rest) = values.split_at(ni);
+    let floats = &rest[..nf];
+    let floats: Vec<f32> = floats
+        .iter()
+        .map(|t| {
+            std::str::from_utf8(t)
+                .ok()
+                .and_then(|s| s.parse::<f32>().ok())
+                .ok_or_else(|| bad(format!("tag '{shown}': float '{}' is not a number", show(t))))
+        })
+        .collect::<Result<_, _>>()?;
+    let vertex = |t: &[u8]| -> Result<u32, IoError> {
+        parse_bounded::<u32>(t, "vertex index").map_err(|m| bad(format!("tag '{shown}': {m}")))
+    };
+    match name {
+        b"crease" => {
+            if ni == 0 || ni % 2 != 0 {
+                return Err(bad(format!("crease tag needs vertex pairs, found {ni} integers")));
+            }
+            let pairs = ni / 2;
+            if nf != 1 && nf != pairs {
+                return Err(bad(format!(
+                    "crease tag has {pairs} vertex pairs and {nf} floats (1, or one per pair, needed)"
+                )));
+            }
+            for (k, pair) in ints.chunks_exact(2).enumerate() {
+                let sharpness = floats[if nf == 1 { 0 } else { k }];
+                tags.creases.push(EdgeTag { a: vertex(pair[0])?, b: vertex(pair[1])?, sharpness });
+            }
+        }
+        b"corner" => {
+            if ni == 0 {
+                return Err(bad("corner tag names no vertex".to_owned()));
+            }
+            if nf != 1 && nf != ni {
+                return Err(bad(format!(
+                    "corner tag has {ni} vertices and {nf} floats (1, or one per vertex, needed)"
+                )));
+            }
+            for (k, &v) in ints.iter().enumerate() {
+                let sharpness = floats[if nf == 1 { 0 } else { k }];
+                tags.corners.push(VertexTag { vertex: vertex(v)?, sharpness });
+            }
+        }
+        _ => {
+            if let Some(t) = ints.iter().find(|t| parse_integer(t) == Err(IntError::NotInteger)) {
+                return Err(bad(format!("tag '{shown}': integer '{}' is not an integer", show(t))));
+            }
+            ignored.add(name, line);
+        }
+    }
+    Ok(())
 }
 
 pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()> {
@@ -191,18 +455,40 @@ pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()>
             out.write_all(b"\n")?;
         }
     }
+    if let Some(uvs) = mesh.uvs {
+        for uv in &uvs.values {
+            out.write_all(b"vt ")?;
+            write_f64(out, uv.x)?;
+            out.write_all(b" ")?;
+            write_f64(out, uv.y)?;
+            out.write_all(b"\n")?;
+        }
+    }
     let with_normals = mesh.normals.is_some();
-    for face in mesh.faces.iter() {
+    let uv_indices = mesh.uvs.map(|uvs| uvs.indices.as_slice());
+    for (f, face) in mesh.faces.iter().enumerate() {
         out.write_all(b"f")?;
-        for &v in face {
+        let start = mesh.faces.offsets()[f] as usize;
+        for (j, &v) in face.iter().enumerate() {
             let k = u64::from(v) + 1;
-            if with_normals {
-                write!(out, " {k}//{k}")?;
-            } else {
-                write!(out, " {k}")?;
+            let t = uv_indices.map(|uv| u64::from(uv[start + j]) + 1);
+            match (t, with_normals) {
+                (None, false) => write!(out, " {k}")?,
+                (None, true) => write!(out, " {k}//{k}")?,
+                (Some(t), false) => write!(out, " {k}/{t}")?,
+                (Some(t), true) => write!(out, " {k}/{t}/{k}")?,
             }
         }
         out.write_all(b"\n")?;
+    }
+    if let Some(tags) = mesh.tags {
+        // `{:?}` of an f32 is the shortest form that parses back to it.
+        for t in &tags.creases {
+            writeln!(out, "t crease 2/1/0 {} {} {:?}", t.a, t.b, t.sharpness)?;
+        }
+        for t in &tags.corners {
+            writeln!(out, "t corner 1/1/0 {} {:?}", t.vertex, t.sharpness)?;
+        }
     }
     Ok(())
 }
@@ -210,10 +496,9 @@ pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::Path;
 
     fn read_str(s: &str) -> Result<PolygonSoup, IoError> {
-        read(s.as_bytes(), Ctx::new(Path::new("t.obj")))
+        read(s.as_bytes(), Ctx::new(Path::new("t.obj"))).map(|(soup, _)| soup)
     }
 
     #[test]

@@ -10,6 +10,13 @@
 //! type are "out of range", quoting the token.
 //! `4OFF` and `nOFF` (other dimensions) are reported as unsupported.
 //!
+//! With the `ST` prefix every vertex carries texture coordinates `s t`
+//! after its position, normal and colour (Geomview's order); they become
+//! [`PolygonSoup::uvs`], one value per vertex. In ASCII a colour takes one
+//! to four values, so with `C` the texture coordinates are the line's last
+//! two values. They are not written (OFF writes positions and normals:
+//! [`Format::carries_uvs`](crate::Format::carries_uvs)).
+//!
 //! ASCII data is read one vertex or face per line, which is how every writer
 //! we know lays it out, and lets errors name the line.
 //!
@@ -23,9 +30,9 @@
 //! Write: ASCII `OFF` (`NOFF` with per-vertex normals), numbers in the shortest
 //! form that parses back to the same `f64` bits.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use std::io::{self, Write};
-use subdiv_mesh::{FaceList, PolygonSoup};
+use subdiv_mesh::{FaceList, FaceVarying, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
 use crate::text::{
@@ -96,9 +103,10 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
     }
     // Binary OFF is binary by design; everything else must be text.
     check_text(bytes, Format::Off, ctx)?;
-    if let Some(keyword) = keyword {
-        parse_keyword(keyword, ctx)?.ok_or_else(|| expected_header(keyword))?;
-    }
+    let header = match keyword {
+        Some(keyword) => parse_keyword(keyword, ctx)?.ok_or_else(|| expected_header(keyword))?,
+        None => Header::default(),
+    };
 
     // Counts: on the header line, or the next line with content.
     let mut counts: Vec<&[u8]> = toks.collect();
@@ -119,6 +127,7 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
 
     // Every vertex line has at least 6 bytes ("0 0 0\n"), every face line 8.
     let mut positions = Vec::with_capacity(nv.min(bytes.len() / 6));
+    let mut uvs: Vec<DVec2> = Vec::new();
     while positions.len() < nv {
         let Some((n, line)) = next_content(&mut lines) else {
             return Err(
@@ -134,6 +143,21 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
             };
             *slot = parse_f64(tok)
                 .ok_or_else(|| ctx.parse(n, format!("vertex coordinate '{}' is not a number", show(tok))))?;
+        }
+        if header.texture {
+            let values: Vec<&[u8]> = tokens(line).collect();
+            let first =
+                if header.colour { values.len().saturating_sub(2) } else { 3 + if header.normal { 3 } else { 0 } };
+            let st = values.get(first..first + 2).filter(|_| first >= 3);
+            let Some(st) = st else {
+                let what =
+                    format!("vertex {} has no texture coordinates 's t' ({} values)", positions.len(), values.len());
+                return Err(if at_end(&lines, bytes) { ctx.truncated(n, what) } else { ctx.parse(n, what) });
+            };
+            let number = |t: &[u8]| {
+                parse_f64(t).ok_or_else(|| ctx.parse(n, format!("texture coordinate '{}' is not a number", show(t))))
+            };
+            uvs.push(DVec2::new(number(st[0])?, number(st[1])?));
         }
         positions.push(DVec3::from(c));
     }
@@ -157,7 +181,13 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
         }
         faces.push(&corners);
     }
-    Ok(PolygonSoup::new(positions, faces))
+    Ok(with_vertex_uvs(PolygonSoup::new(positions, faces), header.texture.then_some(uvs)))
+}
+
+/// The soup with one texture coordinate per vertex, when the file has them.
+fn with_vertex_uvs(soup: PolygonSoup, uvs: Option<Vec<DVec2>>) -> PolygonSoup {
+    let uvs = uvs.map(|values| FaceVarying { values, indices: soup.faces.indices().to_vec() });
+    PolygonSoup { uvs, ..soup }
 }
 
 /// Reads 32-bit words in one byte order.
@@ -207,10 +237,17 @@ fn read_binary(data: &[u8], header: Header, ctx: Ctx<'_>) -> Result<PolygonSoup,
     };
 
     let mut positions = Vec::with_capacity(nv);
+    let mut uvs = Vec::with_capacity(if header.texture { nv } else { 0 });
+    // Geomview's order: position, normal, colour (4 floats in binary), texture.
+    let texture_at = 4 * (3 + if header.normal { 3 } else { 0 } + if header.colour { 4 } else { 0 });
     let mut at = 12;
     for _ in 0..nv {
         let c = [0, 4, 8].map(|o| words.f32(at + o).map_or(f64::NAN, f64::from));
         positions.push(DVec3::from(c));
+        if header.texture {
+            let [s, t] = [0, 4].map(|o| words.f32(at + texture_at + o).map_or(f64::NAN, f64::from));
+            uvs.push(DVec2::new(s, t));
+        }
         at += 4 * floats_per_vertex;
     }
 
@@ -232,7 +269,7 @@ fn read_binary(data: &[u8], header: Header, ctx: Ctx<'_>) -> Result<PolygonSoup,
             return Err(if truncated { ctx.truncated(None, what) } else { ctx.parse(None, what) });
         }
     };
-    Ok(PolygonSoup::new(positions, result))
+    Ok(with_vertex_uvs(PolygonSoup::new(positions, result), header.texture.then_some(uvs)))
 }
 
 /// Reads `nf` binary faces from `at`; with `colour_count`, each face is

@@ -13,15 +13,31 @@
 //! Counts, list lengths and indices too large for their type are "out of
 //! range"; allocations are capped by what the remaining bytes can hold.
 //!
+//! Texture coordinates ([`PolygonSoup::uvs`]) come from per-vertex
+//! properties — the first pair present of `u v`, `s t`, `texture_u
+//! texture_v`, `texture_s texture_t`, any scalar type — as one value per
+//! vertex (value indices = the faces' vertex indices), or from the face list
+//! property `texcoord` (two values per corner, as MeshLab writes it), which
+//! wins when both are present. Per-corner values are welded per vertex:
+//! corners of one vertex with the same (u, v) share one value, so a seam is
+//! where the values differ (a seam between equal values is not kept). A
+//! `texcoord` list whose length is not twice the face's corner count is an
+//! error; when only some face elements have `texcoord`, it is not used.
+//!
 //! Write: `binary_little_endian` ([`Format::PlyBinary`](crate::Format::PlyBinary))
 //! or `ascii` ([`Format::PlyAscii`](crate::Format::PlyAscii)); `double x y z`,
 //! `double nx ny nz` when normals are given, and `list uchar int
 //! vertex_indices` (`uint` counts when a face has more than 255 corners,
 //! `uint` indices beyond `i32::MAX`). Doubles keep every bit of the positions.
+//! Texture coordinates are written as `double u v` per vertex when every
+//! vertex's corners use one value (no seams), otherwise as the face list
+//! `list uchar double texcoord` (`uint` counts when a face has more than
+//! 127 corners).
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
+use std::collections::HashMap;
 use std::io::{self, Write};
-use subdiv_mesh::{FaceList, PolygonSoup};
+use subdiv_mesh::{FaceList, FaceVarying, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
 use crate::text::{
@@ -73,8 +89,15 @@ impl Scalar {
 enum Role {
     Skip,
     Coordinate(usize),
+    /// Texture coordinate `u` (0) or `v` (1) of a vertex.
+    Uv(usize),
     Indices,
+    /// Texture coordinates of a face, two per corner.
+    TexCoords,
 }
+
+/// Names of per-vertex texture coordinate pairs, in order of preference.
+const UV_NAMES: [[&str; 2]; 4] = [["u", "v"], ["s", "t"], ["texture_u", "texture_v"], ["texture_s", "texture_t"]];
 
 #[derive(Clone, Debug)]
 struct Property {
@@ -176,6 +199,16 @@ fn parse_header(bytes: &[u8], ctx: Ctx<'_>) -> Result<Header, IoError> {
                         p.ok_or_else(|| ctx.parse(element.line, format!("vertex element has no '{name}' property")))?;
                     p.role = Role::Coordinate(axis);
                 }
+                let scalar = |properties: &[Property], name: &str| {
+                    properties.iter().position(|p| p.name == name && p.list.is_none() && p.role == Role::Skip)
+                };
+                let pair = UV_NAMES
+                    .iter()
+                    .find_map(|[u, v]| Some((scalar(&element.properties, u)?, scalar(&element.properties, v)?)));
+                if let Some((u, v)) = pair {
+                    element.properties[u].role = Role::Uv(0);
+                    element.properties[v].role = Role::Uv(1);
+                }
             }
             "face" => {
                 let p = element
@@ -184,6 +217,9 @@ fn parse_header(bytes: &[u8], ctx: Ctx<'_>) -> Result<Header, IoError> {
                     .find(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"));
                 let p = p.ok_or_else(|| ctx.unsupported("face element without a 'vertex_indices' list property"))?;
                 p.role = Role::Indices;
+                if let Some(p) = element.properties.iter_mut().find(|p| p.list.is_some() && p.name == "texcoord") {
+                    p.role = Role::TexCoords;
+                }
             }
             _ => {}
         }
@@ -370,30 +406,71 @@ impl Values for Ascii<'_> {
     }
 }
 
-/// Reads one record of `element`, storing coordinates in `xyz` and indices in `corners`.
-fn record(src: &mut impl Values, element: &Element, xyz: &mut [f64; 3], corners: &mut Vec<u32>) -> Result<(), Stop> {
+/// What one record holds for us.
+#[derive(Default)]
+struct Record {
+    xyz: [f64; 3],
+    uv: [f64; 2],
+    corners: Vec<u32>,
+    /// Two per corner, from a face's `texcoord` list.
+    texcoords: Vec<f64>,
+}
+
+/// Reads one record of `element` into `out`.
+fn record(src: &mut impl Values, element: &Element, out: &mut Record) -> Result<(), Stop> {
     for p in &element.properties {
         match (p.list, p.role) {
-            (None, Role::Coordinate(axis)) => xyz[axis] = src.value(p.ty)?,
+            (None, Role::Coordinate(axis)) => out.xyz[axis] = src.value(p.ty)?,
+            (None, Role::Uv(k)) => out.uv[k] = src.value(p.ty)?,
             (None, _) => src.skip(p.ty, 1)?,
             (Some(count_ty), role) => {
                 let count =
                     src.integer(count_ty).map_err(|s| s.about(|| format!("list '{}' length", p.name)))? as usize;
-                if role != Role::Indices {
+                if !matches!(role, Role::Indices | Role::TexCoords) {
                     src.skip(p.ty, count)?;
                     continue;
                 }
                 if count > src.room(p.ty) {
                     return Err(Stop::Ends(src.line()));
                 }
-                corners.clear();
-                for _ in 0..count {
-                    corners.push(src.integer(p.ty).map_err(|s| s.about(|| "vertex index".to_owned()))?);
+                if role == Role::Indices {
+                    out.corners.clear();
+                    for _ in 0..count {
+                        out.corners.push(src.integer(p.ty).map_err(|s| s.about(|| "vertex index".to_owned()))?);
+                    }
+                } else {
+                    out.texcoords.clear();
+                    for _ in 0..count {
+                        out.texcoords.push(src.value(p.ty).map_err(|s| s.about(|| "texcoord".to_owned()))?);
+                    }
                 }
             }
         }
     }
     Ok(())
+}
+
+/// Per-corner texture coordinates, welded per vertex: corners of one vertex
+/// with the same (u, v) (`-0.0` counted equal to `0.0`) share one value.
+#[derive(Default)]
+struct CornerUvs {
+    values: Vec<DVec2>,
+    indices: Vec<u32>,
+    index: HashMap<(u32, [u64; 2]), u32>,
+    /// Faces read with a `texcoord` list.
+    faces: usize,
+}
+
+impl CornerUvs {
+    fn push(&mut self, vertex: u32, uv: DVec2) {
+        let key = (vertex, (uv + DVec2::ZERO).to_array().map(f64::to_bits));
+        let next = self.values.len() as u32;
+        let i = *self.index.entry(key).or_insert(next);
+        if i == next {
+            self.values.push(uv);
+        }
+        self.indices.push(i);
+    }
 }
 
 fn read_body(
@@ -403,8 +480,10 @@ fn read_body(
     ctx: Ctx<'_>,
 ) -> Result<PolygonSoup, IoError> {
     let mut positions = Vec::new();
+    let mut vertex_uvs: Vec<DVec2> = Vec::new();
     let mut faces = FaceList::new();
-    let mut corners = Vec::new();
+    let mut corner_uvs = CornerUvs::default();
+    let mut rec = Record::default();
     for element in elements {
         if element.properties.is_empty() {
             // Records without properties take no bytes: nothing to read, and
@@ -421,25 +500,59 @@ fn read_body(
             "face" if faces.is_empty() => faces = FaceList::with_capacity(capacity, 0),
             _ => {}
         }
-        let is_face = element.properties.iter().any(|p| p.role == Role::Indices);
+        let has = |role: Role| element.properties.iter().any(|p| p.role == role);
+        let is_face = has(Role::Indices);
         let is_vertex = element.properties.iter().any(|p| matches!(p.role, Role::Coordinate(_)));
+        let (has_uv, has_texcoords) = (has(Role::Uv(0)), has(Role::TexCoords));
         for r in 0..element.count {
-            let mut xyz = [0.0; 3];
-            record(src, element, &mut xyz, &mut corners).map_err(|stop| match stop {
-                Stop::Ends(line) => {
-                    ctx.truncated(line, format!("data ends inside {} {r} of {}", element.name, element.count))
-                }
-                Stop::Bad(line, message) => ctx.parse(line, format!("{} {r}: {message}", element.name)),
-            })?;
+            rec.xyz = [0.0; 3];
+            let at = |line| (line, format!("{} {r}", element.name));
+            record(src, element, &mut rec)
+                .and_then(|()| {
+                    if has_texcoords && rec.texcoords.len() != 2 * rec.corners.len() {
+                        let message = format!(
+                            "texcoord has {} values for {} corners (two per corner needed)",
+                            rec.texcoords.len(),
+                            rec.corners.len()
+                        );
+                        return Err(Stop::Bad(src.line(), message));
+                    }
+                    Ok(())
+                })
+                .map_err(|stop| match stop {
+                    Stop::Ends(line) => {
+                        ctx.truncated(line, format!("data ends inside {} {r} of {}", element.name, element.count))
+                    }
+                    Stop::Bad(line, message) => {
+                        let (line, what) = at(line);
+                        ctx.parse(line, format!("{what}: {message}"))
+                    }
+                })?;
             if is_vertex {
-                positions.push(DVec3::from(xyz));
+                positions.push(DVec3::from(rec.xyz));
+                if has_uv {
+                    vertex_uvs.push(DVec2::from(rec.uv));
+                }
             }
             if is_face {
-                faces.push(&corners);
+                faces.push(&rec.corners);
+                if has_texcoords {
+                    corner_uvs.faces += 1;
+                    for (&v, uv) in rec.corners.iter().zip(rec.texcoords.chunks_exact(2)) {
+                        corner_uvs.push(v, DVec2::new(uv[0], uv[1]));
+                    }
+                }
             }
         }
     }
-    Ok(PolygonSoup::new(positions, faces))
+    let uvs = if corner_uvs.faces > 0 && corner_uvs.faces == faces.len() {
+        Some(FaceVarying { values: corner_uvs.values, indices: corner_uvs.indices })
+    } else if !vertex_uvs.is_empty() && vertex_uvs.len() == positions.len() {
+        Some(FaceVarying { values: vertex_uvs, indices: faces.indices().to_vec() })
+    } else {
+        None
+    };
+    Ok(PolygonSoup { uvs, ..PolygonSoup::new(positions, faces) })
 }
 
 pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
@@ -468,9 +581,27 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
     }
 }
 
+/// The texture coordinate of every vertex, when each vertex's corners all
+/// use one value index (no seams); `(0, 0)` for a vertex no face uses.
+fn per_vertex_uvs(faces: &FaceList, vertex_count: usize, uvs: &FaceVarying) -> Option<Vec<DVec2>> {
+    let mut index: Vec<Option<u32>> = vec![None; vertex_count];
+    for (&v, &uv) in faces.indices().iter().zip(&uvs.indices) {
+        match index[v as usize] {
+            None => index[v as usize] = Some(uv),
+            Some(first) if first == uv => {}
+            Some(_) => return None,
+        }
+    }
+    Some(index.into_iter().map(|i| i.map_or(DVec2::ZERO, |i| uvs.values[i as usize])).collect())
+}
+
 pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> io::Result<()> {
     let big_faces = mesh.faces.iter().any(|f| f.len() > 255);
     let big_indices = mesh.faces.indices().iter().any(|&v| v > i32::MAX as u32);
+    let vertex_uvs = mesh.uvs.and_then(|uvs| per_vertex_uvs(mesh.faces, mesh.positions.len(), uvs));
+    // Texture coordinates per corner only where there are seams.
+    let corner_uvs = mesh.uvs.filter(|_| vertex_uvs.is_none());
+    let big_texcoords = corner_uvs.is_some() && mesh.faces.iter().any(|f| 2 * f.len() > 255);
     let format = if binary { "binary_little_endian" } else { "ascii" };
     let mut header = format!(
         "ply\nformat {format} 1.0\ncomment written by subdiv-io\nelement vertex {}\n\
@@ -480,17 +611,38 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> 
     if mesh.normals.is_some() {
         header.push_str("property double nx\nproperty double ny\nproperty double nz\n");
     }
+    if vertex_uvs.is_some() {
+        header.push_str("property double u\nproperty double v\n");
+    }
     header.push_str(&format!(
-        "element face {}\nproperty list {} {} vertex_indices\nend_header\n",
+        "element face {}\nproperty list {} {} vertex_indices\n",
         mesh.faces.len(),
         if big_faces { "uint" } else { "uchar" },
         if big_indices { "uint" } else { "int" },
     ));
+    if corner_uvs.is_some() {
+        header.push_str(&format!("property list {} double texcoord\n", if big_texcoords { "uint" } else { "uchar" }));
+    }
+    header.push_str("end_header\n");
     out.write_all(header.as_bytes())?;
 
     let vertex = |i: usize| {
         let normal = mesh.normals.map(|n| n[i].to_array());
-        mesh.positions[i].to_array().into_iter().chain(normal.into_iter().flatten())
+        let uv = vertex_uvs.as_ref().map(|uvs| uvs[i].to_array());
+        mesh.positions[i].to_array().into_iter().chain(normal.into_iter().flatten()).chain(uv.into_iter().flatten())
+    };
+    // The texture coordinates of the corners of face `f`, u and v in turn.
+    let texcoords = |f: usize| {
+        let uvs = corner_uvs.expect("called only with per-corner texture coordinates");
+        let corners = mesh.faces.offsets()[f] as usize..mesh.faces.offsets()[f + 1] as usize;
+        uvs.indices[corners].iter().flat_map(|&i| uvs.values[i as usize].to_array())
+    };
+    let write_count = |out: &mut dyn Write, n: usize, big: bool| -> io::Result<()> {
+        if big {
+            out.write_all(&(n as u32).to_le_bytes())
+        } else {
+            out.write_all(&[n as u8])
+        }
     };
     if binary {
         for i in 0..mesh.positions.len() {
@@ -498,15 +650,17 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> 
                 out.write_all(&x.to_le_bytes())?;
             }
         }
-        for face in mesh.faces.iter() {
-            if big_faces {
-                out.write_all(&(face.len() as u32).to_le_bytes())?;
-            } else {
-                out.write_all(&[face.len() as u8])?;
-            }
+        for (f, face) in mesh.faces.iter().enumerate() {
+            write_count(out, face.len(), big_faces)?;
             for &v in face {
                 // `int` and `uint` share their bits for every index ≤ i32::MAX.
                 out.write_all(&v.to_le_bytes())?;
+            }
+            if corner_uvs.is_some() {
+                write_count(out, 2 * face.len(), big_texcoords)?;
+                for x in texcoords(f) {
+                    out.write_all(&x.to_le_bytes())?;
+                }
             }
         }
     } else {
@@ -519,10 +673,17 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> 
             }
             out.write_all(b"\n")?;
         }
-        for face in mesh.faces.iter() {
+        for (f, face) in mesh.faces.iter().enumerate() {
             write!(out, "{}", face.len())?;
             for &v in face {
                 write!(out, " {v}")?;
+            }
+            if corner_uvs.is_some() {
+                write!(out, " {}", 2 * face.len())?;
+                for x in texcoords(f) {
+                    out.write_all(b" ")?;
+                    write_f64(out, x)?;
+                }
             }
             out.write_all(b"\n")?;
         }

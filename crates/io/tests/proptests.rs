@@ -5,8 +5,8 @@ mod common;
 
 use common::assert_round_trip;
 use proptest::prelude::*;
-use subdiv_io::{read_mesh_from_bytes, write_mesh_to_vec, Format, MeshView};
-use subdiv_mesh::{DVec3, FaceList, PolygonSoup};
+use subdiv_io::{read_mesh_from_bytes, write_mesh_to_vec, EdgeTag, Format, MeshView, VertexTag};
+use subdiv_mesh::{DVec2, DVec3, FaceList, FaceVarying, PolygonSoup};
 
 /// Any `f64` but NaN (text formats keep NaN, not its payload bits).
 fn coordinate() -> impl Strategy<Value = f64> + Clone {
@@ -26,8 +26,50 @@ fn soup(coordinate: impl Strategy<Value = f64> + Clone) -> impl Strategy<Value =
     })
 }
 
+/// A soup with texture coordinates: per corner an index into a pool of
+/// `pool` values, so that vertices get one value or several (seams), and
+/// values no corner uses; and tags on random vertex pairs and vertices.
+fn textured_soup() -> impl Strategy<Value = PolygonSoup> {
+    (soup(-1e3..1e3f64), 1..12usize).prop_flat_map(|(soup, pool)| {
+        let corners = soup.faces.corner_count();
+        let n = soup.positions.len() as u32;
+        let values = prop::collection::vec((-2.0..2.0f64, -2.0..2.0f64), pool);
+        let indices = prop::collection::vec(0..pool as u32, corners);
+        let sharpness = prop_oneof![Just(10.0f32), Just(f32::INFINITY), 0.0..12.0f32];
+        let creases = prop::collection::vec((0..n, 0..n, sharpness.clone()), 0..6);
+        let corners = prop::collection::vec((0..n, sharpness), 0..4);
+        (Just(soup), values, indices, creases, corners).prop_map(|(mut soup, values, indices, creases, corners)| {
+            let values = values.into_iter().map(|(u, v)| DVec2::new(u, v)).collect();
+            soup.uvs = Some(FaceVarying { values, indices });
+            soup.tags.creases = creases.into_iter().map(|(a, b, sharpness)| EdgeTag { a, b, sharpness }).collect();
+            soup.tags.corners =
+                corners.into_iter().map(|(vertex, sharpness)| VertexTag { vertex, sharpness }).collect();
+            soup
+        })
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn texture_coordinates_and_tags_round_trip_where_the_format_carries_them(original in textured_soup()) {
+        // Without faces a channel has no corner, and a file cannot tell it from no channel.
+        prop_assume!(!original.faces.is_empty());
+        for format in Format::ALL {
+            let bytes = write_mesh_to_vec(MeshView::from(&original), format).unwrap();
+            let back = read_mesh_from_bytes(&bytes, format, "random").unwrap();
+            // Per corner values and (polygon formats) seams: see `assert_same_uvs`.
+            assert_round_trip(&original, &back, format, &format!("{format}"));
+            if format.carries_tags() {
+                prop_assert_eq!(&back.tags, &original.tags);
+                // OBJ keeps the channel itself, not just what it maps each corner to.
+                prop_assert_eq!(&back.uvs, &original.uvs);
+            } else {
+                prop_assert!(back.tags.is_empty());
+            }
+        }
+    }
 
     #[test]
     fn random_soups_round_trip_bit_exactly(original in soup(coordinate())) {
@@ -68,6 +110,20 @@ fn seeds() -> Vec<(Format, Vec<u8>)> {
     seeds.push((Format::Off, binary_off));
     let ply_ascii_groups = b"g a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no b\nf -1 -2 -3\n".to_vec();
     seeds.push((Format::Obj, ply_ascii_groups));
+    // Texture coordinates with a seam at vertex 0, and tags: OBJ vt and t
+    // lines, PLY texcoord lists, glTF TEXCOORD_0.
+    let uvs = FaceVarying {
+        values: (0..7).map(|i| DVec2::new(f64::from(i) / 8.0, 1.0 - f64::from(i) / 8.0)).collect(),
+        indices: vec![0, 1, 2, 3, 4, 1, 5, 1, 2, 5, 2, 3, 5, 3, 6, 5],
+    };
+    let tags = subdiv_io::TagList {
+        creases: vec![EdgeTag { a: 0, b: 1, sharpness: 2.5 }, EdgeTag { a: 1, b: 4, sharpness: 10.0 }],
+        corners: vec![VertexTag { vertex: 4, sharpness: 0.5 }],
+    };
+    let textured = MeshView::new(&positions, &faces).with_uvs(&uvs).with_tags(&tags);
+    for format in [Format::Obj, Format::PlyAscii, Format::PlyBinary, Format::Gltf] {
+        seeds.push((format, write_mesh_to_vec(textured, format).unwrap()));
+    }
     seeds
 }
 
@@ -95,6 +151,11 @@ fn edit() -> impl Strategy<Value = Edit> {
         b"\xEF\xBB\xBF".to_vec(),
         b"99999999999999999999".to_vec(),
         b"\nelement e 18446744073709551615\n".to_vec(),
+        b"\nt crease 18446744073709551615/1/0 0 1 1\n".to_vec(),
+        b"\nt corner 1/1/0 ".to_vec(),
+        b"\nvt 0.5".to_vec(),
+        b"/-9".to_vec(),
+        b" 255 ".to_vec(),
     ]);
     prop_oneof![
         (any::<usize>(), any::<u8>()).prop_map(|(at, b)| Edit::Set(at, b)),
@@ -144,7 +205,7 @@ proptest! {
     }
 
     #[test]
-    fn mutated_valid_files_never_panic(seed in 0..10usize, edits in prop::collection::vec(edit(), 1..6)) {
+    fn mutated_valid_files_never_panic(seed in 0..14usize, edits in prop::collection::vec(edit(), 1..6)) {
         let seeds = seeds();
         let (format, data) = &seeds[seed % seeds.len()];
         let data = apply(data.clone(), &edits);
@@ -153,6 +214,11 @@ proptest! {
         if let Ok(soup) = read_mesh_from_bytes(&data, *format, "mutated") {
             prop_assert!(soup.faces.corner_count() <= data.len().max(1) * 8);
             prop_assert!(soup.positions.len() <= data.len());
+            if let Some(uvs) = &soup.uvs {
+                prop_assert_eq!(uvs.indices.len(), soup.faces.corner_count());
+                prop_assert!(uvs.values.len() <= data.len());
+            }
+            prop_assert!(soup.tags.creases.len() + soup.tags.corners.len() <= data.len());
         }
     }
 }
