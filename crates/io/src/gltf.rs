@@ -611,7 +611,7 @@ pub(crate) fn read(
 }
 
 /// A mesh with per-vertex texture coordinates: vertices split where their
-/// corners use different values (see the module doc).
+/// corners use different value indices (see the module doc).
 struct Split {
     /// The vertices that are copies, in order: the vertex each copies.
     copies: Vec<u32>,
