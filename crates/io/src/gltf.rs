@@ -37,8 +37,9 @@
 //!
 //! Work is bounded by the bytes present: accessors are checked against their
 //! buffer views before anything is allocated, and a file whose primitives
-//! reuse accessors for more vertices and triangles than it has bytes (a few
-//! kilobytes of JSON can repeat one accessor a million times) is refused.
+//! reuse accessors for more vertices, texture coordinates and triangles than
+//! it has bytes (a few kilobytes of JSON can repeat one accessor a million
+//! times) is refused.
 //!
 //! Write: faces triangulated as fans from their first corner, positions as
 //! `f32` (rounded from `f64`: relative error up to 2⁻²⁴; coordinates must be
@@ -477,9 +478,10 @@ pub(crate) fn read(
     let doc = Document::from_json(root).map_err(|e| ctx.parse(None, validation_message(e)))?;
     let buffers = load_buffers(&doc, bin, base_dir, ctx)?;
 
-    // Vertices plus triangles produced, against the bytes they come from:
-    // without accessor reuse every vertex takes 12 bytes and every triangle
-    // at least one (a strip of u8 indices).
+    // Vertices, texture coordinates and triangles produced, against the bytes
+    // they come from: without accessor reuse every vertex takes 12 bytes,
+    // every texture coordinate 2 and every triangle at least one (a strip of
+    // u8 indices).
     let budget = bytes.len() + buffers.iter().map(|b| b.len()).sum::<usize>();
     let mut produced = 0usize;
     let mut positions: Vec<DVec3> = Vec::new();
@@ -541,11 +543,20 @@ pub(crate) fn read(
                 _ => index_count.saturating_sub(2),
             };
             let new_vertices = if first_vertex.contains_key(&accessor.index()) { 0 } else { n };
-            produced = produced.saturating_add(new_vertices).saturating_add(triangle_count);
+            // Texture coordinates are read while every primitive has them, each accessor once.
+            let new_uvs = match &texcoords {
+                Some((index, ..))
+                    if uvs.without.is_none() && uvs.dropped.is_none() && !uvs.first_value.contains_key(index) =>
+                {
+                    n
+                }
+                _ => 0,
+            };
+            produced = produced.saturating_add(new_vertices).saturating_add(new_uvs).saturating_add(triangle_count);
             if produced > budget {
                 return Err(ctx.unsupported(format!(
-                    "{where_}: primitives reuse accessors for more vertices and triangles ({produced} so far) \
-                     than the file has bytes ({budget})"
+                    "{where_}: primitives reuse accessors for more vertices, texture coordinates and triangles \
+                     ({produced} so far) than the file has bytes ({budget})"
                 )));
             }
 
@@ -611,7 +622,7 @@ pub(crate) fn read(
 }
 
 /// A mesh with per-vertex texture coordinates: vertices split where their
-/// corners use different values (see the module doc).
+/// corners use different value indices (see the module doc).
 struct Split {
     /// The vertices that are copies, in order: the vertex each copies.
     copies: Vec<u32>,

@@ -2,8 +2,17 @@
 //!
 //! Reads OBJ, OFF, PLY, STL, glTF and GLB into an unvalidated
 //! [`PolygonSoup`], and writes any of them from a [`MeshView`]. One file per
-//! format: `obj.rs`, `off.rs`, `ply.rs`, `stl.rs`, `gltf.rs`.
+//! format: `obj.rs`, `off.rs`, `ply.rs`, `stl.rs`, `gltf.rs`, and
+//! `tag_file.rs` for JSON tag files ([`read_tag_file`], [`parse_tag_json`]).
 //!
+//! - Texture coordinates ([`PolygonSoup::uvs`], one [`FaceVarying`]
+//!   channel) are read from OBJ `vt`, PLY, glTF `TEXCOORD_0` and OFF `ST`;
+//!   crease and corner tags ([`PolygonSoup::tags`], a [`TagList`]) from
+//!   OpenSubdiv's OBJ `t` lines or a tag file. Writers write them where the
+//!   format has a place for them ([`Format::carries_uvs`],
+//!   [`Format::carries_tags`]) and leave them out elsewhere.
+//!   [`read_mesh_with_warnings`] also returns what a reader dropped instead of
+//!   failing ([`ReadWarning`]).
 //! - [`read_mesh`] picks the reader by extension ([`Format::from_path`]) and
 //!   tells ASCII from binary (PLY, STL) and JSON from GLB by content.
 //!   [`read_mesh_with_progress`] does the same and reports the bytes read.
@@ -29,7 +38,9 @@
 //!
 //! What it does **not** do: validate topology. Out-of-range and repeated
 //! indices, faces with fewer than three corners and NaN/infinite coordinates
-//! are read as they are, so that `subdiv_mesh`'s validator can report them.
+//! are read as they are, so that `subdiv_mesh`'s validator can report them;
+//! so are texture coordinate indices past the `vt` pool, crease pairs that
+//! are not edges and negative or NaN sharpness.
 //! The one exception is what a `u32` cannot hold (an OBJ index 0, a relative
 //! index before the first vertex, a negative index, an index of 2³² or
 //! more: "face index 99999999999999999999 out of range"), which is a parse
@@ -55,6 +66,14 @@
 //! let bytes = write_mesh_to_vec(MeshView::new(&positions, &faces), Format::StlBinary)?;
 //! let soup = read_mesh_from_bytes(&bytes, Format::StlBinary, "square.stl")?;
 //! assert_eq!(soup.faces.len(), 3);
+//!
+//! // Texture coordinates and OpenSubdiv's tag lines survive OBJ.
+//! let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\nt crease 2/1/0 0 1 2.5\n";
+//! let soup = read_mesh_from_bytes(obj.as_bytes(), Format::Obj, "tagged.obj")?;
+//! assert_eq!(soup.uvs.as_ref().unwrap().indices, [0, 1, 2]);
+//! assert_eq!(soup.tags.creases[0].sharpness, 2.5);
+//! let bytes = write_mesh_to_vec(MeshView::from(&soup), Format::Obj)?;
+//! assert_eq!(read_mesh_from_bytes(&bytes, Format::Obj, "back.obj")?, soup);
 //!
 //! // Errors name the file and the line.
 //! let err = read_mesh_from_bytes(b"v 0 0 0\nf 1 x 1\n", Format::Obj, "bad.obj").unwrap_err();

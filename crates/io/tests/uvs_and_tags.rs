@@ -607,3 +607,40 @@ fn read_mesh_with_warnings_reads_files_and_reports_their_warnings() {
     assert_eq!(warnings.len(), 2);
     assert!(warnings.iter().all(|w| w.path() == path && w.to_string().starts_with(&path.display().to_string())));
 }
+
+/// 3000 zero vertices read once, and `primitives` one-triangle primitives
+/// over them, each with its own `TEXCOORD_0` accessor aliasing the same bytes.
+fn texcoord_reuse_bomb(primitives: usize) -> Vec<u8> {
+    let (vertices, bytes) = (3000, 36_000);
+    let payload = "A".repeat(bytes / 3 * 4);
+    let position = format!(
+        r#"{{"bufferView": 0, "componentType": 5126, "count": {vertices}, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}}"#
+    );
+    let index = r#"{"bufferView": 0, "componentType": 5121, "count": 3, "type": "SCALAR"}"#;
+    let texcoord = format!(r#"{{"bufferView": 0, "componentType": 5126, "count": {vertices}, "type": "VEC2"}}"#);
+    let accessors: Vec<String> =
+        [position, index.to_owned()].into_iter().chain(std::iter::repeat_n(texcoord, primitives)).collect();
+    let primitives: Vec<String> = (0..primitives)
+        .map(|p| format!(r#"{{"attributes": {{"POSITION": 0, "TEXCOORD_0": {}}}, "indices": 1}}"#, p + 2))
+        .collect();
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "buffers": [{{"byteLength": {bytes}, "uri": "data:;base64,{payload}"}}],
+        "bufferViews": [{{"buffer": 0, "byteLength": {bytes}}}], "accessors": [{}],
+        "meshes": [{{"primitives": [{}]}}]}}"#,
+        accessors.join(","),
+        primitives.join(",")
+    )
+    .into_bytes()
+}
+
+#[test]
+fn gltf_texcoord_accessor_reuse_cannot_multiply_the_work() {
+    // 2000 accessors of 3000 texture coordinates each would be 6 million
+    // values from a 200 KB file, for 2000 triangles.
+    let data = texcoord_reuse_bomb(2000);
+    let e = within(10, "texcoord bomb", move || read_mesh_from_bytes(&data, Format::Gltf, "bomb.gltf")).unwrap_err();
+    assert!(matches!(e, IoError::Unsupported { .. }) && e.to_string().contains("reuse accessors"), "{e}");
+    // A few such primitives are an ordinary (if odd) file, and read.
+    let soup = read_mesh_from_bytes(&texcoord_reuse_bomb(3), Format::Gltf, "few.gltf").unwrap();
+    assert_eq!((soup.positions.len(), soup.faces.len(), soup.uvs.unwrap().values.len()), (3000, 3, 9000));
+}
