@@ -184,10 +184,7 @@ fn valid_summary(file: String, mesh: &Mesh, warnings: &[Warning]) -> Summary {
         oriented: true,
         isolated_vertices: t.vertices().filter(|&v| t.is_isolated(v)).count(),
         bbox_diagonal: Some(mesh.bbox_diagonal()),
-        tags: TagCounts::of(
-            mesh.tags().edge_values().iter().copied(),
-            mesh.tags().vertex_values().iter().copied(),
-        ),
+        tags: TagCounts::of(mesh.tags().edge_values().iter().copied(), mesh.tags().vertex_values().iter().copied()),
         uvs: mesh.uvs().map(|uvs| UvCounts::of(uvs, t.faces(), t.vertex_count())),
         warnings: warnings.iter().map(ToString::to_string).collect(),
         problems: BTreeMap::new(),

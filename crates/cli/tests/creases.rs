@@ -1,0 +1,239 @@
+//! Creases, corners and the boundary options through the command line:
+//! `subdiv subdivide` on OpenSubdiv's tagged inputs (`fixtures/peer/creases/`)
+//! against OpenSubdiv's files, the tags written back level by level, `--tags`
+//! files, `--boundary`, `--crease-method`, and the refusals.
+
+mod common;
+use common::{assert_no_panic, fixtures, subdiv};
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use subdiv_mesh::{DVec3, PolygonSoup};
+
+fn out_path(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("subdiv-cli-creases-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn read(path: &Path) -> PolygonSoup {
+    subdiv_io::read_mesh(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn case(name: &str, file: &str) -> PathBuf {
+    fixtures().join("peer/creases").join(name).join(file)
+}
+
+fn run_ok(args: &[&str]) -> String {
+    let run = subdiv(args);
+    assert_no_panic(&run);
+    let stderr = String::from_utf8_lossy(&run.stderr).to_string();
+    assert_eq!(run.status.code(), Some(0), "{args:?}: {stderr}");
+    stderr
+}
+
+/// Largest distance from a point of `a` to the nearest of `b`, both ways.
+fn hausdorff(a: &[DVec3], b: &[DVec3]) -> f64 {
+    let one = |a: &[DVec3], b: &[DVec3]| {
+        a.iter().map(|p| b.iter().map(|q| p.distance(*q)).fold(f64::INFINITY, f64::min)).fold(0.0, f64::max)
+    };
+    one(a, b).max(one(b, a))
+}
+
+/// The tagged edges of a soup as position pairs (rounded), with their sharpness.
+fn crease_set(soup: &PolygonSoup) -> BTreeSet<(String, String, String)> {
+    let key = |v: u32| {
+        let p = soup.positions[v as usize];
+        format!("{:.9} {:.9} {:.9}", p.x, p.y, p.z)
+    };
+    soup.tags
+        .creases
+        .iter()
+        .map(|t| {
+            let (a, b) = (key(t.a), key(t.b));
+            let (a, b) = if a < b { (a, b) } else { (b, a) };
+            (a, b, format!("{}", t.sharpness))
+        })
+        .collect()
+}
+
+#[test]
+fn tagged_subdivision_and_its_tags_equal_opensubdiv() {
+    for (name, extra, reference) in [
+        ("cube_crease_top_s2.5", &[][..], "opensubdiv-catmull-clark-L2.obj"),
+        ("cube_crease_top_mixed", &["--crease-method", "chaikin"][..], "opensubdiv-catmull-clark-chaikin-L2.obj"),
+        ("grid_crease_row_corner", &[][..], "opensubdiv-catmull-clark-L2.obj"),
+        ("cube_corners_semi", &[][..], "opensubdiv-catmull-clark-L2.obj"),
+        ("octahedron_corner_creases", &["--beta", "loop"][..], "opensubdiv-loop-origbeta-L2.obj"),
+    ] {
+        let scheme = if name.starts_with("octahedron") { "loop" } else { "catmull-clark" };
+        let input = case(name, &format!("{name}.obj"));
+        let out = out_path(&format!("{name}-L2.obj"));
+        let mut args = vec!["subdivide", input.to_str().unwrap(), "--scheme", scheme, "--levels", "2"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", out.to_str().unwrap()]);
+        run_ok(&args);
+        let (ours, theirs) = (read(&out), read(&case(name, reference)));
+        assert_eq!(ours.positions.len(), theirs.positions.len(), "{name}");
+        let gap = hausdorff(&ours.positions, &theirs.positions);
+        assert!(gap < 1e-12, "{name}: positions off by {gap:.3e}");
+        // The file carries the tags of level 2, as OpenSubdiv holds them.
+        assert_eq!(crease_set(&ours), crease_set(&theirs), "{name}: crease tags of level 2");
+        assert_eq!(ours.tags.corners.len(), theirs.tags.corners.len(), "{name}: corner tags");
+    }
+}
+
+#[test]
+fn zero_levels_limit_of_tagged_inputs_equals_opensubdiv() {
+    for (name, extra, reference) in [
+        ("cube_crease_top_s2.5", &[][..], "opensubdiv-catmull-clark-limit.txt"),
+        ("torus_ring_s3", &["--crease-method", "chaikin"][..], "opensubdiv-catmull-clark-chaikin-limit.txt"),
+        ("cube_corners2", &[][..], "opensubdiv-catmull-clark-limit.txt"),
+    ] {
+        let input = case(name, &format!("{name}.obj"));
+        let out = out_path(&format!("{name}-limit.obj"));
+        let mut args = vec!["subdivide", input.to_str().unwrap(), "--scheme", "catmull-clark", "--levels", "0"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--limit", "-o", out.to_str().unwrap()]);
+        run_ok(&args);
+        let ours = read(&out).positions;
+        let text = std::fs::read_to_string(case(name, reference)).unwrap();
+        let theirs: Vec<DVec3> = text
+            .lines()
+            .map(|l| {
+                let c: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
+                DVec3::new(c[0], c[1], c[2])
+            })
+            .collect();
+        let worst = ours.iter().zip(&theirs).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max);
+        assert_eq!(ours.len(), theirs.len());
+        assert!(worst < 1e-12, "{name}: limit off by {worst:.3e}");
+    }
+}
+
+/// A `--tags` file on the untagged cube gives the tagged OBJ's surface.
+#[test]
+fn tag_file_equals_obj_tag_lines() {
+    let tags = out_path("top.json");
+    std::fs::write(&tags, r#"{"creases": [[1, 5, 2.5], [5, 7, 2.5], [7, 3, 2.5], [3, 1, 2.5]]}"#).unwrap();
+    let cube = fixtures().join("canonical/cube_quad.obj");
+    let (a, b) = (out_path("cube-tagfile.obj"), out_path("cube-tagged.obj"));
+    let common = ["--scheme", "catmull-clark", "--levels", "2", "-o"];
+    run_ok(
+        &[
+            &["subdivide", cube.to_str().unwrap(), "--tags", tags.to_str().unwrap()][..],
+            &common,
+            &[a.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    let tagged = case("cube_crease_top_s2.5", "cube_crease_top_s2.5.obj");
+    run_ok(&[&["subdivide", tagged.to_str().unwrap()][..], &common, &[b.to_str().unwrap()]].concat());
+    assert_eq!(read(&a).positions, read(&b).positions);
+    // A tag file naming a non-edge is refused (exit 2), nothing written.
+    std::fs::write(&tags, r#"{"creases": [[0, 7, 1.0]]}"#).unwrap();
+    let c = out_path("cube-bad-tags.obj");
+    let run = subdiv(
+        &[
+            &["subdivide", cube.to_str().unwrap(), "--tags", tags.to_str().unwrap()][..],
+            &common,
+            &[c.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert_no_panic(&run);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("share no edge"), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(!c.exists());
+}
+
+/// `--boundary edge-only` rounds the open grid's corners (they stay put
+/// under the default edge-and-corner); `none` refines as edge-only.
+#[test]
+fn boundary_options_move_the_corners_or_not() {
+    let grid = case("grid_crease_row_corner", "grid_crease_row_corner.obj");
+    let input = read(&grid).positions;
+    let mut limits = Vec::new();
+    for boundary in ["edge-and-corner", "edge-only", "none"] {
+        let out = out_path(&format!("grid-{boundary}.obj"));
+        run_ok(&[
+            "subdivide",
+            grid.to_str().unwrap(),
+            "--scheme",
+            "catmull-clark",
+            "--levels",
+            "0",
+            "--limit",
+            "--boundary",
+            boundary,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        limits.push(read(&out).positions);
+    }
+    // Grid corner 0 (one face): fixed with corners, on the boundary B-spline without.
+    assert_eq!(limits[0][0], input[0]);
+    let spline = (input[1] + 4.0 * input[0] + input[9]) / 6.0;
+    assert!(limits[1][0].distance(spline) < 1e-15, "{} vs {}", limits[1][0], spline);
+    assert_eq!(limits[1], limits[2]);
+    // A bad value names the choices.
+    let run = subdiv(&[
+        "subdivide",
+        grid.to_str().unwrap(),
+        "--scheme",
+        "catmull-clark",
+        "--levels",
+        "1",
+        "--boundary",
+        "sharp",
+        "-o",
+        "x.obj",
+    ]);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("edge-and-corner"));
+}
+
+#[test]
+fn schemes_without_crease_rules_refuse_tags_and_interpolation_drops_them() {
+    let tagged = case("cube_crease_top_s1", "cube_crease_top_s1.obj");
+    let out = out_path("deng-ma-tagged.obj");
+    let run = subdiv(&[
+        "subdivide",
+        tagged.to_str().unwrap(),
+        "--scheme",
+        "deng-ma",
+        "--levels",
+        "1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_no_panic(&run);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("cannot take these tags"));
+    assert!(!out.exists());
+    // interpolate: warns, and the control mesh has no tags (it was solved without them).
+    let control = out_path("cheng-tagged.obj");
+    let stderr =
+        run_ok(&["interpolate", tagged.to_str().unwrap(), "--method", "cheng", "-o", control.to_str().unwrap()]);
+    assert!(stderr.contains("tags ignored"), "{stderr}");
+    assert!(read(&control).tags.is_empty());
+}
+
+#[test]
+fn info_counts_tags_and_texture_coordinates() {
+    let run =
+        subdiv(&["info", "--json", case("grid_crease_row_corner", "grid_crease_row_corner.obj").to_str().unwrap()]);
+    let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    assert_eq!(json["tags"]["creases"], 8);
+    assert_eq!(json["tags"]["corners"], 1);
+    assert_eq!(json["tags"]["semi_sharp"], 8);
+    assert_eq!(json["tags"]["infinitely_sharp"], 1);
+    let run = subdiv(&["info", "--json", case("spot_uv", "spot_uv.obj").to_str().unwrap()]);
+    let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    assert_eq!(json["uvs"]["values"], 267);
+    assert!(json["uvs"]["seam_vertices"].as_u64().unwrap() > 0);
+    let text = String::from_utf8_lossy(
+        &subdiv(&["info", case("cube_crease_top_s1", "cube_crease_top_s1.obj").to_str().unwrap()]).stdout,
+    )
+    .to_string();
+    assert!(text.contains("tags:                 4 creases, 0 corners"), "{text}");
+}
