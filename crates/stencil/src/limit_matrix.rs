@@ -43,13 +43,14 @@
 //!
 //! **Blocks.** Crease and corner rows depend only on their crease polygon's
 //! vertices. [`LimitMatrix::boundary_rows`] is the **sharp block**: the
-//! crease and corner rows whose columns all lie in the block (a crease row
-//! next to a dart or a semi-sharp vertex, a general row, leaves it, and so
-//! does the rest of its polygon up to a corner), so A is block
-//! lower-triangular with the sharp block first. [`LimitMatrix::solve_blocks`]
-//! orders a solve: corners (X = P), then the crease polygons (symmetric
-//! (1, 4, 1) blocks, coupled to corners only), then the interior (smooth
-//! rows, symmetric among themselves bit for bit, and the general rows);
+//! crease and corner rows whose columns all lie in the block, so A is block
+//! lower-triangular with the sharp block first. A polygon that runs into a
+//! general row (a dart at its end, a semi-sharp vertex on it) leaves the
+//! block from there up to its corners — under `edge-only` a whole boundary
+//! loop without corner tags. [`LimitMatrix::solve_blocks`] orders a solve:
+//! corners (X = P), then the crease polygons (symmetric (1, 4, 1) blocks,
+//! coupled to corners only), then the interior (smooth rows, symmetric among
+//! themselves bit for bit, and the general rows and polygons that left);
 //! [`LimitMatrix::asymmetric_rows`] tells where a block lost its symmetry.
 //!
 //! **Valence 2 (Doo-Sabin).** An interior vertex of valence 2 has no V-face
@@ -60,27 +61,28 @@
 //! not of the Circ form, so S is not symmetric when such vertices exist and
 //! the solvers need a nonsymmetric method for the interior block.
 //!
-//! **Boundaries.** On open meshes the rows of boundary vertices follow the
-//! boundary curve, which depends on boundary vertices only: Catmull-Clark and
-//! Loop (p₋ + 4p + p₊)/6 (D = 1/6, S = (1, 4, 1)), corners p (D = S = 1);
-//! Doo-Sabin (B₋ + 6V + B₊)/8 (D = 1/8, S = (1, 6, 1)) — the point of the
-//! quadratic B-spline boundary at V, which the Chaikin boundary rule of
-//! [`crate::doo_sabin`] produces for the standard and the two-phase first
-//! steps alike. Such rows are listed in [`LimitMatrix::boundary_rows`]; they
-//! make S unsymmetric only in the coupling *from* interior rows *to*
-//! boundary columns, so A is block lower-triangular after ordering boundary
-//! vertices first: the boundary block and the interior block are each of the
-//! symmetric D·S form, and solvers handle open meshes in two symmetric stages
-//! (boundary first, then the interior with the boundary known).
+//! **Boundaries** are creases: on open meshes the rows of boundary
+//! vertices follow the boundary curve, which depends on boundary vertices
+//! only: Catmull-Clark and Loop (p₋ + 4p + p₊)/6, one-face corners p under
+//! `edge-and-corner`; Doo-Sabin (B₋ + 6V + B₊)/8 at every boundary vertex —
+//! the point of the quadratic B-spline boundary at V, which the Chaikin
+//! boundary rule of [`crate::doo_sabin`] produces for the standard and the
+//! two-phase first steps alike. Untagged, the sharp block is the boundary:
+//! the boundary block and the interior block are each of the symmetric D·S
+//! form, and solvers handle open meshes in two symmetric stages (boundary
+//! first, then the interior with the boundary known).
 //!
 //! **Spectra of the blocks with creases.** A closed crease loop of m
 //! vertices is the circulant (1, 4, 1)/6, eigenvalues (4 + 2cos(2πk/m))/6 ∈
 //! [⅓, 1] (m = 3: 1, ½, ½); an open polygon between corners the tridiagonal
-//! (4 + 2cos(πk/(m+1)))/6 ∈ (⅓, 1): never singular. The smooth block is a
-//! principal submatrix of the untagged S, so its spectrum lies within the
-//! untagged one (interlacing), and a proper one loses the untagged kernels
-//! whose vectors have full support (Cheng's A on the cube: singular untagged,
-//! nonsingular with any crease; measured in `tests/limit_matrices_creases.rs`).
+//! (4 + 2cos(πk/(m+1)))/6 ∈ (⅓, 1): never singular. The smooth block's
+//! D^½SD^½ is a principal submatrix of the untagged one (Cheng's quadratic
+//! form, Loop's L), so its eigenvalues interlace the untagged ones (⊂ [0, 1]
+//! when every valence is ≥ 3), and it is singular only on a kernel vector of
+//! the untagged matrix supported on the smooth vertices alone: the cube's
+//! checkerboard needs every vertex, so any crease or corner makes Cheng's A
+//! on the cube nonsingular. Blocks with general rows have no such bound;
+//! measured nonsingular on every case of `tests/limit_matrices_creases.rs`.
 
 use crate::doo_sabin::CornerRule;
 use crate::sharpness::LevelSharpness;
@@ -524,10 +526,9 @@ fn composed_rows(
     let mut level_size = t.vertex_count();
     let mut current = crop(t, sharp, rows);
     for _ in 0..levels {
-        let (split, stencil) = (rules.split(&current.topology, &current.sharpness)?, {
-            rules.stencil(&current.topology, &current.sharpness)?
-        });
-        let stencil = stencil.expect("the schemes with limit masks have stencils");
+        let split = rules.split(&current.topology, &current.sharpness)?;
+        let stencil = (rules.stencil(&current.topology, &current.sharpness)?)
+            .expect("the schemes with limit masks have stencils");
         steps.push((level_size, current.to_level, stencil));
         level_size = split.topology.vertex_count();
         current = crop(&split.topology, &split.sharpness, &first);
