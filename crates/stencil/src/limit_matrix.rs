@@ -4,9 +4,9 @@
 //! associates with vertex v; interpolation solves A·X = P. Every matrix is
 //! built directly from the topology as a diagonal D (positive) and a sparse S
 //! that is **exactly symmetric** (entry by entry, bit for bit) on closed
-//! meshes — assembled from symmetric per-face / per-edge contributions
-//! (each entry sums the same multiset of face/edge contributions in a
-//! canonical order), never by symmetrising afterwards.
+//! untagged meshes — assembled from symmetric per-face / per-edge
+//! contributions (each entry sums the same multiset of face/edge
+//! contributions in a canonical order), never by symmetrising afterwards.
 //!
 //! | builder | method, first step | D | S (interior vertex v, valence n, faces fᵢ of size mᵢ) |
 //! |---|---|---|---|
@@ -16,6 +16,43 @@
 //! | [`limit_matrix_catmull_clark`] | Cheng, Catmull-Clark | 4/(n(n+5)) | appendix Eq. 5 bracket (ERRATA C1, C2) |
 //! | [`limit_matrix_loop`] | Loop | γ = 1/(k + 3/(8β)) | 3/(8β) on the diagonal, 1 per neighbour (Deng-Wang Eq. 5-6, ERRATA W4) |
 //!
+//! Cheng's A and Loop's L also come with creases and corners
+//! ([`limit_matrix_catmull_clark_sharp`], [`limit_matrix_loop_sharp`], on a
+//! [`LevelSharpness`]: tags, boundary option, crease method); the Doo-Sabin
+//! matrices take no tags yet ([`limit_matrix_doo_sabin_sharp`] refuses them).
+//!
+//! **Row kinds.** Every row is of one [`RowKind`], listed in
+//! [`LimitMatrix::row_kinds`], decided per vertex by its sharpness
+//! ([`LevelSharpness`], the rules' own view: boundary edges infinitely sharp,
+//! one-face boundary vertices corners under `edge-and-corner`):
+//!
+//! - [`RowKind::Smooth`]: no sharp edge at v, vertex sharpness 0 — the
+//!   symmetric assembly of the table above, unchanged by tags elsewhere.
+//! - [`RowKind::Crease`]: exactly two incident edges sharp, both infinitely,
+//!   no other sharpness at v — the cubic B-spline point (p₋ + 4p + p₊)/6 of
+//!   the crease polygon (D = 1/6, S = (1, 4, 1)); a boundary vertex is one
+//!   (Doo-Sabin: the quadratic (B₋ + 6V + B₊)/8, D = 1/8, S = (1, 6, 1)).
+//! - [`RowKind::Corner`]: infinitely sharp vertex, ≥ 3 infinitely sharp
+//!   edges, or an isolated vertex — the identity row (D = S = 1).
+//! - [`RowKind::General`]: everything else — darts (one sharp edge) and every
+//!   vertex whose limit involves a semi-sharp value: the row of the composed
+//!   limit L·R_k⋯R_1 that [`crate::SubdivisionPlan::limit_stencil`] gives
+//!   (OpenSubdiv's `Limit` after ⌈largest semi-sharp value⌉ levels, at least
+//!   one), D = 1, S = that row. Such rows break the symmetric D·S form; and
+//!   the Doo-Sabin rows of interior valence-2 vertices are of this kind too.
+//!
+//! **Blocks.** Crease and corner rows depend only on their crease polygon's
+//! vertices. [`LimitMatrix::boundary_rows`] is the **sharp block**: the
+//! crease and corner rows whose columns all lie in the block, so A is block
+//! lower-triangular with the sharp block first. A polygon that runs into a
+//! general row (a dart at its end, a semi-sharp vertex on it) leaves the
+//! block from there up to its corners — under `edge-only` a whole boundary
+//! loop without corner tags. [`LimitMatrix::solve_blocks`] orders a solve:
+//! corners (X = P), then the crease polygons (symmetric (1, 4, 1) blocks,
+//! coupled to corners only), then the interior (smooth rows, symmetric among
+//! themselves bit for bit, and the general rows and polygons that left);
+//! [`LimitMatrix::asymmetric_rows`] tells where a block lost its symmetry.
+//!
 //! **Valence 2 (Doo-Sabin).** An interior vertex of valence 2 has no V-face
 //! after the first step (it would be a digon); its row is the centroid of the
 //! second-level E-face of the edge between its two images,
@@ -24,39 +61,84 @@
 //! not of the Circ form, so S is not symmetric when such vertices exist and
 //! the solvers need a nonsymmetric method for the interior block.
 //!
-//! **Boundaries.** On open meshes the rows of boundary vertices follow the
-//! boundary curve, which depends on boundary vertices only: Catmull-Clark and
-//! Loop (p₋ + 4p + p₊)/6 (D = 1/6, S = (1, 4, 1)), corners p (D = S = 1);
-//! Doo-Sabin (B₋ + 6V + B₊)/8 (D = 1/8, S = (1, 6, 1)) — the point of the
-//! quadratic B-spline boundary at V, which the Chaikin boundary rule of
-//! [`crate::doo_sabin`] produces for the standard and the two-phase first
-//! steps alike. Such rows are listed in [`LimitMatrix::boundary_rows`]; they
-//! make S unsymmetric only in the coupling *from* interior rows *to*
-//! boundary columns, so A is block lower-triangular after ordering boundary
-//! vertices first: the boundary block and the interior block are each of the
-//! symmetric D·S form, and solvers handle open meshes in two symmetric stages
-//! (boundary first, then the interior with the boundary known).
+//! **Boundaries** are creases: on open meshes the rows of boundary
+//! vertices follow the boundary curve, which depends on boundary vertices
+//! only: Catmull-Clark and Loop (p₋ + 4p + p₊)/6, one-face corners p under
+//! `edge-and-corner`; Doo-Sabin (B₋ + 6V + B₊)/8 at every boundary vertex —
+//! the point of the quadratic B-spline boundary at V, which the Chaikin
+//! boundary rule of [`crate::doo_sabin`] produces for the standard and the
+//! two-phase first steps alike. Untagged, the sharp block is the boundary:
+//! the boundary block and the interior block are each of the symmetric D·S
+//! form, and solvers handle open meshes in two symmetric stages (boundary
+//! first, then the interior with the boundary known).
+//!
+//! **Spectra of the blocks with creases.** A closed crease loop of m
+//! vertices is the circulant (1, 4, 1)/6, eigenvalues (4 + 2cos(2πk/m))/6 ∈
+//! [⅓, 1] (m = 3: 1, ½, ½); an open polygon between corners the tridiagonal
+//! (4 + 2cos(πk/(m+1)))/6 ∈ (⅓, 1): never singular. The smooth block's
+//! D^½SD^½ is a principal submatrix of the untagged one (Cheng's quadratic
+//! form, Loop's L), so its eigenvalues interlace the untagged ones (⊂ [0, 1]
+//! when every valence is ≥ 3), and it is singular only on a kernel vector of
+//! the untagged matrix supported on the smooth vertices alone: the cube's
+//! checkerboard needs every vertex, so any crease or corner makes Cheng's A
+//! on the cube nonsingular. Blocks with general rows have no such bound;
+//! measured nonsingular on every case of `tests/limit_matrices_creases.rs`.
 
 use crate::doo_sabin::CornerRule;
-use crate::{apply, face_ring_size, RowBuilder, SparseMatrix, StencilError, Summation};
+use crate::sharpness::LevelSharpness;
+use crate::{apply, face_ring_size, RowBuilder, Scheme, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
-use subdiv_mesh::{Topology, VertexId};
+use std::collections::HashMap;
+use subdiv_mesh::{FaceId, FaceList, Tags, Topology, VertexId};
+use subdiv_rules::crease::{is_infinite, is_sharp};
 use subdiv_rules::doo_sabin::BOUNDARY_CURVE_POINT;
-use subdiv_rules::LoopBeta;
+use subdiv_rules::{BoundaryInterpolation, CreaseMethod, LoopBeta, Rule};
 
-/// A limit matrix A = D·S with its boundary rows marked.
+/// How a row of a limit matrix is made (module docs, "Row kinds").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RowKind {
+    /// The method's symmetric D·S assembly (a smooth vertex): S\[v\]\[u\] =
+    /// S\[u\]\[v\] bit for bit for every smooth u.
+    Smooth,
+    /// The curve point of a crease or boundary polygon at v: v and its two
+    /// neighbours along the polygon only.
+    Crease,
+    /// The identity (a corner, or an isolated vertex): X_v = P_v.
+    Corner,
+    /// Any other row (darts, semi-sharp limits, Doo-Sabin valence 2): D = 1
+    /// and S the row itself, not of the symmetric form.
+    General,
+}
+
+/// A limit matrix A = D·S with its rows' kinds and its sharp block marked.
 #[derive(Clone, Debug)]
 pub struct LimitMatrix {
     /// The positive diagonal D, one entry per vertex.
     pub d: Vec<f64>,
-    /// S: symmetric among rows not listed in `boundary_rows`, except, in the
-    /// Doo-Sabin matrices, the rows of interior vertices of valence 2 (their
-    /// limit point is a second-level E-face centroid, not a V-face's: see
-    /// [`crate::doo_sabin::valence_two_corners`]).
+    /// S: symmetric among the [`RowKind::Smooth`] rows bit for bit (and on
+    /// closed untagged meshes without Doo-Sabin valence-2 vertices, whole).
     pub s: SparseMatrix,
-    /// Vertices (ascending) whose rows are boundary, corner or isolated-vertex
-    /// rules rather than the symmetric assembly.
+    /// The sharp block, solved first: vertices (ascending) whose rows are
+    /// [`RowKind::Crease`] or [`RowKind::Corner`] and whose columns all lie
+    /// in this set. Untagged: the boundary, corner and isolated-vertex rows.
     pub boundary_rows: Vec<u32>,
+    /// The kind of every row.
+    pub row_kinds: Vec<RowKind>,
+}
+
+/// The order a solve can take ([`LimitMatrix::solve_blocks`]): each set
+/// depends only on itself and the sets before it.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SolveBlocks {
+    /// Identity rows: X = P.
+    pub corners: Vec<u32>,
+    /// Crease and boundary polygon rows of the sharp block: (1, 4, 1)/6
+    /// (Doo-Sabin (1, 6, 1)/8) among themselves, symmetric, and corners.
+    pub creases: Vec<u32>,
+    /// Every other row: smooth rows (symmetric among themselves), general
+    /// rows and the crease rows that lean on one ([`LimitMatrix::asymmetric_rows`]
+    /// says whether the block is symmetric).
+    pub interior: Vec<u32>,
 }
 
 impl LimitMatrix {
@@ -86,7 +168,114 @@ impl LimitMatrix {
             && t.indices() == self.s.indices()
             && t.data().iter().zip(self.s.data()).all(|(a, b)| a.to_bits() == b.to_bits())
     }
+
+    /// The rows of one kind, ascending.
+    pub fn rows_of(&self, kind: RowKind) -> Vec<u32> {
+        (self.row_kinds.iter().enumerate()).filter(|(_, &k)| k == kind).map(|(v, _)| v as u32).collect()
+    }
+
+    /// The rows split in solve order: corners, the crease polygons of the
+    /// sharp block, the interior ([`SolveBlocks`]).
+    pub fn solve_blocks(&self) -> SolveBlocks {
+        let mut sharp = vec![false; self.size()];
+        self.boundary_rows.iter().for_each(|&v| sharp[v as usize] = true);
+        let mut out = SolveBlocks::default();
+        for (v, &kind) in self.row_kinds.iter().enumerate() {
+            let block = match kind {
+                RowKind::Corner => &mut out.corners,
+                _ if sharp[v] => &mut out.creases,
+                _ => &mut out.interior,
+            };
+            block.push(v as u32);
+        }
+        out
+    }
+
+    /// The rows of `block` (vertex ids) with an entry S\[i\]\[j\], j also in
+    /// the block, that differs from S\[j\]\[i\] (bit for bit; a missing entry
+    /// is 0), both i and j listed, ascending: empty when the block's S is
+    /// symmetric. Time linear in the block's entries (times a binary search).
+    pub fn asymmetric_rows(&self, block: &[u32]) -> Vec<u32> {
+        let mut inside = vec![false; self.size()];
+        block.iter().for_each(|&v| inside[v as usize] = true);
+        let mut flagged = vec![false; self.size()];
+        for &i in block {
+            let row = self.s.outer_view(i as usize).expect("a row per vertex");
+            for (j, &x) in row.iter().filter(|&(j, _)| inside[j]) {
+                let mirror = self.s.get(j, i as usize).copied().unwrap_or(0.0);
+                if x.to_bits() != mirror.to_bits() {
+                    flagged[i as usize] = true;
+                    flagged[j] = true;
+                }
+            }
+        }
+        (0..self.size() as u32).filter(|&v| flagged[v as usize]).collect()
+    }
 }
+
+/// The row rule of a vertex, from its sharpness (module docs, "Row kinds").
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum RowRule {
+    Smooth,
+    /// The crease ends: v's neighbours along its two infinitely sharp edges.
+    Crease(VertexId, VertexId),
+    Corner,
+    General,
+}
+
+/// The row rule of `v`. Only values that never change decide a stable rule:
+/// 0 and ≥ 10 stay what they are at every level, under both crease methods,
+/// and the edges at v's descendants are halves of v's edges; so a vertex
+/// with no semi-sharp value at it keeps its rule (and crease ends) for ever,
+/// and its limit mask on this level is exact. A semi-sharp value changes the
+/// rule on the way (a general row), except where ≥ 3 infinitely sharp edges
+/// or an infinitely sharp vertex make a corner whatever the others do.
+fn row_rule(t: &Topology, sharp: &LevelSharpness, v: VertexId) -> RowRule {
+    if t.is_isolated(v) {
+        return RowRule::Corner;
+    }
+    if sharp.is_untagged() && !t.is_boundary_vertex(v) {
+        return RowRule::Smooth; // fast path: nothing sharp can be at v
+    }
+    let vertex = sharp.vertex(t, v);
+    // The incoming boundary edge (not in the fan) is infinitely sharp.
+    let (mut infinite, mut semi) = (usize::from(t.is_boundary_vertex(v)), 0usize);
+    for &h in t.vertex_fan(v) {
+        let s = sharp.edge(t, t.he_edge(h));
+        if is_infinite(s) {
+            infinite += 1;
+        } else if is_sharp(s) {
+            semi += 1;
+        }
+    }
+    if is_infinite(vertex) || infinite >= 3 {
+        return RowRule::Corner;
+    }
+    if is_sharp(vertex) || semi > 0 {
+        return RowRule::General;
+    }
+    match (infinite, sharp.limit_rule(t, v)) {
+        (0, _) => RowRule::Smooth,
+        (2, (Rule::Crease, Some((a, b)))) => RowRule::Crease(a, b),
+        _ => RowRule::General, // a dart: OpenSubdiv's limit after the first step
+    }
+}
+
+/// The D entry and S weights of a curve point (p₋·end + p·centre + p₊·end)·d.
+#[derive(Clone, Copy)]
+struct Curve {
+    d: f64,
+    end: f64,
+    centre: f64,
+}
+
+/// Catmull-Clark and Loop: the cubic B-spline point (p₋ + 4p + p₊)/6.
+const CUBIC_B_SPLINE: Curve = Curve { d: 1.0 / 6.0, end: 1.0, centre: 4.0 };
+
+/// Doo-Sabin: the quadratic B-spline point (B₋ + 6V + B₊)/8 (the weights of
+/// [`BOUNDARY_CURVE_POINT`], ×8; its two end weights are equal).
+const QUADRATIC_B_SPLINE: Curve =
+    Curve { d: 0.125, end: BOUNDARY_CURVE_POINT[0] * 8.0, centre: BOUNDARY_CURVE_POINT[1] * 8.0 };
 
 /// Rows that do not come from the symmetric assembly, with their D entry.
 struct SpecialRows {
@@ -94,23 +283,47 @@ struct SpecialRows {
     rows: Vec<(u32, Vec<(u32, f64)>)>,
 }
 
-/// Boundary rows (w₋, w, w₊)·scale with D = 1/scale, corners (when
-/// `corner_fixed`) and isolated vertices as identity rows.
-fn special_rows(t: &Topology, curve: [f64; 3], curve_d: f64, corner_fixed: bool) -> SpecialRows {
+/// The kinds of every row and the rows other than the symmetric assembly:
+/// crease rows on `curve`, identity rows, and the general rows, taken from
+/// the composed limit of `scheme` ([`composed_rows`]).
+fn special_rows(
+    t: &Topology,
+    sharp: &LevelSharpness,
+    curve: Curve,
+    scheme: Scheme,
+) -> Result<(SpecialRows, Vec<RowKind>), StencilError> {
     let mut out = SpecialRows { d: Vec::new(), rows: Vec::new() };
+    let mut kinds = Vec::with_capacity(t.vertex_count());
+    let mut general = Vec::new();
     for v in t.vertices() {
-        let identity = t.is_isolated(v) || (corner_fixed && t.is_boundary_vertex(v) && t.vertex_face_count(v) == 1);
-        if identity {
-            out.d.push((v.0, 1.0));
-            out.rows.push((v.0, vec![(v.0, 1.0)]));
-        } else if let Some((prev, next)) = t.boundary_neighbors(v) {
-            out.d.push((v.0, curve_d));
-            let mut row = vec![(prev.0, curve[0]), (v.0, curve[1]), (next.0, curve[2])];
-            row.sort_by_key(|&(c, _)| c);
-            out.rows.push((v.0, row));
+        kinds.push(match row_rule(t, sharp, v) {
+            RowRule::Smooth => RowKind::Smooth,
+            RowRule::Crease(a, b) => {
+                out.d.push((v.0, curve.d));
+                let mut row = vec![(a.0, curve.end), (v.0, curve.centre), (b.0, curve.end)];
+                row.sort_by_key(|&(c, _)| c);
+                out.rows.push((v.0, row));
+                RowKind::Crease
+            }
+            RowRule::Corner => {
+                out.d.push((v.0, 1.0));
+                out.rows.push((v.0, vec![(v.0, 1.0)]));
+                RowKind::Corner
+            }
+            RowRule::General => {
+                general.push(v.0);
+                RowKind::General
+            }
+        });
+    }
+    if !general.is_empty() {
+        let composed = composed_rows(t, sharp, scheme, &general)?;
+        for (&v, row) in general.iter().zip(composed.outer_iterator()) {
+            out.d.push((v, 1.0));
+            out.rows.push((v, row.iter().map(|(c, &w)| (c as u32, w)).collect()));
         }
     }
-    out
+    Ok((out, kinds))
 }
 
 /// Builds A = D·S row by row (in parallel, deterministically): `row(v, rows)`
@@ -124,6 +337,7 @@ fn assemble(
     t: &Topology,
     mut d: Vec<f64>,
     special: SpecialRows,
+    row_kinds: Vec<RowKind>,
     row: impl Fn(VertexId, &mut RowBuilder) + Sync,
 ) -> LimitMatrix {
     let n = t.vertex_count();
@@ -146,8 +360,186 @@ fn assemble(
     for &(v, dv) in &special.d {
         d[v as usize] = dv;
     }
-    let boundary_rows = special.rows.iter().map(|(v, _)| *v).collect();
-    LimitMatrix { d, s, boundary_rows }
+    let boundary_rows = sharp_block(&s, &row_kinds);
+    LimitMatrix { d, s, boundary_rows, row_kinds }
+}
+
+/// The crease and corner rows whose columns all lie in the set (the largest
+/// such set): a crease row with a column outside — a dart or a semi-sharp
+/// vertex at the polygon's end — leaves, and the rows that lean on it are
+/// checked again, so a polygon leaves up to its corners. Linear time.
+fn sharp_block(s: &SparseMatrix, kinds: &[RowKind]) -> Vec<u32> {
+    let mut inside: Vec<bool> = kinds.iter().map(|k| matches!(k, RowKind::Crease | RowKind::Corner)).collect();
+    let mut pending: Vec<usize> = (0..kinds.len()).filter(|&v| inside[v]).collect();
+    while let Some(v) = pending.pop() {
+        let row = s.outer_view(v).expect("a row per vertex");
+        if inside[v] && row.indices().iter().any(|&c| !inside[c as usize]) {
+            inside[v] = false;
+            // A crease polygon is symmetric: the rows with column v are v's columns.
+            pending.extend(row.indices().iter().map(|&c| c as usize).filter(|&c| inside[c]));
+        }
+    }
+    (0..kinds.len() as u32).filter(|&v| inside[v as usize]).collect()
+}
+
+/// A neighbourhood of some vertices cut out of a level, with the sharpness
+/// it has there.
+struct Crop {
+    topology: Topology,
+    sharpness: LevelSharpness,
+    /// The level's vertex of each crop vertex.
+    to_level: Vec<u32>,
+}
+
+/// The faces at `tracked` and at their neighbours, as a mesh of its own with
+/// the level's tags: `tracked` numbered first (crop vertex i = `tracked[i]`),
+/// the faces in the level's order.
+///
+/// Everything the composed limit row of a tracked vertex g uses keeps its
+/// value here: the rows it composes are g's vertex point, the edge points of
+/// g's edges and the face points of g's faces, at every level; they read the
+/// corners of g's faces and the sharpness at g and at its neighbours
+/// (Chaikin halves, the boundary), whose fans are whole in the crop, in the
+/// level's fan order (the first outgoing half-edge in face order), so even
+/// the f32 sharpness sums are the same. The rim (the other vertices) gets
+/// other rules, unused; a rim vertex whose kept faces are not one fan is
+/// split into one crop vertex per piece, which keeps the crop manifold.
+fn crop(t: &Topology, sharp: &LevelSharpness, tracked: &[u32]) -> Crop {
+    let mut near = vec![false; t.vertex_count()];
+    for &g in tracked {
+        near[g as usize] = true;
+        t.vertex_neighbors(VertexId(g)).for_each(|u| near[u.index()] = true);
+    }
+    let mut faces: Vec<u32> = Vec::new();
+    for (v, _) in near.iter().enumerate().filter(|(_, &n)| n) {
+        faces.extend(t.vertex_fan(VertexId(v as u32)).iter().map(|&h| t.he_face(h).0));
+    }
+    faces.sort_unstable();
+    faces.dedup();
+    let mut kept = vec![false; t.face_count()];
+    faces.iter().for_each(|&f| kept[f as usize] = true);
+
+    // Crop vertex of each vertex near the tracked ones, and of each kept
+    // corner (half-edge) of a rim vertex: one per run of kept faces in its fan.
+    let mut id_of = vec![u32::MAX; t.vertex_count()];
+    let mut to_level: Vec<u32> = Vec::with_capacity(8 * faces.len());
+    for &g in tracked {
+        id_of[g as usize] = to_level.len() as u32;
+        to_level.push(g);
+    }
+    let mut rim_corner: HashMap<u32, u32> = HashMap::new();
+    let mut indices = Vec::with_capacity(4 * faces.len());
+    let mut offsets = Vec::with_capacity(faces.len() + 1);
+    offsets.push(0u32);
+    for &f in &faces {
+        for h in t.face_half_edges(FaceId(f)) {
+            let w = t.he_from(h);
+            let id = if near[w.index()] {
+                if id_of[w.index()] == u32::MAX {
+                    id_of[w.index()] = to_level.len() as u32;
+                    to_level.push(w.0);
+                }
+                id_of[w.index()]
+            } else {
+                if !rim_corner.contains_key(&h.0) {
+                    // Number the runs of w's kept faces: a run ends at a face not kept.
+                    let fan = t.vertex_fan(w);
+                    let closed = !t.is_boundary_vertex(w);
+                    let start = if closed { fan.iter().position(|&g| !kept[t.he_face(g).index()]) } else { None };
+                    let start = start.map_or(0, |s| s + 1);
+                    let mut run = None;
+                    for k in 0..fan.len() {
+                        let g = fan[(start + k) % fan.len()];
+                        if kept[t.he_face(g).index()] {
+                            let id = *run.get_or_insert_with(|| {
+                                to_level.push(w.0);
+                                to_level.len() as u32 - 1
+                            });
+                            rim_corner.insert(g.0, id);
+                        } else {
+                            run = None;
+                        }
+                    }
+                }
+                rim_corner[&h.0]
+            };
+            indices.push(id);
+        }
+        offsets.push(indices.len() as u32);
+    }
+    let topology = Topology::new(FaceList::from_raw(offsets, indices), to_level.len())
+        .expect("a crop of a valid level, its rim split into fan pieces, is valid");
+
+    // The level's tags on the crop: edge by edge through the kept corners.
+    let tags = sharp.tags(t);
+    let edges = if tags.edge_values().is_empty() {
+        Vec::new()
+    } else {
+        let mut edges = vec![0.0f32; topology.edge_count()];
+        for (i, &f) in faces.iter().enumerate() {
+            for (h, g) in topology.face_half_edges(FaceId(i as u32)).zip(t.face_half_edges(FaceId(f))) {
+                edges[topology.he_edge(h).index()] = tags.edge_sharpness(t.he_edge(g));
+            }
+        }
+        edges
+    };
+    let vertices = if tags.vertex_values().is_empty() {
+        Vec::new()
+    } else {
+        to_level.iter().map(|&v| tags.vertex_sharpness(VertexId(v))).collect()
+    };
+    let tags = Tags::from_arrays(&topology, edges, vertices).expect("the level's tags are valid values");
+    Crop { topology, sharpness: LevelSharpness::new(&tags, sharp.boundary(), sharp.method()), to_level }
+}
+
+/// `m` with column c renamed `map[c]` (columns that meet are summed), `columns` wide.
+fn relabel_columns(m: &SparseMatrix, map: &[u32], columns: usize) -> SparseMatrix {
+    let mut out = RowBuilder::with_capacity(m.rows(), m.nnz());
+    for row in m.outer_iterator() {
+        row.iter().for_each(|(c, &w)| out.add(map[c], w));
+        out.finish_row();
+    }
+    out.build(columns)
+}
+
+/// Rows `rows` of the plan's limit stencil on `t` with `sharp`
+/// (`SubdivisionPlan::with_tags(t, tags, options, 0).limit_stencil()`: the
+/// limit rows after the levels the masks need, composed with those levels'
+/// refinement stencils), as a `rows.len()` × V matrix, row i for vertex
+/// `rows[i]`.
+///
+/// Computed on a [`crop`] around the rows' vertices at every level rather
+/// than on the whole mesh: the same rows (up to the order of the sums), in
+/// time linear in the rows and the levels instead of the mesh's size × 4^levels.
+fn composed_rows(
+    t: &Topology,
+    sharp: &LevelSharpness,
+    scheme: Scheme,
+    rows: &[u32],
+) -> Result<SparseMatrix, StencilError> {
+    let rules = scheme.rules();
+    rules.check(t, sharp)?;
+    let levels = rules.levels_before_limit(t, sharp, true);
+    let first: Vec<u32> = (0..rows.len() as u32).collect(); // the tracked vertices, in every crop
+                                                            // Per level: the vertex count of the level, its crop, and the crop's stencil.
+    let mut steps: Vec<(usize, Vec<u32>, SparseMatrix)> = Vec::with_capacity(levels);
+    let mut level_size = t.vertex_count();
+    let mut current = crop(t, sharp, rows);
+    for _ in 0..levels {
+        let split = rules.split(&current.topology, &current.sharpness)?;
+        let stencil = (rules.stencil(&current.topology, &current.sharpness)?)
+            .expect("the schemes with limit masks have stencils");
+        steps.push((level_size, current.to_level, stencil));
+        level_size = split.topology.vertex_count();
+        current = crop(&split.topology, &split.sharpness, &first);
+    }
+    let limit = (rules.limit_stencil(&current.topology, &current.sharpness, rows.len()))
+        .expect("the schemes with limit matrices have limit masks")?;
+    let mut composed = relabel_columns(&limit, &current.to_level, level_size);
+    for (size, to_level, stencil) in steps.iter().rev() {
+        composed = relabel_columns(&(&composed * stencil), to_level, *size);
+    }
+    Ok(composed)
 }
 
 /// Doo-Sabin family: row v = (1/n)·Σ over v's faces of that face's first-step
@@ -155,9 +547,14 @@ fn assemble(
 fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMatrix, StencilError> {
     rule.validate(t)?;
     let d = t.vertices().map(|v| 1.0 / t.vertex_face_count(v).max(1) as f64).collect(); // Σ = diag(1/n)
-    let [a, b, c] = BOUNDARY_CURVE_POINT;
-    let special = special_rows(t, [a * 8.0, b * 8.0, c * 8.0], 0.125, false);
-    Ok(assemble(t, d, special, |v, rows| {
+                                                                                        // The boundary is the quadratic B-spline of the boundary polygon at every
+                                                                                        // boundary vertex (no one-face corners): the rule classes of edge-only.
+    let sharp = LevelSharpness::untagged(BoundaryInterpolation::EdgeOnly, CreaseMethod::Uniform);
+    let (special, mut kinds) = special_rows(t, &sharp, QUADRATIC_B_SPLINE, Scheme::DooSabin)?;
+    for v in t.vertices().filter(|&v| crate::doo_sabin::valence_two_corners(t, v).is_some()) {
+        kinds[v.index()] = RowKind::General;
+    }
+    Ok(assemble(t, d, special, kinds, |v, rows| {
         if let Some(corners) = crate::doo_sabin::valence_two_corners(t, v) {
             // No V-face: the valence-2 mask on the first step's images (the
             // second-level E-face centroid), ×n = 2 since D = 1/n. Not of the
@@ -169,6 +566,32 @@ fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMat
         // symmetric because w[k] = w[m − k] (α depends on cos only).
         add_fan_row(t, v, rows, 0.0, 0.0, |face, w| rule.weights(face.index(), w));
     }))
+}
+
+/// The Doo-Sabin family's matrix ([`limit_matrix_nasri`]: `CornerRule::Standard`,
+/// [`limit_matrix_zheng_cai`]: `CornerRule::Uniform(0.5)`,
+/// [`limit_matrix_two_phase`]) for a level with `sharp`: only an untagged one.
+///
+/// # Errors
+/// [`StencilError::TagsNotSupported`] for any tag: Doo-Sabin creases do not
+/// exist yet; [`StencilError::InvalidParameter`] for a bad λ.
+// TODO(issue 15, Doo-Sabin creases): once `DooSabinRules` takes infinitely
+// sharp creases and corners, classify the rows with `row_rule` as the
+// primal matrices do: crease rows on QUADRATIC_B_SPLINE along the crease
+// polygon (the Chaikin rule on both sides), corners fixed, no general rows
+// (infinitely sharp only).
+pub fn limit_matrix_doo_sabin_sharp(
+    t: &Topology,
+    rule: CornerRule<'_>,
+    sharp: &LevelSharpness,
+) -> Result<LimitMatrix, StencilError> {
+    if !sharp.is_untagged() {
+        return Err(StencilError::TagsNotSupported {
+            scheme: "doo-sabin",
+            reason: "the Doo-Sabin limit matrices (Nasri C, Zheng-Cai Z, B(λ)) take no creases or corners yet".into(),
+        });
+    }
+    limit_matrix_doo_sabin(t, rule)
 }
 
 /// Adds the row of interior vertex `v` that sums, over its fan faces
@@ -251,6 +674,28 @@ pub fn limit_matrix_two_phase(t: &Topology, rule: CornerRule<'_>) -> Result<Limi
 /// (xᵢ + xⱼ)²/2 + Σ_v n(n−3)/4 x_v² (ERRATA, "correct as printed").
 /// Spectrum ⊂ [0, 1] only when every valence is ≥ 3 ([`catmull_clark_degeneracy`]).
 pub fn limit_matrix_catmull_clark(t: &Topology) -> LimitMatrix {
+    limit_matrix_catmull_clark_sharp(t, &LevelSharpness::plain()).expect("an untagged level has no composed rows")
+}
+
+/// Cheng's A with the creases, corners, boundary option and crease method of
+/// `sharp` (module docs, "Row kinds"): V × V, row v the limit point of
+/// vertex v as [`crate::SubdivisionPlan::limit_stencil`] gives it (to
+/// round-off), crease rows (p₋ + 4p + p₊)/6, corners p, general rows composed.
+///
+/// Smooth rows keep Eq. 5 even next to creases, exactly: Eq. 5 is one step
+/// composed with the quad limit mask at v's image, and that step only uses
+/// smooth rules at v — v's vertex point (v smooth), the points of its edges
+/// (all smooth) and of its faces (centroids, whatever the tags). After it,
+/// v's image and its ring (v′, the edge points, the face points) are mapped
+/// by the next step onto the next ring by the same smooth rules only, level
+/// after level, so the limit of v is the left eigenvector of the smooth
+/// ring's subdivision matrix — the quad mask — applied after the first step.
+///
+/// # Errors
+/// Those of refining the levels the general rows compose (as
+/// [`crate::SubdivisionPlan::with_tags`]; Catmull-Clark takes every mesh and
+/// tag, so none in practice).
+pub fn limit_matrix_catmull_clark_sharp(t: &Topology, sharp: &LevelSharpness) -> Result<LimitMatrix, StencilError> {
     let d = t
         .vertices()
         .map(|v| {
@@ -262,25 +707,43 @@ pub fn limit_matrix_catmull_clark(t: &Topology) -> LimitMatrix {
             } // D = diag(4/(n(n+5)))
         })
         .collect();
-    let special = special_rows(t, [1.0, 4.0, 1.0], 1.0 / 6.0, true);
-    assemble(t, d, special, |v, rows| {
+    let (special, kinds) = special_rows(t, sharp, CUBIC_B_SPLINE, Scheme::CatmullClark)?;
+    Ok(assemble(t, d, special, kinds, |v, rows| {
         let n = t.valence(v) as f64;
         // Eq. (5): Σᵢ (Fⁱ…)/mᵢ and the 1/mᵢ of the E and V terms; the ½ of
         // (½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ; n(n−1)/4 V = n(n−3)/4 + n·½ (the edges' ½ at V).
         add_fan_row(t, v, rows, 0.5, n * (n - 1.0) / 4.0, |_, w| w.fill(1.0 / w.len() as f64));
-    })
+    }))
 }
 
 /// The Loop limit matrix L: (1 − kγ) on the diagonal, γ per neighbour, with
 /// γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, ERRATA W4): D = γ, S = 3/(8β) on the
 /// diagonal and 1 per edge.
+///
+/// # Errors
+/// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
 pub fn limit_matrix_loop(t: &Topology, beta: LoopBeta) -> Result<LimitMatrix, StencilError> {
-    if let Some(f) = t.face_ids().find(|&f| t.face_size(f) != 3) {
-        return Err(StencilError::NotTriangles { face: f.0, size: t.face_size(f) });
-    }
+    limit_matrix_loop_sharp(t, &LevelSharpness::plain(), beta)
+}
+
+/// Loop's L with the creases, corners, boundary option and crease method of
+/// `sharp`, as [`limit_matrix_catmull_clark_sharp`]: crease rows
+/// (p₋ + 4p + p₊)/6, corners p, general rows composed. Smooth rows keep the
+/// limit mask of v's 1-ring: the step maps the ring (v and its neighbours)
+/// onto the next ring with v's smooth vertex rule and the smooth edge rule
+/// of v's edges only, which read the ring and the triangles at v.
+///
+/// # Errors
+/// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
+pub fn limit_matrix_loop_sharp(
+    t: &Topology,
+    sharp: &LevelSharpness,
+    beta: LoopBeta,
+) -> Result<LimitMatrix, StencilError> {
+    crate::loop_subdivision::require_triangles(t)?;
     let d = t.vertices().map(|v| if t.valence(v) > 0 { beta.gamma(t.valence(v)) } else { 1.0 }).collect(); // W4: γ = 1/(k + 3/(8β))
-    let special = special_rows(t, [1.0, 4.0, 1.0], 1.0 / 6.0, true);
-    Ok(assemble(t, d, special, |v, rows| {
+    let (special, kinds) = special_rows(t, sharp, CUBIC_B_SPLINE, Scheme::Loop(beta))?;
+    Ok(assemble(t, d, special, kinds, |v, rows| {
         rows.add(v.0, 3.0 / (8.0 * beta.beta(t.valence(v)))); // (1 − kγ)/γ = 3/(8β)
         t.vertex_neighbors(v).for_each(|e| rows.add(e.0, 1.0));
     }))
@@ -369,4 +832,41 @@ pub fn catmull_clark_kernel(t: &Topology) -> Vec<Vec<(VertexId, f64)>> {
         }
     }
     kernel
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subdiv_mesh::shapes;
+
+    /// Vertex (i, j) of `shapes::quad_grid(6, 5)`.
+    fn id(i: u32, j: u32) -> u32 {
+        j * 7 + i
+    }
+
+    /// Regression: of the faces of vertex (2, 2), the crop around (1, 0) and
+    /// (4, 3) keeps two that meet at that vertex alone; it becomes two crop
+    /// vertices (Topology::new refuses the pinched one), and the tracked
+    /// vertices and their neighbours keep their whole fans in their order.
+    #[test]
+    fn crop_splits_a_pinched_rim_vertex() {
+        let grid = shapes::quad_grid(6, 5);
+        let t = grid.topology();
+        let tracked = [id(1, 0), id(4, 3)];
+        let crop = crop(t, &LevelSharpness::plain(), &tracked);
+        assert_eq!(&crop.to_level[..2], &tracked);
+        let copies = crop.to_level.iter().filter(|&&v| v == id(2, 2)).count();
+        assert_eq!(copies, 2, "(2, 2) is split into its two pieces");
+        for (c, &v) in crop.to_level.iter().enumerate() {
+            let near = tracked.iter().any(|&g| g == v || t.vertex_neighbors(VertexId(g)).any(|u| u.0 == v));
+            if near {
+                let (crop_fan, fan) = (crop.topology.vertex_fan(VertexId(c as u32)), t.vertex_fan(VertexId(v)));
+                let ends = |t: &Topology, to: &dyn Fn(u32) -> u32, fan: &[subdiv_mesh::HalfEdgeId]| -> Vec<u32> {
+                    fan.iter().map(|&h| to(t.he_to(h).0)).collect()
+                };
+                let in_level = |x: u32| crop.to_level[x as usize];
+                assert_eq!(ends(&crop.topology, &in_level, crop_fan), ends(t, &|x| x, fan), "fan of {v}");
+            }
+        }
+    }
 }

@@ -532,3 +532,46 @@ fn catmull_clark_kernel_vectors_are_annihilated_by_a() {
         assert_eq!(catmull_clark_degeneracy(t).is_some(), expected > 0, "{name}");
     }
 }
+
+/// The row kinds of the untagged matrices: boundary curve rows are crease
+/// rows, corners and isolated vertices identity rows, the Doo-Sabin rows of
+/// interior valence-2 vertices general rows, every other row smooth; the
+/// sharp block is all boundary and corner rows, and the interior block is
+/// asymmetric only at the valence-2 rows.
+#[test]
+fn row_kinds_of_the_untagged_matrices() {
+    use subdiv_stencil::limit_matrix::RowKind;
+    let mut meshes = all_meshes();
+    meshes.extend(valence_two_meshes());
+    for (name, mesh) in meshes {
+        let t = mesh.topology();
+        for (m, a) in matrices(&mesh) {
+            let doo_sabin = !matches!(m, "A" | "L");
+            for v in t.vertices() {
+                let one_face_corner = t.is_boundary_vertex(v) && t.vertex_face_count(v) == 1 && !doo_sabin;
+                let expected = if t.is_isolated(v) || one_face_corner {
+                    RowKind::Corner
+                } else if t.is_boundary_vertex(v) {
+                    RowKind::Crease
+                } else if doo_sabin && t.valence(v) == 2 {
+                    RowKind::General
+                } else {
+                    RowKind::Smooth
+                };
+                assert_eq!(a.row_kinds[v.index()], expected, "{m} on {name}: vertex {}", v.0);
+            }
+            let mut sharp = a.rows_of(RowKind::Crease);
+            sharp.extend(a.rows_of(RowKind::Corner));
+            sharp.sort_unstable();
+            assert_eq!(a.boundary_rows, sharp, "{m} on {name}");
+            let general: std::collections::HashSet<usize> =
+                a.rows_of(RowKind::General).into_iter().map(|v| v as usize).collect();
+            for v in a.asymmetric_rows(&a.solve_blocks().interior) {
+                let row = a.s.outer_view(v as usize).unwrap();
+                let near =
+                    general.contains(&(v as usize)) || row.indices().iter().any(|&j| general.contains(&(j as usize)));
+                assert!(near, "{m} on {name}: row {v} asymmetric away from valence 2");
+            }
+        }
+    }
+}
