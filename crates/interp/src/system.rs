@@ -254,6 +254,7 @@ pub(crate) fn interpolate_on_input_topology(
 mod tests {
     use super::*;
     use sprs::TriMatI;
+    use subdiv_stencil::RowKind;
 
     /// An open-mesh-like limit matrix: boundary rows 0..4 (a symmetric cycle
     /// (1, 4, 1)/6 on themselves), interior rows 4..8 depending on everything,
@@ -272,7 +273,8 @@ mod tests {
             t.add_triplet(i, 4 + (i + 3) % 4, 0.5);
         }
         let d = (0..8).map(|i| if i < 4 { 1.0 / 6.0 } else { 1.0 / 9.0 }).collect();
-        LimitMatrix { d, s: t.to_csr(), boundary_rows: vec![0, 1, 2, 3] }
+        let row_kinds = [[RowKind::Crease; 4], [RowKind::General; 4]].concat();
+        LimitMatrix { d, s: t.to_csr(), boundary_rows: vec![0, 1, 2, 3], row_kinds }
     }
 
     #[test]
