@@ -253,8 +253,8 @@ pub fn refine(
 /// [`refine`] over several levels: `levels` yields each refined level's
 /// topology and sharpness in order (a plan's
 /// `levels().iter().map(|r| (&r.topology, &r.sharpness))`, or the splits of a
-/// `subdivide` loop), the first refining `base` with `base_sharpness`. No
-/// level gives the channel itself.
+/// `subdivide` loop), the first refining `base` with `base_sharpness`; with
+/// no level, the channel as it is.
 ///
 /// # Errors
 /// As [`refine`], for the first level that fails.
@@ -759,83 +759,14 @@ impl Step<'_> {
     fn unmatched_vertex_values(&self, v: VertexId, s: &mut Scratch, out: &mut Vec<DVec2>) -> u32 {
         let t = self.t;
         let fan = t.vertex_fan(v);
-        let n = fan.len();
-        let boundary = t.is_boundary_vertex(v);
-        let at = |i: usize| self.indices[fan[i].index()];
-        assign_siblings(n, at, s);
+        assign_siblings(fan.len(), |i| self.indices[fan[i].index()], s);
         let count = s.distinct.len();
         if self.rules.linear_all {
             out.extend(s.distinct.iter().map(|&x| self.values[x as usize]));
             return count as u32;
         }
-        // Spans: faces, runs, and the edges inside (between two faces with the same value here).
-        s.spans.clear();
-        s.spans.resize(count, Span::default());
-        for i in 0..n {
-            let span = &mut s.spans[s.sibling[i] as usize];
-            span.size += 1;
-            let opens = if i == 0 { boundary || at(0) != at(n - 1) } else { at(i) != at(i - 1) };
-            if opens {
-                span.runs += 1;
-                if span.runs == 1 {
-                    span.start = i as u32;
-                }
-            }
-        }
-        s.incident.clear();
-        s.incident.extend(fan.iter().map(|&h| self.sharp.edge(t, t.he_edge(h))));
-        if boundary {
-            s.incident.push(SHARPNESS_INFINITE);
-        }
-        let mut first_seam = None;
-        let mut any_semi = false;
-        for i in usize::from(boundary)..n {
-            if at(i) != at(if i == 0 { n - 1 } else { i - 1 }) {
-                continue; // the value changes across this edge: it bounds two spans
-            }
-            let span = &mut s.spans[s.sibling[i] as usize];
-            if self.seam[t.he_edge(fan[i]).index()] {
-                span.seams += 1; // a seam ending further on (OpenSubdiv: the span is disjoint)
-                first_seam.get_or_insert(i);
-            } else if is_infinite(s.incident[i]) {
-                span.infinite += 1;
-            } else if is_sharp(s.incident[i]) {
-                span.semi += 1;
-                any_semi = true;
-            }
-        }
-        for span in &mut s.spans {
-            span.seams += span.runs.saturating_sub(1); // one value in separate runs
-        }
-        if count == 1 && !boundary {
-            // A dart: the faces all around share the value; its one seam edge opens the span.
-            if let Some(i) = first_seam {
-                s.spans[0].start = i as u32;
-                s.spans[0].seams -= 1;
-            }
-        }
-        let vertex = self.sharp.vertex(t, v);
-        classify(&self.rules, &s.spans, |span| span.semi, vertex, boundary, &mut s.parent_tags);
-        let semi_sharp = |tag: &Tag| matches!(tag, Tag::SemiSharp { .. });
-        s.child_tags.clear();
-        if s.parent_tags.iter().any(semi_sharp) {
-            // The tags after the step, from the decayed sharpness inside the spans.
-            let method = self.sharp.method();
-            if any_semi {
-                for i in usize::from(boundary)..n {
-                    let inside = at(i) == at(if i == 0 { n - 1 } else { i - 1 });
-                    let e = t.he_edge(fan[i]);
-                    let p = s.incident[i];
-                    if inside && !self.seam[e.index()] && is_semi_sharp(p) {
-                        let c = method.subdivide_edge_sharpness(p, &s.incident);
-                        s.spans[s.sibling[i] as usize].child_semi += u32::from(is_sharp(c));
-                    }
-                }
-            }
-            classify(&self.rules, &s.spans, |span| span.child_semi, decrement(vertex), boundary, &mut s.child_tags);
-        } else {
-            s.child_tags.extend_from_slice(&s.parent_tags);
-        }
+        self.gather_spans(v, s);
+        self.tag_values(v, s);
         for j in 0..count {
             let own = self.values[s.distinct[j] as usize];
             let value = match (s.parent_tags[j], s.child_tags[j]) {
@@ -846,8 +777,9 @@ impl Step<'_> {
                         Tag::SemiSharp { dependent } => self.span_weight(v, s, if dependent { 1 - j } else { j }),
                         _ => 0.0,
                     };
+                    // The far ends of the span's two fvar-boundary edges.
                     let span = s.spans[j];
-                    let last = (span.start + span.size - 1) as usize % n;
+                    let last = (span.start + span.size - 1) as usize % fan.len();
                     let a = self.value(t.he_next(fan[span.start as usize]));
                     let b = self.value(t.he_prev(fan[last]));
                     let mask = self.crease_mask(t.valence(v));
@@ -861,6 +793,89 @@ impl Step<'_> {
             out.push(value);
         }
         count as u32
+    }
+
+    /// Whether fan edge i (between faces i − 1 and i; on the boundary i ≥ 1)
+    /// lies inside a span: the value at `v` is the same on both sides.
+    #[inline]
+    fn inside_span(&self, fan: &[HalfEdgeId], i: usize) -> bool {
+        let previous = if i == 0 { fan.len() - 1 } else { i - 1 };
+        self.indices[fan[i].index()] == self.indices[fan[previous].index()]
+    }
+
+    /// The spans of `v`'s values (`s.spans`: first face, size, runs, and the
+    /// seams, infinitely sharp and semi-sharp edges inside) and the sharpness
+    /// of the edges at `v` (`s.incident`), from `s.sibling` (`gatherValueSpans`).
+    fn gather_spans(&self, v: VertexId, s: &mut Scratch) {
+        let t = self.t;
+        let fan = t.vertex_fan(v);
+        let n = fan.len();
+        let boundary = t.is_boundary_vertex(v);
+        s.spans.clear();
+        s.spans.resize(s.distinct.len(), Span::default());
+        for i in 0..n {
+            let span = &mut s.spans[s.sibling[i] as usize];
+            span.size += 1;
+            // A run opens where the value changes (the fan's start on the boundary).
+            if (i == 0 && boundary) || !self.inside_span(fan, i) {
+                span.runs += 1;
+                if span.runs == 1 {
+                    span.start = i as u32;
+                }
+            }
+        }
+        s.incident.clear();
+        s.incident.extend(fan.iter().map(|&h| self.sharp.edge(t, t.he_edge(h))));
+        if boundary {
+            s.incident.push(SHARPNESS_INFINITE);
+        }
+        let mut first_seam = None;
+        for i in (usize::from(boundary)..n).filter(|&i| self.inside_span(fan, i)) {
+            let span = &mut s.spans[s.sibling[i] as usize];
+            if self.seam[t.he_edge(fan[i]).index()] {
+                span.seams += 1; // a seam ending further on (OpenSubdiv: the span is disjoint)
+                first_seam.get_or_insert(i);
+            } else if is_infinite(s.incident[i]) {
+                span.infinite += 1;
+            } else if is_sharp(s.incident[i]) {
+                span.semi += 1;
+            }
+        }
+        for span in &mut s.spans {
+            span.seams += span.runs.saturating_sub(1); // one value in separate runs
+        }
+        if s.distinct.len() == 1 && !boundary {
+            // A dart: the faces all around share the value; its one seam edge opens the span.
+            if let Some(i) = first_seam {
+                s.spans[0].start = i as u32;
+                s.spans[0].seams -= 1;
+            }
+        }
+    }
+
+    /// The tags of `v`'s values before the step (`s.parent_tags`) and after
+    /// it (`s.child_tags`, from the sharpness decayed inside the spans; the
+    /// same unless a value is semi-sharp).
+    fn tag_values(&self, v: VertexId, s: &mut Scratch) {
+        let t = self.t;
+        let fan = t.vertex_fan(v);
+        let boundary = t.is_boundary_vertex(v);
+        let vertex = self.sharp.vertex(t, v);
+        classify(&self.rules, &s.spans, |span| span.semi, vertex, boundary, &mut s.parent_tags);
+        s.child_tags.clear();
+        if !s.parent_tags.iter().any(|tag| matches!(tag, Tag::SemiSharp { .. })) {
+            s.child_tags.extend_from_slice(&s.parent_tags);
+            return;
+        }
+        let method = self.sharp.method();
+        for i in (usize::from(boundary)..fan.len()).filter(|&i| self.inside_span(fan, i)) {
+            let p = s.incident[i];
+            if is_semi_sharp(p) && !self.seam[t.he_edge(fan[i]).index()] {
+                let c = method.subdivide_edge_sharpness(p, &s.incident);
+                s.spans[s.sibling[i] as usize].child_semi += u32::from(is_sharp(c));
+            }
+        }
+        classify(&self.rules, &s.spans, |span| span.child_semi, decrement(vertex), boundary, &mut s.child_tags);
     }
 
     /// The fractional weight of value `j`'s span (`Sdc::Crease`'s rule over
