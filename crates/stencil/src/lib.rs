@@ -32,6 +32,7 @@ pub mod catmull_clark;
 pub mod deng_ma;
 pub mod doo_sabin;
 mod error;
+pub mod fvar;
 pub mod limit_matrix;
 pub mod loop_subdivision;
 pub mod normalized;
