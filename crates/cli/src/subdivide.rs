@@ -10,7 +10,9 @@ use anyhow::anyhow;
 use clap::ValueEnum;
 use std::path::PathBuf;
 use subdiv_mesh::Mesh;
-use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, LoopBeta, Options, Scheme, Tension};
+use subdiv_stencil::{
+    BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, Options, Scheme, StencilError, Tension,
+};
 
 /// A value parser for the option enums that name their values (`FromStr`).
 pub fn named<T: std::str::FromStr<Err = String>>(s: &str) -> Result<T, String> {
@@ -30,12 +32,17 @@ pub struct SurfaceArgs {
     /// other semi-sharp edges at each end).
     #[arg(long, default_value = "uniform", value_parser = named::<CreaseMethod>)]
     pub crease_method: CreaseMethod,
+    /// Face-varying interpolation of the texture coordinates (OpenSubdiv): linear-all (bilinear),
+    /// linear-boundaries, linear-corners-plus2, linear-corners-plus1, linear-corners-only,
+    /// linear-none (smooth everywhere, seams as boundaries).
+    #[arg(long, default_value = "linear-all", value_parser = named::<FVarInterpolation>)]
+    pub fvar: FVarInterpolation,
 }
 
 impl SurfaceArgs {
     /// The options for `scheme`.
     pub fn options(&self, scheme: Scheme) -> Options {
-        Options::new(scheme).with_boundary(self.boundary).with_crease_method(self.crease_method)
+        Options::new(scheme).with_boundary(self.boundary).with_crease_method(self.crease_method).with_fvar(self.fvar)
     }
 }
 
@@ -181,13 +188,26 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
 /// `levels` steps with `options`, one at a time with a progress bar (the
 /// topology of each level is built once either way; each level's mesh
 /// carries its decayed tags to the next), then limit positions.
-pub fn refine(
-    mesh: &Mesh,
-    options: impl Into<Options>,
-    levels: usize,
-    limit: bool,
-) -> Result<Mesh, subdiv_stencil::StencilError> {
+///
+/// Texture coordinates the scheme cannot refine (Deng-Ma; Doo-Sabin with
+/// seams) are dropped with a warning: the positions are what was asked for.
+pub fn refine(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
     let options = options.into();
+    let without_uvs = |reason: &str| {
+        progress::warn(format!("texture coordinates not written: {reason}"));
+        mesh.clone().with_uvs(None).expect("no channel is always valid")
+    };
+    if mesh.uvs().is_some() && levels > 0 && matches!(options.scheme, Scheme::DengMa(_)) {
+        return refine_levels(&without_uvs("deng-ma has no face-varying rule"), options, levels, limit);
+    }
+    match refine_levels(mesh, options, levels, limit) {
+        Err(StencilError::FaceVarying(reason)) => refine_levels(&without_uvs(&reason), options, levels, limit),
+        other => other,
+    }
+}
+
+/// [`refine`] on the mesh as it is.
+fn refine_levels(mesh: &Mesh, options: Options, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
     let bar = progress::steps(format!("{} subdivision", options.scheme.name()), levels as u64);
     let mut current = std::borrow::Cow::Borrowed(mesh);
     for level in 0..levels {

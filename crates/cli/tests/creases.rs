@@ -237,3 +237,93 @@ fn info_counts_tags_and_texture_coordinates() {
     .to_string();
     assert!(text.contains("tags:                 4 creases, 0 corners"), "{text}");
 }
+
+/// UVs per face corner: each of our faces against the reference face with
+/// the same corner positions (OpenSubdiv orders a quad parent's children
+/// from another corner, so faces are permuted from level 2 on), corner by
+/// corner at the same position; the largest |Δuv|.
+fn uv_gap(ours: &PolygonSoup, theirs: &PolygonSoup) -> f64 {
+    use std::collections::HashMap;
+    let (ou, tu) = (ours.uvs.as_ref().expect("our uvs"), theirs.uvs.as_ref().expect("their uvs"));
+    assert_eq!(ours.faces.len(), theirs.faces.len());
+    // Our vertex → the nearest of theirs.
+    let map: Vec<u32> = (ours.positions.iter())
+        .map(|p| {
+            (0..theirs.positions.len() as u32)
+                .min_by(|&a, &b| {
+                    p.distance(theirs.positions[a as usize]).total_cmp(&p.distance(theirs.positions[b as usize]))
+                })
+                .unwrap()
+        })
+        .collect();
+    let sorted = |mut k: Vec<u32>| {
+        k.sort_unstable();
+        k
+    };
+    let faces: HashMap<Vec<u32>, usize> =
+        (0..theirs.faces.len()).map(|g| (sorted(theirs.faces.face(g).to_vec()), g)).collect();
+    let starts = |soup: &PolygonSoup| soup.faces.offsets().iter().map(|&o| o as usize).collect::<Vec<_>>();
+    let (ours_start, theirs_start) = (starts(ours), starts(theirs));
+    let mut worst = 0.0f64;
+    for f in 0..ours.faces.len() {
+        let mapped: Vec<u32> = ours.faces.face(f).iter().map(|&v| map[v as usize]).collect();
+        let g = faces[&sorted(mapped.clone())];
+        let theirs_face = theirs.faces.face(g);
+        for (i, w) in mapped.iter().enumerate() {
+            let j = theirs_face.iter().position(|c| c == w).unwrap();
+            let x = ou.values[ou.indices[ours_start[f] + i] as usize];
+            let y = tu.values[tu.indices[theirs_start[g] + j] as usize];
+            worst = worst.max(x.distance(y));
+        }
+    }
+    worst
+}
+
+#[test]
+fn texture_coordinates_follow_opensubdiv_in_each_fvar_mode() {
+    for (name, mode, boundary) in [
+        ("spot_uv", "linear-none", "edge-and-corner"),
+        ("spot_uv", "linear-corners-only", "edge-and-corner"),
+        ("spot_uv", "linear-all", "edge-and-corner"),
+        ("uv_grid", "linear-none", "edge-only"),
+    ] {
+        let input = case(name, &format!("{name}.obj"));
+        let out = out_path(&format!("{name}-{mode}-{boundary}.obj"));
+        run_ok(&[
+            "subdivide",
+            input.to_str().unwrap(),
+            "--scheme",
+            "catmull-clark",
+            "--levels",
+            "2",
+            "--fvar",
+            mode,
+            "--boundary",
+            boundary,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let prefix =
+            if boundary == "edge-only" { "opensubdiv-catmull-clark-edge-only" } else { "opensubdiv-catmull-clark" };
+        let theirs = read(&case(name, &format!("{prefix}-fvar-{mode}-L2.obj")));
+        let ours = read(&out);
+        assert_eq!(ours.uvs.as_ref().unwrap().values.len(), theirs.uvs.as_ref().unwrap().values.len(), "{name} {mode}");
+        let gap = uv_gap(&ours, &theirs);
+        assert!(gap < 1e-12, "{name} {mode} {boundary}: UVs off by {gap:.3e}");
+    }
+    // Doo-Sabin refines no channel with seams: the positions are written, the UVs dropped with a warning.
+    let out = out_path("spot-ds.obj");
+    let spot = case("spot_uv", "spot_uv.obj");
+    let stderr = run_ok(&[
+        "subdivide",
+        spot.to_str().unwrap(),
+        "--scheme",
+        "doo-sabin",
+        "--levels",
+        "1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(stderr.contains("texture coordinates not written"), "{stderr}");
+    assert!(read(&out).uvs.is_none());
+}

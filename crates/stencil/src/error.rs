@@ -35,6 +35,11 @@ pub enum StencilError {
         /// Why.
         reason: String,
     },
+    /// The mesh's texture coordinates cannot be refined with this scheme
+    /// (Deng-Ma; Doo-Sabin on a channel with seams): drop them
+    /// (`Mesh::with_uvs(None)`) to subdivide the positions.
+    #[error("texture coordinates: {0}")]
+    FaceVarying(String),
     /// The refined mesh would exceed the `u32` index range.
     #[error("the refined mesh would have more than 2³² elements")]
     TooLarge,

@@ -10,7 +10,7 @@
 use crate::normalized::{map_back, normalize};
 use crate::scheme::SchemeRules;
 use crate::sharpness::LevelSharpness;
-use crate::{apply, Options, Scheme, SparseMatrix, StencilError};
+use crate::{apply, fvar, Options, Scheme, SparseMatrix, StencilError};
 use glam::DVec3;
 use std::borrow::Cow;
 use subdiv_mesh::refine::DualProvenance;
@@ -281,7 +281,9 @@ impl SubdivisionPlan {
 
     /// Subdivides a mesh: positions after every level, moved to their limit
     /// positions when `limit` is set and the scheme has a limit mask; the
-    /// tags of the final level.
+    /// tags of the final level; the mesh's texture coordinates refined with
+    /// the face-varying interpolation of the options ([`fvar`]; at the final
+    /// level, not at the limit).
     ///
     /// # Errors
     /// [`StencilError::NotRepresentable`] when an output coordinate is not a
@@ -303,7 +305,23 @@ impl SubdivisionPlan {
         let mut positions = limits.unwrap_or(positions);
         let copies_input = copies_input(self.scheme(), self.levels.len(), limit);
         map_back_checked(self.scheme(), scale, &mut positions, mesh.positions(), copies_input)?;
-        Ok(Mesh::from_topology(t.clone(), positions).with_tags(sharp.tags(t)))
+        let uvs = match mesh.uvs() {
+            Some(channel) => {
+                let levels = self.levels.iter().map(|r| (&r.topology, &r.sharpness));
+                let refined = fvar::refine_levels(
+                    &self.base,
+                    &self.base_sharpness,
+                    levels,
+                    self.scheme(),
+                    self.options.fvar,
+                    channel,
+                );
+                Some(refined.map_err(face_varying_error)?)
+            }
+            None => None,
+        };
+        let refined = Mesh::from_topology(t.clone(), positions).with_tags(sharp.tags(t));
+        Ok(refined.with_uvs(uvs).expect("the refined channel has one value per refined face corner"))
     }
 }
 
@@ -314,7 +332,7 @@ fn copies_input(scheme: Scheme, levels: usize, limit: bool) -> bool {
 }
 
 /// `levels` steps of the scheme of `options` (a [`Scheme`] for the
-/// defaults) applied to `mesh` with its tags, moved to the limit positions
+/// defaults) applied to `mesh` with its tags and texture coordinates, moved to the limit positions
 /// when `limit` is set and the scheme has a limit mask — the mesh of
 /// [`SubdivisionPlan::subdivide`] up to round-off, for a single use: each
 /// level is refined and applied in turn and dropped once the next exists, so
@@ -327,7 +345,9 @@ fn copies_input(scheme: Scheme, levels: usize, limit: bool) -> bool {
 ///
 /// # Errors
 /// As [`SubdivisionPlan::new`]; [`StencilError::NotRepresentable`] when an
-/// output coordinate is not a finite f64 (the surface leaves the range of f64).
+/// output coordinate is not a finite f64 (the surface leaves the range of f64);
+/// [`StencilError::FaceVarying`] when the scheme cannot refine the mesh's
+/// texture coordinates (Deng-Ma; Doo-Sabin with seams).
 pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
     let options = options.into();
     options.validate()?;
@@ -338,6 +358,7 @@ pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit:
     rules.check(mesh.topology(), &sharp)?;
     let mut fine: Option<Topology> = None; // None: still the input's connectivity
     let (scale, mut positions) = normalize(mesh.positions());
+    let mut uvs = mesh.uvs().map(Cow::Borrowed);
     for _ in 0..levels {
         let coarse = fine.as_ref().unwrap_or(mesh.topology());
         check_size(coarse, scheme)?;
@@ -346,6 +367,10 @@ pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit:
             rayon::join(|| rules.split(coarse, &sharp), || rules.step_points(coarse, &sharp, &positions));
         let split = split?;
         positions = next?;
+        if let Some(channel) = &uvs {
+            let refined = fvar::refine(coarse, &sharp, &split.topology, scheme, options.fvar, channel);
+            uvs = Some(Cow::Owned(refined.map_err(face_varying_error)?));
+        }
         sharp = split.sharpness;
         fine = Some(split.topology);
     }
@@ -360,8 +385,21 @@ pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit:
     Ok(match fine {
         Some(t) => {
             let tags = sharp.tags(&t);
-            Mesh::from_topology(t, positions).with_tags(tags)
+            let uvs = uvs.map(Cow::into_owned);
+            Mesh::from_topology(t, positions)
+                .with_tags(tags)
+                .with_uvs(uvs)
+                .expect("the refined channel has one value per refined face corner")
         }
         None => mesh.with_positions(positions),
     })
+}
+
+/// A face-varying error as the subdivision's: the scheme's own refusal as
+/// it is, the channel's as [`StencilError::FaceVarying`].
+fn face_varying_error(e: fvar::FVarError) -> StencilError {
+    match e {
+        fvar::FVarError::Stencil(e) => e,
+        other => StencilError::FaceVarying(other.to_string()),
+    }
 }
