@@ -16,6 +16,7 @@
 //! `CreaseMethod::subdivide_edge_sharpness` of the parent values at v, so a
 //! row can be computed before (or while) the child connectivity is built.
 
+use std::sync::OnceLock;
 use subdiv_mesh::{EdgeId, HalfEdgeId, Tags, Topology, VertexId};
 use subdiv_rules::crease::{decrement, fractional_weight, is_sharp, is_smooth, vertex_rule, SHARPNESS_INFINITE};
 use subdiv_rules::{BoundaryInterpolation, CreaseMethod, Rule};
@@ -25,8 +26,10 @@ use subdiv_rules::{BoundaryInterpolation, CreaseMethod, Rule};
 const STACK_VALENCE: usize = 16;
 
 /// Sharpness of one level: the tags at that level, the boundary option and
-/// the crease method that decays them.
-#[derive(Clone, Debug, PartialEq)]
+/// the crease method that decays them. It belongs to that level's topology:
+/// every query passes the same `Topology` (a per-vertex cache is built from
+/// the first one).
+#[derive(Clone, Debug)]
 pub struct LevelSharpness {
     /// Per edge (tag values at this level), or empty: all smooth.
     edges: Vec<f32>,
@@ -34,6 +37,19 @@ pub struct LevelSharpness {
     vertices: Vec<f32>,
     boundary: BoundaryInterpolation,
     method: CreaseMethod,
+    /// Per vertex: whether a tag touches it (its own, or one of an edge at
+    /// it), computed on first use from the sharp edges alone, so the rows of
+    /// the many untouched vertices of a tagged level cost one lookup.
+    touched: OnceLock<Vec<bool>>,
+}
+
+impl PartialEq for LevelSharpness {
+    fn eq(&self, other: &Self) -> bool {
+        (self.edges == other.edges)
+            && (self.vertices == other.vertices)
+            && (self.boundary == other.boundary)
+            && (self.method == other.method)
+    }
 }
 
 /// The new vertex point of an old vertex: the rule before the step
@@ -112,7 +128,7 @@ mod smallvec_free {
 impl LevelSharpness {
     /// The base level of a mesh with `tags` under the given options.
     pub fn new(tags: &Tags, boundary: BoundaryInterpolation, method: CreaseMethod) -> Self {
-        Self { edges: tags.edge_values().to_vec(), vertices: tags.vertex_values().to_vec(), boundary, method }
+        Self::from_values(tags.edge_values().to_vec(), tags.vertex_values().to_vec(), boundary, method)
     }
 
     /// The rules of an untagged mesh with `edge-and-corner` boundaries.
@@ -122,7 +138,11 @@ impl LevelSharpness {
 
     /// An untagged level (only what the boundary option implies).
     pub fn untagged(boundary: BoundaryInterpolation, method: CreaseMethod) -> Self {
-        Self { edges: Vec::new(), vertices: Vec::new(), boundary, method }
+        Self::from_values(Vec::new(), Vec::new(), boundary, method)
+    }
+
+    fn from_values(edges: Vec<f32>, vertices: Vec<f32>, boundary: BoundaryInterpolation, method: CreaseMethod) -> Self {
+        Self { edges, vertices, boundary, method, touched: OnceLock::new() }
     }
 
     /// Whether no edge or vertex carries a tag (boundaries may still be sharp).
@@ -193,19 +213,50 @@ impl LevelSharpness {
         out
     }
 
+    /// Whether no tag touches `v`: its own sharpness and that of every edge
+    /// at it are 0 (boundary edges aside, which are sharp by topology). Then
+    /// its rule is the untagged one and stays so in the step. One pass over
+    /// the fan, no buffers: most vertices of a tagged mesh are like this.
+    #[inline]
+    fn untouched(&self, t: &Topology, v: VertexId) -> bool {
+        if self.is_untagged() {
+            return true;
+        }
+        let touched = self.touched.get_or_init(|| {
+            let mut touched: Vec<bool> =
+                (0..t.vertex_count()).map(|v| self.vertices.get(v).is_some_and(|&s| s > 0.0)).collect();
+            for (e, _) in self.edges.iter().enumerate().filter(|(_, &s)| s > 0.0) {
+                let (a, b) = t.edge_vertices(EdgeId(e as u32));
+                touched[a.index()] = true;
+                touched[b.index()] = true;
+            }
+            touched
+        });
+        !touched[v.index()]
+    }
+
+    /// The rule of an untouched vertex ([`Self::untouched`]), the same before
+    /// and after the step: smooth inside, the boundary crease, or a corner.
+    fn untagged_rule(&self, t: &Topology, v: VertexId) -> (Rule, Option<(VertexId, VertexId)>) {
+        if !t.is_boundary_vertex(v) {
+            (Rule::Smooth, None)
+        } else if self.vertex(t, v) > 0.0 {
+            (Rule::Corner, None)
+        } else {
+            // The two boundary edges: the next neighbour along the outgoing
+            // one first, as the general path orders them.
+            let (prev, next) = t.boundary_neighbors(v).expect("a boundary vertex");
+            (Rule::Crease, Some((next, prev)))
+        }
+    }
+
     /// The rule of the new vertex point of old vertex `v`.
     pub fn vertex_step(&self, t: &Topology, v: VertexId) -> VertexStep {
-        let vertex = self.vertex(t, v);
-        // Fast path: an interior vertex of an untagged level is smooth before and after.
-        if self.is_untagged() && !t.is_boundary_vertex(v) {
-            return VertexStep {
-                parent: Rule::Smooth,
-                child: Rule::Smooth,
-                parent_weight: 0.0,
-                parent_ends: None,
-                child_ends: None,
-            };
+        if self.untouched(t, v) {
+            let (rule, ends) = self.untagged_rule(t, v);
+            return VertexStep { parent: rule, child: rule, parent_weight: 0.0, parent_ends: ends, child_ends: ends };
         }
+        let vertex = self.vertex(t, v);
         let incident = self.incident(t, v);
         let sharp = incident.sharpness.as_slice();
         let ends = incident.ends.as_slice();
@@ -242,8 +293,8 @@ impl LevelSharpness {
     /// (OpenSubdiv's `Limit` takes it from the sharpness left, so a limit is
     /// exact only where no semi-sharp value remains), with the crease ends.
     pub fn limit_rule(&self, t: &Topology, v: VertexId) -> (Rule, Option<(VertexId, VertexId)>) {
-        if self.is_untagged() && !t.is_boundary_vertex(v) {
-            return (Rule::Smooth, None);
+        if self.untouched(t, v) {
+            return self.untagged_rule(t, v);
         }
         let incident = self.incident(t, v);
         let sharp = incident.sharpness.as_slice();
@@ -293,21 +344,25 @@ impl LevelSharpness {
         child: &Topology,
         child_half_edge: impl Fn(usize) -> usize,
     ) -> LevelSharpness {
-        let edges = if self.edges.is_empty() {
-            Vec::new()
-        } else {
-            let mut edges = vec![0.0f32; child.edge_count()];
-            for h in 0..parent.half_edge_count() {
-                let ph = HalfEdgeId(h as u32);
-                let e = parent.he_edge(ph);
-                if parent.is_boundary_edge(e) || is_smooth(self.edges[e.index()]) {
-                    continue; // boundary edges are sharp by topology at every level
-                }
-                let half = self.child_half(parent, e, parent.he_from(ph));
-                edges[child.he_edge(HalfEdgeId(child_half_edge(h) as u32)).index()] = half;
+        // Only the sharp interior edges have sharp children: their two halves.
+        let mut edges = Vec::new();
+        for (e, &s) in self.edges.iter().enumerate() {
+            let e = EdgeId(e as u32);
+            if is_smooth(s) || parent.is_boundary_edge(e) {
+                continue; // boundary edges are sharp by topology at every level
             }
-            edges
-        };
+            let h = parent.edge_half_edge(e);
+            let g = parent.he_twin(h).expect("an interior edge has two half-edges");
+            for x in [h, g] {
+                let half = self.child_half(parent, e, parent.he_from(x));
+                if is_sharp(half) {
+                    if edges.is_empty() {
+                        edges = vec![0.0f32; child.edge_count()];
+                    }
+                    edges[child.he_edge(HalfEdgeId(child_half_edge(x.index()) as u32)).index()] = half;
+                }
+            }
+        }
         let vertices = if self.vertices.is_empty() {
             Vec::new()
         } else {
@@ -318,12 +373,7 @@ impl LevelSharpness {
             vertices
         };
         let compact = |v: Vec<f32>| if v.iter().all(|&s| is_smooth(s)) { Vec::new() } else { v };
-        LevelSharpness {
-            edges: compact(edges),
-            vertices: compact(vertices),
-            boundary: self.boundary,
-            method: self.method,
-        }
+        LevelSharpness::from_values(edges, compact(vertices), self.boundary, self.method)
     }
 
     /// The tags of this level as a user sees them (what a file stores):
