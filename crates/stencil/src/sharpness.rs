@@ -379,8 +379,12 @@ impl LevelSharpness {
     /// The tags of this level as a user sees them (what a file stores):
     /// the tag values, without what the boundary option implies.
     pub fn tags(&self, t: &Topology) -> Tags {
-        Tags::from_arrays(t, self.edges.clone(), self.vertices.clone())
-            .expect("decayed tags keep their lengths and stay ≥ 0")
+        self.clone().into_tags(t)
+    }
+
+    /// [`Self::tags`], moving the values instead of copying them.
+    pub fn into_tags(self, t: &Topology) -> Tags {
+        Tags::from_arrays(t, self.edges, self.vertices).expect("decayed tags keep their lengths and stay ≥ 0")
     }
 
     /// The largest semi-sharp value left (edges of the interior and

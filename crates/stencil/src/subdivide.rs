@@ -384,7 +384,7 @@ pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit:
     map_back_checked(scheme, scale, &mut positions, mesh.positions(), copies_input(scheme, levels, limit))?;
     Ok(match fine {
         Some(t) => {
-            let tags = sharp.tags(&t);
+            let tags = sharp.into_tags(&t);
             let uvs = uvs.map(Cow::into_owned);
             Mesh::from_topology(t, positions)
                 .with_tags(tags)
