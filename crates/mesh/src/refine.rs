@@ -16,6 +16,9 @@ use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 use crate::soup::FaceList;
 use crate::topology::Topology;
 
+mod sharp;
+pub use sharp::{dual_split_tagged, dual_split_tagged_by_validation, DualFeatures, SharpDualProvenance, SharpPoint};
+
 /// Catmull-Clark connectivity: every `m`-gon becomes `m` quads
 /// `(vₖ, e(vₖvₖ₊₁), f, e(vₖ₋₁vₖ))`, keeping the orientation.
 pub fn quad_split(t: &Topology) -> Topology {
