@@ -21,7 +21,7 @@ fn tags(t: &Topology, creases: &[(u32, u32)], corners: &[u32]) -> Tags {
 
 /// Number of sharp (crease or boundary) edges at `v`.
 fn sharp_count(t: &Topology, f: &DualFeatures, v: VertexId) -> usize {
-    f.sharp_half_edges_at(t, v).count()
+    f.sharp_neighbors(t, v).count()
 }
 
 /// One tagged split checked against the validated one and against the
@@ -130,7 +130,7 @@ fn cube_with_one_sharp_edge_has_darts_at_both_ends() {
     for (t, tags) in &levels {
         assert_eq!(tags.crease_count(), 1);
         let f = DualFeatures::new(t, tags);
-        assert_eq!(t.vertices().filter(|&v| f.sharp_half_edges_at(t, v).count() == 1).count(), 2);
+        assert_eq!(t.vertices().filter(|&v| f.sharp_neighbors(t, v).count() == 1).count(), 2);
     }
     let (t1, _) = &levels[1];
     // 24 images + 2 Chaikin points; faces 6 F + 13 E (two on the crease) + 8 V.
@@ -171,8 +171,8 @@ fn tagged_corners_are_valid_at_levels_1_to_4() {
     for v in corners {
         assert!(f.is_corner(VertexId(v)), "vertex {v}");
     }
-    assert_eq!(f.sharp_half_edges_at(t, VertexId(9)).count(), 0, "the cone corner");
-    assert_eq!(f.sharp_half_edges_at(t, VertexId(31)).count(), 1, "the dart corner");
+    assert_eq!(f.sharp_neighbors(t, VertexId(9)).count(), 0, "the cone corner");
+    assert_eq!(f.sharp_neighbors(t, VertexId(31)).count(), 1, "the dart corner");
     let levels = check_levels("grid, tagged corners", &grid, tags, 4);
     for (t, tags) in &levels {
         assert_eq!(tags.corner_count(), 4, "tagged corners keep their tags");

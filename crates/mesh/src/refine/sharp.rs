@@ -104,16 +104,12 @@ impl DualFeatures {
         self.corner.get(v.index()).copied().unwrap_or(false)
     }
 
-    /// The half-edges leaving `v` along its sharp edges, in fan order, and
-    /// on the boundary the incoming boundary half-edge last (reversed: it
-    /// leaves v too), so every sharp edge at `v` appears once.
-    pub fn sharp_half_edges_at<'a>(&'a self, t: &'a Topology, v: VertexId) -> impl Iterator<Item = HalfEdgeId> + 'a {
+    /// The other ends of the sharp edges at `v`, in fan order (on the
+    /// boundary: its next boundary neighbour first, its previous one last).
+    pub fn sharp_neighbors<'a>(&'a self, t: &'a Topology, v: VertexId) -> impl Iterator<Item = VertexId> + 'a {
         let fan = t.vertex_fan(v);
-        let closing = t.is_boundary_vertex(v).then(|| {
-            let incoming = t.he_prev(fan[fan.len() - 1]);
-            t.he_twin(incoming).unwrap_or(incoming)
-        });
-        fan.iter().copied().filter(move |&h| self.is_sharp(t, t.he_edge(h))).chain(closing)
+        let previous = t.boundary_neighbors(v).map(|(previous, _)| previous);
+        fan.iter().filter(move |&&h| self.is_sharp(t, t.he_edge(h))).map(|&h| t.he_to(h)).chain(previous)
     }
 
     /// The new vertices of a tagged dual split after the H corner images,
