@@ -480,7 +480,7 @@ fn limit_row(t: &Topology, features: &DualFeatures, v: VertexId, rows: &mut RowB
     // The ends of v's sharp edges (a boundary vertex has its two and no crease: it would be a corner).
     let (first, second) = if let Some((prev, next)) = t.boundary_neighbors(v) {
         (Some((prev, features.is_corner(prev))), Some((next, features.is_corner(next))))
-    } else if features.has_features() {
+    } else if features.sharp_edge_count(t, v) > 0 {
         let mut ends = features.sharp_neighbors(t, v);
         (sharp(ends.next()), sharp(ends.next()))
     } else {

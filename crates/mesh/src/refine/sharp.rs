@@ -20,7 +20,7 @@ use super::{dual_split, DualFace, DualVertex};
 use crate::ids::{EdgeId, HalfEdgeId, VertexId};
 use crate::soup::FaceList;
 use crate::tags::{Tags, SHARPNESS_INFINITE};
-use crate::topology::{SharpPointIds, Topology};
+use crate::topology::{SharpDualSplit, SharpPointIds, Topology};
 
 /// Marker for "no such point" in [`SharpDualProvenance`]'s tables.
 const NONE: u32 = u32::MAX;
@@ -35,6 +35,8 @@ pub struct DualFeatures {
     crease: Vec<bool>,
     /// Per vertex: a corner; empty if there is none.
     corner: Vec<bool>,
+    /// Per vertex: its number of creases (saturating); empty without creases.
+    creases_at: Vec<u8>,
 }
 
 impl DualFeatures {
@@ -58,26 +60,30 @@ impl DualFeatures {
         if !crease.contains(&true) {
             crease = Vec::new();
         }
+        let mut creases_at = Vec::new();
+        if !crease.is_empty() {
+            creases_at = vec![0u8; t.vertex_count()];
+            for e in t.edges().filter(|e| crease[e.index()]) {
+                let (a, b) = t.edge_vertices(e);
+                creases_at[a.index()] = creases_at[a.index()].saturating_add(1);
+                creases_at[b.index()] = creases_at[b.index()].saturating_add(1);
+            }
+        }
         let mut corner = Vec::new();
         if !crease.is_empty() || !vertices.is_empty() {
-            let mut sharp_edges = vec![0u32; t.vertex_count()];
-            for e in t.edges().filter(|e| crease.get(e.index()) == Some(&true)) {
-                let (a, b) = t.edge_vertices(e);
-                sharp_edges[a.index()] += 1;
-                sharp_edges[b.index()] += 1;
-            }
             corner = t
                 .vertices()
                 .map(|v| {
-                    let count = sharp_edges[v.index()] + 2 * u32::from(t.is_boundary_vertex(v));
-                    !t.is_isolated(v) && (tags.vertex_sharpness(v) >= SHARPNESS_INFINITE || count >= 3)
+                    let sharp =
+                        creases_at.get(v.index()).map_or(0, |&c| u32::from(c)) + 2 * u32::from(t.is_boundary_vertex(v));
+                    !t.is_isolated(v) && (tags.vertex_sharpness(v) >= SHARPNESS_INFINITE || sharp >= 3)
                 })
                 .collect();
             if !corner.contains(&true) {
                 corner = Vec::new();
             }
         }
-        Self { crease, corner }
+        Self { crease, corner, creases_at }
     }
 
     /// Whether some edge is a crease or some vertex a corner, i.e. whether the
@@ -96,6 +102,13 @@ impl DualFeatures {
     #[inline]
     pub fn is_sharp(&self, t: &Topology, e: EdgeId) -> bool {
         t.is_boundary_edge(e) || self.is_crease(e)
+    }
+
+    /// Number of sharp edges at `v` (saturating at 255): its creases, plus 2
+    /// on the boundary. O(1).
+    #[inline]
+    pub fn sharp_edge_count(&self, t: &Topology, v: VertexId) -> usize {
+        usize::from(self.creases_at.get(v.index()).copied().unwrap_or(0)) + 2 * usize::from(t.is_boundary_vertex(v))
     }
 
     /// Whether `v` is a corner.
@@ -241,24 +254,18 @@ pub fn dual_split_tagged(t: &Topology, tags: &Tags) -> (Topology, SharpDualProve
     if !features.has_features() {
         return untagged_split(t);
     }
-    let (sharp, layout) = sharp_tables(t, &features);
-    let ids = SharpPointIds {
-        sharp: &sharp,
-        edge_points: &layout.edge_points,
-        corner_point: &layout.corner_point,
-        vertex_count: t.half_edge_count() + layout.points.len(),
-    };
-    let split = t.dual_split_sharp(&ids);
+    let (split, layout) = general_split(t, &features);
     let refined = &split.topology;
     let mut edges = vec![0.0; refined.edge_count()];
     for &(h, [a, b]) in &split.crease_segments {
         edges[refined.he_edge(h).index()] = tags.edge_sharpness(a).min(tags.edge_sharpness(b));
     }
-    let mut vertices = vec![0.0; refined.vertex_count()];
-    for v in t.vertices().filter(|&v| tags.vertex_sharpness(v) >= SHARPNESS_INFINITE) {
-        if let Some(&p) = layout.corner_point.get(v.index()).filter(|&&p| p != NONE) {
-            vertices[p as usize] = tags.vertex_sharpness(v);
-        }
+    let tagged_corners =
+        (t.vertices()).filter(|&v| tags.vertex_sharpness(v) >= SHARPNESS_INFINITE && features.is_corner(v));
+    let mut vertices = Vec::new();
+    for v in tagged_corners {
+        vertices.resize(refined.vertex_count(), 0.0);
+        vertices[layout.corner_point[v.index()] as usize] = tags.vertex_sharpness(v);
     }
     let new_tags = Tags::from_arrays(refined, edges, vertices).expect("refined sharpness values are valid tags");
     let provenance = SharpDualProvenance {
@@ -270,10 +277,20 @@ pub fn dual_split_tagged(t: &Topology, tags: &Tags) -> (Topology, SharpDualProve
     (split.topology, provenance, new_tags)
 }
 
-/// Per old edge whether it is sharp, and the sharp points' tables.
-fn sharp_tables(t: &Topology, features: &DualFeatures) -> (Vec<bool>, SharpLayout) {
-    let sharp = t.edges().map(|e| features.is_sharp(t, e)).collect();
-    (sharp, features.layout(t, true))
+/// The general construction of the split ([`Topology::dual_split_sharp`])
+/// and the sharp points' tables it used.
+fn general_split(t: &Topology, features: &DualFeatures) -> (SharpDualSplit, SharpLayout) {
+    let sharp: Vec<bool> = t.edges().map(|e| features.is_sharp(t, e)).collect();
+    let layout = features.layout(t, true);
+    let touches_sharp = |v: usize| features.sharp_edge_count(t, VertexId(v as u32)) > 0;
+    let ids = SharpPointIds {
+        sharp: &sharp,
+        touches_sharp: &touches_sharp,
+        edge_points: &layout.edge_points,
+        corner_point: &layout.corner_point,
+        vertex_count: t.half_edge_count() + layout.points.len(),
+    };
+    (t.dual_split_sharp(&ids), layout)
 }
 
 /// [`dual_split_tagged`] without features: [`dual_split`] and its provenance.
@@ -312,17 +329,11 @@ pub fn dual_split_tagged_by_validation(
     tags: &Tags,
 ) -> Result<(Topology, SharpDualProvenance, Tags), crate::MeshError> {
     let features = DualFeatures::new(t, tags);
-    let (sharp, layout) = sharp_tables(t, &features);
-    let ids = SharpPointIds {
-        sharp: &sharp,
-        edge_points: &layout.edge_points,
-        corner_point: &layout.corner_point,
-        vertex_count: t.half_edge_count() + layout.points.len(),
-    };
     // The direct construction of the general case (also without features)
     // gives the face list; `new` re-derives everything from it.
-    let faces: FaceList = t.dual_split_sharp(&ids).topology.faces().clone();
-    let topology = Topology::new(faces, ids.vertex_count)?;
+    let (split, _) = general_split(t, &features);
+    let faces: FaceList = split.topology.faces().clone();
+    let topology = Topology::new(faces, split.topology.vertex_count())?;
     let (_, provenance, new_tags) = dual_split_tagged(t, tags);
     Ok((topology, provenance, new_tags))
 }
@@ -346,14 +357,7 @@ mod tests {
         ];
         for mesh in &meshes {
             let t = mesh.topology();
-            let (sharp, layout) = sharp_tables(t, &DualFeatures::default());
-            let ids = SharpPointIds {
-                sharp: &sharp,
-                edge_points: &layout.edge_points,
-                corner_point: &layout.corner_point,
-                vertex_count: t.half_edge_count() + layout.points.len(),
-            };
-            let general = t.dual_split_sharp(&ids);
+            let (general, _) = general_split(t, &DualFeatures::default());
             let (direct, provenance) = dual_split(t);
             assert_eq!(format!("{:?}", general.topology), format!("{direct:?}"));
             assert_eq!(general.face_origin, provenance.face_origin);

@@ -15,7 +15,7 @@
 mod refine;
 mod validate;
 
-pub(crate) use refine::SharpPointIds;
+pub(crate) use refine::{SharpDualSplit, SharpPointIds};
 
 use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 use crate::soup::FaceList;

@@ -428,6 +428,8 @@ pub(crate) struct SharpPointIds<'a> {
     /// Per old edge: whether it is sharp (an infinitely sharp crease or a
     /// boundary edge).
     pub sharp: &'a [bool],
+    /// Per old vertex: whether some edge at it is sharp.
+    pub touches_sharp: &'a dyn Fn(usize) -> bool,
     /// Per old sharp edge with first half-edge h = a→b: its points near a,
     /// at its midpoint (only when a and b are both corners, else [`NONE`])
     /// and near b. The point near a corner is the corner's point.
@@ -521,20 +523,31 @@ impl Topology {
             }
         };
 
+        // Sizes without features (F + E + V faces, H + 4E + H corners); sharp
+        // edges add a few.
+        let (face_capacity, corner_capacity) = (nf + ne + nv, 2 * nh + 4 * ne);
         let mut sink = FaceSink {
-            offsets: Vec::with_capacity(nf + ne + nv + 1),
-            indices: Vec::with_capacity(2 * nh + 4 * ne),
-            twin: vec![NONE; nh],
-            old_face: (0..nf as u32).collect(),
-            origin: (0..nf as u32).map(|f| DualFace::F(FaceId(f))).collect(),
+            offsets: Vec::with_capacity(face_capacity + 1),
+            indices: Vec::with_capacity(corner_capacity),
+            twin: Vec::with_capacity(corner_capacity),
+            old_face: Vec::with_capacity(face_capacity),
+            origin: Vec::with_capacity(face_capacity),
         };
         sink.offsets.extend_from_slice(self.faces.offsets());
         sink.indices.extend(0..nh as u32);
+        sink.twin.resize(nh, NONE);
+        sink.old_face.extend(0..nf as u32);
+        sink.origin.extend((0..nf as u32).map(|f| DualFace::F(FaceId(f))));
         // Per old half-edge x, in its side's E-face: `leave[x]` runs from
         // corner x (to next(twin x) or to x's near point), `arrive[x]` (sharp
         // sides only) from x's far near point to corner next(x).
         let mut leave = vec![NONE; nh];
         let mut arrive = vec![NONE; nh];
+        // Per old half-edge x, the V-face (or cone triangle) half-edge leaving
+        // corner x, and in a cone the spoke x → corner point of the triangle
+        // before (x lies in two triangles there).
+        let mut v_leave = vec![NONE; nh];
+        let mut cone_spoke: Vec<(u32, u32)> = Vec::new();
         let mut crease_segments = Vec::new();
         let mut corners = Vec::new();
 
@@ -592,7 +605,9 @@ impl Topology {
             let face = self.he_face[fan[0].index()];
             let at = |i: usize| fan[i % k].index();
             starts.clear();
-            starts.extend((0..k).filter(|&i| is_sharp(at(i))));
+            if (ids.touches_sharp)(v) {
+                starts.extend((0..k).filter(|&i| is_sharp(at(i))));
+            }
             if starts.is_empty() {
                 let p = ids.corner_point[v];
                 if p != NONE {
@@ -602,6 +617,8 @@ impl Topology {
                     for i in 0..k {
                         sink.pair(first[i] + 1, leave[at(i + 1)] as usize);
                         sink.pair(first[i] + 2, first[(i + 1) % k]);
+                        v_leave[at(i)] = (first[i] + 1) as u32;
+                        cone_spoke.push((at(i + 1) as u32, (first[i] + 2) as u32));
                     }
                 } else if k == 2 {
                     // Interior valence 2: no digon V-face; its E-faces meet directly.
@@ -612,6 +629,7 @@ impl Topology {
                     let first = sink.push(&corners, origin, face);
                     for i in 0..k {
                         sink.pair(first + i, leave[at(i + 1)] as usize);
+                        v_leave[at(i)] = (first + i) as u32;
                     }
                 }
                 continue;
@@ -638,6 +656,9 @@ impl Topology {
                     corners.push(inn);
                 }
                 let first = sink.push(&corners, origin, face);
+                for i in 0..len {
+                    v_leave[at(s + i)] = (first + 1 + i) as u32;
+                }
                 sink.pair(first, leave[at(s)] as usize);
                 for i in 1..len {
                     sink.pair(first + i, leave[at(s + i)] as usize);
@@ -660,10 +681,36 @@ impl Topology {
         }
 
         let FaceSink { offsets, indices, twin, old_face, origin } = sink;
+        // The fans of the corner images, by construction as in
+        // `Self::dual_split`: (F-face half-edge x, the E-face half-edge from x
+        // across prev(x)'s edge — the twin of F-face half-edge prev(x) —, x's
+        // V-face half-edge if it has one, in a cone then its spoke, leave[x]).
+        let mut fan = Vec::with_capacity(twin.len());
+        let mut fan_offsets = Vec::with_capacity(ids.vertex_count + 1);
+        fan_offsets.push(0u32);
+        cone_spoke.sort_unstable();
+        let mut spokes = cone_spoke.iter().peekable();
+        for x in 0..nh {
+            fan.extend_from_slice(&[HalfEdgeId(x as u32), HalfEdgeId(twin[prev(x)])]);
+            if v_leave[x] != NONE {
+                fan.push(HalfEdgeId(v_leave[x]));
+            }
+            if let Some(&(_, spoke)) = spokes.next_if(|&&(corner, _)| corner as usize == x) {
+                fan.push(HalfEdgeId(spoke));
+            }
+            fan.push(HalfEdgeId(leave[x]));
+            fan_offsets.push(fan.len() as u32);
+        }
         let faces = FaceList::from_raw(offsets, indices);
         let face_component = self.component_of_faces(&old_face);
-        let topology =
-            Topology::from_faces_and_twins(faces, twin, ids.vertex_count, face_component, self.component_count);
+        let topology = Topology::from_faces_and_twins(
+            faces,
+            twin,
+            ids.vertex_count,
+            (fan, fan_offsets),
+            face_component,
+            self.component_count,
+        );
         SharpDualSplit { topology, face_origin: origin, crease_segments }
     }
 
@@ -685,12 +732,15 @@ impl Topology {
 
     /// A topology from a face list whose twins are already known (a
     /// refinement built by construction): fans, boundary loops and edges as
-    /// [`Topology::new`] derives them, with no check. The caller guarantees a
-    /// valid manifold and the components of its faces.
+    /// [`Topology::new`] derives them, with no check. `known_fans` holds the
+    /// fans (and CSR offsets, from 0) of the first vertices, in `new`'s
+    /// order; the others are walked here. The caller guarantees a valid
+    /// manifold and the components of its faces.
     fn from_faces_and_twins(
         faces: FaceList,
         he_twin: Vec<u32>,
         vertex_count: usize,
+        known_fans: (Vec<HalfEdgeId>, Vec<u32>),
         face_component: Vec<u32>,
         component_count: u32,
     ) -> Topology {
@@ -709,36 +759,42 @@ impl Topology {
                 h - 1
             }
         };
-        // `new` starts a fan at the vertex's boundary half-edge, else at its smallest one.
-        let mut start = vec![NONE; vertex_count];
-        let mut fan_offsets = vec![0u32; vertex_count + 1];
+        let (mut fan, mut fan_offsets) = known_fans;
+        let known = fan_offsets.len() - 1;
+        // `new` starts a fan at the vertex's boundary half-edge, else at its
+        // smallest one. Vertices whose fans are known are all interior.
+        let rest = vertex_count - known;
+        let mut start = vec![NONE; rest];
+        let mut count = vec![0u32; rest];
         for (h, &v) in from.iter().enumerate() {
-            let s = &mut start[v as usize];
-            if *s == NONE || he_twin[h] == NONE {
-                *s = h as u32;
+            let Some(i) = (v as usize).checked_sub(known) else { continue };
+            if start[i] == NONE || he_twin[h] == NONE {
+                start[i] = h as u32;
             }
-            fan_offsets[v as usize + 1] += 1;
+            count[i] += 1;
         }
-        for v in 0..vertex_count {
-            fan_offsets[v + 1] += fan_offsets[v];
-        }
-        let mut fan = Vec::with_capacity(nh);
         let mut vertex_on_boundary = vec![false; vertex_count];
-        for v in 0..vertex_count {
-            let s = start[v];
-            if s == NONE {
-                continue;
-            }
-            vertex_on_boundary[v] = he_twin[s as usize] == NONE;
-            let mut h = s;
-            loop {
-                fan.push(HalfEdgeId(h));
-                h = he_twin[prev(h as usize)];
-                if h == NONE || h == s {
-                    break;
+        fan.reserve(count.iter().map(|&c| c as usize).sum());
+        for i in 0..rest {
+            let s = start[i];
+            if s != NONE {
+                vertex_on_boundary[known + i] = he_twin[s as usize] == NONE;
+                let mut h = s;
+                loop {
+                    fan.push(HalfEdgeId(h));
+                    h = he_twin[prev(h as usize)];
+                    if h == NONE || h == s {
+                        break;
+                    }
                 }
             }
-            debug_assert_eq!(fan.len(), fan_offsets[v + 1] as usize, "vertex {v}: one fan");
+            fan_offsets.push(fan.len() as u32);
+            debug_assert_eq!(
+                fan_offsets[known + i + 1] - fan_offsets[known + i],
+                count[i],
+                "vertex {}: one fan",
+                known + i
+            );
         }
         let (he_edge, edge_he) = number_edges(&he_twin);
         // Boundary loops as `new` finds them: from the smallest unseen
