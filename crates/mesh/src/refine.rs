@@ -7,6 +7,7 @@
 //! | [`quad_split`] (Catmull-Clark, Deng-Ma) | old vertices `0..V`, face points `V..V+F`, edge points `V+F..V+F+E` | one quad per old corner `h`: face id `h` |
 //! | [`triangle_split`] (Loop) | old vertices `0..V`, edge points `V..V+E` | per triangle `f`: corner triangles `4f..4f+3`, centre `4f+3` |
 //! | [`dual_split`] (Doo-Sabin) | one per old corner `h` (`0..H`), then two Chaikin points per boundary half-edge | F-faces, E-faces, V-faces (see [`DualProvenance`]) |
+//! | [`dual_split_tagged`] (Doo-Sabin with creases and corners) | one per old corner, then the points of the refined sharp polygon ([`DualFeatures::sharp_points`]) | F-faces, an E-face per side of a sharp edge, a V-face per sector (see [`SharpDualProvenance`]) |
 //!
 //! Isolated vertices of the input stay isolated vertices (quad and triangle
 //! split) or disappear (dual split, which keeps no old vertex).
@@ -15,6 +16,9 @@ use crate::error::MeshError;
 use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 use crate::soup::FaceList;
 use crate::topology::Topology;
+
+mod sharp;
+pub use sharp::{dual_split_tagged, dual_split_tagged_by_validation, DualFeatures, SharpDualProvenance, SharpPoint};
 
 /// Catmull-Clark connectivity: every `m`-gon becomes `m` quads
 /// `(vₖ, e(vₖvₖ₊₁), f, e(vₖ₋₁vₖ))`, keeping the orientation.

@@ -237,6 +237,36 @@ pub struct BoundaryEdgePoint {
 /// B-spline of the boundary loop.
 pub const BOUNDARY_EDGE_POINT: BoundaryEdgePoint = BoundaryEdgePoint { near: 0.75, far: 0.25 };
 
+/// The clamped end of a sharp curve at a corner: on a sharp edge whose far
+/// end is a corner, the point near the other end is the edge's midpoint,
+/// ½·near + ½·far (and an edge between two corners gets its midpoint as its
+/// only new point), while the corner itself is kept. This is the end rule of
+/// the clamped quadratic B-spline (`curves::chaikin` on an open polyline), so
+/// a sharp curve interpolates its corners (`subdiv-stencil`'s Doo-Sabin
+/// module, "Creases and corners").
+pub const CLAMPED_EDGE_POINT: BoundaryEdgePoint = BoundaryEdgePoint { near: 0.5, far: 0.5 };
+
+/// Weights `[B₋, V, B₊]` of the limit point of a crease or boundary vertex V
+/// (not a corner) whose two sharp neighbours are B₋ and B₊: the midpoint of
+/// V's segment of the refined sharp polygon, from the point near V on edge
+/// VB₋ to the one on VB₊ — each ¾V + ¼B ([`BOUNDARY_EDGE_POINT`]), or ½V + ½B
+/// when that neighbour is a corner ([`CLAMPED_EDGE_POINT`]). That midpoint
+/// stays the midpoint of the segment's descendants, which shrink to it, so it
+/// is a point of the sharp curve. Without corner neighbours it is
+/// [`BOUNDARY_CURVE_POINT`], bit for bit.
+///
+/// ```
+/// use subdiv_rules::doo_sabin::{sharp_curve_point, BOUNDARY_CURVE_POINT};
+/// assert_eq!(sharp_curve_point(false, false), BOUNDARY_CURVE_POINT);
+/// assert_eq!(sharp_curve_point(true, false), [0.25, 0.625, 0.125]);
+/// ```
+pub fn sharp_curve_point(prev_is_corner: bool, next_is_corner: bool) -> [f64; 3] {
+    let near_point = |far_is_corner: bool| if far_is_corner { CLAMPED_EDGE_POINT } else { BOUNDARY_EDGE_POINT };
+    let (prev, next) = (near_point(prev_is_corner), near_point(next_is_corner));
+    // Dyadic weights: every product and sum here is exact.
+    [0.5 * prev.far, 0.5 * (prev.near + next.near), 0.5 * next.far]
+}
+
 /// Weights `[B₋, V, B₊]` of the point of the limit boundary curve associated
 /// with boundary vertex V (B₋, B₊ its boundary neighbours): the uniform
 /// quadratic B-spline of the boundary loop at the middle of V's span,

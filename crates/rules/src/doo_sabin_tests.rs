@@ -2,7 +2,7 @@ use proptest::prelude::*;
 
 use super::*;
 use crate::curves::chaikin;
-use crate::test_util::{combine, max_dist, Rng, UniformBSpline};
+use crate::test_util::{combine, max_dist, ClampedQuadratic, Rng, UniformBSpline};
 use crate::vec3::{dist, lin2};
 
 fn row(m: usize, f: impl Fn(usize, &mut [f64])) -> Vec<f64> {
@@ -177,6 +177,71 @@ fn boundary_curve_point_is_the_bspline_at_the_vertex() {
         let stencil = combine(&BOUNDARY_CURVE_POINT, &[polygon[(i + 5) % 6], polygon[i], polygon[(i + 1) % 6]]);
         assert!(dist(stencil, curve.eval(i, 0.5)) < 1e-15);
     }
+}
+
+/// One step of a sharp polyline P₀…P_{n−1} from corner to corner (both ends
+/// corners, every inner vertex not) under the per-edge rule: the corner
+/// kept, the point near each non-corner end ([`BOUNDARY_EDGE_POINT`], or
+/// [`CLAMPED_EDGE_POINT`] when the far end is a corner), the midpoint of an
+/// edge between two corners.
+fn sharp_step_between_corners(p: &[crate::Point3]) -> Vec<crate::Point3> {
+    let n = p.len();
+    let corner = |i: usize| i == 0 || i == n - 1;
+    let near_point = |near: crate::Point3, far: crate::Point3, far_is_corner: bool| {
+        let w = if far_is_corner { CLAMPED_EDGE_POINT } else { BOUNDARY_EDGE_POINT };
+        lin2(w.near, near, w.far, far)
+    };
+    let mut out = vec![p[0]];
+    for i in 0..n - 1 {
+        let (a, b) = (p[i], p[i + 1]);
+        if !corner(i) {
+            out.push(near_point(a, b, corner(i + 1)));
+        }
+        if corner(i) && corner(i + 1) {
+            out.push(lin2(0.5, a, 0.5, b));
+        }
+        if !corner(i + 1) {
+            out.push(near_point(b, a, corner(i)));
+        }
+    }
+    out.push(p[n - 1]);
+    out
+}
+
+#[test]
+fn sharp_polyline_between_corners_is_refined_by_clamped_chaikin() {
+    // curves::chaikin on an open polyline is the clamped quadratic B-spline's
+    // knot insertion: the per-edge rule must give exactly its points.
+    let mut rng = Rng::new(10);
+    for n in 2..=9 {
+        let mut ours = rng.points(n, 1.0);
+        let mut clamped = ours.clone();
+        for level in 0..4 {
+            ours = sharp_step_between_corners(&ours);
+            clamped = chaikin(&clamped, false);
+            assert_eq!(ours.len(), clamped.len(), "n = {n}, level {level}");
+            assert!(max_dist(&ours, &clamped) < 1e-15, "n = {n}, level {level}");
+        }
+    }
+}
+
+#[test]
+fn sharp_curve_point_lies_on_the_clamped_bspline() {
+    // Independent evaluation: de Boor on knots 0,0,0,1,…,L,L,L.
+    let mut rng = Rng::new(11);
+    for n in 3..=8 {
+        let polygon = rng.points(n, 1.0);
+        let curve = ClampedQuadratic { control: polygon.clone() };
+        for i in 1..n - 1 {
+            let w = sharp_curve_point(i == 1, i == n - 2);
+            assert_eq!(w.iter().sum::<f64>(), 1.0);
+            let point = combine(&w, &polygon[i - 1..=i + 1]);
+            let d = curve.distance(point);
+            assert!(d < 1e-12, "n = {n}, vertex {i}: {d:e} off the curve");
+        }
+    }
+    assert_eq!(sharp_curve_point(false, false), BOUNDARY_CURVE_POINT);
+    assert_eq!(sharp_curve_point(true, true), [0.25, 0.5, 0.25]);
 }
 
 proptest! {

@@ -40,6 +40,18 @@ pub enum StencilError {
     /// (`Mesh::with_uvs(None)`) to subdivide the positions.
     #[error("texture coordinates: {0}")]
     FaceVarying(String),
+    /// A tag with semi-sharp sharpness (0 < s < 10) on a Doo-Sabin mesh:
+    /// Doo-Sabin keeps infinitely sharp creases and corners only.
+    #[error(
+        "{what} has sharpness {sharpness}; Doo-Sabin creases and corners are infinitely sharp only \
+         (0 or ≥ 10; use Catmull-Clark or Loop for semi-sharp features)"
+    )]
+    SemiSharpDooSabin {
+        /// The tagged element, e.g. "edge 12 (vertices 3-7)" or "vertex 5".
+        what: String,
+        /// Its sharpness.
+        sharpness: f32,
+    },
     /// The refined mesh would exceed the `u32` index range.
     #[error("the refined mesh would have more than 2³² elements")]
     TooLarge,

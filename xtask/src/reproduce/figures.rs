@@ -139,6 +139,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     save(ctx, &mut table, "fig-deng-ma-open.png", super::deng_ma_open::figure(&nefertiti, &halftunnel)?, "Beyond the paper: Deng-Ma on open meshes. Each boundary loop (orange) is refined by the 4-point rule with the surface's tension, the input vertices (red) stay, and the surface meets its boundary curve smoothly.")?;
     let r = fan_cheng_lai::interpolate(&halftunnel, &FanChengLaiOptions::default())?;
     save(ctx, &mut table, "fig-fan-cheng-lai-halftunnel.png", model_figure("Fan-Cheng-Lai on an open mesh (3 boundary loops, λ = ½)", &halftunnel, &r, "first refined mesh M¹", &View { pitch: 45.0, ..view })?, "Beyond the papers: two-phase Doo-Sabin interpolation of an open quad mesh; the boundary is the quadratic B-spline through the boundary data.")?;
+    let chamfer = ctx.fixture("poly/chamfer-cube.off")?;
+    save(ctx, &mut table, "fig-doo-sabin-creases.png", super::doo_sabin_creases::figure(&subdiv_mesh::shapes::cube(), &chamfer)?, "Beyond the papers: Doo-Sabin with infinitely sharp creases, level 4 at limit positions. A crease is a boundary of both sides, so the sharp polygon (orange) refines by Chaikin's rule and the crease is its quadratic B-spline: the cube's top loop becomes a rounded-square rim, with all 12 edges sharp the surface is the cube itself (corners kept, edges straight), and the chamfered cube keeps its six main faces flat inside their crease loops while the chamfers round off.")?;
 
     // Parameter sweeps.
     let knight_lambda: Vec<(String, Interpolant)> = [0.85, 0.5, 0.4]

@@ -17,6 +17,7 @@ mod common;
 mod convergence;
 mod deng;
 mod deng_ma_open;
+mod doo_sabin_creases;
 mod fan_cheng_lai;
 mod figures;
 mod meshes;

@@ -15,6 +15,8 @@
 mod refine;
 mod validate;
 
+pub(crate) use refine::{SharpDualSplit, SharpPointIds};
+
 use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 use crate::soup::FaceList;
 use std::collections::BTreeMap;

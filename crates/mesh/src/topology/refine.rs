@@ -3,7 +3,8 @@
 //! connectivity from the refined face list with [`Topology::new`].
 
 use super::{number_edges, Topology, NONE};
-use crate::ids::HalfEdgeId;
+use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
+use crate::refine::DualFace;
 use crate::soup::FaceList;
 
 impl Topology {
@@ -416,6 +417,425 @@ impl Topology {
             loop_he,
             face_component,
             component_count: self.component_count,
+        }
+    }
+}
+
+/// The points of the refined sharp polygon that a tagged dual split joins its
+/// faces to, by old element (from `crate::refine::DualFeatures`; every id is
+/// a new vertex, [`NONE`] where absent).
+pub(crate) struct SharpPointIds<'a> {
+    /// Per old edge: whether it is sharp (an infinitely sharp crease or a
+    /// boundary edge).
+    pub sharp: &'a [bool],
+    /// Per old vertex: whether some edge at it is sharp.
+    pub touches_sharp: &'a dyn Fn(usize) -> bool,
+    /// Per old sharp edge with first half-edge h = a→b: its points near a,
+    /// at its midpoint (only when a and b are both corners, else [`NONE`])
+    /// and near b. The point near a corner is the corner's point.
+    pub edge_points: &'a [[u32; 3]],
+    /// Per old vertex: its corner point, or [`NONE`] if it is no corner.
+    pub corner_point: &'a [u32],
+    /// Number of new vertices: the H corner images, then the sharp points.
+    pub vertex_count: usize,
+}
+
+/// A tagged dual split: the refined topology, where each new face comes
+/// from, and the new edges that continue old creases.
+pub(crate) struct SharpDualSplit {
+    /// The refined connectivity.
+    pub topology: Topology,
+    /// Provenance of every new face, in face order.
+    pub face_origin: Vec<DualFace>,
+    /// One half-edge per new crease edge, with the old crease edge(s) it
+    /// refines (the same edge twice for a piece of an old edge; the two
+    /// creases through a vertex for the piece at that vertex).
+    pub crease_segments: Vec<(HalfEdgeId, [EdgeId; 2])>,
+}
+
+/// Faces appended one by one with their twins, for [`Topology::dual_split_sharp`].
+struct FaceSink {
+    offsets: Vec<u32>,
+    indices: Vec<u32>,
+    twin: Vec<u32>,
+    /// Per new face, an old face whose component it joins.
+    old_face: Vec<u32>,
+    origin: Vec<DualFace>,
+}
+
+impl FaceSink {
+    /// Appends a face; returns the id of its first half-edge.
+    fn push(&mut self, corners: &[u32], origin: DualFace, old_face: u32) -> usize {
+        let first = self.indices.len();
+        self.indices.extend_from_slice(corners);
+        self.twin.resize(self.indices.len(), NONE);
+        assert!(self.indices.len() < NONE as usize, "the Doo-Sabin split has more than 2³² − 2 corners");
+        self.offsets.push(self.indices.len() as u32);
+        self.old_face.push(old_face);
+        self.origin.push(origin);
+        first
+    }
+
+    /// Makes half-edges `a` and `b` twins.
+    fn pair(&mut self, a: usize, b: usize) {
+        debug_assert!(self.twin[a] == NONE && self.twin[b] == NONE, "half-edges {a} and {b} paired twice");
+        self.twin[a] = b as u32;
+        self.twin[b] = a as u32;
+    }
+}
+
+impl Topology {
+    /// The Doo-Sabin dual split with sharp edges and corners, built directly:
+    /// faces and twins by construction, then fans, loops and edges from the
+    /// twins (equal, field by field, to [`Topology::new`] on the same face
+    /// list; `crate::refine::dual_split_tagged_by_validation` checks it).
+    ///
+    /// Faces, in order (x an old half-edge, its corner image is vertex x):
+    /// - F-face f: the corners of old face f (half-edge x runs x → next x);
+    /// - per old edge e (first half-edge h, twin g): a smooth edge's E-face
+    ///   (next h, h, next g, g); a sharp edge's E-face per side x ∈ {h, g}:
+    ///   (next x, x, near from(x), [midpoint], near to(x));
+    /// - per old vertex v, its V-faces: the fan (f₀ … f_{k−1}) of a smooth
+    ///   vertex (none at an interior valence-2 vertex), the triangles
+    ///   (p_v, fᵢ, fᵢ₊₁) of a corner without sharp edges, else one per
+    ///   sector — a run fₛ … f_t of its fan between two sharp edges — the
+    ///   polygon (near v on fₛ's sharp edge, fₛ … f_t, near v on f_t's),
+    ///   the two near points written once when they are one vertex (a dart's
+    ///   only sharp edge, or a corner's point) and no face when that leaves
+    ///   two corners (a one-face sector of a corner).
+    ///
+    /// With no crease and no corner this is exactly [`Self::dual_split`].
+    pub(crate) fn dual_split_sharp(&self, ids: &SharpPointIds<'_>) -> SharpDualSplit {
+        let (nv, nf, nh, ne) = (self.vertex_count as usize, self.faces.len(), self.he_face.len(), self.edge_he.len());
+        let from = self.faces.indices();
+        let next = |h: usize| self.he_next(HalfEdgeId(h as u32)).index();
+        let prev = |h: usize| self.he_prev(HalfEdgeId(h as u32)).index();
+        let fan_of = |v: usize| &self.fan[self.fan_offsets[v] as usize..self.fan_offsets[v + 1] as usize];
+        let is_sharp = |h: usize| ids.sharp[self.he_edge[h] as usize];
+        // The point of the refined sharp polygon near `v` on the edge of `h`.
+        let near = |v: usize, h: usize| -> u32 {
+            let e = self.he_edge[h] as usize;
+            let [at_start, _, at_end] = ids.edge_points[e];
+            if from[self.edge_he[e] as usize] as usize == v {
+                at_start
+            } else {
+                at_end
+            }
+        };
+
+        // Sizes without features (F + E + V faces, H + 4E + H corners); sharp
+        // edges add a few.
+        let (face_capacity, corner_capacity) = (nf + ne + nv, 2 * nh + 4 * ne);
+        let mut sink = FaceSink {
+            offsets: Vec::with_capacity(face_capacity + 1),
+            indices: Vec::with_capacity(corner_capacity),
+            twin: Vec::with_capacity(corner_capacity),
+            old_face: Vec::with_capacity(face_capacity),
+            origin: Vec::with_capacity(face_capacity),
+        };
+        sink.offsets.extend_from_slice(self.faces.offsets());
+        sink.indices.extend(0..nh as u32);
+        sink.twin.resize(nh, NONE);
+        sink.old_face.extend(0..nf as u32);
+        sink.origin.extend((0..nf as u32).map(|f| DualFace::F(FaceId(f))));
+        // Per old half-edge x, in its side's E-face: `leave[x]` runs from
+        // corner x (to next(twin x) or to x's near point), `arrive[x]` (sharp
+        // sides only) from x's far near point to corner next(x).
+        let mut leave = vec![NONE; nh];
+        let mut arrive = vec![NONE; nh];
+        // Per old half-edge x, the V-face (or cone triangle) half-edge leaving
+        // corner x, and in a cone the spoke x → corner point of the triangle
+        // before (x lies in two triangles there).
+        let mut v_leave = vec![NONE; nh];
+        let mut cone_spoke: Vec<(u32, u32)> = Vec::new();
+        let mut crease_segments = Vec::new();
+        let mut corners = Vec::new();
+
+        for e in 0..ne {
+            let h = self.edge_he[e] as usize;
+            let g = self.he_twin[h];
+            let face = self.he_face[h];
+            if !ids.sharp[e] {
+                let g = g as usize; // boundary edges are sharp
+                let first = sink.push(
+                    &[next(h) as u32, h as u32, next(g) as u32, g as u32],
+                    DualFace::E(EdgeId(e as u32)),
+                    face,
+                );
+                sink.pair(h, first);
+                sink.pair(g, first + 2);
+                leave[h] = (first + 1) as u32;
+                leave[g] = (first + 3) as u32;
+                continue;
+            }
+            let [at_a, mid, at_b] = ids.edge_points[e];
+            let mut side = |x: usize, points: &[u32]| -> usize {
+                corners.clear();
+                corners.extend_from_slice(&[next(x) as u32, x as u32]);
+                corners.extend(points.iter().copied().filter(|&p| p != NONE));
+                let first = sink.push(&corners, DualFace::E(EdgeId(e as u32)), face);
+                sink.pair(x, first);
+                leave[x] = (first + 1) as u32;
+                arrive[x] = (first + corners.len() - 1) as u32;
+                first
+            };
+            let first_h = side(h, &[at_a, mid, at_b]);
+            if g != NONE {
+                let first_g = side(g as usize, &[at_b, mid, at_a]);
+                // The sides run along the sharp polygon a → (mid →) b and back.
+                if mid == NONE {
+                    sink.pair(first_h + 2, first_g + 2);
+                } else {
+                    sink.pair(first_h + 2, first_g + 3);
+                    sink.pair(first_h + 3, first_g + 2);
+                    crease_segments.push((HalfEdgeId((first_h + 3) as u32), [EdgeId(e as u32); 2]));
+                }
+                crease_segments.push((HalfEdgeId((first_h + 2) as u32), [EdgeId(e as u32); 2]));
+            }
+        }
+
+        let mut starts = Vec::new();
+        for v in 0..nv {
+            let fan = fan_of(v);
+            let k = fan.len();
+            if k == 0 {
+                continue;
+            }
+            let origin = DualFace::V(VertexId(v as u32));
+            let face = self.he_face[fan[0].index()];
+            let at = |i: usize| fan[i % k].index();
+            starts.clear();
+            if (ids.touches_sharp)(v) {
+                starts.extend((0..k).filter(|&i| is_sharp(at(i))));
+            }
+            if starts.is_empty() {
+                let p = ids.corner_point[v];
+                if p != NONE {
+                    // A corner without sharp edges: a cone of triangles round its point.
+                    let first: Vec<usize> =
+                        (0..k).map(|i| sink.push(&[p, at(i) as u32, at(i + 1) as u32], origin, face)).collect();
+                    for i in 0..k {
+                        sink.pair(first[i] + 1, leave[at(i + 1)] as usize);
+                        sink.pair(first[i] + 2, first[(i + 1) % k]);
+                        v_leave[at(i)] = (first[i] + 1) as u32;
+                        cone_spoke.push((at(i + 1) as u32, (first[i] + 2) as u32));
+                    }
+                } else if k == 2 {
+                    // Interior valence 2: no digon V-face; its E-faces meet directly.
+                    sink.pair(leave[at(0)] as usize, leave[at(1)] as usize);
+                } else {
+                    corners.clear();
+                    corners.extend(fan.iter().map(|h| h.0));
+                    let first = sink.push(&corners, origin, face);
+                    for i in 0..k {
+                        sink.pair(first + i, leave[at(i + 1)] as usize);
+                        v_leave[at(i)] = (first + i) as u32;
+                    }
+                }
+                continue;
+            }
+            let mut open_closing = None;
+            for (j, &s) in starts.iter().enumerate() {
+                // The sector runs from fan position s to t (mod k).
+                let t = match starts.get(j + 1) {
+                    Some(&next_start) => next_start - 1,
+                    None if self.vertex_on_boundary[v] => k - 1,
+                    None => starts[0] + k - 1,
+                };
+                let (out, inn) = (near(v, at(s)), near(v, prev(at(t))));
+                let len = t + 1 - s;
+                if out == inn && len == 1 {
+                    // A digon (point, one corner): its two E-faces meet directly.
+                    sink.pair(leave[at(s)] as usize, arrive[prev(at(s))] as usize);
+                    continue;
+                }
+                corners.clear();
+                corners.push(out);
+                corners.extend((s..=t).map(|i| at(i) as u32));
+                if out != inn {
+                    corners.push(inn);
+                }
+                let first = sink.push(&corners, origin, face);
+                for i in 0..len {
+                    v_leave[at(s + i)] = (first + 1 + i) as u32;
+                }
+                sink.pair(first, leave[at(s)] as usize);
+                for i in 1..len {
+                    sink.pair(first + i, leave[at(s + i)] as usize);
+                }
+                sink.pair(first + len, arrive[prev(at(t))] as usize);
+                if out != inn && !self.vertex_on_boundary[v] {
+                    // Two sectors at a crease vertex share the segment between their near points.
+                    let closing = first + len + 1;
+                    match open_closing.take() {
+                        None => open_closing = Some((closing, s)),
+                        Some((other, other_start)) => {
+                            sink.pair(closing, other);
+                            let creases = [EdgeId(self.he_edge[at(other_start)]), EdgeId(self.he_edge[at(s)])];
+                            crease_segments.push((HalfEdgeId(other as u32), creases));
+                        }
+                    }
+                }
+            }
+            debug_assert!(open_closing.is_none(), "vertex {v}: a crease vertex has two sectors");
+        }
+
+        let FaceSink { offsets, indices, twin, old_face, origin } = sink;
+        // The fans of the corner images, by construction as in
+        // `Self::dual_split`: (F-face half-edge x, the E-face half-edge from x
+        // across prev(x)'s edge — the twin of F-face half-edge prev(x) —, x's
+        // V-face half-edge if it has one, in a cone then its spoke, leave[x]).
+        let mut fan = Vec::with_capacity(twin.len());
+        let mut fan_offsets = Vec::with_capacity(ids.vertex_count + 1);
+        fan_offsets.push(0u32);
+        cone_spoke.sort_unstable();
+        let mut spokes = cone_spoke.iter().peekable();
+        for x in 0..nh {
+            fan.extend_from_slice(&[HalfEdgeId(x as u32), HalfEdgeId(twin[prev(x)])]);
+            if v_leave[x] != NONE {
+                fan.push(HalfEdgeId(v_leave[x]));
+            }
+            if let Some(&(_, spoke)) = spokes.next_if(|&&(corner, _)| corner as usize == x) {
+                fan.push(HalfEdgeId(spoke));
+            }
+            fan.push(HalfEdgeId(leave[x]));
+            fan_offsets.push(fan.len() as u32);
+        }
+        let faces = FaceList::from_raw(offsets, indices);
+        let face_component = self.component_of_faces(&old_face);
+        let topology = Topology::from_faces_and_twins(
+            faces,
+            twin,
+            ids.vertex_count,
+            (fan, fan_offsets),
+            face_component,
+            self.component_count,
+        );
+        SharpDualSplit { topology, face_origin: origin, crease_segments }
+    }
+
+    /// The components of new faces, each given as an old face it joins,
+    /// numbered as [`Topology::new`] numbers them: by smallest face, so in the
+    /// order the old components first appear among the old faces (the new
+    /// faces start with one per old face, in order).
+    fn component_of_faces(&self, old_face: &[u32]) -> Vec<u32> {
+        let mut renumber = vec![NONE; self.component_count as usize];
+        let mut count = 0;
+        for &c in &self.face_component {
+            if renumber[c as usize] == NONE {
+                renumber[c as usize] = count;
+                count += 1;
+            }
+        }
+        old_face.iter().map(|&f| renumber[self.face_component[f as usize] as usize]).collect()
+    }
+
+    /// A topology from a face list whose twins are already known (a
+    /// refinement built by construction): fans, boundary loops and edges as
+    /// [`Topology::new`] derives them, with no check. `known_fans` holds the
+    /// fans (and CSR offsets, from 0) of the first vertices, in `new`'s
+    /// order; the others are walked here. The caller guarantees a valid
+    /// manifold and the components of its faces.
+    fn from_faces_and_twins(
+        faces: FaceList,
+        he_twin: Vec<u32>,
+        vertex_count: usize,
+        known_fans: (Vec<HalfEdgeId>, Vec<u32>),
+        face_component: Vec<u32>,
+        component_count: u32,
+    ) -> Topology {
+        let nh = he_twin.len();
+        let offsets = faces.offsets();
+        let from = faces.indices();
+        let mut he_face = vec![0u32; nh];
+        for f in 0..faces.len() {
+            he_face[offsets[f] as usize..offsets[f + 1] as usize].fill(f as u32);
+        }
+        let prev = |h: usize| {
+            let f = he_face[h] as usize;
+            if h == offsets[f] as usize {
+                offsets[f + 1] as usize - 1
+            } else {
+                h - 1
+            }
+        };
+        let (mut fan, mut fan_offsets) = known_fans;
+        let known = fan_offsets.len() - 1;
+        // `new` starts a fan at the vertex's boundary half-edge, else at its
+        // smallest one. Vertices whose fans are known are all interior.
+        let rest = vertex_count - known;
+        let mut start = vec![NONE; rest];
+        let mut count = vec![0u32; rest];
+        for (h, &v) in from.iter().enumerate() {
+            let Some(i) = (v as usize).checked_sub(known) else { continue };
+            if start[i] == NONE || he_twin[h] == NONE {
+                start[i] = h as u32;
+            }
+            count[i] += 1;
+        }
+        let mut vertex_on_boundary = vec![false; vertex_count];
+        fan.reserve(count.iter().map(|&c| c as usize).sum());
+        for i in 0..rest {
+            let s = start[i];
+            if s != NONE {
+                vertex_on_boundary[known + i] = he_twin[s as usize] == NONE;
+                let mut h = s;
+                loop {
+                    fan.push(HalfEdgeId(h));
+                    h = he_twin[prev(h as usize)];
+                    if h == NONE || h == s {
+                        break;
+                    }
+                }
+            }
+            fan_offsets.push(fan.len() as u32);
+            debug_assert_eq!(
+                fan_offsets[known + i + 1] - fan_offsets[known + i],
+                count[i],
+                "vertex {}: one fan",
+                known + i
+            );
+        }
+        let (he_edge, edge_he) = number_edges(&he_twin);
+        // Boundary loops as `new` finds them: from the smallest unseen
+        // boundary half-edge, each followed by its end's boundary half-edge.
+        let next_of = |h: usize| {
+            if h + 1 == offsets[he_face[h] as usize + 1] as usize {
+                offsets[he_face[h] as usize] as usize
+            } else {
+                h + 1
+            }
+        };
+        let mut loop_offsets = vec![0u32];
+        let mut loop_he = Vec::new();
+        let mut seen = vec![false; nh];
+        for h0 in 0..nh {
+            if he_twin[h0] != NONE || seen[h0] {
+                continue;
+            }
+            let mut h = h0;
+            while !seen[h] {
+                seen[h] = true;
+                loop_he.push(HalfEdgeId(h as u32));
+                let b = from[next_of(h)] as usize;
+                h = fan[fan_offsets[b] as usize].index();
+            }
+            loop_offsets.push(loop_he.len() as u32);
+        }
+        Topology {
+            vertex_count: vertex_count as u32,
+            faces,
+            he_face,
+            he_twin,
+            he_edge,
+            edge_he,
+            fan_offsets,
+            fan,
+            vertex_on_boundary,
+            loop_offsets,
+            loop_he,
+            face_component,
+            component_count,
         }
     }
 }
