@@ -327,3 +327,45 @@ fn texture_coordinates_follow_opensubdiv_in_each_fvar_mode() {
     assert!(stderr.contains("texture coordinates not written"), "{stderr}");
     assert!(read(&out).uvs.is_none());
 }
+
+/// Doo-Sabin with every cube edge infinitely sharp: the refined points lie
+/// on the cube (each has a coordinate 0 or 1, all in [0, 1]), the corners
+/// stay, the level's tags are written; semi-sharp tags are refused (exit 2).
+#[test]
+fn doo_sabin_keeps_infinitely_sharp_creases() {
+    let cube = case("cube_crease_all10", "cube_crease_all10.obj");
+    let out = out_path("cube-ds-sharp.obj");
+    run_ok(&[
+        "subdivide",
+        cube.to_str().unwrap(),
+        "--scheme",
+        "doo-sabin",
+        "--levels",
+        "3",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let soup = read(&out);
+    for p in &soup.positions {
+        let c = [p.x, p.y, p.z];
+        assert!(c.iter().all(|&x| (-1e-15..=1.0 + 1e-15).contains(&x)), "{p} leaves the cube");
+        assert!(c.iter().any(|&x| x.abs() < 1e-15 || (x - 1.0).abs() < 1e-15), "{p} is not on the cube's surface");
+    }
+    for corner in read(&cube).positions {
+        assert!(soup.positions.contains(&corner), "corner {corner} moved");
+    }
+    assert!(!soup.tags.creases.is_empty(), "the level-3 crease tags are written");
+    let semi = case("cube_crease_top_s1", "cube_crease_top_s1.obj");
+    let run = subdiv(&[
+        "subdivide",
+        semi.to_str().unwrap(),
+        "--scheme",
+        "doo-sabin",
+        "--levels",
+        "1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_no_panic(&run);
+    assert_eq!(run.status.code(), Some(2), "{}", String::from_utf8_lossy(&run.stderr));
+}

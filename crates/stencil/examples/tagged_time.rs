@@ -19,8 +19,11 @@ fn scramble(i: u64) -> u64 {
 fn tagged(mesh: &Mesh) -> Mesh {
     let t = mesh.topology();
     let sharpness = [10.0, 2.5, 1.0];
-    let edges = (0..t.edge_count() as u64).map(|e| sharpness.get((scramble(e) % 30) as usize).copied().unwrap_or(0.0)).collect();
-    let vertices = (0..t.vertex_count() as u64).map(|v| if scramble(v ^ 0xabcd) % 50 == 0 { 10.0 } else { 0.0 }).collect();
+    let edges = (0..t.edge_count() as u64)
+        .map(|e| sharpness.get((scramble(e) % 30) as usize).copied().unwrap_or(0.0))
+        .collect();
+    let vertices =
+        (0..t.vertex_count() as u64).map(|v| if scramble(v ^ 0xabcd) % 50 == 0 { 10.0 } else { 0.0 }).collect();
     mesh.clone().with_tags(Tags::from_arrays(t, edges, vertices).expect("valid tags"))
 }
 
@@ -69,6 +72,12 @@ fn main() {
     let (d0, p0) = (median(direct[0].clone()), median(planned[0].clone()));
     for (k, &(label, ..)) in cases.iter().enumerate() {
         let (d, p) = (median(direct[k].clone()), median(planned[k].clone()));
-        println!("  {label:15} subdivide {:8.2} ms ({:.2}×)   plan {:8.2} ms ({:.2}×)", d * 1e3, d / d0, p * 1e3, p / p0);
+        println!(
+            "  {label:15} subdivide {:8.2} ms ({:.2}×)   plan {:8.2} ms ({:.2}×)",
+            d * 1e3,
+            d / d0,
+            p * 1e3,
+            p / p0
+        );
     }
 }

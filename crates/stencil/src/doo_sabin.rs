@@ -104,6 +104,8 @@
 //! separate its faces; the crease then fades into the smooth surface.
 
 use crate::apply::fill_in_chunks;
+use crate::scheme::{SchemeRules, Split};
+use crate::sharpness::LevelSharpness;
 use crate::{RowBuilder, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
 use subdiv_mesh::refine::{
@@ -580,4 +582,84 @@ fn limit_points_of(t: &Topology, features: &DualFeatures, x: &[DVec3]) -> Vec<DV
     RowBuilder::evaluate_parallel_with_scratch(t.vertex_count(), x, |i, rows, w: &mut Vec<f64>| {
         limit_row(t, features, VertexId(i as u32), rows, w)
     })
+}
+
+/// Doo-Sabin as a [`SchemeRules`]: the dual split with the Chaikin boundary
+/// rule; infinitely sharp creases and corners as boundaries of both sides
+/// (module docs). The boundary option and the crease method do not apply
+/// (Doo-Sabin has its own boundary curve; its tags never decay).
+pub(crate) struct DooSabinRules;
+
+impl DooSabinRules {
+    /// The level's tags as the Doo-Sabin functions take them.
+    fn tags(t: &Topology, sharp: &LevelSharpness) -> Tags {
+        sharp.tags(t)
+    }
+}
+
+impl SchemeRules for DooSabinRules {
+    fn check(&self, t: &Topology, sharp: &LevelSharpness) -> Result<(), StencilError> {
+        if sharp.is_untagged() {
+            return Ok(());
+        }
+        // The tagged split adds a point per corner and per crease end:
+        // at most H + 2E + V vertices and 4H + 10E corners.
+        let (v, e, h) = (t.vertex_count(), t.edge_count(), t.half_edge_count());
+        if (h + 2 * e + v).max(4 * h + 10 * e) > u32::MAX as usize - 1 {
+            return Err(StencilError::TooLarge);
+        }
+        check_tags(t, &Self::tags(t, sharp))
+    }
+
+    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError> {
+        if sharp.is_untagged() {
+            let (topology, dual) = dual_split(t);
+            return Ok(Split { topology, sharpness: sharp.clone(), dual: Some(dual) });
+        }
+        let tags = Self::tags(t, sharp);
+        check_tags(t, &tags)?;
+        let (topology, _, child) = subdiv_mesh::refine::dual_split_tagged(t, &tags);
+        let sharpness = LevelSharpness::new(&child, sharp.boundary(), sharp.method());
+        Ok(Split { topology, sharpness, dual: None })
+    }
+
+    fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {
+        refinement_stencil_tagged(t, &Self::tags(t, sharp), CornerRule::Standard).map(Some)
+    }
+
+    fn step_points(&self, t: &Topology, sharp: &LevelSharpness, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
+        first_step_tagged(t, &Self::tags(t, sharp), CornerRule::Standard, x)
+    }
+
+    fn limit_points(
+        &self,
+        t: &Topology,
+        sharp: &LevelSharpness,
+        x: &[DVec3],
+        count: usize,
+    ) -> Option<Result<Vec<DVec3>, StencilError>> {
+        Some(limit_points_tagged(t, &Self::tags(t, sharp), x).map(|mut points| {
+            points.truncate(count);
+            points
+        }))
+    }
+
+    fn limit_stencil(
+        &self,
+        t: &Topology,
+        sharp: &LevelSharpness,
+        rows: usize,
+    ) -> Option<Result<SparseMatrix, StencilError>> {
+        Some(limit_stencil_tagged(t, &Self::tags(t, sharp)).map(|s| {
+            if rows == s.rows() {
+                s
+            } else {
+                crate::apply::first_rows(&s, rows)
+            }
+        }))
+    }
+
+    fn levels_before_limit(&self, _: &Topology, _: &LevelSharpness, _: bool) -> usize {
+        0 // the Doo-Sabin masks are exact on any level (creases: infinitely sharp only)
+    }
 }

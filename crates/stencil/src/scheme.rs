@@ -3,7 +3,6 @@
 //! scheme's own file). Adding a scheme is one `impl SchemeRules` and one arm
 //! in [`Scheme::rules`] (checklist in `docs/ARCHITECTURE.md`).
 
-use crate::doo_sabin::{self, CornerRule};
 use crate::sharpness::LevelSharpness;
 use crate::{Scheme, SparseMatrix, StencilError};
 use glam::DVec3;
@@ -80,77 +79,8 @@ impl Scheme {
         match *self {
             Scheme::CatmullClark => Box::new(crate::catmull_clark::CatmullClarkRules),
             Scheme::Loop(beta) => Box::new(crate::loop_subdivision::LoopRules(beta)),
-            Scheme::DooSabin => Box::new(DooSabinRules),
+            Scheme::DooSabin => Box::new(crate::doo_sabin::DooSabinRules),
             Scheme::DengMa(tension) => Box::new(crate::deng_ma::DengMaRules(tension)),
         }
-    }
-}
-
-// Kept here, not in doo_sabin.rs, while Doo-Sabin creases are written there.
-/// Doo-Sabin as a [`SchemeRules`]: the dual split with the Chaikin boundary
-/// rule. Tags: not yet (refused with [`StencilError::TagsNotSupported`]).
-pub(crate) struct DooSabinRules;
-
-impl SchemeRules for DooSabinRules {
-    fn check(&self, _: &Topology, sharp: &LevelSharpness) -> Result<(), StencilError> {
-        if sharp.is_untagged() {
-            Ok(())
-        } else {
-            Err(StencilError::TagsNotSupported {
-                scheme: "doo-sabin",
-                reason: "creases are not implemented yet".into(),
-            })
-        }
-    }
-
-    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError> {
-        self.check(t, sharp)?;
-        let (topology, dual) = subdiv_mesh::refine::dual_split(t);
-        let sharpness = LevelSharpness::untagged(sharp.boundary(), sharp.method());
-        Ok(Split { topology, sharpness, dual: Some(dual) })
-    }
-
-    fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {
-        self.check(t, sharp)?;
-        doo_sabin::refinement_stencil(t, CornerRule::Standard).map(Some)
-    }
-
-    fn step_points(&self, t: &Topology, sharp: &LevelSharpness, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
-        self.check(t, sharp)?;
-        doo_sabin::first_step(t, CornerRule::Standard, x)
-    }
-
-    fn limit_points(
-        &self,
-        t: &Topology,
-        sharp: &LevelSharpness,
-        x: &[DVec3],
-        count: usize,
-    ) -> Option<Result<Vec<DVec3>, StencilError>> {
-        Some(self.check(t, sharp).map(|()| {
-            let mut points = doo_sabin::limit_points(t, x);
-            points.truncate(count);
-            points
-        }))
-    }
-
-    fn limit_stencil(
-        &self,
-        t: &Topology,
-        sharp: &LevelSharpness,
-        rows: usize,
-    ) -> Option<Result<SparseMatrix, StencilError>> {
-        Some(self.check(t, sharp).map(|()| {
-            let s = doo_sabin::limit_stencil(t);
-            if rows == s.rows() {
-                s
-            } else {
-                crate::apply::first_rows(&s, rows)
-            }
-        }))
-    }
-
-    fn levels_before_limit(&self, _: &Topology, _: &LevelSharpness, _: bool) -> usize {
-        0 // the Doo-Sabin masks are exact on any level (creases: infinitely sharp only)
     }
 }
