@@ -256,14 +256,24 @@ impl Interpolant {
     }
 
     /// The surface: the control mesh refined `levels` times by its plain
-    /// scheme, vertices moved to their limit positions where a mask exists.
+    /// scheme, vertices moved to their limit positions where a mask exists;
+    /// the control mesh's texture coordinates refined along where the scheme
+    /// refines them, left out where it does not (Deng-Ma, Doo-Sabin with seams).
     ///
     /// # Errors
     /// [`InterpError::NotRepresentable`] when a coordinate of the surface is
     /// not a finite f64; [`InterpError::Stencil`] when the refined mesh would
     /// be too large.
     pub fn surface(&self, levels: usize) -> Result<Mesh, InterpError> {
-        subdivide(&self.control, self.scheme.scheme(), levels, true).map_err(|e| match e {
+        let scheme = self.scheme.scheme();
+        let surface = match subdivide(&self.control, scheme, levels, true) {
+            Err(StencilError::FaceVarying(_)) => {
+                let positions_only = self.control.clone().with_uvs(None).expect("no channel is always valid");
+                subdivide(&positions_only, scheme, levels, true)
+            }
+            other => other,
+        };
+        surface.map_err(|e| match e {
             StencilError::NotRepresentable { reason, .. } => {
                 InterpError::NotRepresentable { method: self.method.name(), reason }
             }

@@ -31,7 +31,9 @@ pub enum Plain {
 /// overflows, and scaled back.
 pub fn candidate_limit_points(control: &Mesh, plain: Plain) -> Result<Vec<DVec3>, StencilError> {
     let scale = PowerOfTwoScale::normalizing(control.positions().iter().copied());
-    let mut scaled = control.clone();
+    // The plain scheme: positions only, no tags, no texture coordinates.
+    let mut scaled =
+        control.clone().with_tags(subdiv_mesh::Tags::none()).with_uvs(None).expect("no channel is always valid");
     scale.apply_points(scaled.positions_mut());
     let mut points = scaled_candidates(&scaled, plain)?;
     scale.inverse().apply_points(&mut points);

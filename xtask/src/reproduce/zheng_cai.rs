@@ -48,7 +48,8 @@ fn nasri_run(ctx: &Ctx, mesh: &Mesh, solver: Solver) -> Run {
     match result {
         Ok(r) => {
             // First refined mesh: one plain Doo-Sabin step of M⁰ (what the surface starts from).
-            let (_, t1) = timed(ctx.runs(), || subdivide(&r.control, Scheme::DooSabin, 1, false));
+            let control = r.control.clone().with_uvs(None).expect("no channel is always valid");
+            let (_, t1) = timed(ctx.runs(), || subdivide(&control, Scheme::DooSabin, 1, false));
             let it = r.solve.as_ref().map(|s| s.iterations);
             Run { method, aux_ms: t, refine_ms: t1, iterations: it, error: Some(error(mesh, &r)), status: "ok".into() }
         }
