@@ -12,7 +12,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Duration;
-use subdiv_mesh::{Mesh, Tags};
+use subdiv_mesh::Mesh;
 use subdiv_stencil::{subdivide, CreaseMethod, LoopBeta, Options, Scheme, SubdivisionPlan};
 
 fn load(rel: &str) -> Mesh {
@@ -21,29 +21,9 @@ fn load(rel: &str) -> Mesh {
     Mesh::from_soup(soup).unwrap_or_else(|e| panic!("{}: {e}", path.display())).0
 }
 
-/// A fixed scramble of an index (splitmix64's finaliser).
-fn scramble(i: u64) -> u64 {
-    let mut z = i.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
-/// The mesh with ~10 % of its edges creased and ~2 % of its vertices corners.
-fn tagged(mesh: &Mesh) -> Mesh {
-    let t = mesh.topology();
-    let edges = (0..t.edge_count() as u64)
-        .map(|e| match scramble(e) % 30 {
-            0 => 10.0,
-            1 => 2.5,
-            2 => 1.0,
-            _ => 0.0,
-        })
-        .collect();
-    let vertices =
-        (0..t.vertex_count() as u64).map(|v| if scramble(v ^ 0xabcd) % 50 == 0 { 10.0 } else { 0.0 }).collect();
-    mesh.clone().with_tags(Tags::from_arrays(t, edges, vertices).unwrap())
-}
+#[path = "support/tagging.rs"]
+mod tagging;
+use tagging::tagged;
 
 fn bench(c: &mut Criterion) {
     let cases: [(&str, &str, Scheme, usize); 4] = [

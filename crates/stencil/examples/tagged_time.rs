@@ -6,26 +6,12 @@
 //! creased at 10 / 2.5 / 1.0, 2 % of the vertices corners).
 
 use std::time::Instant;
-use subdiv_mesh::{Mesh, Tags};
+use subdiv_mesh::Mesh;
 use subdiv_stencil::{subdivide, CreaseMethod, LoopBeta, Options, Scheme, SubdivisionPlan};
 
-fn scramble(i: u64) -> u64 {
-    let mut z = i.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
-fn tagged(mesh: &Mesh) -> Mesh {
-    let t = mesh.topology();
-    let sharpness = [10.0, 2.5, 1.0];
-    let edges = (0..t.edge_count() as u64)
-        .map(|e| sharpness.get((scramble(e) % 30) as usize).copied().unwrap_or(0.0))
-        .collect();
-    let vertices =
-        (0..t.vertex_count() as u64).map(|v| if scramble(v ^ 0xabcd) % 50 == 0 { 10.0 } else { 0.0 }).collect();
-    mesh.clone().with_tags(Tags::from_arrays(t, edges, vertices).expect("valid tags"))
-}
+#[path = "../benches/support/tagging.rs"]
+mod tagging;
+use tagging::tagged;
 
 fn median(mut x: Vec<f64>) -> f64 {
     x.sort_by(f64::total_cmp);
