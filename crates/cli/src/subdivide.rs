@@ -190,18 +190,16 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
 /// carries its decayed tags to the next), then limit positions.
 ///
 /// Texture coordinates the scheme cannot refine (Deng-Ma; Doo-Sabin with
-/// seams) are dropped with a warning: the positions are what was asked for.
+/// seams or tags) are dropped with a warning: the positions are what was
+/// asked for (the refusal comes at the first level, so little is redone).
 pub fn refine(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
     let options = options.into();
-    let without_uvs = |reason: &str| {
-        progress::warn(format!("texture coordinates not written: {reason}"));
-        mesh.clone().with_uvs(None).expect("no channel is always valid")
-    };
-    if mesh.uvs().is_some() && levels > 0 && matches!(options.scheme, Scheme::DengMa(_)) {
-        return refine_levels(&without_uvs("deng-ma has no face-varying rule"), options, levels, limit);
-    }
     match refine_levels(mesh, options, levels, limit) {
-        Err(StencilError::FaceVarying(reason)) => refine_levels(&without_uvs(&reason), options, levels, limit),
+        Err(StencilError::FaceVarying(reason)) => {
+            progress::warn(format!("texture coordinates not written: {reason}"));
+            let positions_only = mesh.clone().with_uvs(None).expect("no channel is always valid");
+            refine_levels(&positions_only, options, levels, limit)
+        }
         other => other,
     }
 }

@@ -127,12 +127,8 @@ fn vertex_point_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, rows: &mu
         rows.add(v.0, 1.0);
         return;
     }
-    let step = sharp.vertex_step(t, v);
-    let (w, ends) =
-        if step.parent == step.child { (1.0, step.parent_ends) } else { (step.parent_weight, step.parent_ends) };
-    vertex_mask_row(t, v, step.parent, ends, w, rows);
-    if step.parent != step.child {
-        vertex_mask_row(t, v, step.child, step.child_ends, 1.0 - w, rows);
+    for (rule, ends, w) in sharp.vertex_step(t, v).masks() {
+        vertex_mask_row(t, v, rule, ends, w, rows);
     }
 }
 

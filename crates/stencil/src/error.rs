@@ -36,7 +36,7 @@ pub enum StencilError {
         reason: String,
     },
     /// The mesh's texture coordinates cannot be refined with this scheme
-    /// (Deng-Ma; Doo-Sabin on a channel with seams): drop them
+    /// (Deng-Ma; Doo-Sabin on a channel with seams or with tags): drop them
     /// (`Mesh::with_uvs(None)`) to subdivide the positions.
     #[error("texture coordinates: {0}")]
     FaceVarying(String),

@@ -204,7 +204,7 @@ pub enum FVarError {
 /// [`FVarError::Channel`] when `channel` does not fit `parent`,
 /// [`FVarError::Stencil`] with [`StencilError::NotTriangles`] for Loop on a
 /// non-triangle, [`FVarError::Seam`] for Doo-Sabin with seams,
-/// [`FVarError::SchemeNotSupported`] for Deng-Ma.
+/// [`FVarError::SchemeNotSupported`] for Deng-Ma and for Doo-Sabin with tags.
 ///
 /// # Panics
 /// If `child` does not have the counts of the scheme's split of `parent` (a
@@ -223,6 +223,12 @@ pub fn refine(
         Scheme::Loop(beta) => {
             require_triangles(parent)?;
             Primal::Loop(beta)
+        }
+        Scheme::DooSabin if !sharp.is_untagged() => {
+            return Err(FVarError::SchemeNotSupported {
+                scheme: scheme.name(),
+                reason: "its creases and corners change the split, which the channel does not follow yet",
+            })
         }
         Scheme::DooSabin => return refine_dual(parent, child, channel),
         Scheme::DengMa(_) => {
@@ -669,14 +675,9 @@ impl Step<'_> {
         if self.rules.linear_all {
             return own;
         }
-        let step = self.sharp.vertex_step(self.t, v);
         let mut sum = Sum::default();
-        if step.parent == step.child {
-            self.vertex_mask(v, step.parent, step.parent_ends, 1.0, &mut sum);
-        } else {
-            let w = step.parent_weight;
-            self.vertex_mask(v, step.parent, step.parent_ends, w, &mut sum);
-            self.vertex_mask(v, step.child, step.child_ends, 1.0 - w, &mut sum);
+        for (rule, ends, w) in self.sharp.vertex_step(self.t, v).masks() {
+            self.vertex_mask(v, rule, ends, w, &mut sum);
         }
         sum.0
     }

@@ -112,14 +112,9 @@ fn refinement_row(t: &Topology, sharp: &LevelSharpness, beta: LoopBeta, i: usize
         }
         // Eq. (1): p' = (1 − kβ)p + βΣpⱼ; crease (1, 6, 1)/8; corner p;
         // w·parent + (1 − w)·child where the rule changes (semi-sharp).
-        let step = sharp.vertex_step(t, v);
         let mask = |kind| vertex_point_mask(kind, t.valence(v), beta);
-        if step.parent == step.child {
-            add_vertex_mask(rows, t, v, (step.parent, step.parent_ends), mask, 1.0);
-        } else {
-            let w = step.parent_weight;
-            add_vertex_mask(rows, t, v, (step.parent, step.parent_ends), mask, w);
-            add_vertex_mask(rows, t, v, (step.child, step.child_ends), mask, 1.0 - w);
+        for (rule, ends, w) in sharp.vertex_step(t, v).masks() {
+            add_vertex_mask(rows, t, v, (rule, ends), mask, w);
         }
         return;
     }

@@ -70,6 +70,21 @@ pub struct VertexStep {
     pub child_ends: Option<(VertexId, VertexId)>,
 }
 
+/// One vertex mask of a step: its rule, the crease ends when it is a
+/// crease, and its weight in the new point.
+pub type WeightedMask = (Rule, Option<(VertexId, VertexId)>, f64);
+
+impl VertexStep {
+    /// The masks that make the new vertex point: the parent's alone (weight
+    /// 1) where the rule does not change, else w·parent then (1 − w)·child.
+    pub fn masks(&self) -> impl Iterator<Item = WeightedMask> {
+        let changes = self.parent != self.child;
+        let w = if changes { self.parent_weight } else { 1.0 };
+        let child = changes.then_some((self.child, self.child_ends, 1.0 - w));
+        std::iter::once((self.parent, self.parent_ends, w)).chain(child)
+    }
+}
+
 /// The new point of an edge.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EdgeStep {
@@ -123,6 +138,22 @@ mod smallvec_free {
             }
         }
     }
+}
+
+/// How many of the incident edges are sharp.
+fn sharp_count(sharpness: &[f32]) -> usize {
+    sharpness.iter().filter(|&&s| is_sharp(s)).count()
+}
+
+/// The far ends of the first and last sharp incident edge (OpenSubdiv's
+/// `GetSharpEdgePairOfCrease`) when `rule` is a crease.
+fn crease_ends(rule: Rule, sharpness: &[f32], ends: &[u32]) -> Option<(VertexId, VertexId)> {
+    if rule != Rule::Crease {
+        return None;
+    }
+    let first = sharpness.iter().position(|&s| is_sharp(s))?;
+    let last = sharpness.iter().rposition(|&s| is_sharp(s))?;
+    Some((VertexId(ends[first]), VertexId(ends[last])))
 }
 
 impl LevelSharpness {
@@ -266,15 +297,8 @@ impl LevelSharpness {
         }
         let child = child.as_slice();
         let child_vertex = decrement(vertex);
-        let count = |values: &[f32]| values.iter().filter(|&&s| is_sharp(s)).count();
-        let parent_rule = vertex_rule(vertex, count(sharp));
-        let child_rule = vertex_rule(child_vertex, count(child));
-        let pair = |values: &[f32]| {
-            // The first and last sharp edge (OpenSubdiv's GetSharpEdgePairOfCrease).
-            let first = values.iter().position(|&s| !is_smooth(s))?;
-            let last = values.iter().rposition(|&s| !is_smooth(s))?;
-            Some((VertexId(ends[first]), VertexId(ends[last])))
-        };
+        let parent_rule = vertex_rule(vertex, sharp_count(sharp));
+        let child_rule = vertex_rule(child_vertex, sharp_count(child));
         let parent_weight = if parent_rule == child_rule || parent_rule.is_smooth_mask() {
             0.0
         } else {
@@ -284,8 +308,8 @@ impl LevelSharpness {
             parent: parent_rule,
             child: child_rule,
             parent_weight,
-            parent_ends: (parent_rule == Rule::Crease).then(|| pair(sharp)).flatten(),
-            child_ends: (child_rule == Rule::Crease).then(|| pair(child)).flatten(),
+            parent_ends: crease_ends(parent_rule, sharp, ends),
+            child_ends: crease_ends(child_rule, child, ends),
         }
     }
 
@@ -298,15 +322,8 @@ impl LevelSharpness {
         }
         let incident = self.incident(t, v);
         let sharp = incident.sharpness.as_slice();
-        let rule = vertex_rule(self.vertex(t, v), sharp.iter().filter(|&&s| is_sharp(s)).count());
-        let ends = (rule == Rule::Crease)
-            .then(|| {
-                let first = sharp.iter().position(|&s| is_sharp(s))?;
-                let last = sharp.iter().rposition(|&s| is_sharp(s))?;
-                Some((VertexId(incident.ends.as_slice()[first]), VertexId(incident.ends.as_slice()[last])))
-            })
-            .flatten();
-        (rule, ends)
+        let rule = vertex_rule(self.vertex(t, v), sharp_count(sharp));
+        (rule, crease_ends(rule, sharp, incident.ends.as_slice()))
     }
 
     /// Sharpness of the half of edge `e` at its end `v` after the step.

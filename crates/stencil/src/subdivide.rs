@@ -306,9 +306,6 @@ impl SubdivisionPlan {
         let copies_input = copies_input(self.scheme(), self.levels.len(), limit);
         map_back_checked(self.scheme(), scale, &mut positions, mesh.positions(), copies_input)?;
         let uvs = match mesh.uvs() {
-            Some(_) if !self.levels.is_empty() && !doo_sabin_takes_uvs(self.scheme(), &self.base_sharpness) => {
-                return Err(doo_sabin_creases_uvs());
-            }
             Some(channel) => {
                 let levels = self.levels.iter().map(|r| (&r.topology, &r.sharpness));
                 let refined = fvar::refine_levels(
@@ -350,7 +347,7 @@ fn copies_input(scheme: Scheme, levels: usize, limit: bool) -> bool {
 /// As [`SubdivisionPlan::new`]; [`StencilError::NotRepresentable`] when an
 /// output coordinate is not a finite f64 (the surface leaves the range of f64);
 /// [`StencilError::FaceVarying`] when the scheme cannot refine the mesh's
-/// texture coordinates (Deng-Ma; Doo-Sabin with seams).
+/// texture coordinates (Deng-Ma; Doo-Sabin with seams or tags).
 pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
     let options = options.into();
     options.validate()?;
@@ -371,9 +368,6 @@ pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit:
         let split = split?;
         positions = next?;
         if let Some(channel) = &uvs {
-            if !doo_sabin_takes_uvs(scheme, &sharp) {
-                return Err(doo_sabin_creases_uvs());
-            }
             let refined = fvar::refine(coarse, &sharp, &split.topology, scheme, options.fvar, channel);
             uvs = Some(Cow::Owned(refined.map_err(face_varying_error)?));
         }
@@ -399,16 +393,6 @@ pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit:
         }
         None => mesh.with_positions(positions),
     })
-}
-
-/// Whether the face-varying refinement can follow the scheme's split: not
-/// yet Doo-Sabin's tagged split (its corner and crease points).
-fn doo_sabin_takes_uvs(scheme: Scheme, sharp: &LevelSharpness) -> bool {
-    !matches!(scheme, Scheme::DooSabin) || sharp.is_untagged()
-}
-
-fn doo_sabin_creases_uvs() -> StencilError {
-    StencilError::FaceVarying("Doo-Sabin with creases does not refine texture coordinates yet".into())
 }
 
 /// A face-varying error as the subdivision's: the scheme's own refusal as
