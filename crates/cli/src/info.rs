@@ -70,21 +70,16 @@ struct TagCounts {
 
 impl TagCounts {
     fn of(creases: impl Iterator<Item = f32>, corners: impl Iterator<Item = f32>) -> Self {
-        let mut counts = TagCounts::default();
-        let mut count = |s: f32, kind: &mut usize| {
-            if s > 0.0 {
-                *kind += 1;
-                if s >= subdiv_mesh::SHARPNESS_INFINITE {
-                    counts.infinitely_sharp += 1;
-                } else {
-                    counts.semi_sharp += 1;
-                }
-            }
-        };
-        let (mut c, mut v) = (0, 0);
-        creases.for_each(|s| count(s, &mut c));
-        corners.for_each(|s| count(s, &mut v));
-        TagCounts { creases: c, corners: v, ..counts }
+        let creases: Vec<f32> = creases.filter(|&s| s > 0.0).collect();
+        let corners: Vec<f32> = corners.filter(|&s| s > 0.0).collect();
+        let infinitely_sharp =
+            creases.iter().chain(&corners).filter(|&&s| s >= subdiv_mesh::SHARPNESS_INFINITE).count();
+        TagCounts {
+            creases: creases.len(),
+            corners: corners.len(),
+            infinitely_sharp,
+            semi_sharp: creases.len() + corners.len() - infinitely_sharp,
+        }
     }
 }
 

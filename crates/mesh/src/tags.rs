@@ -189,17 +189,6 @@ impl Tags {
         self.vertices.iter().filter(|&&s| s > 0.0).count()
     }
 
-    /// Whether some value is semi-sharp (in (0, 10)): such tags decay with
-    /// the levels, and a limit needs ⌈largest⌉ levels first.
-    pub fn largest_semi_sharp(&self) -> Option<f32> {
-        self.edges
-            .iter()
-            .chain(&self.vertices)
-            .copied()
-            .filter(|&s| s > 0.0 && s < SHARPNESS_INFINITE)
-            .fold(None, |m: Option<f32>, s| Some(m.map_or(s, |m| m.max(s))))
-    }
-
     /// The tags as a list by vertex indices, in edge and vertex order (each
     /// edge as its first half-edge's ends), with only the non-zero values:
     /// what a writer puts in a file.

@@ -590,13 +590,6 @@ fn limit_points_of(t: &Topology, features: &DualFeatures, x: &[DVec3]) -> Vec<DV
 /// (Doo-Sabin has its own boundary curve; its tags never decay).
 pub(crate) struct DooSabinRules;
 
-impl DooSabinRules {
-    /// The level's tags as the Doo-Sabin functions take them.
-    fn tags(t: &Topology, sharp: &LevelSharpness) -> Tags {
-        sharp.tags(t)
-    }
-}
-
 impl SchemeRules for DooSabinRules {
     fn check(&self, t: &Topology, sharp: &LevelSharpness) -> Result<(), StencilError> {
         if sharp.is_untagged() {
@@ -608,7 +601,7 @@ impl SchemeRules for DooSabinRules {
         if (h + 2 * e + v).max(4 * h + 10 * e) > u32::MAX as usize - 1 {
             return Err(StencilError::TooLarge);
         }
-        check_tags(t, &Self::tags(t, sharp))
+        check_tags(t, &sharp.tags(t))
     }
 
     fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError> {
@@ -616,7 +609,7 @@ impl SchemeRules for DooSabinRules {
             let (topology, dual) = dual_split(t);
             return Ok(Split { topology, sharpness: sharp.clone(), dual: Some(dual) });
         }
-        let tags = Self::tags(t, sharp);
+        let tags = sharp.tags(t);
         check_tags(t, &tags)?;
         let (topology, _, child) = subdiv_mesh::refine::dual_split_tagged(t, &tags);
         let sharpness = LevelSharpness::new(&child, sharp.boundary(), sharp.method());
@@ -624,11 +617,11 @@ impl SchemeRules for DooSabinRules {
     }
 
     fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {
-        refinement_stencil_tagged(t, &Self::tags(t, sharp), CornerRule::Standard).map(Some)
+        refinement_stencil_tagged(t, &sharp.tags(t), CornerRule::Standard).map(Some)
     }
 
     fn step_points(&self, t: &Topology, sharp: &LevelSharpness, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
-        first_step_tagged(t, &Self::tags(t, sharp), CornerRule::Standard, x)
+        first_step_tagged(t, &sharp.tags(t), CornerRule::Standard, x)
     }
 
     fn limit_points(
@@ -638,7 +631,7 @@ impl SchemeRules for DooSabinRules {
         x: &[DVec3],
         count: usize,
     ) -> Option<Result<Vec<DVec3>, StencilError>> {
-        Some(limit_points_tagged(t, &Self::tags(t, sharp), x).map(|mut points| {
+        Some(limit_points_tagged(t, &sharp.tags(t), x).map(|mut points| {
             points.truncate(count);
             points
         }))
@@ -650,7 +643,7 @@ impl SchemeRules for DooSabinRules {
         sharp: &LevelSharpness,
         rows: usize,
     ) -> Option<Result<SparseMatrix, StencilError>> {
-        Some(limit_stencil_tagged(t, &Self::tags(t, sharp)).map(|s| {
+        Some(limit_stencil_tagged(t, &sharp.tags(t)).map(|s| {
             if rows == s.rows() {
                 s
             } else {

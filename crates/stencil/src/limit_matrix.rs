@@ -520,8 +520,9 @@ fn composed_rows(
     let rules = scheme.rules();
     rules.check(t, sharp)?;
     let levels = rules.levels_before_limit(t, sharp, true);
-    let first: Vec<u32> = (0..rows.len() as u32).collect(); // the tracked vertices, in every crop
-                                                            // Per level: the vertex count of the level, its crop, and the crop's stencil.
+    // The tracked vertices, in every crop.
+    let first: Vec<u32> = (0..rows.len() as u32).collect();
+    // Per level: the vertex count of the level, its crop, and the crop's stencil.
     let mut steps: Vec<(usize, Vec<u32>, SparseMatrix)> = Vec::with_capacity(levels);
     let mut level_size = t.vertex_count();
     let mut current = crop(t, sharp, rows);
