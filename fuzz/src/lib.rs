@@ -543,7 +543,9 @@ fn interpolate(mesh: &Mesh, method: Operation, levels: usize, head: &mut Bytes, 
             let normals = normals(n, head, tail);
             deng_wang::interpolate(mesh, &DengWangOptions { common: common.clone(), mu, beta, normals })
         }
-        Operation::DengMa => deng_ma::interpolate(mesh, &DengMaOptions { tension: tension(head) }),
+        Operation::DengMa => {
+            deng_ma::interpolate(mesh, &DengMaOptions { tension: tension(head), ..Default::default() })
+        }
         Operation::Subdivide => unreachable!("subdivide is not a method"),
     };
     let name = format!("{method:?}");

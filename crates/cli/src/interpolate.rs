@@ -2,9 +2,9 @@
 
 use crate::budget::{Budget, MemoryArgs};
 use crate::failure::{bad_input, Failure};
-use crate::load::load_mesh;
+use crate::load::load_mesh_with_tags;
 use crate::outputs::{self, Outputs};
-use crate::subdivide::{BetaArg, TensionArgs};
+use crate::subdivide::{BetaArg, SurfaceArgs, TensionArgs};
 use crate::{params, progress};
 use anyhow::anyhow;
 use clap::ValueEnum;
@@ -14,7 +14,7 @@ use std::time::Instant;
 use subdiv_interp::{
     cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, CommonOptions, DengMaOptions,
     DengWangOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Parameter, Shape, SolverChoice,
-    ZhengCaiOptions,
+    SurfaceOptions, ZhengCaiOptions,
 };
 use subdiv_mesh::Mesh;
 use subdiv_solve::{IterationObserver, Solver};
@@ -87,6 +87,16 @@ pub struct InterpolateArgs {
     /// deng-ma: the tension.
     #[command(flatten)]
     tension: TensionArgs,
+    /// The surface's boundary, crease and face-varying options (as `subdivide`): the control
+    /// mesh interpolates the data under these options and its tags.
+    #[command(flatten)]
+    surface_options: SurfaceArgs,
+    /// Crease and corner tags for formats without them (or in addition to an OBJ's `t` lines):
+    /// JSON {"creases": [[v0, v1, sharpness], …], "corners": [[v, sharpness], …]}. Every method
+    /// keeps them (doo-sabin methods and deng-ma: infinitely sharp ones, ≥ 10); the control mesh
+    /// is written with its tags.
+    #[arg(long)]
+    tags: Option<PathBuf>,
     /// Write the control mesh (deng-ma: the refined surface).
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -142,12 +152,18 @@ fn check_applies(args: &InterpolateArgs) -> Result<(), Failure> {
 fn run_method(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserver) -> Result<Interpolant, Failure> {
     let n = mesh.topology().vertex_count();
     let subset = args.subset.as_deref().map(|p| params::subset(p, n)).transpose().map_err(bad_input)?;
+    let surface = SurfaceOptions {
+        boundary: args.surface_options.boundary,
+        crease_method: args.surface_options.crease_method,
+        fvar: args.surface_options.fvar,
+    };
     let common = CommonOptions {
         subset,
         tol: args.tol,
         max_iter: args.max_iter,
         solver: solver_choice(&args.solver)?,
         observer,
+        surface,
     };
     let normals = args.normals.as_deref().map(|p| params::normals(p, n)).transpose().map_err(bad_input)?;
     let beta: LoopBeta = args.beta.into();
@@ -168,7 +184,7 @@ fn run_method(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserver) 
             fan_cheng_lai::interpolate(mesh, &FanChengLaiOptions { common, shape })
         }
         MethodArg::DengWang => deng_wang::interpolate(mesh, &DengWangOptions { common, mu: args.mu, beta, normals }),
-        MethodArg::DengMa => deng_ma::interpolate(mesh, &DengMaOptions { tension: args.tension.tension() }),
+        MethodArg::DengMa => deng_ma::interpolate(mesh, &DengMaOptions { tension: args.tension.tension(), surface }),
     };
     result.map_err(|e| classify(args, e))
 }
@@ -206,7 +222,10 @@ fn classify(args: &InterpolateArgs, e: InterpError) -> Failure {
 
 /// The parameter files given: inputs that no output may overwrite.
 fn parameter_files(args: &InterpolateArgs) -> impl Iterator<Item = &Path> {
-    [&args.shape_file, &args.normals, &args.subset, &args.handles].into_iter().flatten().map(PathBuf::as_path)
+    [&args.shape_file, &args.normals, &args.subset, &args.handles, &args.tags]
+        .into_iter()
+        .flatten()
+        .map(PathBuf::as_path)
 }
 
 /// Runs `subdiv interpolate`.
@@ -220,19 +239,7 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     if let Some(path) = &args.report {
         outputs.other("--report", path)?;
     }
-    let mut mesh = load_mesh(&args.mesh)?;
-    if !mesh.tags().is_empty() {
-        // A control mesh written with tags it was not solved for would give
-        // any OpenSubdiv tool another surface.
-        progress::warn(format!(
-            "{}: {} crease and {} corner tags ignored: the interpolation methods do not take sharp features \
-             yet; the control mesh is solved and written without them",
-            args.mesh.display(),
-            mesh.tags().crease_count(),
-            mesh.tags().corner_count()
-        ));
-        mesh = mesh.with_tags(subdiv_mesh::Tags::none());
-    }
+    let mesh = load_mesh_with_tags(&args.mesh, args.tags.as_deref())?;
     let name = args_method_name(args.method);
     let (bar, observer) = progress::solver(format!("{name}: {} vertices", mesh.topology().vertex_count()), args.tol);
     let result = run_method(args, &mesh, observer);
@@ -255,8 +262,10 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
             budget.check(&what, result.control.topology(), plain, args.levels, 2, format)?;
         }
     }
-    let refine_surface =
-        || crate::subdivide::refine(&result.control, plain, args.levels, true).map_err(|e| classify(args, e.into()));
+    let refine_surface = || {
+        crate::subdivide::refine(&result.control, result.options(), args.levels, true)
+            .map_err(|e| classify(args, e.into()))
+    };
     let surface = args.surface.as_ref().map(|_| refine_surface()).transpose()?;
     let control_out = match (&args.output, is_deng_ma) {
         (None, _) => None,
@@ -289,12 +298,14 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
 
     let total_ms = total.elapsed().as_secs_f64() * 1e3;
     let solve = result.solve.clone().unwrap_or_default();
-    let control_size = control_out.as_ref().unwrap_or(&result.control).topology();
+    let control_mesh = control_out.as_ref().unwrap_or(&result.control);
+    let control_size = control_mesh.topology();
     let report = json!({
         "method": name,
         "control_scheme": result.scheme.report_name(),
-        "input": {"file": args.mesh.display().to_string(), "vertices": n, "faces": mesh.topology().face_count(), "bbox_diagonal": d},
-        "control": {"vertices": control_size.vertex_count(), "faces": control_size.face_count()},
+        "input": {"file": args.mesh.display().to_string(), "vertices": n, "faces": mesh.topology().face_count(), "bbox_diagonal": d, "tags": tag_counts(&mesh), "uvs": mesh.uvs().is_some()},
+        "control": {"vertices": control_size.vertex_count(), "faces": control_size.face_count(), "tags": tag_counts(control_mesh), "uvs": control_mesh.uvs().is_some()},
+        "surface_options": {"boundary": result.surface_options.boundary.name(), "crease_method": result.surface_options.crease_method.name(), "fvar": result.surface_options.fvar.name()},
         "solver": {
             "name": if result.solve.is_some() { json!(solve.solver) } else { json!(null) },
             "iterations": solve.iterations,
@@ -327,6 +338,19 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
         error.count, error.max_rel, error.mean_rel, solve.iterations, total_ms
     ));
     Ok(())
+}
+
+/// The report's tag counts of a mesh: creases and corners (tagged edges and
+/// vertices with sharpness > 0), and how many of them are infinitely sharp.
+fn tag_counts(mesh: &Mesh) -> serde_json::Value {
+    let tags = mesh.tags();
+    let infinite = |s: &f32| *s >= subdiv_mesh::SHARPNESS_INFINITE;
+    json!({
+        "creases": tags.crease_count(),
+        "corners": tags.corner_count(),
+        "infinitely_sharp_creases": tags.edge_values().iter().filter(|s| infinite(s)).count(),
+        "infinitely_sharp_corners": tags.vertex_values().iter().filter(|s| infinite(s)).count(),
+    })
 }
 
 fn args_method_name(m: MethodArg) -> &'static str {

@@ -45,8 +45,3 @@ pub fn load_mesh_with_tags(path: &Path, tag_file: Option<&Path>) -> Result<Mesh,
     }
     Ok(mesh)
 }
-
-/// Reads and validates a mesh; warnings go to stderr (one line each).
-pub fn load_mesh(path: &Path) -> Result<Mesh, Failure> {
-    load_mesh_with_tags(path, None)
-}

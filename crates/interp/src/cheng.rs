@@ -44,7 +44,7 @@ use crate::system::{interpolate_on_input_topology, AutoSolver};
 use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method, SolverChoice};
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
-use subdiv_stencil::{catmull_clark_degeneracy, limit_matrix_catmull_clark, Degeneracy};
+use subdiv_stencil::{limit_matrix_catmull_clark_sharp, Degeneracy, LimitMatrix, RowKind};
 
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -66,6 +66,23 @@ pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, Inte
     })
 }
 
+/// The structural degeneracies of Cheng's A ([`Degeneracy`], ERRATA C3) with
+/// the mesh's tags: an interior valence-2 vertex whose row is the smooth
+/// quadratic form (on a crease its row is the curve's (1, 4, 1)/6, which is
+/// harmless), and a checkerboard kernel that A still annihilates
+/// ([`crate::preconditions::cheng_kernel`]: gone with a crease vertex or a
+/// corner on the component, kept with a dart).
+fn degeneracy(mesh: &Mesh, a: &LimitMatrix) -> Option<Degeneracy> {
+    let t = mesh.topology();
+    let smooth_valence_two = t.vertices().find(|&v| {
+        a.row_kinds[v.index()] == RowKind::Smooth && !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2
+    });
+    if let Some(vertex) = smooth_valence_two {
+        return Some(Degeneracy::Indefinite { vertex });
+    }
+    crate::preconditions::cheng_kernel(mesh, Some(a)).first().map(|c| Degeneracy::Singular { vertex: c[0].0 })
+}
+
 /// [`interpolate`] on the prepared (scaled) mesh and interpolated set.
 pub(crate) fn interpolate_prepared(
     mesh: &Mesh,
@@ -73,12 +90,13 @@ pub(crate) fn interpolate_prepared(
     opts: &ChengOptions,
 ) -> Result<Interpolant, InterpError> {
     let start = std::time::Instant::now();
-    let t = mesh.topology();
-    let a = limit_matrix_catmull_clark(t);
+    let sharpness = opts.common.surface.sharpness(mesh.tags());
+    let a = limit_matrix_catmull_clark_sharp(mesh.topology(), &sharpness)?;
     let setup = seconds_since(start);
     let mut warnings = Vec::new();
     let mut auto = AutoSolver::from(Solver::Cg { jacobi: true });
-    match catmull_clark_degeneracy(t) {
+    let degeneracy = degeneracy(mesh, &a);
+    match degeneracy.clone() {
         Some(Degeneracy::Indefinite { vertex }) => match opts.common.solver {
             SolverChoice::Use(solver) if solver.needs_definite() => {
                 return Err(InterpError::UnsupportedMesh {
@@ -113,7 +131,7 @@ pub(crate) fn interpolate_prepared(
         auto,
         warnings,
     )
-    .map_err(|e| match (e, catmull_clark_degeneracy(t)) {
+    .map_err(|e| match (e, degeneracy) {
         (InterpError::Solve { source, .. }, Some(Degeneracy::Singular { .. })) => InterpError::Unsolvable {
             method: "cheng",
             reason: "the Catmull-Clark limit matrix of this mesh is singular and the data are not in its range \

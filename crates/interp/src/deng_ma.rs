@@ -59,6 +59,9 @@ use subdiv_stencil::Tension;
 pub struct DengMaOptions {
     /// Global ω ∈ (0, 1] (default 1) or the variable ω_P with λ ∈ (0, 1].
     pub tension: Tension,
+    /// The surface options (the face-varying mode of the surface's UVs;
+    /// Deng-Ma has its own boundary rule and no semi-sharp creases).
+    pub surface: crate::SurfaceOptions,
 }
 
 /// Checks that `tension`'s parameter lies in (0, 1].
@@ -98,6 +101,7 @@ pub fn interpolate(mesh: &Mesh, opts: &DengMaOptions) -> Result<Interpolant, Int
         Tension::Variable { lambda } => parameters.insert("lambda".into(), lambda.into()),
     };
     let result = Interpolant {
+        surface_options: opts.surface,
         method: Method::DengMa,
         control: mesh.clone(),
         scheme: ControlScheme::DengMa(opts.tension),

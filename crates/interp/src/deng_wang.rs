@@ -365,6 +365,7 @@ pub(crate) fn interpolate_prepared(
     parameters.insert("user_normals".into(), user_normals.into());
     parameters.insert("triangulated_faces".into(), triangulation.split_faces.into());
     Ok(Interpolant {
+        surface_options: opts.common.surface,
         method: Method::DengWang,
         control: Mesh::from_topology(topology, positions),
         scheme: ControlScheme::Loop(opts.beta),

@@ -131,6 +131,7 @@ pub(crate) fn interpolate_prepared(
         }
     };
     Ok(Interpolant {
+        surface_options: opts.common.surface,
         method: Method::FanChengLai,
         association: LimitAssociation::for_dual_split(mesh.topology(), &provenance),
         control,

@@ -1,11 +1,11 @@
 //! What every method returns, and the independent error measure (SPEC §1).
 
 use crate::numeric::max_nan;
-use crate::{InterpError, Method};
+use crate::{InterpError, Method, SurfaceOptions};
 use glam::DVec3;
 use std::borrow::Cow;
 use subdiv_mesh::{FaceId, Mesh, PowerOfTwoScale, VertexId};
-use subdiv_stencil::{catmull_clark, doo_sabin, loop_subdivision, subdivide, LoopBeta, Scheme, StencilError, Tension};
+use subdiv_stencil::{doo_sabin, subdivide, LoopBeta, Options, Scheme, StencilError, SubdivisionPlan, Tension};
 
 /// The plain scheme whose limit surface of the control mesh interpolates the data.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,17 +43,22 @@ impl ControlScheme {
 }
 
 /// Which point of the control mesh's limit surface belongs to input vertex i,
-/// read off by the plain scheme's own rules (never by a method's system matrix).
+/// read off by the plain scheme's own rules (never by a method's system
+/// matrix), with the control mesh's tags and the result's surface options.
 #[derive(Clone, Debug, PartialEq)]
 pub enum LimitAssociation {
-    /// Control vertex i, moved to its limit position by the plain scheme's
-    /// limit mask (Catmull-Clark, Loop; Doo-Sabin: the centroid of its V-face
-    /// after one plain step; on the boundary, the boundary curve's point).
+    /// Control vertex i, moved to its limit position by the scheme's limit
+    /// rules with the control mesh's tags (Catmull-Clark, Loop:
+    /// [`SubdivisionPlan::limit_points`], after the levels semi-sharp tags
+    /// need; Doo-Sabin: `doo_sabin::limit_points_tagged` — the centroid of
+    /// its V-face after one plain step, on a boundary or crease the sharp
+    /// curve's point, a corner itself).
     ControlVertex,
-    /// A Doo-Sabin first refined mesh M¹: interior vertex i ↦ the centroid of
-    /// face `v_face[i]` (a Doo-Sabin limit point at every level); boundary
-    /// vertex i ↦ the midpoint of its two Chaikin points `boundary_pair[i]`
-    /// (the quadratic B-spline boundary's point).
+    /// A Doo-Sabin first refined mesh M¹: smooth vertex or dart i ↦ the
+    /// centroid of face `v_face[i]` (a Doo-Sabin limit point at every level);
+    /// boundary or crease vertex i ↦ the midpoint of its two sharp points
+    /// `boundary_pair[i]` (Chaikin's, the quadratic B-spline's point); corner
+    /// i ↦ its kept point `corner_point[i]`.
     ///
     /// An interior vertex i of valence 2 has no V-face; it ↦ the limit point
     /// of the edge `valence_two[i]` = (v₀, v₁) between its two images (the
@@ -62,8 +67,10 @@ pub enum LimitAssociation {
     DualFace {
         /// The V-face of every input vertex in the control mesh.
         v_face: Vec<Option<FaceId>>,
-        /// The two Chaikin points next to every boundary input vertex.
+        /// The two sharp points next to every boundary or crease input vertex.
         boundary_pair: Vec<Option<(VertexId, VertexId)>>,
+        /// The point that keeps every corner (empty when there is none).
+        corner_point: Vec<Option<VertexId>>,
         /// The two images of every interior valence-2 input vertex.
         valence_two: Vec<Option<(VertexId, VertexId)>>,
     },
@@ -96,6 +103,7 @@ impl LimitAssociation {
         LimitAssociation::DualFace {
             v_face: prov.vertex_face.clone(),
             boundary_pair,
+            corner_point: Vec::new(),
             valence_two: valence_two_images(t),
         }
     }
@@ -161,8 +169,11 @@ pub struct Interpolant {
     pub method: Method,
     /// The control mesh (for Deng-Ma: the input mesh itself).
     pub control: Mesh,
-    /// The control mesh's plain scheme.
+    /// The control mesh's scheme.
     pub scheme: ControlScheme,
+    /// The surface options of the scheme (with the control mesh's tags,
+    /// they define the surface): the method's, as it was asked.
+    pub surface_options: SurfaceOptions,
     /// Per input vertex: interpolated? The subset (default every vertex)
     /// without the isolated vertices, which have no limit point (a warning
     /// says how many were left out). Measure the error over these
@@ -183,6 +194,12 @@ pub struct Interpolant {
 }
 
 impl Interpolant {
+    /// The subdivision options of the control mesh's surface: its scheme
+    /// with [`Self::surface_options`].
+    pub fn options(&self) -> Options {
+        self.surface_options.for_scheme(self.scheme.scheme())
+    }
+
     /// The limit point associated with every input vertex, computed from the
     /// control mesh by the plain scheme's rules (SPEC §1), on the control
     /// positions scaled by a power of two (exact) so that no sum overflows.
@@ -206,8 +223,11 @@ impl Interpolant {
         let t = c.topology();
         match (&self.association, self.scheme) {
             (LimitAssociation::Interpolatory, _) => c.positions()[..input_vertices].to_vec(),
-            (LimitAssociation::DualFace { v_face, boundary_pair, valence_two }, _) => (0..input_vertices)
+            (LimitAssociation::DualFace { v_face, boundary_pair, corner_point, valence_two }, _) => (0..input_vertices)
                 .map(|i| match (v_face[i], boundary_pair[i], valence_two[i]) {
+                    _ if corner_point.get(i).is_some_and(Option::is_some) => {
+                        c.position(corner_point[i].expect("checked"))
+                    }
                     (_, Some((a, b)), _) => (c.position(a) + c.position(b)) / 2.0,
                     (Some(f), None, _) => c.face_centroid(f),
                     (None, None, Some((a, b))) => edge_limit(&c, a, b).unwrap_or(DVec3::NAN),
@@ -216,11 +236,18 @@ impl Interpolant {
                 })
                 .collect(),
             (LimitAssociation::ControlVertex, scheme) => {
+                // A control mesh the rules refuse (a method's bug) has no
+                // limit points: NaN, which fails every error check.
+                let refused = |_| vec![DVec3::NAN; t.vertex_count()];
                 let mut all = match scheme {
-                    ControlScheme::CatmullClark => catmull_clark::limit_points(t, c.positions()),
-                    ControlScheme::Loop(beta) => loop_subdivision::limit_points(t, beta, c.positions())
-                        .expect("Loop control meshes are triangular"),
-                    ControlScheme::DooSabin => doo_sabin::limit_points(t, c.positions()),
+                    ControlScheme::DooSabin => {
+                        doo_sabin::limit_points_tagged(t, c.tags(), c.positions()).unwrap_or_else(refused)
+                    }
+                    ControlScheme::CatmullClark | ControlScheme::Loop(_) => {
+                        SubdivisionPlan::with_tags(t, c.tags(), self.options(), 0)
+                            .map(|plan| plan.limit_points(c.positions()).expect("the scheme has limit masks"))
+                            .unwrap_or_else(refused)
+                    }
                     ControlScheme::DengMa(_) => unreachable!("Deng-Ma is interpolatory"),
                 };
                 all.truncate(input_vertices);
@@ -255,21 +282,23 @@ impl Interpolant {
         stats
     }
 
-    /// The surface: the control mesh refined `levels` times by its plain
-    /// scheme, vertices moved to their limit positions where a mask exists;
-    /// the control mesh's texture coordinates refined along where the scheme
-    /// refines them, left out where it does not (Deng-Ma, Doo-Sabin with seams).
+    /// The surface: the control mesh refined `levels` times by its scheme
+    /// with its tags and [`Self::options`], vertices moved to their limit
+    /// positions where a mask exists; the control mesh's texture coordinates
+    /// refined along with the face-varying mode of the options where the
+    /// scheme refines them, left out where it does not (Doo-Sabin with seams
+    /// or tags).
     ///
     /// # Errors
     /// [`InterpError::NotRepresentable`] when a coordinate of the surface is
     /// not a finite f64; [`InterpError::Stencil`] when the refined mesh would
     /// be too large.
     pub fn surface(&self, levels: usize) -> Result<Mesh, InterpError> {
-        let scheme = self.scheme.scheme();
-        let surface = match subdivide(&self.control, scheme, levels, true) {
+        let options = self.options();
+        let surface = match subdivide(&self.control, options, levels, true) {
             Err(StencilError::FaceVarying(_)) => {
                 let positions_only = self.control.clone().with_uvs(None).expect("no channel is always valid");
-                subdivide(&positions_only, scheme, levels, true)
+                subdivide(&positions_only, options, levels, true)
             }
             other => other,
         };

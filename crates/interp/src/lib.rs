@@ -56,7 +56,7 @@ pub use error::{InterpError, Parameter};
 pub use fan_cheng_lai::{FanChengLaiOptions, Shape};
 pub use interpolant::{ControlScheme, ErrorStats, Interpolant, LimitAssociation, SolveSummary};
 pub use nasri::NasriOptions;
-pub use options::{CommonOptions, SolverChoice, DEFAULT_MAX_ITER, DEFAULT_TOL};
+pub use options::{CommonOptions, SolverChoice, SurfaceOptions, DEFAULT_MAX_ITER, DEFAULT_TOL};
 pub use preconditions::accepting_methods;
 pub use zheng_cai::ZhengCaiOptions;
 

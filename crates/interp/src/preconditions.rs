@@ -14,9 +14,10 @@
 //! interpolated, the default tolerance); options such as a solver that
 //! needs a definite matrix can still be refused by the method itself.
 
-use crate::{InterpError, Method, DEFAULT_TOL};
-use subdiv_mesh::{Mesh, PowerOfTwoScale};
-use subdiv_stencil::catmull_clark_kernel;
+use crate::{InterpError, Method, SurfaceOptions, DEFAULT_TOL};
+use glam::DVec3;
+use subdiv_mesh::{Mesh, PowerOfTwoScale, VertexId};
+use subdiv_stencil::{catmull_clark_kernel, limit_matrix_catmull_clark_sharp, LimitMatrix};
 
 impl Method {
     /// The six methods, in the order of the documentation.
@@ -45,7 +46,7 @@ impl Method {
 /// max_v |r_v| ≥ |c·P| / n_c; interpolation to `tol`·d is possible only if
 /// |c·P| / n_c ≤ tol·d (and then the solver finds it).
 pub(crate) fn cheng_range(mesh: &Mesh, tol: f64) -> Result<(), String> {
-    let kernel = catmull_clark_kernel(mesh.topology());
+    let kernel = cheng_kernel(mesh, None);
     if kernel.is_empty() {
         return Ok(());
     }
@@ -68,6 +69,41 @@ pub(crate) fn cheng_range(mesh: &Mesh, tol: f64) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// The kernel of Cheng's A that the structure gives, with the mesh's tags
+/// and the default surface options: the checkerboard vectors c of
+/// [`catmull_clark_kernel`] that A still annihilates. A crease vertex or a
+/// corner on such a component gives a row that does not (its curve point of
+/// c is ±(6 − 2)/8 ≠ 0, a corner ±1); a dart does not change the first
+/// step's points of c (all 0, its crease edge's midpoint too), so the cube
+/// with one crease edge is as singular as the plain cube. Tested on A itself
+/// (A·c = 0 to round-off), which also covers every semi-sharp case.
+pub(crate) fn cheng_kernel(mesh: &Mesh, a: Option<&LimitMatrix>) -> Vec<Vec<(VertexId, f64)>> {
+    let mut kernel = catmull_clark_kernel(mesh.topology());
+    if kernel.is_empty() || mesh.tags().is_empty() {
+        return kernel;
+    }
+    let built;
+    let a = match a {
+        Some(a) => a,
+        None => {
+            let sharp = SurfaceOptions::default().sharpness(mesh.tags());
+            match limit_matrix_catmull_clark_sharp(mesh.topology(), &sharp) {
+                Ok(m) => {
+                    built = m;
+                    &built
+                }
+                Err(_) => return kernel,
+            }
+        }
+    };
+    kernel.retain(|c| {
+        let mut x = vec![DVec3::ZERO; a.size()];
+        c.iter().for_each(|&(v, s)| x[v.index()] = DVec3::splat(s));
+        a.apply(&x).iter().all(|y| y.abs().max_element() <= 1e-12)
+    });
+    kernel
 }
 
 /// The methods other than `except` that take `mesh` ([`Method::check`]).

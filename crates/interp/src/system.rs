@@ -237,6 +237,7 @@ pub(crate) fn interpolate_on_input_topology(
     parameters.insert("solver".into(), solved.summary.solver.clone().into());
     parameters.insert("tol".into(), common.tol.into());
     Ok(crate::Interpolant {
+        surface_options: common.surface,
         method,
         control: mesh.with_positions(solved.x),
         scheme,

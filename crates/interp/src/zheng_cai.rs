@@ -552,6 +552,7 @@ pub(crate) fn interpolate_prepared(
     });
     parameters.insert("handles".into(), handles.unwrap_or(serde_json::Value::Null));
     Ok(Interpolant {
+        surface_options: opts.common.surface,
         method: Method::ZhengCai,
         control: Mesh::from_topology(t1, W),
         scheme: ControlScheme::DooSabin,
@@ -559,6 +560,7 @@ pub(crate) fn interpolate_prepared(
         association: LimitAssociation::DualFace {
             v_face: dual.vertex_face,
             boundary_pair,
+            corner_point: Vec::new(),
             valence_two: crate::interpolant::valence_two_images(t),
         },
         solve: Some(aux.summary),

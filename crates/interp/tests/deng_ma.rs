@@ -42,7 +42,7 @@ const CLOSED: [&str; 12] = [
 const TENSIONS: [Tension; 3] = [Tension::Global(1.0), Tension::Global(0.5), Tension::Variable { lambda: 0.5 }];
 
 fn with(tension: Tension) -> DengMaOptions {
-    DengMaOptions { tension }
+    DengMaOptions { tension, ..Default::default() }
 }
 
 /// Positions after each of `levels` Deng-Ma steps, with the topology each

@@ -385,7 +385,8 @@ fn invalid_parameters_name_the_parameter_on_one_line() {
     let shape = subdiv_interp::Shape::Uniform(1.5);
     let err = fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions { shape, ..Default::default() }).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Shape, .. }), "{err}");
-    let err = deng_ma::interpolate(&mesh, &DengMaOptions { tension: Tension::Global(2.0) }).unwrap_err();
+    let err = deng_ma::interpolate(&mesh, &DengMaOptions { tension: Tension::Global(2.0), ..Default::default() })
+        .unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Tension, .. }), "{err}");
     let err = zheng_cai::interpolate(&mesh, &ZhengCaiOptions { eps: f64::NAN, ..Default::default() }).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Eps, .. }), "{err}");

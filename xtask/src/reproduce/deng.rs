@@ -75,7 +75,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
             ("variable, λ = 1", Tension::Variable { lambda: 1.0 }),
         ];
         for (name, tension) in tensions {
-            let r = deng_ma::interpolate(mesh, &DengMaOptions { tension })?;
+            let r = deng_ma::interpolate(mesh, &DengMaOptions { tension, ..Default::default() })?;
             let s = r.surface(3)?;
             let n = mesh.topology().vertex_count();
             let e = s.positions()[..n].iter().zip(mesh.positions()).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max)

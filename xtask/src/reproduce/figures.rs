@@ -192,7 +192,9 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         ("variable, λ = 1", Tension::Variable { lambda: 1.0 }),
     ]
     .iter()
-    .map(|(name, t)| Ok((name.to_string(), deng_ma::interpolate(&mpi, &DengMaOptions { tension: *t })?)))
+    .map(|(name, t)| {
+        Ok((name.to_string(), deng_ma::interpolate(&mpi, &DengMaOptions { tension: *t, ..Default::default() })?))
+    })
     .collect::<Result<_>>()?;
     save(ctx, &mut table, "fig-sweep-omega.png", sweep_figure("Deng-Ma: tension ω", &mpi, &omegas, &view)?, "Tension sweep: ω → 0 approaches the mesh's own facets, ω = 1 is the 4-point analogue; the variable ω_P keeps displacements safe.")?;
 

@@ -1,0 +1,194 @@
+//! Interpolation of tagged meshes (creases, corners, semi-sharp values):
+//! every method on closed and open meshes, measured independently of the
+//! solver — by the scheme's own limit rules with the control mesh's tags
+//! ([`Interpolant::error`]) and by brute force (refining the written
+//! control mesh with its tags and watching the data points' descendants
+//! converge onto the data).
+
+mod support;
+
+use glam::DVec3;
+use subdiv_interp::*;
+use subdiv_mesh::{shapes, EdgeTag, Mesh, TagList, Tags, VertexTag, SHARPNESS_INFINITE};
+use subdiv_stencil::{subdivide, BoundaryInterpolation, CreaseMethod, RowKind};
+
+const INF: f32 = SHARPNESS_INFINITE;
+
+/// `mesh` with the edges `creases` (vertex pairs, sharpness) and corners tagged.
+fn tagged(mesh: &Mesh, creases: &[(u32, u32, f32)], corners: &[(u32, f32)]) -> Mesh {
+    let list = TagList {
+        creases: creases.iter().map(|&(a, b, sharpness)| EdgeTag { a, b, sharpness }).collect(),
+        corners: corners.iter().map(|&(vertex, sharpness)| VertexTag { vertex, sharpness }).collect(),
+    };
+    let tags = Tags::from_list(mesh.topology(), &list).expect("valid tags");
+    mesh.clone().with_tags(tags)
+}
+
+/// Moves every vertex by a small deterministic offset (no symmetry left).
+fn jittered(mesh: &Mesh, amount: f64) -> Mesh {
+    let mut rng = shapes::SplitMix64(17);
+    let p = mesh
+        .positions()
+        .iter()
+        .map(|&p| p + amount * DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5))
+        .collect();
+    mesh.with_positions(p)
+}
+
+/// The cube's top loop (z = 1: vertices 4, 5, 7, 6).
+const CUBE_TOP: [(u32, u32); 4] = [(4, 5), (5, 7), (7, 6), (6, 4)];
+/// All 12 edges of the cube.
+const CUBE_EDGES: [(u32, u32); 12] =
+    [(0, 1), (1, 3), (3, 2), (2, 0), (4, 5), (5, 7), (7, 6), (6, 4), (0, 4), (1, 5), (2, 6), (3, 7)];
+
+fn with_sharpness(pairs: &[(u32, u32)], s: f32) -> Vec<(u32, u32, f32)> {
+    pairs.iter().map(|&(a, b)| (a, b, s)).collect()
+}
+
+/// Grid vertex (i, j) of `shapes::quad_grid(nx, _)`.
+fn grid_id(nx: u32, i: u32, j: u32) -> u32 {
+    j * (nx + 1) + i
+}
+
+/// A bumpy open grid with an interior crease row from boundary to boundary
+/// (corners where it meets the boundary) and a corner tag on the boundary.
+fn grid_case(s: f32) -> Mesh {
+    let (nx, ny) = (6u32, 5u32);
+    let g = shapes::quad_grid(nx as usize, ny as usize);
+    let p = g.positions().iter().map(|&p| DVec3::new(p.x, p.y, 0.3 * (3.0 * p.x).sin() * (2.0 * p.y).cos())).collect();
+    let g = g.with_positions(p);
+    let row: Vec<(u32, u32, f32)> = (0..nx).map(|i| (grid_id(nx, i, 2), grid_id(nx, i + 1, 2), s)).collect();
+    tagged(&g, &row, &[(grid_id(nx, 3, 0), INF)])
+}
+
+/// A torus with a closed crease ring around the tube and a dart (one crease
+/// edge ending in the smooth surface).
+fn torus_case(s: f32) -> Mesh {
+    let torus = jittered(&shapes::torus(12, 8), 0.05);
+    let ring: Vec<(u32, u32, f32)> = (0..8).map(|j| (j, (j + 1) % 8, s)).collect();
+    let mut creases = ring;
+    creases.push((8 * 6 + 2, 8 * 7 + 2, INF)); // a dart at both ends
+    tagged(&torus, &creases, &[])
+}
+
+/// Every tagged case, with a name and whether it has semi-sharp values.
+fn cases() -> Vec<(&'static str, Mesh, bool)> {
+    let cube = jittered(&shapes::cube(), 0.1);
+    vec![
+        ("cube, top loop infinitely sharp", tagged(&cube, &with_sharpness(&CUBE_TOP, INF), &[]), false),
+        ("cube, all 12 edges infinitely sharp", tagged(&cube, &with_sharpness(&CUBE_EDGES, INF), &[]), false),
+        ("cube, two corners", tagged(&cube, &[], &[(1, INF), (5, INF)]), false),
+        ("cube, top loop at 2.5", tagged(&cube, &with_sharpness(&CUBE_TOP, 2.5), &[]), true),
+        (
+            "cube, top loop 0.75/2.5 and a semi-sharp corner",
+            tagged(&cube, &[(4, 5, 0.75), (5, 7, 2.5), (7, 6, 0.75), (6, 4, 2.5)], &[(1, 1.5)]),
+            true,
+        ),
+        ("torus, ring and dart", torus_case(INF), false),
+        ("torus, ring at 3 and dart", torus_case(3.0), true),
+        ("open grid, crease row and corner", grid_case(INF), false),
+        ("open grid, crease row at 1.5", grid_case(1.5), true),
+    ]
+}
+
+fn max_rel(result: &Interpolant, mesh: &Mesh) -> f64 {
+    result.error(mesh.positions(), &result.interpolated, mesh.bbox_diagonal()).max_rel
+}
+
+/// The control mesh keeps the input's tags where it has the input's topology.
+fn assert_same_tags(control: &Mesh, input: &Mesh) {
+    assert_eq!(control.tags().to_list(control.topology()), input.tags().to_list(input.topology()));
+}
+
+#[test]
+fn cheng_interpolates_every_tagged_case_with_both_crease_methods() {
+    for (name, mesh, semi) in cases() {
+        for method in [CreaseMethod::Uniform, CreaseMethod::Chaikin] {
+            if method == CreaseMethod::Chaikin && !semi {
+                continue;
+            }
+            let mut opts = ChengOptions::default();
+            opts.common.surface.crease_method = method;
+            opts.common.tol = 1e-10;
+            let r = cheng::interpolate(&mesh, &opts).unwrap_or_else(|e| panic!("{name}, {method:?}: {e}"));
+            let err = max_rel(&r, &mesh);
+            assert!(err <= 1e-10, "{name}, {method:?}: error {err:e}");
+            assert_same_tags(&r.control, &mesh);
+            assert_eq!(r.surface_options.crease_method, method);
+            // Without its tags the control mesh misses the data: the tags matter.
+            let mut plain = r.clone();
+            plain.control = r.control.clone().with_tags(Tags::none());
+            let untagged_err = max_rel(&plain, &mesh);
+            assert!(untagged_err > 1e-3, "{name}: the tags make no difference ({untagged_err:e})");
+        }
+    }
+}
+
+/// Brute force: refine the control mesh with its tags (no limit masks) and
+/// watch input vertex i (vertex i of every Catmull-Clark level) converge on
+/// the data point, at the rate of the scheme (the gap falls by ~4 per level).
+#[test]
+fn cheng_control_meshes_converge_onto_the_data_under_refinement() {
+    for (name, mesh, _) in cases().into_iter().filter(|(n, _, _)| n.starts_with("cube") || n.starts_with("open")) {
+        let r = cheng::interpolate(&mesh, &ChengOptions::default()).unwrap();
+        let d = mesh.bbox_diagonal();
+        let gap = |levels| {
+            let fine = subdivide(&r.control, r.options(), levels, false).unwrap();
+            (0..mesh.topology().vertex_count())
+                .map(|i| fine.positions()[i].distance(mesh.positions()[i]) / d)
+                .fold(0.0, f64::max)
+        };
+        let (g4, g6) = (gap(4), gap(6));
+        assert!(g6 <= 2e-3, "{name}: level 6 is still {g6:e}·d away");
+        assert!(g6 <= g4 / 8.0 || g6 <= 1e-12, "{name}: no convergence ({g4:e} → {g6:e})");
+    }
+}
+
+/// The classic singular case of Cheng's A, the cube: untagged it is singular
+/// (checkerboard kernel; data outside the range are refused), with every edge
+/// infinitely sharp every vertex is a corner, A = I and the control mesh is
+/// the input; one crease loop (crease vertices) makes A nonsingular, while a
+/// single crease edge (two darts) does not: the dart rows annihilate the
+/// checkerboard too.
+#[test]
+fn cube_singularity_goes_away_with_tags() {
+    let cube = jittered(&shapes::cube(), 0.1);
+    assert!(cheng::interpolate(&cube, &ChengOptions::default()).is_err(), "untagged jittered cube: singular");
+    let all = tagged(&cube, &with_sharpness(&CUBE_EDGES, INF), &[]);
+    let r = cheng::interpolate(&all, &ChengOptions::default()).unwrap();
+    assert_eq!(r.control.positions(), cube.positions(), "A = I: the control mesh is the data");
+    assert!(r.warnings.iter().all(|w| !w.contains("singular")), "{:?}", r.warnings);
+    let sharp =
+        subdiv_stencil::LevelSharpness::new(all.tags(), BoundaryInterpolation::EdgeAndCorner, CreaseMethod::Uniform);
+    let a = subdiv_stencil::limit_matrix_catmull_clark_sharp(all.topology(), &sharp).unwrap();
+    assert!(a.row_kinds.iter().all(|&k| k == RowKind::Corner));
+    let top = tagged(&cube, &with_sharpness(&CUBE_TOP, INF), &[]);
+    let r = cheng::interpolate(&top, &ChengOptions::default()).unwrap();
+    assert!(max_rel(&r, &top) <= 1e-6);
+    assert!(r.warnings.iter().all(|w| !w.contains("singular")), "{:?}", r.warnings);
+    let one = tagged(&cube, &[(0, 1, INF)], &[]);
+    match cheng::interpolate(&one, &ChengOptions::default()) {
+        Err(InterpError::Unsolvable { .. }) => {}
+        other => panic!("two darts keep the cube singular: {other:?}"),
+    }
+    // Data in the range (the unit cube: c·P = 0) are interpolated, with the warning.
+    let one = tagged(&shapes::cube(), &[(0, 1, INF)], &[]);
+    let r = cheng::interpolate(&one, &ChengOptions::default()).unwrap();
+    assert!(max_rel(&r, &one) <= 1e-6);
+    assert!(r.warnings.iter().any(|w| w.contains("singular")), "{:?}", r.warnings);
+}
+
+/// `--boundary edge-only`: one-face boundary corners are no longer kept, the
+/// boundary is one B-spline loop; the control mesh interpolates under the
+/// option it was solved for, and not under the other.
+#[test]
+fn cheng_honours_the_boundary_option() {
+    let mesh = grid_case(INF);
+    let mut opts = ChengOptions::default();
+    opts.common.surface.boundary = BoundaryInterpolation::EdgeOnly;
+    let r = cheng::interpolate(&mesh, &opts).unwrap();
+    assert!(max_rel(&r, &mesh) <= 1e-6);
+    let mut other = r.clone();
+    other.surface_options.boundary = BoundaryInterpolation::EdgeAndCorner;
+    assert!(max_rel(&other, &mesh) > 1e-4);
+}
