@@ -230,10 +230,12 @@ fn rigid_motions_and_scaling_keep_the_features() {
             assert!((x.unwrap() - y.unwrap()).abs() < 1e-12, "{x:?} vs {y:?}");
         }
         let near = |e: &EdgeId| (a.angles[e.index()].unwrap() - a.threshold_radians).abs() < 1e-12;
-        let differ = a.edges.iter().filter(|e| b.edges.binary_search(e).is_err()).chain(
-            b.edges.iter().filter(|e| a.edges.binary_search(e).is_err()),
-        );
-        assert!(differ.clone().all(near), "features moved by more than round-off");
+        let mut differ = a
+            .edges
+            .iter()
+            .filter(|e| b.edges.binary_search(e).is_err())
+            .chain(b.edges.iter().filter(|e| a.edges.binary_search(e).is_err()));
+        assert!(differ.all(near), "features moved by more than round-off");
     }
 }
 
@@ -249,7 +251,8 @@ fn any_mesh() -> impl Strategy<Value = Mesh> {
         .prop_map(|(nu, nv, seed)| polygon_mix(&shapes::torus(nu, nv), seed, 0.3, 0.3, 0.2));
     let ico = any::<u64>().prop_map(|seed| polygon_mix(&shapes::icosahedron(), seed, 0.0, 0.0, 0.2));
     let prism = (3usize..10, any::<u64>()).prop_map(|(n, seed)| polygon_mix(&shapes::prism(n), seed, 0.0, 0.3, 0.1));
-    let pyramid = (3usize..10, any::<u64>()).prop_map(|(n, seed)| polygon_mix(&shapes::pyramid(n), seed, 0.0, 0.0, 0.1));
+    let pyramid =
+        (3usize..10, any::<u64>()).prop_map(|(n, seed)| polygon_mix(&shapes::pyramid(n), seed, 0.0, 0.0, 0.1));
     prop_oneof![plate, torus, ico, prism, pyramid]
 }
 
