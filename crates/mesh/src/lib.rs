@@ -8,6 +8,8 @@
 //! - [`Mesh`]: a topology plus `f64` positions, with geometric queries, and
 //!   optionally sharpness [`Tags`] (OpenSubdiv's creases and corners) and
 //!   texture coordinates ([`FaceVarying`]).
+//! - [`features`]: feature edges by dihedral angle, as infinitely sharp
+//!   crease tags ([`feature_edges`]).
 //! - [`triangulate`]: every polygon split into triangles over its own corners,
 //!   the mesh kept manifold ([`Triangulation`] records each triangle's face).
 //!
@@ -35,6 +37,7 @@
 #![warn(missing_docs)]
 
 mod error;
+pub mod features;
 mod geometry;
 mod ids;
 mod mesh;
@@ -47,6 +50,7 @@ mod triangulate;
 mod validate;
 
 pub use error::{MeshError, Warning};
+pub use features::{dihedral_turning_angle, feature_edges, FeatureEdges};
 pub use geometry::{
     centroid, corner_angle, distance, newell_normal, unit_newell_normal, unit_vector, Aabb, PowerOfTwoScale,
 };

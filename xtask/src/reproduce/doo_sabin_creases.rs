@@ -77,7 +77,7 @@ fn cut_along_creases(mesh: &Mesh, tags: &Tags) -> Result<Mesh> {
 }
 
 /// One panel: `mesh` in `style` with its sharp polygon on it.
-fn panel(mesh: &Mesh, tags: &Tags, camera: &Camera, style: &Style) -> Result<Image> {
+pub(super) fn panel(mesh: &Mesh, tags: &Tags, camera: &Camera, style: &Style) -> Result<Image> {
     let mut canvas = Canvas::new(camera, style.background);
     canvas.draw_surface(&cut_along_creases(mesh, tags)?, style.fill, style.smooth);
     if let Some(colour) = style.edges {

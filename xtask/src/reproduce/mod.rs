@@ -15,6 +15,7 @@
 mod cheng;
 mod common;
 mod convergence;
+mod creases;
 mod deng;
 mod deng_ma_open;
 mod doo_sabin_creases;
@@ -35,7 +36,7 @@ pub struct Args {
     /// CI mode: small meshes, no figures, compare with docs/results/baseline.json.
     #[arg(long)]
     quick: bool,
-    /// Run one table only: table1 … table6 or figures.
+    /// Run one table only: table1 … table6, creases or figures.
     #[arg(long)]
     only: Option<String>,
     /// Rewrite docs/results/baseline.json from this (quick) run instead of comparing.
@@ -48,13 +49,14 @@ pub struct Args {
 
 type TableFn = fn(&Ctx) -> Result<Table>;
 
-const TABLES: [(&str, TableFn); 7] = [
+const TABLES: [(&str, TableFn); 8] = [
     ("table1", zheng_cai::run),
     ("table2", fan_cheng_lai::run),
     ("table3", cheng::run),
     ("table4", deng::run),
     ("table5", convergence::run),
     ("table6", methods::run),
+    ("creases", creases::run),
     ("figures", figures::run),
 ];
 
@@ -70,7 +72,7 @@ pub fn run(args: &Args) -> Result<()> {
     let ctx = Ctx { quick: args.quick, root: root.clone(), out: out.clone() };
     if let Some(only) = &args.only {
         if !TABLES.iter().any(|(id, _)| id == only) {
-            bail!("--only: unknown table '{only}' (table1 … table6, figures)");
+            bail!("--only: unknown table '{only}' (table1 … table6, creases, figures)");
         }
     }
     let machine = common::machine();
