@@ -89,10 +89,11 @@ use crate::sharpness::LevelSharpness;
 use crate::{apply, face_ring_size, RowBuilder, Scheme, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
 use std::collections::HashMap;
-use subdiv_mesh::{FaceId, FaceList, Tags, Topology, VertexId};
+use subdiv_mesh::refine::{DualFace, DualFeatures, SharpDualProvenance};
+use subdiv_mesh::{FaceId, FaceList, HalfEdgeId, Tags, Topology, VertexId};
 use subdiv_rules::crease::{is_infinite, is_sharp};
-use subdiv_rules::doo_sabin::BOUNDARY_CURVE_POINT;
-use subdiv_rules::{BoundaryInterpolation, CreaseMethod, LoopBeta, Rule};
+use subdiv_rules::doo_sabin::{sharp_curve_point, BoundaryEdgePoint, BOUNDARY_EDGE_POINT, CLAMPED_EDGE_POINT};
+use subdiv_rules::{LoopBeta, Rule};
 
 /// How a row of a limit matrix is made (module docs, "Row kinds").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -271,11 +272,6 @@ struct Curve {
 
 /// Catmull-Clark and Loop: the cubic B-spline point (p₋ + 4p + p₊)/6.
 const CUBIC_B_SPLINE: Curve = Curve { d: 1.0 / 6.0, end: 1.0, centre: 4.0 };
-
-/// Doo-Sabin: the quadratic B-spline point (B₋ + 6V + B₊)/8 (the weights of
-/// [`BOUNDARY_CURVE_POINT`], ×8; its two end weights are equal).
-const QUADRATIC_B_SPLINE: Curve =
-    Curve { d: 0.125, end: BOUNDARY_CURVE_POINT[0] * 8.0, centre: BOUNDARY_CURVE_POINT[1] * 8.0 };
 
 /// Rows that do not come from the symmetric assembly, with their D entry.
 struct SpecialRows {
@@ -543,56 +539,260 @@ fn composed_rows(
     Ok(composed)
 }
 
-/// Doo-Sabin family: row v = (1/n)·Σ over v's faces of that face's first-step
-/// row at v's corner, i.e. the centroid of v's V-face after the first step.
+/// Doo-Sabin family: the untagged matrix of `rule` (module docs).
 fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMatrix, StencilError> {
-    rule.validate(t)?;
-    let d = t.vertices().map(|v| 1.0 / t.vertex_face_count(v).max(1) as f64).collect(); // Σ = diag(1/n)
-                                                                                        // The boundary is the quadratic B-spline of the boundary polygon at every
-                                                                                        // boundary vertex (no one-face corners): the rule classes of edge-only.
-    let sharp = LevelSharpness::untagged(BoundaryInterpolation::EdgeOnly, CreaseMethod::Uniform);
-    let (special, mut kinds) = special_rows(t, &sharp, QUADRATIC_B_SPLINE, Scheme::DooSabin)?;
-    for v in t.vertices().filter(|&v| crate::doo_sabin::valence_two_corners(t, v).is_some()) {
-        kinds[v.index()] = RowKind::General;
-    }
-    Ok(assemble(t, d, special, kinds, |v, rows| {
-        if let Some(corners) = crate::doo_sabin::valence_two_corners(t, v) {
-            // No V-face: the valence-2 mask on the first step's images (the
-            // second-level E-face centroid), ×n = 2 since D = 1/n. Not of the
-            // Circ form: S loses its symmetry in this row.
-            crate::doo_sabin::add_valence_two_row(t, &corners, rule, 2.0, rows, &mut Vec::new());
-            return;
-        }
-        // Zheng-Cai Eq. (1) / (4), Fan-Cheng-Lai Eq. (1). Face block Circ(w):
-        // symmetric because w[k] = w[m − k] (α depends on cos only).
-        add_fan_row(t, v, rows, 0.0, 0.0, |face, w| rule.weights(face.index(), w));
-    }))
+    limit_matrix_doo_sabin_sharp(t, rule, &Tags::none())
 }
 
-/// The Doo-Sabin family's matrix ([`limit_matrix_nasri`]: `CornerRule::Standard`,
+/// The Doo-Sabin limit rule of a vertex (module docs, "Doo-Sabin with
+/// creases and corners"), from the level's [`DualFeatures`] — the same
+/// classification as the tagged split ([`dual_split_tagged`](subdiv_mesh::refine::dual_split_tagged)) and
+/// [`crate::doo_sabin::limit_stencil_tagged`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum DualRow {
+    /// No sharp edge, no V-face lost: the centroid of v's V-face of corner images.
+    Smooth,
+    /// Interior valence 2, no sharp edge: the valence-2 mask on its corners.
+    ValenceTwo([(HalfEdgeId, f64); 6]),
+    /// Exactly two sharp edges (a crease or boundary vertex): its sharp
+    /// neighbours B₋, B₊, each with whether it is a corner.
+    Crease([(VertexId, bool); 2]),
+    /// Exactly one sharp edge (interior): the edge's other end W, and whether
+    /// W is a corner.
+    Dart(VertexId, bool),
+    /// A corner (tag ≥ 10 or ≥ 3 sharp edges) or an isolated vertex.
+    Corner,
+}
+
+fn dual_row(t: &Topology, features: &DualFeatures, v: VertexId) -> DualRow {
+    if t.is_isolated(v) || features.is_corner(v) {
+        return DualRow::Corner;
+    }
+    let end = |b: VertexId| (b, features.is_corner(b));
+    if let Some((prev, next)) = t.boundary_neighbors(v) {
+        // Not a corner: the boundary's two edges are its only sharp ones.
+        return DualRow::Crease([end(prev), end(next)]);
+    }
+    match features.sharp_edge_count(t, v) {
+        0 => crate::doo_sabin::valence_two_corners(t, v).map_or(DualRow::Smooth, DualRow::ValenceTwo),
+        1 => {
+            let w = features.sharp_neighbors(t, v).next().expect("one sharp edge");
+            DualRow::Dart(w, features.is_corner(w))
+        }
+        _ => {
+            // Two (three or more make a corner).
+            let mut ends = features.sharp_neighbors(t, v);
+            let (a, b) = (ends.next().expect("two sharp edges"), ends.next().expect("two sharp edges"));
+            DualRow::Crease([end(a), end(b)])
+        }
+    }
+}
+
+/// The Doo-Sabin family's matrix with the infinitely sharp creases and
+/// corners of `tags` ([`limit_matrix_nasri`]: `CornerRule::Standard`,
 /// [`limit_matrix_zheng_cai`]: `CornerRule::Uniform(0.5)`,
-/// [`limit_matrix_two_phase`]) for a level with `sharp`: only an untagged one.
+/// [`limit_matrix_two_phase`]: `CornerRule::PerFace`): V × V, row v the limit
+/// point of input vertex v on the surface whose first step uses `rule` and
+/// whose later steps are standard Doo-Sabin with the tags
+/// ([`crate::doo_sabin::first_step_tagged`], [`dual_split_tagged`](subdiv_mesh::refine::dual_split_tagged)):
+///
+/// - smooth vertex (no sharp edge, valence ≥ 3): the centroid of its V-face,
+///   its n corner images — the untagged Circ row, D = 1/n, even next to a
+///   crease (corner images do not depend on the tags), [`RowKind::Smooth`];
+/// - interior valence 2 without sharp edge: the valence-2 mask, unchanged
+///   ([`RowKind::General`], D = ½, S = 2 × the mask);
+/// - crease or boundary vertex (exactly two sharp edges, no corner): the
+///   midpoint of its two sharp points, `sharp_curve_point`:
+///   (B₋ + 6V + B₊)/8, ¼B₋ + ⅝V + ⅛B₊ next to a corner B₋, ¼B₋ + ½V + ¼B₊
+///   between two, whatever the rule ([`RowKind::Crease`], D = ⅛);
+/// - dart (one crease edge V–W): the centroid of its one V-face, its n
+///   corner images and the crease's point ¾V + ¼W (½V + ½W when W is a
+///   corner), ([`RowKind::General`], D = 1);
+/// - corner (tag ≥ 10 or ≥ 3 sharp edges) and isolated vertex: the identity
+///   ([`RowKind::Corner`]).
+///
+/// With no crease and no corner this is the untagged matrix bit for bit
+/// (boundary rows (1, 6, 1)/8). [`doo_sabin_limit_sites`] tells where each
+/// row's point sits in the first refined mesh.
 ///
 /// # Errors
-/// [`StencilError::TagsNotSupported`] for any tag: Doo-Sabin creases do not
-/// exist yet; [`StencilError::InvalidParameter`] for a bad λ.
-// TODO(issue 15, Doo-Sabin creases): once `DooSabinRules` takes infinitely
-// sharp creases and corners, classify the rows with `row_rule` as the
-// primal matrices do: crease rows on QUADRATIC_B_SPLINE along the crease
-// polygon (the Chaikin rule on both sides), corners fixed, no general rows
-// (infinitely sharp only).
+/// [`StencilError::SemiSharpDooSabin`] for a semi-sharp tag (Doo-Sabin has
+/// infinitely sharp creases and corners only), [`StencilError::InvalidParameter`]
+/// for a bad λ.
+///
+/// # Panics
+/// If `tags` were made for another topology (a caller bug).
 pub fn limit_matrix_doo_sabin_sharp(
     t: &Topology,
     rule: CornerRule<'_>,
-    sharp: &LevelSharpness,
+    tags: &Tags,
 ) -> Result<LimitMatrix, StencilError> {
-    if !sharp.is_untagged() {
-        return Err(StencilError::TagsNotSupported {
-            scheme: "doo-sabin",
-            reason: "the Doo-Sabin limit matrices (Nasri C, Zheng-Cai Z, B(λ)) take no creases or corners yet".into(),
+    rule.validate(t)?;
+    crate::doo_sabin::check_tags(t, tags)?;
+    let features = DualFeatures::new(t, tags);
+    let rows: Vec<DualRow> = t.vertices().map(|v| dual_row(t, &features, v)).collect();
+    let mut d: Vec<f64> = t.vertices().map(|v| 1.0 / t.vertex_face_count(v).max(1) as f64).collect(); // Σ = diag(1/n)
+    let mut special = SpecialRows { d: Vec::new(), rows: Vec::new() };
+    let mut kinds = Vec::with_capacity(rows.len());
+    for (v, row) in rows.iter().enumerate() {
+        kinds.push(match *row {
+            DualRow::Smooth => RowKind::Smooth,
+            DualRow::ValenceTwo(_) => RowKind::General, // D = 1/n = ½ (the row is scaled by 2)
+            DualRow::Dart(..) => {
+                d[v] = 1.0;
+                RowKind::General
+            }
+            DualRow::Crease([(a, a_corner), (b, b_corner)]) => {
+                // The midpoint of v's two sharp points: ⅛·(8w), exact (dyadic weights).
+                let [wa, wv, wb] = sharp_curve_point(a_corner, b_corner);
+                let mut s = vec![(a.0, 8.0 * wa), (v as u32, 8.0 * wv), (b.0, 8.0 * wb)];
+                s.sort_by_key(|&(c, _)| c);
+                special.d.push((v as u32, 0.125));
+                special.rows.push((v as u32, s));
+                RowKind::Crease
+            }
+            DualRow::Corner => {
+                special.d.push((v as u32, 1.0));
+                special.rows.push((v as u32, vec![(v as u32, 1.0)]));
+                RowKind::Corner
+            }
         });
     }
-    limit_matrix_doo_sabin(t, rule)
+    Ok(assemble(t, d, special, kinds, |v, out| match rows[v.index()] {
+        DualRow::Smooth => {
+            // Zheng-Cai Eq. (1) / (4), Fan-Cheng-Lai Eq. (1). Face block Circ(w):
+            // symmetric because w[k] = w[m − k] (α depends on cos only).
+            add_fan_row(t, v, out, 0.0, 0.0, |face, w| rule.weights(face.index(), w));
+        }
+        DualRow::ValenceTwo(corners) => {
+            // No V-face: the valence-2 mask on the first step's images (the
+            // second-level E-face centroid), ×n = 2 since D = 1/n. Not of the
+            // Circ form: S loses its symmetry in this row.
+            crate::doo_sabin::add_valence_two_row(t, &corners, rule, 2.0, out, &mut Vec::new());
+        }
+        DualRow::Dart(w, w_corner) => {
+            // The V-face of the dart's one sector: its n corner images (the
+            // rule's rows) and the crease's Chaikin point near it, closed by
+            // the same point at both ends of the sector.
+            let n = (t.vertex_face_count(v) + 1) as f64;
+            let mut weights = Vec::new();
+            for c in t.vertex_corners(v) {
+                let face = t.face(c.face);
+                weights.resize(face.len(), 0.0);
+                rule.weights(c.face.index(), &mut weights);
+                let (before, from_v) = face.split_at(c.index as usize);
+                for (&column, &wj) in from_v.iter().chain(before).zip(&weights) {
+                    out.add(column, wj / n);
+                }
+            }
+            let BoundaryEdgePoint { near, far } = if w_corner { CLAMPED_EDGE_POINT } else { BOUNDARY_EDGE_POINT };
+            out.add(v.0, near / n);
+            out.add(w.0, far / n);
+        }
+        DualRow::Crease(_) | DualRow::Corner => unreachable!("crease and corner rows are special"),
+    }))
+}
+
+/// Where the limit point of an input vertex (row v of
+/// [`limit_matrix_doo_sabin_sharp`]) sits in the first refined mesh M¹ of
+/// [`dual_split_tagged`](subdiv_mesh::refine::dual_split_tagged) (ids of M¹), whatever the first step's corner rule:
+/// the limit point is a function of M¹'s positions, which is what the
+/// interpolation methods evaluate on their control mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DualLimitSite {
+    /// The centroid of this face of M¹: the V-face of a smooth vertex (its
+    /// corner images) or of a dart (its corner images and its crease's point).
+    FaceCentroid(FaceId),
+    /// The midpoint of these two vertices of M¹: the sharp points next to a
+    /// crease or boundary vertex, on its sharp edges to B₋ and to B₊ (the
+    /// ends of its segment of the refined sharp polygon).
+    SharpMidpoint(VertexId, VertexId),
+    /// This vertex of M¹: the point that keeps a corner.
+    Corner(VertexId),
+    /// The limit point of the edge of M¹ between these two vertices, the two
+    /// images of an interior valence-2 vertex
+    /// ([`crate::doo_sabin::edge_limit_point`]).
+    ValenceTwoEdge(VertexId, VertexId),
+    /// An isolated vertex: nothing of it is in M¹.
+    Isolated,
+}
+
+impl DualLimitSite {
+    /// The limit point on M¹ (`m1`, positions `x1`); `None` for an isolated
+    /// vertex, or a valence-2 edge that `m1` does not have (not the M¹ the
+    /// site was made for).
+    ///
+    /// # Panics
+    /// If an id is out of range of `m1` or `x1` (not the M¹ of the site).
+    pub fn point(&self, m1: &Topology, x1: &[DVec3]) -> Option<DVec3> {
+        match *self {
+            DualLimitSite::FaceCentroid(f) => {
+                let face = m1.face(f);
+                Some(face.iter().map(|&c| x1[c as usize]).sum::<DVec3>() / face.len() as f64)
+            }
+            DualLimitSite::SharpMidpoint(a, b) => Some((x1[a.index()] + x1[b.index()]) / 2.0),
+            DualLimitSite::Corner(c) => Some(x1[c.index()]),
+            DualLimitSite::ValenceTwoEdge(a, b) => {
+                let h = m1.vertex_fan(a).iter().find(|&&h| m1.he_to(h) == b)?;
+                Some(crate::doo_sabin::edge_limit_point(m1, *h, x1))
+            }
+            DualLimitSite::Isolated => None,
+        }
+    }
+}
+
+/// Per input vertex of `t`, where its limit point sits in M¹ =
+/// `dual_split_tagged(t, tags)` with provenance `provenance`
+/// ([`DualLimitSite`]; the rows of [`limit_matrix_doo_sabin_sharp`], module
+/// docs "Doo-Sabin with creases and corners"). Linear time. Untagged, the
+/// V-faces are [`subdiv_mesh::refine::DualProvenance::vertex_face`] and the
+/// sharp points the two Chaikin points next to each boundary vertex.
+///
+/// # Errors
+/// [`StencilError::SemiSharpDooSabin`] for a semi-sharp tag.
+///
+/// # Panics
+/// If `provenance` is not that of `dual_split_tagged(t, tags)` (a caller
+/// bug): a smooth vertex or a dart without its V-face, a sharp edge without
+/// its points.
+pub fn doo_sabin_limit_sites(
+    t: &Topology,
+    tags: &Tags,
+    provenance: &SharpDualProvenance,
+) -> Result<Vec<DualLimitSite>, StencilError> {
+    crate::doo_sabin::check_tags(t, tags)?;
+    let features = DualFeatures::new(t, tags);
+    assert_eq!(provenance.edge_points.len(), t.edge_count(), "the provenance of another topology");
+    // The (first) V-face of every vertex: smooth vertices and darts have one.
+    let mut v_face = vec![None; t.vertex_count()];
+    for (f, origin) in provenance.face_origin.iter().enumerate() {
+        if let DualFace::V(v) = *origin {
+            v_face[v.index()].get_or_insert(FaceId(f as u32));
+        }
+    }
+    // The sharp point next to v on its sharp edge to b.
+    let near = |v: VertexId, b: VertexId| -> VertexId {
+        let h = t.vertex_fan(v).iter().copied().find(|&h| t.he_to(h) == b);
+        // On the boundary, the incoming edge b → v is not in v's fan.
+        let h = h.unwrap_or_else(|| t.vertex_fan(b).iter().copied().find(|&h| t.he_to(h) == v).expect("an edge v-b"));
+        let e = t.he_edge(h);
+        let [at_start, _, at_end] = provenance.edge_points[e.index()];
+        let id = if t.he_from(t.edge_half_edge(e)) == v { at_start } else { at_end };
+        assert_ne!(id, u32::MAX, "sharp edge {e} has no point near {v}: not the provenance of these tags");
+        VertexId(id)
+    };
+    let face_of = |v: VertexId| v_face[v.index()].expect("a smooth vertex or a dart has a V-face");
+    Ok(t.vertices()
+        .map(|v| match dual_row(t, &features, v) {
+            _ if t.is_isolated(v) => DualLimitSite::Isolated,
+            DualRow::Corner => DualLimitSite::Corner(VertexId(provenance.corner_point[v.index()])),
+            DualRow::Smooth | DualRow::Dart(..) => DualLimitSite::FaceCentroid(face_of(v)),
+            DualRow::ValenceTwo(corners) => {
+                DualLimitSite::ValenceTwoEdge(VertexId(corners[0].0 .0), VertexId(corners[1].0 .0))
+            }
+            DualRow::Crease([(a, _), (b, _)]) => DualLimitSite::SharpMidpoint(near(v, a), near(v, b)),
+        })
+        .collect())
 }
 
 /// Adds the row of interior vertex `v` that sums, over its fan faces
