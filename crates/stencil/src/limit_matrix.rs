@@ -18,20 +18,25 @@
 //!
 //! Cheng's A and Loop's L also come with creases and corners
 //! ([`limit_matrix_catmull_clark_sharp`], [`limit_matrix_loop_sharp`], on a
-//! [`LevelSharpness`]: tags, boundary option, crease method); the Doo-Sabin
-//! matrices take no tags yet ([`limit_matrix_doo_sabin_sharp`] refuses them).
+//! [`LevelSharpness`]: tags, boundary option, crease method), and so do the
+//! Doo-Sabin family's C, Z and B(λ) ([`limit_matrix_doo_sabin_sharp`], on
+//! [`Tags`]: Doo-Sabin has infinitely sharp creases and corners only, no
+//! boundary option and no crease method; "Doo-Sabin with creases and
+//! corners" below).
 //!
 //! **Row kinds.** Every row is of one [`RowKind`], listed in
 //! [`LimitMatrix::row_kinds`], decided per vertex by its sharpness
 //! ([`LevelSharpness`], the rules' own view: boundary edges infinitely sharp,
-//! one-face boundary vertices corners under `edge-and-corner`):
+//! one-face boundary vertices corners under `edge-and-corner`; for Doo-Sabin
+//! [`DualFeatures`], the view of the tagged split):
 //!
 //! - [`RowKind::Smooth`]: no sharp edge at v, vertex sharpness 0 — the
 //!   symmetric assembly of the table above, unchanged by tags elsewhere.
 //! - [`RowKind::Crease`]: exactly two incident edges sharp, both infinitely,
 //!   no other sharpness at v — the cubic B-spline point (p₋ + 4p + p₊)/6 of
 //!   the crease polygon (D = 1/6, S = (1, 4, 1)); a boundary vertex is one
-//!   (Doo-Sabin: the quadratic (B₋ + 6V + B₊)/8, D = 1/8, S = (1, 6, 1)).
+//!   (Doo-Sabin: the quadratic (B₋ + 6V + B₊)/8, D = 1/8, S = (1, 6, 1), or
+//!   (2, 5, 1) next to a corner and (2, 4, 2) between two).
 //! - [`RowKind::Corner`]: infinitely sharp vertex, ≥ 3 infinitely sharp
 //!   edges, or an isolated vertex — the identity row (D = S = 1).
 //! - [`RowKind::General`]: everything else — darts (one sharp edge) and every
@@ -39,7 +44,8 @@
 //!   limit L·R_k⋯R_1 that [`crate::SubdivisionPlan::limit_stencil`] gives
 //!   (OpenSubdiv's `Limit` after ⌈largest semi-sharp value⌉ levels, at least
 //!   one), D = 1, S = that row. Such rows break the symmetric D·S form; and
-//!   the Doo-Sabin rows of interior valence-2 vertices are of this kind too.
+//!   the Doo-Sabin rows of darts (D = 1) and of interior valence-2 vertices
+//!   (D = 1/n = ½, S = 2 × the mask) are of this kind too.
 //!
 //! **Blocks.** Crease and corner rows depend only on their crease polygon's
 //! vertices. [`LimitMatrix::boundary_rows`] is the **sharp block**: the
@@ -48,8 +54,8 @@
 //! general row (a dart at its end, a semi-sharp vertex on it) leaves the
 //! block from there up to its corners — under `edge-only` a whole boundary
 //! loop without corner tags. [`LimitMatrix::solve_blocks`] orders a solve:
-//! corners (X = P), then the crease polygons (symmetric (1, 4, 1) blocks,
-//! coupled to corners only), then the interior (smooth rows, symmetric among
+//! corners (X = P), then the crease polygons (symmetric (1, 4, 1) blocks —
+//! Doo-Sabin (1, 6, 1) —, coupled to corners only), then the interior (smooth rows, symmetric among
 //! themselves bit for bit, and the general rows and polygons that left);
 //! [`LimitMatrix::asymmetric_rows`] tells where a block lost its symmetry.
 //!
@@ -64,7 +70,7 @@
 //! **Boundaries** are creases: on open meshes the rows of boundary
 //! vertices follow the boundary curve, which depends on boundary vertices
 //! only: Catmull-Clark and Loop (p₋ + 4p + p₊)/6, one-face corners p under
-//! `edge-and-corner`; Doo-Sabin (B₋ + 6V + B₊)/8 at every boundary vertex —
+//! `edge-and-corner`; Doo-Sabin (B₋ + 6V + B₊)/8 at every untagged boundary vertex —
 //! the point of the quadratic B-spline boundary at V, which the Chaikin
 //! boundary rule of [`crate::doo_sabin`] produces for the standard and the
 //! two-phase first steps alike. Untagged, the sharp block is the boundary:
@@ -83,6 +89,67 @@
 //! checkerboard needs every vertex, so any crease or corner makes Cheng's A
 //! on the cube nonsingular. Blocks with general rows have no such bound;
 //! measured nonsingular on every case of `tests/limit_matrices_creases.rs`.
+//! Doo-Sabin's blocks: below.
+//!
+//! **Doo-Sabin with creases and corners** ([`limit_matrix_doo_sabin_sharp`]).
+//! Row v is the limit point of input vertex v on the surface whose first step
+//! uses the method's corner rule (standard, Zheng-Cai Eq. 4, Fan-Cheng-Lai
+//! Eq. 1) and whose later steps are standard Doo-Sabin with the tags
+//! ([`crate::doo_sabin`], "Creases and corners"): a point of the first
+//! refined mesh M¹ that is a limit point of the standard tagged scheme;
+//! [`doo_sabin_limit_sites`] names it in M¹ for every vertex. A sharp edge is
+//! a crease (≥ 10) or a boundary edge; a corner has a tag ≥ 10 or ≥ 3 sharp
+//! edges.
+//!
+//! | vertex | its limit point in M¹ | kind | D | S |
+//! |---|---|---|---|---|
+//! | smooth (no sharp edge), valence ≥ 3 | centroid of its V-face, its n corner images | Smooth | 1/n | the untagged Circ row |
+//! | smooth, interior valence 2 | no V-face: centroid of the E-face one level on (the valence-2 mask) | General | ½ | 2 × the mask |
+//! | crease or boundary (two sharp edges, to B₋ and B₊) | midpoint of its two sharp points, `sharp_curve_point`: (B₋ + 6V + B₊)/8, ¼B₋ + ⅝V + ⅛B₊ next to a corner B₋, ¼B₋ + ½V + ¼B₊ between two | Crease | ⅛ | (1, 6, 1), (2, 5, 1), (2, 4, 2) |
+//! | dart (one sharp edge V–W, interior) | centroid of its one V-face: its n corner images and ¾V + ¼W (½V + ½W when W is a corner) | General | 1 | the row |
+//! | corner, isolated vertex | itself (its kept point) | Corner | 1 | 1 |
+//!
+//! Why: the corner images of the first step do not depend on the tags
+//! (step 1 of the construction in [`crate::doo_sabin`]), so a smooth
+//! vertex's V-face — its corner images in fan order — is the untagged one
+//! even next to a crease, and its centroid, a face centroid of M¹, is a limit
+//! point (face centroids are, sharp faces included); so is the centroid of a
+//! dart's V-face, its one sector closed by its crease's point near it. The
+//! sharp points depend on the old sharp vertices only, not on the corner
+//! rule, and from M¹ on the sharp polygon refines by Chaikin's rule, which
+//! keeps the midpoint of each segment's middle part: a crease vertex's point
+//! is its segment's midpoint whatever rule made M¹. The valence-2 mask reads
+//! corner images in the quad E-faces of v's two (smooth) edges only, which
+//! the tags do not change either. Without creases and corners (no tags, or
+//! all zero) every row is the untagged one, bit for bit.
+//!
+//! Crease rows keep the crease block symmetric: a corner neighbour's weight
+//! is 2, but corners are solved first (X = P) and their columns go to the
+//! right-hand side; between two crease vertices S\[v\]\[B\] = 1 = S\[B\]\[v\].
+//! A piece of the sharp polygon that ends at a dart leaves the sharp block
+//! (its rows lean on a general row), as for Catmull-Clark.
+//!
+//! **Spectra, Doo-Sabin.** A is block lower triangular (corners, crease
+//! pieces, interior), so its spectrum is the union of the blocks'. *Crease
+//! pieces:* a closed loop of m vertices is the circulant (1, 6, 1)/8,
+//! eigenvalues (6 + 2cos(2πk/m))/8 ∈ [½, 1] (½ iff m is even); a piece of k
+//! crease vertices between corners (both ends clamped: diagonal 5, or 4 for
+//! k = 1) is (4I + Q)/8 with Q the signless Laplacian of the path
+//! (eigenvalues 2 − 2cos(πj/k)), eigenvalues (6 − 2cos(πj/k))/8, j = 0..k−1:
+//! ½ exactly (the alternating vector) up to < 1. Every crease block lies in
+//! [½, 1]: never singular, condition number ≤ 2. *Smooth block:* for x on
+//! the smooth vertices xᵀSx = Σ_f x_fᵀ W_f x_f, W_f the face's symmetric
+//! block — Circ(α_m), eigenvalues 1, ½, ¼ (ERRATA Z8), or λ_f I + (1 − λ_f)J/m,
+//! eigenvalues 1, λ_f (ERRATA F6) — and Σ_f |x_f|² = xᵀD⁻¹x; so the smooth
+//! block's D^½SD^½ lies in [¼, 1] (C), [½, 1] (Z), [min λ, 1] (B(λ)), on
+//! open meshes too. Hence without darts and interior valence-2 vertices
+//! spec(A) ⊂ [¼, 1] (C), [½, 1] (Z), [min(½, min λ), 1] (B(λ)): A is never
+//! singular. *General rows* break those bounds and have none of their own:
+//! on 4000 random tagged polygon mixes (`tests/limit_matrices_doo_sabin_creases.rs`)
+//! the interior block's smallest |λ| was 0.262 (C), 0.493 (Z, below ½),
+//! 1.62·min λ (B(λ)) with darts, 0.207, 0.383, 1.16·min λ with interior
+//! valence-2 vertices too; every eigenvalue had a positive real part, no
+//! block was singular, but nothing proves that one cannot be.
 
 use crate::doo_sabin::CornerRule;
 use crate::sharpness::LevelSharpness;
@@ -107,7 +174,8 @@ pub enum RowKind {
     /// The identity (a corner, or an isolated vertex): X_v = P_v.
     Corner,
     /// Any other row (darts, semi-sharp limits, Doo-Sabin valence 2): D = 1
-    /// and S the row itself, not of the symmetric form.
+    /// and S the row itself (Doo-Sabin valence 2: D = ½, S twice the row),
+    /// not of the symmetric form.
     General,
 }
 
@@ -134,7 +202,8 @@ pub struct SolveBlocks {
     /// Identity rows: X = P.
     pub corners: Vec<u32>,
     /// Crease and boundary polygon rows of the sharp block: (1, 4, 1)/6
-    /// (Doo-Sabin (1, 6, 1)/8) among themselves, symmetric, and corners.
+    /// (Doo-Sabin (1, 6, 1)/8; (2, 5, 1)/8 and (2, 4, 2)/8 next to corners)
+    /// among themselves, symmetric, and corners.
     pub creases: Vec<u32>,
     /// Every other row: smooth rows (symmetric among themselves), general
     /// rows and the crease rows that lean on one ([`LimitMatrix::asymmetric_rows`]
@@ -614,6 +683,25 @@ fn dual_row(t: &Topology, features: &DualFeatures, v: VertexId) -> DualRow {
 /// With no crease and no corner this is the untagged matrix bit for bit
 /// (boundary rows (1, 6, 1)/8). [`doo_sabin_limit_sites`] tells where each
 /// row's point sits in the first refined mesh.
+///
+/// ```
+/// use subdiv_mesh::{shapes, EdgeTag, TagList, Tags};
+/// use subdiv_stencil::{doo_sabin::CornerRule, limit_matrix_doo_sabin_sharp, limit_matrix_zheng_cai, RowKind};
+/// let cube = shapes::cube();
+/// let t = cube.topology();
+/// // The top loop 4-5-7-6 sharp: a closed crease of four vertices.
+/// let loop_edges = [(4, 5), (5, 7), (7, 6), (6, 4)];
+/// let creases = loop_edges.iter().map(|&(a, b)| EdgeTag { a, b, sharpness: 10.0 }).collect();
+/// let tags = Tags::from_list(t, &TagList { creases, corners: Vec::new() }).unwrap();
+/// let z = limit_matrix_doo_sabin_sharp(t, CornerRule::Uniform(0.5), &tags).unwrap();
+/// assert_eq!(z.rows_of(RowKind::Crease), [4, 5, 6, 7]);
+/// // Crease rows (B₋ + 6V + B₊)/8 along the loop, whatever the first step.
+/// assert_eq!((z.d[4], z.s.get(4, 4), z.s.get(4, 5), z.s.get(4, 0)), (0.125, Some(&6.0), Some(&1.0), None));
+/// // The smooth rows are Zheng-Cai's untagged ones.
+/// let plain = limit_matrix_zheng_cai(t);
+/// assert_eq!(z.rows_of(RowKind::Smooth), [0, 1, 2, 3]);
+/// assert_eq!(z.s.outer_view(0).unwrap().data(), plain.s.outer_view(0).unwrap().data());
+/// ```
 ///
 /// # Errors
 /// [`StencilError::SemiSharpDooSabin`] for a semi-sharp tag (Doo-Sabin has
