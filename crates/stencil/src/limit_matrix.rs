@@ -614,9 +614,9 @@ fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMat
 }
 
 /// The Doo-Sabin limit rule of a vertex (module docs, "Doo-Sabin with
-/// creases and corners"), from the level's [`DualFeatures`] — the same
-/// classification as the tagged split ([`dual_split_tagged`](subdiv_mesh::refine::dual_split_tagged)) and
-/// [`crate::doo_sabin::limit_stencil_tagged`].
+/// creases and corners"), from the level's [`DualFeatures`] — the
+/// classification of the tagged split (`subdiv_mesh::refine::dual_split_tagged`)
+/// and of [`crate::doo_sabin::limit_stencil_tagged`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum DualRow {
     /// No sharp edge, no V-face lost: the centroid of v's V-face of corner images.
