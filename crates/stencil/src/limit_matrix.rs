@@ -18,20 +18,25 @@
 //!
 //! Cheng's A and Loop's L also come with creases and corners
 //! ([`limit_matrix_catmull_clark_sharp`], [`limit_matrix_loop_sharp`], on a
-//! [`LevelSharpness`]: tags, boundary option, crease method); the Doo-Sabin
-//! matrices take no tags yet ([`limit_matrix_doo_sabin_sharp`] refuses them).
+//! [`LevelSharpness`]: tags, boundary option, crease method), and so do the
+//! Doo-Sabin family's C, Z and B(λ) ([`limit_matrix_doo_sabin_sharp`], on
+//! [`Tags`]: Doo-Sabin has infinitely sharp creases and corners only, no
+//! boundary option and no crease method; "Doo-Sabin with creases and
+//! corners" below).
 //!
 //! **Row kinds.** Every row is of one [`RowKind`], listed in
 //! [`LimitMatrix::row_kinds`], decided per vertex by its sharpness
 //! ([`LevelSharpness`], the rules' own view: boundary edges infinitely sharp,
-//! one-face boundary vertices corners under `edge-and-corner`):
+//! one-face boundary vertices corners under `edge-and-corner`; for Doo-Sabin
+//! [`DualFeatures`], the view of the tagged split):
 //!
 //! - [`RowKind::Smooth`]: no sharp edge at v, vertex sharpness 0 — the
 //!   symmetric assembly of the table above, unchanged by tags elsewhere.
 //! - [`RowKind::Crease`]: exactly two incident edges sharp, both infinitely,
 //!   no other sharpness at v — the cubic B-spline point (p₋ + 4p + p₊)/6 of
 //!   the crease polygon (D = 1/6, S = (1, 4, 1)); a boundary vertex is one
-//!   (Doo-Sabin: the quadratic (B₋ + 6V + B₊)/8, D = 1/8, S = (1, 6, 1)).
+//!   (Doo-Sabin: the quadratic (B₋ + 6V + B₊)/8, D = 1/8, S = (1, 6, 1), or
+//!   (2, 5, 1) next to a corner and (2, 4, 2) between two).
 //! - [`RowKind::Corner`]: infinitely sharp vertex, ≥ 3 infinitely sharp
 //!   edges, or an isolated vertex — the identity row (D = S = 1).
 //! - [`RowKind::General`]: everything else — darts (one sharp edge) and every
@@ -39,7 +44,8 @@
 //!   limit L·R_k⋯R_1 that [`crate::SubdivisionPlan::limit_stencil`] gives
 //!   (OpenSubdiv's `Limit` after ⌈largest semi-sharp value⌉ levels, at least
 //!   one), D = 1, S = that row. Such rows break the symmetric D·S form; and
-//!   the Doo-Sabin rows of interior valence-2 vertices are of this kind too.
+//!   the Doo-Sabin rows of darts (D = 1) and of interior valence-2 vertices
+//!   (D = 1/n = ½, S = 2 × the mask) are of this kind too.
 //!
 //! **Blocks.** Crease and corner rows depend only on their crease polygon's
 //! vertices. [`LimitMatrix::boundary_rows`] is the **sharp block**: the
@@ -48,8 +54,8 @@
 //! general row (a dart at its end, a semi-sharp vertex on it) leaves the
 //! block from there up to its corners — under `edge-only` a whole boundary
 //! loop without corner tags. [`LimitMatrix::solve_blocks`] orders a solve:
-//! corners (X = P), then the crease polygons (symmetric (1, 4, 1) blocks,
-//! coupled to corners only), then the interior (smooth rows, symmetric among
+//! corners (X = P), then the crease polygons (symmetric (1, 4, 1) blocks —
+//! Doo-Sabin (1, 6, 1) —, coupled to corners only), then the interior (smooth rows, symmetric among
 //! themselves bit for bit, and the general rows and polygons that left);
 //! [`LimitMatrix::asymmetric_rows`] tells where a block lost its symmetry.
 //!
@@ -64,7 +70,7 @@
 //! **Boundaries** are creases: on open meshes the rows of boundary
 //! vertices follow the boundary curve, which depends on boundary vertices
 //! only: Catmull-Clark and Loop (p₋ + 4p + p₊)/6, one-face corners p under
-//! `edge-and-corner`; Doo-Sabin (B₋ + 6V + B₊)/8 at every boundary vertex —
+//! `edge-and-corner`; Doo-Sabin (B₋ + 6V + B₊)/8 at every untagged boundary vertex —
 //! the point of the quadratic B-spline boundary at V, which the Chaikin
 //! boundary rule of [`crate::doo_sabin`] produces for the standard and the
 //! two-phase first steps alike. Untagged, the sharp block is the boundary:
@@ -83,16 +89,78 @@
 //! checkerboard needs every vertex, so any crease or corner makes Cheng's A
 //! on the cube nonsingular. Blocks with general rows have no such bound;
 //! measured nonsingular on every case of `tests/limit_matrices_creases.rs`.
+//! Doo-Sabin's blocks: below.
+//!
+//! **Doo-Sabin with creases and corners** ([`limit_matrix_doo_sabin_sharp`]).
+//! Row v is the limit point of input vertex v on the surface whose first step
+//! uses the method's corner rule (standard, Zheng-Cai Eq. 4, Fan-Cheng-Lai
+//! Eq. 1) and whose later steps are standard Doo-Sabin with the tags
+//! ([`crate::doo_sabin`], "Creases and corners"): a point of the first
+//! refined mesh M¹ that is a limit point of the standard tagged scheme;
+//! [`doo_sabin_limit_sites`] names it in M¹ for every vertex. A sharp edge is
+//! a crease (≥ 10) or a boundary edge; a corner has a tag ≥ 10 or ≥ 3 sharp
+//! edges.
+//!
+//! | vertex | its limit point in M¹ | kind | D | S |
+//! |---|---|---|---|---|
+//! | smooth (no sharp edge), valence ≥ 3 | centroid of its V-face, its n corner images | Smooth | 1/n | the untagged Circ row |
+//! | smooth, interior valence 2 | no V-face: centroid of the E-face one level on (the valence-2 mask) | General | ½ | 2 × the mask |
+//! | crease or boundary (two sharp edges, to B₋ and B₊) | midpoint of its two sharp points, `sharp_curve_point`: (B₋ + 6V + B₊)/8, ¼B₋ + ⅝V + ⅛B₊ next to a corner B₋, ¼B₋ + ½V + ¼B₊ between two | Crease | ⅛ | (1, 6, 1), (2, 5, 1), (2, 4, 2) |
+//! | dart (one sharp edge V–W, interior) | centroid of its one V-face: its n corner images and ¾V + ¼W (½V + ½W when W is a corner) | General | 1 | the row |
+//! | corner, isolated vertex | itself (its kept point) | Corner | 1 | 1 |
+//!
+//! Why: the corner images of the first step do not depend on the tags
+//! (step 1 of the construction in [`crate::doo_sabin`]), so a smooth
+//! vertex's V-face — its corner images in fan order — is the untagged one
+//! even next to a crease, and its centroid, a face centroid of M¹, is a limit
+//! point (face centroids are, sharp faces included); so is the centroid of a
+//! dart's V-face, its one sector closed by its crease's point near it. The
+//! sharp points depend on the old sharp vertices only, not on the corner
+//! rule, and from M¹ on the sharp polygon refines by Chaikin's rule, which
+//! keeps the midpoint of each segment's middle part: a crease vertex's point
+//! is its segment's midpoint whatever rule made M¹. The valence-2 mask reads
+//! corner images in the quad E-faces of v's two (smooth) edges only, which
+//! the tags do not change either. Without creases and corners (no tags, or
+//! all zero) every row is the untagged one, bit for bit.
+//!
+//! Crease rows keep the crease block symmetric: a corner neighbour's weight
+//! is 2, but corners are solved first (X = P) and their columns go to the
+//! right-hand side; between two crease vertices S\[v\]\[B\] = 1 = S\[B\]\[v\].
+//! A piece of the sharp polygon that ends at a dart leaves the sharp block
+//! (its rows lean on a general row), as for Catmull-Clark.
+//!
+//! **Spectra, Doo-Sabin.** A is block lower triangular (corners, crease
+//! pieces, interior), so its spectrum is the union of the blocks'. *Crease
+//! pieces:* a closed loop of m vertices is the circulant (1, 6, 1)/8,
+//! eigenvalues (6 + 2cos(2πk/m))/8 ∈ [½, 1] (½ iff m is even); a piece of k
+//! crease vertices between corners (both ends clamped: diagonal 5, or 4 for
+//! k = 1) is (4I + Q)/8 with Q the signless Laplacian of the path
+//! (eigenvalues 2 − 2cos(πj/k)), eigenvalues (6 − 2cos(πj/k))/8, j = 0..k−1:
+//! ½ exactly (the alternating vector) up to < 1. Every crease block lies in
+//! [½, 1]: never singular, condition number ≤ 2. *Smooth block:* for x on
+//! the smooth vertices xᵀSx = Σ_f x_fᵀ W_f x_f, W_f the face's symmetric
+//! block — Circ(α_m), eigenvalues 1, ½, ¼ (ERRATA Z8), or λ_f I + (1 − λ_f)J/m,
+//! eigenvalues 1, λ_f (ERRATA F6) — and Σ_f |x_f|² = xᵀD⁻¹x; so the smooth
+//! block's D^½SD^½ lies in [¼, 1] (C), [½, 1] (Z), [min λ, 1] (B(λ)), on
+//! open meshes too. Hence without darts and interior valence-2 vertices
+//! spec(A) ⊂ [¼, 1] (C), [½, 1] (Z), [min(½, min λ), 1] (B(λ)): A is never
+//! singular. *General rows* break those bounds and have none of their own:
+//! on 4000 random tagged polygon mixes (`tests/limit_matrices_doo_sabin_creases.rs`)
+//! the interior block's smallest |λ| was 0.262 (C), 0.493 (Z, below ½),
+//! 1.62·min λ (B(λ)) with darts, 0.207, 0.383, 1.16·min λ with interior
+//! valence-2 vertices too; every eigenvalue had a positive real part, no
+//! block was singular, but nothing proves that one cannot be.
 
 use crate::doo_sabin::CornerRule;
 use crate::sharpness::LevelSharpness;
 use crate::{apply, face_ring_size, RowBuilder, Scheme, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
 use std::collections::HashMap;
-use subdiv_mesh::{FaceId, FaceList, Tags, Topology, VertexId};
+use subdiv_mesh::refine::{DualFace, DualFeatures, SharpDualProvenance};
+use subdiv_mesh::{FaceId, FaceList, HalfEdgeId, Tags, Topology, VertexId};
 use subdiv_rules::crease::{is_infinite, is_sharp};
-use subdiv_rules::doo_sabin::BOUNDARY_CURVE_POINT;
-use subdiv_rules::{BoundaryInterpolation, CreaseMethod, LoopBeta, Rule};
+use subdiv_rules::doo_sabin::{sharp_curve_point, BoundaryEdgePoint, BOUNDARY_EDGE_POINT, CLAMPED_EDGE_POINT};
+use subdiv_rules::{LoopBeta, Rule};
 
 /// How a row of a limit matrix is made (module docs, "Row kinds").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -106,7 +174,8 @@ pub enum RowKind {
     /// The identity (a corner, or an isolated vertex): X_v = P_v.
     Corner,
     /// Any other row (darts, semi-sharp limits, Doo-Sabin valence 2): D = 1
-    /// and S the row itself, not of the symmetric form.
+    /// and S the row itself (Doo-Sabin valence 2: D = ½, S twice the row),
+    /// not of the symmetric form.
     General,
 }
 
@@ -133,7 +202,8 @@ pub struct SolveBlocks {
     /// Identity rows: X = P.
     pub corners: Vec<u32>,
     /// Crease and boundary polygon rows of the sharp block: (1, 4, 1)/6
-    /// (Doo-Sabin (1, 6, 1)/8) among themselves, symmetric, and corners.
+    /// (Doo-Sabin (1, 6, 1)/8; (2, 5, 1)/8 and (2, 4, 2)/8 next to corners)
+    /// among themselves, symmetric, and corners.
     pub creases: Vec<u32>,
     /// Every other row: smooth rows (symmetric among themselves), general
     /// rows and the crease rows that lean on one ([`LimitMatrix::asymmetric_rows`]
@@ -271,11 +341,6 @@ struct Curve {
 
 /// Catmull-Clark and Loop: the cubic B-spline point (p₋ + 4p + p₊)/6.
 const CUBIC_B_SPLINE: Curve = Curve { d: 1.0 / 6.0, end: 1.0, centre: 4.0 };
-
-/// Doo-Sabin: the quadratic B-spline point (B₋ + 6V + B₊)/8 (the weights of
-/// [`BOUNDARY_CURVE_POINT`], ×8; its two end weights are equal).
-const QUADRATIC_B_SPLINE: Curve =
-    Curve { d: 0.125, end: BOUNDARY_CURVE_POINT[0] * 8.0, centre: BOUNDARY_CURVE_POINT[1] * 8.0 };
 
 /// Rows that do not come from the symmetric assembly, with their D entry.
 struct SpecialRows {
@@ -543,56 +608,279 @@ fn composed_rows(
     Ok(composed)
 }
 
-/// Doo-Sabin family: row v = (1/n)·Σ over v's faces of that face's first-step
-/// row at v's corner, i.e. the centroid of v's V-face after the first step.
+/// Doo-Sabin family: the untagged matrix of `rule` (module docs).
 fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMatrix, StencilError> {
-    rule.validate(t)?;
-    let d = t.vertices().map(|v| 1.0 / t.vertex_face_count(v).max(1) as f64).collect(); // Σ = diag(1/n)
-                                                                                        // The boundary is the quadratic B-spline of the boundary polygon at every
-                                                                                        // boundary vertex (no one-face corners): the rule classes of edge-only.
-    let sharp = LevelSharpness::untagged(BoundaryInterpolation::EdgeOnly, CreaseMethod::Uniform);
-    let (special, mut kinds) = special_rows(t, &sharp, QUADRATIC_B_SPLINE, Scheme::DooSabin)?;
-    for v in t.vertices().filter(|&v| crate::doo_sabin::valence_two_corners(t, v).is_some()) {
-        kinds[v.index()] = RowKind::General;
-    }
-    Ok(assemble(t, d, special, kinds, |v, rows| {
-        if let Some(corners) = crate::doo_sabin::valence_two_corners(t, v) {
-            // No V-face: the valence-2 mask on the first step's images (the
-            // second-level E-face centroid), ×n = 2 since D = 1/n. Not of the
-            // Circ form: S loses its symmetry in this row.
-            crate::doo_sabin::add_valence_two_row(t, &corners, rule, 2.0, rows, &mut Vec::new());
-            return;
-        }
-        // Zheng-Cai Eq. (1) / (4), Fan-Cheng-Lai Eq. (1). Face block Circ(w):
-        // symmetric because w[k] = w[m − k] (α depends on cos only).
-        add_fan_row(t, v, rows, 0.0, 0.0, |face, w| rule.weights(face.index(), w));
-    }))
+    limit_matrix_doo_sabin_sharp(t, rule, &Tags::none())
 }
 
-/// The Doo-Sabin family's matrix ([`limit_matrix_nasri`]: `CornerRule::Standard`,
+/// The Doo-Sabin limit rule of a vertex (module docs, "Doo-Sabin with
+/// creases and corners"), from the level's [`DualFeatures`] — the
+/// classification of the tagged split (`subdiv_mesh::refine::dual_split_tagged`)
+/// and of [`crate::doo_sabin::limit_stencil_tagged`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum DualRow {
+    /// No sharp edge, no V-face lost: the centroid of v's V-face of corner images.
+    Smooth,
+    /// Interior valence 2, no sharp edge: the valence-2 mask on its corners.
+    ValenceTwo([(HalfEdgeId, f64); 6]),
+    /// Exactly two sharp edges (a crease or boundary vertex): its sharp
+    /// neighbours B₋, B₊, each with whether it is a corner.
+    Crease([(VertexId, bool); 2]),
+    /// Exactly one sharp edge (interior): the edge's other end W, and whether
+    /// W is a corner.
+    Dart(VertexId, bool),
+    /// A corner (tag ≥ 10 or ≥ 3 sharp edges) or an isolated vertex.
+    Corner,
+}
+
+fn dual_row(t: &Topology, features: &DualFeatures, v: VertexId) -> DualRow {
+    if t.is_isolated(v) || features.is_corner(v) {
+        return DualRow::Corner;
+    }
+    let end = |b: VertexId| (b, features.is_corner(b));
+    if let Some((prev, next)) = t.boundary_neighbors(v) {
+        // Not a corner: the boundary's two edges are its only sharp ones.
+        return DualRow::Crease([end(prev), end(next)]);
+    }
+    match features.sharp_edge_count(t, v) {
+        0 => crate::doo_sabin::valence_two_corners(t, v).map_or(DualRow::Smooth, DualRow::ValenceTwo),
+        1 => {
+            let w = features.sharp_neighbors(t, v).next().expect("one sharp edge");
+            DualRow::Dart(w, features.is_corner(w))
+        }
+        _ => {
+            // Two (three or more make a corner).
+            let mut ends = features.sharp_neighbors(t, v);
+            let (a, b) = (ends.next().expect("two sharp edges"), ends.next().expect("two sharp edges"));
+            DualRow::Crease([end(a), end(b)])
+        }
+    }
+}
+
+/// The Doo-Sabin family's matrix with the infinitely sharp creases and
+/// corners of `tags` ([`limit_matrix_nasri`]: `CornerRule::Standard`,
 /// [`limit_matrix_zheng_cai`]: `CornerRule::Uniform(0.5)`,
-/// [`limit_matrix_two_phase`]) for a level with `sharp`: only an untagged one.
+/// [`limit_matrix_two_phase`]: `CornerRule::PerFace`): V × V, row v the limit
+/// point of input vertex v on the surface whose first step uses `rule` and
+/// whose later steps are standard Doo-Sabin with the tags
+/// ([`crate::doo_sabin::first_step_tagged`], [`dual_split_tagged`](subdiv_mesh::refine::dual_split_tagged)):
+///
+/// - smooth vertex (no sharp edge, valence ≥ 3): the centroid of its V-face,
+///   its n corner images — the untagged Circ row, D = 1/n, even next to a
+///   crease (corner images do not depend on the tags), [`RowKind::Smooth`];
+/// - interior valence 2 without sharp edge: the valence-2 mask, unchanged
+///   ([`RowKind::General`], D = ½, S = 2 × the mask);
+/// - crease or boundary vertex (exactly two sharp edges, no corner): the
+///   midpoint of its two sharp points, `sharp_curve_point`:
+///   (B₋ + 6V + B₊)/8, ¼B₋ + ⅝V + ⅛B₊ next to a corner B₋, ¼B₋ + ½V + ¼B₊
+///   between two, whatever the rule ([`RowKind::Crease`], D = ⅛);
+/// - dart (one crease edge V–W): the centroid of its one V-face, its n
+///   corner images and the crease's point ¾V + ¼W (½V + ½W when W is a
+///   corner), ([`RowKind::General`], D = 1);
+/// - corner (tag ≥ 10 or ≥ 3 sharp edges) and isolated vertex: the identity
+///   ([`RowKind::Corner`]).
+///
+/// With no crease and no corner this is the untagged matrix bit for bit
+/// (boundary rows (1, 6, 1)/8). [`doo_sabin_limit_sites`] tells where each
+/// row's point sits in the first refined mesh.
+///
+/// ```
+/// use subdiv_mesh::{shapes, EdgeTag, TagList, Tags};
+/// use subdiv_stencil::{doo_sabin::CornerRule, limit_matrix_doo_sabin_sharp, limit_matrix_zheng_cai, RowKind};
+/// let cube = shapes::cube();
+/// let t = cube.topology();
+/// // The top loop 4-5-7-6 sharp: a closed crease of four vertices.
+/// let loop_edges = [(4, 5), (5, 7), (7, 6), (6, 4)];
+/// let creases = loop_edges.iter().map(|&(a, b)| EdgeTag { a, b, sharpness: 10.0 }).collect();
+/// let tags = Tags::from_list(t, &TagList { creases, corners: Vec::new() }).unwrap();
+/// let z = limit_matrix_doo_sabin_sharp(t, CornerRule::Uniform(0.5), &tags).unwrap();
+/// assert_eq!(z.rows_of(RowKind::Crease), [4, 5, 6, 7]);
+/// // Crease rows (B₋ + 6V + B₊)/8 along the loop, whatever the first step.
+/// assert_eq!((z.d[4], z.s.get(4, 4), z.s.get(4, 5), z.s.get(4, 0)), (0.125, Some(&6.0), Some(&1.0), None));
+/// // The smooth rows are Zheng-Cai's untagged ones.
+/// let plain = limit_matrix_zheng_cai(t);
+/// assert_eq!(z.rows_of(RowKind::Smooth), [0, 1, 2, 3]);
+/// assert_eq!(z.s.outer_view(0).unwrap().data(), plain.s.outer_view(0).unwrap().data());
+/// ```
 ///
 /// # Errors
-/// [`StencilError::TagsNotSupported`] for any tag: Doo-Sabin creases do not
-/// exist yet; [`StencilError::InvalidParameter`] for a bad λ.
-// TODO(issue 15, Doo-Sabin creases): once `DooSabinRules` takes infinitely
-// sharp creases and corners, classify the rows with `row_rule` as the
-// primal matrices do: crease rows on QUADRATIC_B_SPLINE along the crease
-// polygon (the Chaikin rule on both sides), corners fixed, no general rows
-// (infinitely sharp only).
+/// [`StencilError::SemiSharpDooSabin`] for a semi-sharp tag (Doo-Sabin has
+/// infinitely sharp creases and corners only), [`StencilError::InvalidParameter`]
+/// for a bad λ.
+///
+/// # Panics
+/// If `tags` were made for another topology (a caller bug).
 pub fn limit_matrix_doo_sabin_sharp(
     t: &Topology,
     rule: CornerRule<'_>,
-    sharp: &LevelSharpness,
+    tags: &Tags,
 ) -> Result<LimitMatrix, StencilError> {
-    if !sharp.is_untagged() {
-        return Err(StencilError::TagsNotSupported {
-            scheme: "doo-sabin",
-            reason: "the Doo-Sabin limit matrices (Nasri C, Zheng-Cai Z, B(λ)) take no creases or corners yet".into(),
+    rule.validate(t)?;
+    crate::doo_sabin::check_tags(t, tags)?;
+    let features = DualFeatures::new(t, tags);
+    let rows: Vec<DualRow> = t.vertices().map(|v| dual_row(t, &features, v)).collect();
+    let mut d: Vec<f64> = t.vertices().map(|v| 1.0 / t.vertex_face_count(v).max(1) as f64).collect(); // Σ = diag(1/n)
+    let mut special = SpecialRows { d: Vec::new(), rows: Vec::new() };
+    let mut kinds = Vec::with_capacity(rows.len());
+    for (v, row) in rows.iter().enumerate() {
+        kinds.push(match *row {
+            DualRow::Smooth => RowKind::Smooth,
+            DualRow::ValenceTwo(_) => RowKind::General, // D = 1/n = ½ (the row is scaled by 2)
+            DualRow::Dart(..) => {
+                d[v] = 1.0;
+                RowKind::General
+            }
+            DualRow::Crease([(a, a_corner), (b, b_corner)]) => {
+                // The midpoint of v's two sharp points: ⅛·(8w), exact (dyadic weights).
+                let [wa, wv, wb] = sharp_curve_point(a_corner, b_corner);
+                let mut s = vec![(a.0, 8.0 * wa), (v as u32, 8.0 * wv), (b.0, 8.0 * wb)];
+                s.sort_by_key(|&(c, _)| c);
+                special.d.push((v as u32, 0.125));
+                special.rows.push((v as u32, s));
+                RowKind::Crease
+            }
+            DualRow::Corner => {
+                special.d.push((v as u32, 1.0));
+                special.rows.push((v as u32, vec![(v as u32, 1.0)]));
+                RowKind::Corner
+            }
         });
     }
-    limit_matrix_doo_sabin(t, rule)
+    Ok(assemble(t, d, special, kinds, |v, out| match rows[v.index()] {
+        DualRow::Smooth => {
+            // Zheng-Cai Eq. (1) / (4), Fan-Cheng-Lai Eq. (1). Face block Circ(w):
+            // symmetric because w[k] = w[m − k] (α depends on cos only).
+            add_fan_row(t, v, out, 0.0, 0.0, |face, w| rule.weights(face.index(), w));
+        }
+        DualRow::ValenceTwo(corners) => {
+            // No V-face: the valence-2 mask on the first step's images (the
+            // second-level E-face centroid), ×n = 2 since D = 1/n. Not of the
+            // Circ form: S loses its symmetry in this row.
+            crate::doo_sabin::add_valence_two_row(t, &corners, rule, 2.0, out, &mut Vec::new());
+        }
+        DualRow::Dart(w, w_corner) => {
+            // The V-face of the dart's one sector: its n corner images (the
+            // rule's rows) and the crease's Chaikin point near it, closed by
+            // the same point at both ends of the sector.
+            let n = (t.vertex_face_count(v) + 1) as f64;
+            let mut weights = Vec::new();
+            for c in t.vertex_corners(v) {
+                let face = t.face(c.face);
+                weights.resize(face.len(), 0.0);
+                rule.weights(c.face.index(), &mut weights);
+                let (before, from_v) = face.split_at(c.index as usize);
+                for (&column, &wj) in from_v.iter().chain(before).zip(&weights) {
+                    out.add(column, wj / n);
+                }
+            }
+            let BoundaryEdgePoint { near, far } = if w_corner { CLAMPED_EDGE_POINT } else { BOUNDARY_EDGE_POINT };
+            out.add(v.0, near / n);
+            out.add(w.0, far / n);
+        }
+        DualRow::Crease(_) | DualRow::Corner => unreachable!("crease and corner rows are special"),
+    }))
+}
+
+/// Where the limit point of an input vertex (row v of
+/// [`limit_matrix_doo_sabin_sharp`]) sits in the first refined mesh M¹ of
+/// [`dual_split_tagged`](subdiv_mesh::refine::dual_split_tagged) (ids of M¹), whatever the first step's corner rule:
+/// the limit point is a function of M¹'s positions, which is what the
+/// interpolation methods evaluate on their control mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DualLimitSite {
+    /// The centroid of this face of M¹: the V-face of a smooth vertex (its
+    /// corner images) or of a dart (its corner images and its crease's point).
+    FaceCentroid(FaceId),
+    /// The midpoint of these two vertices of M¹: the sharp points next to a
+    /// crease or boundary vertex, on its sharp edges to B₋ and to B₊ (the
+    /// ends of its segment of the refined sharp polygon).
+    SharpMidpoint(VertexId, VertexId),
+    /// This vertex of M¹: the point that keeps a corner.
+    Corner(VertexId),
+    /// The limit point of the edge of M¹ between these two vertices, the two
+    /// images of an interior valence-2 vertex
+    /// ([`crate::doo_sabin::edge_limit_point`]).
+    ValenceTwoEdge(VertexId, VertexId),
+    /// An isolated vertex: nothing of it is in M¹.
+    Isolated,
+}
+
+impl DualLimitSite {
+    /// The limit point on M¹ (`m1`, positions `x1`); `None` for an isolated
+    /// vertex, or a valence-2 edge that `m1` does not have (not the M¹ the
+    /// site was made for).
+    ///
+    /// # Panics
+    /// If an id is out of range of `m1` or `x1` (not the M¹ of the site).
+    pub fn point(&self, m1: &Topology, x1: &[DVec3]) -> Option<DVec3> {
+        match *self {
+            DualLimitSite::FaceCentroid(f) => {
+                let face = m1.face(f);
+                Some(face.iter().map(|&c| x1[c as usize]).sum::<DVec3>() / face.len() as f64)
+            }
+            DualLimitSite::SharpMidpoint(a, b) => Some((x1[a.index()] + x1[b.index()]) / 2.0),
+            DualLimitSite::Corner(c) => Some(x1[c.index()]),
+            DualLimitSite::ValenceTwoEdge(a, b) => {
+                let h = m1.vertex_fan(a).iter().find(|&&h| m1.he_to(h) == b)?;
+                Some(crate::doo_sabin::edge_limit_point(m1, *h, x1))
+            }
+            DualLimitSite::Isolated => None,
+        }
+    }
+}
+
+/// Per input vertex of `t`, where its limit point sits in M¹ =
+/// `dual_split_tagged(t, tags)` with provenance `provenance`
+/// ([`DualLimitSite`]; the rows of [`limit_matrix_doo_sabin_sharp`], module
+/// docs "Doo-Sabin with creases and corners"). Linear time. Untagged, the
+/// V-faces are [`subdiv_mesh::refine::DualProvenance::vertex_face`] and the
+/// sharp points the two Chaikin points next to each boundary vertex.
+///
+/// # Errors
+/// [`StencilError::SemiSharpDooSabin`] for a semi-sharp tag.
+///
+/// # Panics
+/// If `provenance` is not that of `dual_split_tagged(t, tags)` (a caller
+/// bug): a smooth vertex or a dart without its V-face, a sharp edge without
+/// its points.
+pub fn doo_sabin_limit_sites(
+    t: &Topology,
+    tags: &Tags,
+    provenance: &SharpDualProvenance,
+) -> Result<Vec<DualLimitSite>, StencilError> {
+    crate::doo_sabin::check_tags(t, tags)?;
+    let features = DualFeatures::new(t, tags);
+    assert_eq!(provenance.edge_points.len(), t.edge_count(), "the provenance of another topology");
+    // The (first) V-face of every vertex: smooth vertices and darts have one.
+    let mut v_face = vec![None; t.vertex_count()];
+    for (f, origin) in provenance.face_origin.iter().enumerate() {
+        if let DualFace::V(v) = *origin {
+            v_face[v.index()].get_or_insert(FaceId(f as u32));
+        }
+    }
+    // The sharp point next to v on its sharp edge to b.
+    let near = |v: VertexId, b: VertexId| -> VertexId {
+        let h = t.vertex_fan(v).iter().copied().find(|&h| t.he_to(h) == b);
+        // On the boundary, the incoming edge b → v is not in v's fan.
+        let h = h.unwrap_or_else(|| t.vertex_fan(b).iter().copied().find(|&h| t.he_to(h) == v).expect("an edge v-b"));
+        let e = t.he_edge(h);
+        let [at_start, _, at_end] = provenance.edge_points[e.index()];
+        let id = if t.he_from(t.edge_half_edge(e)) == v { at_start } else { at_end };
+        assert_ne!(id, u32::MAX, "sharp edge {e} has no point near {v}: not the provenance of these tags");
+        VertexId(id)
+    };
+    let face_of = |v: VertexId| v_face[v.index()].expect("a smooth vertex or a dart has a V-face");
+    Ok(t.vertices()
+        .map(|v| match dual_row(t, &features, v) {
+            _ if t.is_isolated(v) => DualLimitSite::Isolated,
+            DualRow::Corner => DualLimitSite::Corner(VertexId(provenance.corner_point[v.index()])),
+            DualRow::Smooth | DualRow::Dart(..) => DualLimitSite::FaceCentroid(face_of(v)),
+            DualRow::ValenceTwo(corners) => {
+                DualLimitSite::ValenceTwoEdge(VertexId(corners[0].0 .0), VertexId(corners[1].0 .0))
+            }
+            DualRow::Crease([(a, _), (b, _)]) => DualLimitSite::SharpMidpoint(near(v, a), near(v, b)),
+        })
+        .collect())
 }
 
 /// Adds the row of interior vertex `v` that sums, over its fan faces

@@ -306,18 +306,21 @@ fn untagged_sharpness_gives_the_untagged_matrices() {
     assert_eq!(row_of(&untagged_plain.s, 0), vec![(0, 1.0)]);
 }
 
+/// (The Doo-Sabin matrices with infinitely sharp tags:
+/// `limit_matrices_doo_sabin_creases.rs`.)
 #[test]
-fn doo_sabin_matrices_refuse_tags_and_loop_refuses_polygons() {
+fn doo_sabin_matrices_refuse_semi_sharp_tags_and_loop_refuses_polygons() {
     let cube = shapes::cube();
     let t = cube.topology();
+    let semi = sharp_cases::tags(&cube, &[(4, 5, 2.0)], &[]);
+    for rule in [CornerRule::Standard, CornerRule::Uniform(0.5)] {
+        let err = limit_matrix_doo_sabin_sharp(t, rule, &semi).unwrap_err();
+        assert!(matches!(err, StencilError::SemiSharpDooSabin { .. }), "{err}");
+    }
+    let plain = limit_matrix_doo_sabin_sharp(t, CornerRule::Standard, &Tags::none()).unwrap();
+    assert_eq!(plain.s, subdiv_stencil::limit_matrix_nasri(t).s);
     let tags = sharp_cases::tags(&cube, &[(4, 5, 10.0)], &[]);
     let sharp = LevelSharpness::new(&tags, BoundaryInterpolation::EdgeAndCorner, CreaseMethod::Uniform);
-    for rule in [CornerRule::Standard, CornerRule::Uniform(0.5)] {
-        let err = limit_matrix_doo_sabin_sharp(t, rule, &sharp).unwrap_err();
-        assert!(matches!(err, StencilError::TagsNotSupported { scheme: "doo-sabin", .. }), "{err}");
-    }
-    let plain = limit_matrix_doo_sabin_sharp(t, CornerRule::Standard, &LevelSharpness::plain()).unwrap();
-    assert_eq!(plain.s, subdiv_stencil::limit_matrix_nasri(t).s);
     let err = limit_matrix_loop_sharp(t, &sharp, LoopBeta::Loop).unwrap_err();
     assert!(matches!(err, StencilError::NotTriangles { .. }), "{err}");
 }
