@@ -189,7 +189,7 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
 /// topology of each level is built once either way; each level's mesh
 /// carries its decayed tags to the next), then limit positions.
 ///
-/// Texture coordinates the scheme cannot refine (Deng-Ma; Doo-Sabin with
+/// Texture coordinates the scheme cannot refine (Doo-Sabin with
 /// seams or tags) are dropped with a warning: the positions are what was
 /// asked for (the refusal comes at the first level, so little is redone).
 pub fn refine(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit: bool) -> Result<Mesh, StencilError> {

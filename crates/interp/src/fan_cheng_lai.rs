@@ -29,17 +29,31 @@
 //!   which is their row of B (`subdiv_stencil::doo_sabin::valence_two_corners`).
 //!   Progressive iteration still applies (B is then not of the symmetric
 //!   form, which only the accelerated symmetric solvers need).
+//! - Creases and corners (beyond the paper): the input's infinitely sharp
+//!   tags are Doo-Sabin creases of M̂ (`subdiv_stencil::doo_sabin`, "Creases
+//!   and corners"): phase one leaves every corner image to its face's λ and
+//!   gives each sharp edge the points of the refined sharp polygon, so B's
+//!   rows are crease vertices' quadratic B-spline points (B₋ + 6V + B₊)/8
+//!   (clamped next to a corner; independent of λ), corners fixed, darts the
+//!   centroid of their one V-face (`subdiv_stencil::limit_matrix_doo_sabin_sharp`).
+//!   The crease blocks have spectrum in [½, 1], so progressive iteration
+//!   converges there too; with darts the interior block has no proven bound
+//!   (measured: smallest eigenvalue ≥ 1.16·min λ). M¹ carries the refined
+//!   tags (every piece of the refined crease polygons infinitely sharp) and
+//!   the input's texture coordinates refined by one Doo-Sabin step
+//!   (`subdiv_stencil::fvar`; refused — with a warning — for UVs with seams or
+//!   with tags). Semi-sharp values are refused.
 
 use crate::system::solve_limit_system;
 use crate::{
     seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter,
     SolverChoice,
 };
-use subdiv_mesh::refine::dual_split;
+use subdiv_mesh::refine::dual_split_tagged;
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
-use subdiv_stencil::doo_sabin::{first_step, CornerRule};
-use subdiv_stencil::{limit_matrix_two_phase, StencilError};
+use subdiv_stencil::doo_sabin::{first_step_tagged, CornerRule};
+use subdiv_stencil::{limit_matrix_doo_sabin_sharp, Scheme, StencilError};
 
 /// The shape parameters λ of phase one.
 #[derive(Clone, Debug, PartialEq)]
@@ -89,8 +103,12 @@ pub(crate) fn interpolate_prepared(
         Shape::Uniform(l) => CornerRule::Uniform(*l),
         Shape::PerFace(ls) => CornerRule::PerFace(ls),
     };
-    let bad_shape = |e: StencilError| InterpError::invalid(Parameter::Shape, e.to_string());
-    let b = limit_matrix_two_phase(t, rule).map_err(bad_shape)?;
+    let tags = mesh.tags();
+    let bad_shape = |e: StencilError| match e {
+        StencilError::InvalidParameter(reason) => InterpError::invalid(Parameter::Shape, reason),
+        e => e.into(),
+    };
+    let b = limit_matrix_doo_sabin_sharp(t, rule, tags).map_err(bad_shape)?;
     let setup = seconds_since(start);
     let solver = match opts.common.solver {
         SolverChoice::Auto => Solver::Pia,
@@ -112,13 +130,21 @@ pub(crate) fn interpolate_prepared(
                 &opts.common.observer,
             )
         },
-        || dual_split(t),
+        || dual_split_tagged(t, tags),
     );
     let solved = solved?;
-    // Phase one of the auxiliary mesh M̂: the output control mesh M¹.
-    let (t1, provenance) = refined;
-    let phase_one = first_step(t, rule, &solved.x).map_err(bad_shape)?;
-    let control = Mesh::from_topology(t1, phase_one);
+    // Phase one of the auxiliary mesh M̂: the output control mesh M¹, with
+    // the refined tags (the pieces of the refined crease polygons) and UVs.
+    let (t1, provenance, tags1) = refined;
+    let association = LimitAssociation::for_sharp_dual_split(t, tags, &provenance)?;
+    let phase_one = first_step_tagged(t, tags, rule, &solved.x).map_err(bad_shape)?;
+    let mut warnings = Vec::new();
+    let sharp = opts.common.surface.sharpness(tags);
+    let uvs = crate::interpolant::carry_uvs(mesh, &sharp, &t1, Scheme::DooSabin, opts.common.surface.fvar, &mut warnings);
+    let control = Mesh::from_topology(t1, phase_one)
+        .with_tags(tags1)
+        .with_uvs(uvs)
+        .expect("the refined channel has one value per corner of M¹");
     let solve_seconds = seconds_since(start);
     let mut parameters = serde_json::Map::new();
     parameters.insert("solver".into(), solver.name().into());
@@ -133,14 +159,14 @@ pub(crate) fn interpolate_prepared(
     Ok(Interpolant {
         surface_options: opts.common.surface,
         method: Method::FanChengLai,
-        association: LimitAssociation::for_dual_split(mesh.topology(), &provenance),
+        association,
         control,
         scheme: ControlScheme::DooSabin,
         interpolated,
         solve: Some(solved.summary),
         setup_seconds: setup,
         solve_seconds,
-        warnings: Vec::new(),
+        warnings,
         parameters,
     })
 }

@@ -4,8 +4,11 @@ use crate::numeric::max_nan;
 use crate::{InterpError, Method, SurfaceOptions};
 use glam::DVec3;
 use std::borrow::Cow;
-use subdiv_mesh::{FaceId, Mesh, PowerOfTwoScale, VertexId};
-use subdiv_stencil::{doo_sabin, subdivide, LoopBeta, Options, Scheme, StencilError, SubdivisionPlan, Tension};
+use subdiv_mesh::{Mesh, PowerOfTwoScale, VertexId};
+use subdiv_stencil::{
+    doo_sabin, doo_sabin_limit_sites, subdivide, DualLimitSite, LoopBeta, Options, Scheme, StencilError,
+    SubdivisionPlan, Tension,
+};
 
 /// The plain scheme whose limit surface of the control mesh interpolates the data.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,26 +57,14 @@ pub enum LimitAssociation {
     /// its V-face after one plain step, on a boundary or crease the sharp
     /// curve's point, a corner itself).
     ControlVertex,
-    /// A Doo-Sabin first refined mesh M¹: smooth vertex or dart i ↦ the
-    /// centroid of face `v_face[i]` (a Doo-Sabin limit point at every level);
-    /// boundary or crease vertex i ↦ the midpoint of its two sharp points
-    /// `boundary_pair[i]` (Chaikin's, the quadratic B-spline's point); corner
-    /// i ↦ its kept point `corner_point[i]`.
-    ///
-    /// An interior vertex i of valence 2 has no V-face; it ↦ the limit point
-    /// of the edge `valence_two[i]` = (v₀, v₁) between its two images (the
-    /// centroid of that edge's E-face after one more plain step,
-    /// `subdiv_stencil::doo_sabin::edge_limit_point`).
-    DualFace {
-        /// The V-face of every input vertex in the control mesh.
-        v_face: Vec<Option<FaceId>>,
-        /// The two sharp points next to every boundary or crease input vertex.
-        boundary_pair: Vec<Option<(VertexId, VertexId)>>,
-        /// The point that keeps every corner (empty when there is none).
-        corner_point: Vec<Option<VertexId>>,
-        /// The two images of every interior valence-2 input vertex.
-        valence_two: Vec<Option<(VertexId, VertexId)>>,
-    },
+    /// A Doo-Sabin first refined mesh M¹ (with its tags): where each input
+    /// vertex's limit point sits in it ([`DualLimitSite`]: the centroid of
+    /// its V-face for a smooth vertex or a dart — a Doo-Sabin limit point at
+    /// every level —, the midpoint of its two sharp points on a boundary or
+    /// a crease — Chaikin's, the quadratic B-spline's point —, the point that
+    /// keeps a corner, the limit point of the edge between the two images of
+    /// an interior valence-2 vertex), one entry per input vertex.
+    DualSites(Vec<DualLimitSite>),
     /// The scheme interpolates: surface vertex i is input vertex i (Deng-Ma).
     Interpolatory,
 }
@@ -91,39 +82,66 @@ pub(crate) fn chaikin_pair(
     (VertexId(prov.boundary_point[fan[0].index()]), VertexId(prov.boundary_point[incoming.index()] + 1))
 }
 
-impl LimitAssociation {
-    /// The association of a Doo-Sabin first refined mesh M¹ = `dual_split(t)`
-    /// with provenance `prov`: V-faces for interior vertices, the two Chaikin
-    /// points next to each boundary vertex.
-    pub fn for_dual_split(t: &subdiv_mesh::Topology, prov: &subdiv_mesh::refine::DualProvenance) -> Self {
-        let boundary_pair = t
-            .vertices()
-            .map(|v| (t.is_boundary_vertex(v) && !t.is_isolated(v)).then(|| chaikin_pair(t, prov, v)))
-            .collect();
-        LimitAssociation::DualFace {
-            v_face: prov.vertex_face.clone(),
-            boundary_pair,
-            corner_point: Vec::new(),
-            valence_two: valence_two_images(t),
+/// The input's texture coordinates carried onto a control mesh that is the
+/// first refined mesh `child` of `mesh` by `scheme` (Zheng-Cai's and
+/// Fan-Cheng-Lai's M¹, Deng-Wang's): refined by one level with the
+/// face-varying mode `fvar` and the level's sharpness `sharp`. `None` when
+/// the mesh has none, or — with a warning saying why — when the scheme
+/// cannot refine them (Doo-Sabin with seams or tags): the positions are what
+/// interpolates, the texture coordinates are left out.
+pub(crate) fn carry_uvs(
+    mesh: &Mesh,
+    sharp: &subdiv_stencil::LevelSharpness,
+    child: &subdiv_mesh::Topology,
+    scheme: Scheme,
+    fvar: subdiv_stencil::FVarInterpolation,
+    warnings: &mut Vec<String>,
+) -> Option<subdiv_mesh::FaceVarying> {
+    let channel = mesh.uvs()?;
+    match subdiv_stencil::fvar::refine(mesh.topology(), sharp, child, scheme, fvar, channel) {
+        Ok(refined) => Some(refined),
+        Err(e) => {
+            warnings.push(format!("the texture coordinates are not carried onto the control mesh: {e}"));
+            None
         }
     }
 }
 
-/// The two images (v₀, v₁) of every interior valence-2 vertex in the first
-/// refined mesh of `dual_split(t)`: the vertices of its two corners.
-pub(crate) fn valence_two_images(t: &subdiv_mesh::Topology) -> Vec<Option<(VertexId, VertexId)>> {
-    t.vertices()
-        .map(|v| doo_sabin::valence_two_corners(t, v).map(|c| (VertexId(c[0].0 .0), VertexId(c[1].0 .0))))
-        .collect()
-}
+impl LimitAssociation {
+    /// The association of an untagged Doo-Sabin first refined mesh M¹ =
+    /// `dual_split(t)` with provenance `prov`: V-faces for interior vertices,
+    /// the two Chaikin points next to each boundary vertex, the images of
+    /// valence-2 vertices ([`Self::for_sharp_dual_split`] without tags).
+    pub fn for_dual_split(t: &subdiv_mesh::Topology, prov: &subdiv_mesh::refine::DualProvenance) -> Self {
+        let site = |v: VertexId| {
+            if t.is_isolated(v) {
+                DualLimitSite::Isolated
+            } else if t.is_boundary_vertex(v) {
+                let (a, b) = chaikin_pair(t, prov, v);
+                DualLimitSite::SharpMidpoint(a, b)
+            } else if let Some(f) = prov.vertex_face[v.index()] {
+                DualLimitSite::FaceCentroid(f)
+            } else {
+                let c = doo_sabin::valence_two_corners(t, v).expect("an interior vertex without V-face has valence 2");
+                DualLimitSite::ValenceTwoEdge(VertexId(c[0].0 .0), VertexId(c[1].0 .0))
+            }
+        };
+        LimitAssociation::DualSites(t.vertices().map(site).collect())
+    }
 
-/// The limit point of the control-mesh edge a → b, a half-edge of a's fan
-/// (`None` if there is none: the control mesh is not what the association
-/// was made for).
-fn edge_limit(c: &Mesh, a: VertexId, b: VertexId) -> Option<DVec3> {
-    let t = c.topology();
-    let h = *t.vertex_fan(a).iter().find(|&&h| t.he_to(h) == b)?;
-    Some(doo_sabin::edge_limit_point(t, h, c.positions()))
+    /// The association of a Doo-Sabin first refined mesh M¹ with the
+    /// infinitely sharp creases and corners of `tags`, `dual_split_tagged(t,
+    /// tags)` with provenance `prov` (`subdiv_stencil::doo_sabin_limit_sites`).
+    ///
+    /// # Errors
+    /// [`StencilError::SemiSharpDooSabin`] for a semi-sharp tag.
+    pub fn for_sharp_dual_split(
+        t: &subdiv_mesh::Topology,
+        tags: &subdiv_mesh::Tags,
+        prov: &subdiv_mesh::refine::SharpDualProvenance,
+    ) -> Result<Self, StencilError> {
+        Ok(LimitAssociation::DualSites(doo_sabin_limit_sites(t, tags, prov)?))
+    }
 }
 
 /// How the solve went.
@@ -223,17 +241,10 @@ impl Interpolant {
         let t = c.topology();
         match (&self.association, self.scheme) {
             (LimitAssociation::Interpolatory, _) => c.positions()[..input_vertices].to_vec(),
-            (LimitAssociation::DualFace { v_face, boundary_pair, corner_point, valence_two }, _) => (0..input_vertices)
-                .map(|i| match (v_face[i], boundary_pair[i], valence_two[i]) {
-                    _ if corner_point.get(i).is_some_and(Option::is_some) => {
-                        c.position(corner_point[i].expect("checked"))
-                    }
-                    (_, Some((a, b)), _) => (c.position(a) + c.position(b)) / 2.0,
-                    (Some(f), None, _) => c.face_centroid(f),
-                    (None, None, Some((a, b))) => edge_limit(&c, a, b).unwrap_or(DVec3::NAN),
-                    // Isolated: no face, no limit point.
-                    (None, None, None) => DVec3::NAN,
-                })
+            (LimitAssociation::DualSites(sites), _) => sites[..input_vertices]
+                .iter()
+                // Isolated: no face, no limit point.
+                .map(|site| site.point(t, c.positions()).unwrap_or(DVec3::NAN))
                 .collect(),
             (LimitAssociation::ControlVertex, scheme) => {
                 // A control mesh the rules refuse (a method's bug) has no

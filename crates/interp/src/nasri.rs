@@ -25,12 +25,24 @@
 //!   not of the symmetric Circ form, so with such vertices the interior
 //!   block is nonsymmetric and the automatic solver choice takes GMRES
 //!   instead of CG.
+//! - Creases and corners (beyond the paper): the input's infinitely sharp
+//!   tags are Doo-Sabin creases of M⁰ (`subdiv_stencil::doo_sabin`, "Creases
+//!   and corners"), and C's rows are the limit points of that surface
+//!   (`subdiv_stencil::limit_matrix_doo_sabin_sharp`): crease vertices the
+//!   quadratic B-spline of the crease polygon, (B₋ + 6V + B₊)/8 (clamped next
+//!   to a corner), corners fixed, darts the centroid of their one V-face.
+//!   Solved corners first, then the crease polygons (symmetric, spectrum in
+//!   [½, 1]), then the interior (symmetric unless darts or valence-2
+//!   vertices add general rows: GMRES then). The control mesh M⁰ keeps the
+//!   input's tags and texture coordinates. Semi-sharp values have no
+//!   Doo-Sabin meaning and are refused.
 
 use crate::system::interpolate_on_input_topology;
 use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method};
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
-use subdiv_stencil::limit_matrix_nasri;
+use subdiv_stencil::doo_sabin::CornerRule;
+use subdiv_stencil::limit_matrix_doo_sabin_sharp;
 
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -43,7 +55,8 @@ pub struct NasriOptions {
 ///
 /// # Errors
 /// As every method ([`crate`] docs, "The numeric rule"); [`InterpError::Solve`]
-/// when the solver fails.
+/// when the solver fails; [`InterpError::Stencil`] with
+/// `StencilError::SemiSharpDooSabin` for a semi-sharp tag.
 pub fn interpolate(mesh: &Mesh, opts: &NasriOptions) -> Result<Interpolant, InterpError> {
     crate::numeric::run(Method::Nasri, mesh, Some(&opts.common), |mesh, interpolated| {
         interpolate_prepared(mesh, interpolated, opts)
@@ -57,7 +70,7 @@ pub(crate) fn interpolate_prepared(
     opts: &NasriOptions,
 ) -> Result<Interpolant, InterpError> {
     let start = std::time::Instant::now();
-    let c = limit_matrix_nasri(mesh.topology());
+    let c = limit_matrix_doo_sabin_sharp(mesh.topology(), CornerRule::Standard, mesh.tags())?;
     let setup = seconds_since(start);
     interpolate_on_input_topology(
         Method::Nasri,

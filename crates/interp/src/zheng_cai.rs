@@ -36,7 +36,7 @@
 //!    vertex, so the order does not matter.
 //! 5. Shape handles (§4.2, Brunet): W'_k = I + S_k(W_k − I), a homothety
 //!    about the centroid, which keeps the centroid and the plane.
-//! 6. Output M¹ with [`LimitAssociation::DualFace`]. In the
+//! 6. Output M¹ with [`LimitAssociation::DualSites`]. In the
 //!    [`SolveSummary`], `history` is the **max update / d of every sweep**
 //!    (the paper's stopping quantity), `residual` the final
 //!    max |I − Z·M⁰| / d over SI (what the perturbation had to correct), and
@@ -115,7 +115,8 @@ use glam::DVec3;
 use subdiv_mesh::{newell_normal, Mesh, Topology, VertexId};
 use subdiv_solve::{SolveError, SolveOptions, Solver, SweepOrder};
 use subdiv_stencil::doo_sabin::{self, CornerRule};
-use subdiv_stencil::{limit_matrix_zheng_cai, LimitMatrix};
+use subdiv_mesh::refine::DualFace;
+use subdiv_stencil::{doo_sabin_limit_sites, limit_matrix_doo_sabin_sharp, DualLimitSite, LimitMatrix};
 
 const METHOD: &str = "zheng-cai";
 
@@ -223,7 +224,7 @@ impl Iteration {
 pub fn auxiliary_mesh(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<AuxiliaryMesh, InterpError> {
     check_eps(opts)?;
     let prepared = crate::numeric::prepare(Method::ZhengCai, mesh, Some(&opts.common))?;
-    let z = limit_matrix_zheng_cai(mesh.topology());
+    let z = limit_matrix_doo_sabin_sharp(mesh.topology(), CornerRule::Uniform(EQ4_LAMBDA), mesh.tags())?;
     let mut aux = auxiliary_from(&prepared.mesh, opts, &z, prepared.interpolated.clone())?;
     prepared.map_back("the auxiliary mesh", aux.mesh.positions_mut())?;
     aux.warnings = prepared.warnings;
@@ -366,7 +367,12 @@ fn solver_iterations(
 }
 
 /// Checks normals and handles against the mesh and the subset.
-fn validate(t: &Topology, opts: &ZhengCaiOptions, interpolated: &[bool]) -> Result<(), InterpError> {
+fn validate(
+    t: &Topology,
+    opts: &ZhengCaiOptions,
+    interpolated: &[bool],
+    sites: &[DualLimitSite],
+) -> Result<(), InterpError> {
     let nv = t.vertex_count();
     let bad = |parameter, msg: String| Err(InterpError::invalid(parameter, msg));
     if let Some(normals) = &opts.normals {
@@ -381,10 +387,26 @@ fn validate(t: &Topology, opts: &ZhengCaiOptions, interpolated: &[bool]) -> Resu
             if !interpolated[v] {
                 return bad(format!("vertex {v} has a normal but is not interpolated"));
             }
-            if t.is_boundary_vertex(VertexId(v as u32)) {
-                return bad(format!(
-                    "vertex {v} is on the boundary: zheng-cai prescribes normals at interior vertices only"
-                ));
+            match sites[v] {
+                DualLimitSite::SharpMidpoint(..) if t.is_boundary_vertex(VertexId(v as u32)) => {
+                    return bad(format!(
+                        "vertex {v} is on the boundary: zheng-cai prescribes normals at interior vertices only"
+                    ))
+                }
+                DualLimitSite::SharpMidpoint(..) => {
+                    return bad(format!(
+                        "vertex {v} is on a crease: its limit point lies on the sharp curve, where the surface has \
+                         one tangent plane per side, so zheng-cai cannot prescribe one normal there (leave it out, or \
+                         prescribe the normals of smooth vertices and darts next to it)"
+                    ))
+                }
+                DualLimitSite::Corner(_) => {
+                    return bad(format!(
+                        "vertex {v} is a corner: the surface has no tangent plane there, so zheng-cai cannot \
+                         prescribe its normal"
+                    ))
+                }
+                _ => {}
             }
             if doo_sabin::valence_two_corners(t, VertexId(v as u32)).is_some() {
                 return bad(format!(
@@ -430,34 +452,31 @@ pub(crate) fn interpolate_prepared(
     opts: &ZhengCaiOptions,
 ) -> Result<Interpolant, InterpError> {
     let t = mesh.topology();
-    validate(t, opts, &si)?;
-    // The connectivity of M¹ is needed only from step 4 on: it is built on
-    // one core while the other builds Z and runs steps 1-3 (step 3 evaluated
-    // directly, without building the Eq. (4) stencil).
+    let tags = mesh.tags();
+    // M¹'s connectivity with the creases and corners of the tags (the untagged
+    // split without them), and where each input vertex's limit point sits in it.
+    let ((t1, dual, tags1), topology_seconds) = {
+        let start = std::time::Instant::now();
+        (subdiv_mesh::refine::dual_split_tagged(t, tags), seconds_since(start))
+    };
+    let sites = doo_sabin_limit_sites(t, tags, &dual)?;
+    validate(t, opts, &si, &sites)?;
+    // Z, then steps 1-3 (step 3 evaluated directly, without building the
+    // Eq. (4) stencil).
     let start = std::time::Instant::now();
-    let (refined, steps) = rayon::join(
-        || (subdiv_mesh::refine::dual_split(t), seconds_since(start)),
-        || -> Result<_, InterpError> {
-            let z = limit_matrix_zheng_cai(t);
-            let operators_seconds = seconds_since(start);
-            let solve_start = std::time::Instant::now();
-            // Steps 1-2, then step 3: M¹ = Eq. (4) step of M⁰.
-            let aux = auxiliary_from(mesh, opts, &z, si)?;
-            let W = doo_sabin::first_step(t, CornerRule::Uniform(EQ4_LAMBDA), aux.mesh.positions())?;
-            Ok((aux, W, operators_seconds, seconds_since(solve_start)))
-        },
-    );
-    let ((t1, dual), topology_seconds) = refined;
-    let (aux, mut W, operators_seconds, steps_seconds) = steps?;
-    // Setup: Z and M¹'s connectivity (side by side, so the longer of the two
-    // branches); solve: steps 1-3 above and steps 4-5 below.
-    let setup_seconds = operators_seconds.max(topology_seconds);
+    let z = limit_matrix_doo_sabin_sharp(t, CornerRule::Uniform(EQ4_LAMBDA), tags)?;
+    let operators_seconds = seconds_since(start);
+    let solve_start = std::time::Instant::now();
+    // Steps 1-2, then step 3: M¹ = Eq. (4) step of M⁰.
+    let aux = auxiliary_from(mesh, opts, &z, si)?;
+    let mut W = doo_sabin::first_step_tagged(t, tags, CornerRule::Uniform(EQ4_LAMBDA), aux.mesh.positions())?;
+    let steps_seconds = seconds_since(solve_start);
+    // Setup: Z and M¹'s connectivity; solve: steps 1-3 above and 4-5 below.
+    let setup_seconds = operators_seconds + topology_seconds;
     let solve_start = std::time::Instant::now();
     let SI = &aux.interpolated;
     let mut warnings = Vec::new();
     let I = mesh.positions();
-    let boundary_pair: Vec<Option<(VertexId, VertexId)>> =
-        t.vertices().map(|v| t.is_boundary_vertex(v).then(|| crate::interpolant::chaikin_pair(t, &dual, v))).collect();
     // Step 4 at interior vertices needs each V-face's centroid W_c and normal.
     // Its corners are W_k = λV + (1 − λ)c_f over v's faces f (step 3), so
     // W_c = λV + (1 − λ)·mean(c_f), and the V-face is a scaled copy of the
@@ -468,16 +487,33 @@ pub(crate) fn interpolate_prepared(
     let V = aux.mesh.positions();
     let centroids = aux.mesh.face_centroids();
     let mut frame: Vec<Option<(DVec3, DVec3)>> = vec![None; t.vertex_count()];
+    let mut darts = Vec::new(); // (vertex, V-face) of darts: their V-face has a sharp point
+    let corner_images = t.half_edge_count();
     let mut ring = Vec::new(); // v's face centroids in fan order
     for v in t.vertices().filter(|v| SI[v.index()]) {
         let i = v.index();
-        if let Some((a, b)) = boundary_pair[i] {
-            // Open meshes: the limit point is the midpoint of the two Chaikin points;
-            // Eq. (9)'s minimal perturbation of that pair: both move by I − midpoint.
-            let eps = I[i] - (W[a.index()] + W[b.index()]) / 2.0;
-            W[a.index()] += eps;
-            W[b.index()] += eps;
-            continue;
+        match sites[i] {
+            DualLimitSite::SharpMidpoint(a, b) => {
+                // Boundaries and creases: the limit point is the midpoint of the two sharp
+                // points (Chaikin's, or a clamped one next to a corner), which belong to v
+                // alone; Eq. (9)'s minimal perturbation of that pair: both move by I − midpoint.
+                let eps = I[i] - (W[a.index()] + W[b.index()]) / 2.0;
+                W[a.index()] += eps;
+                W[b.index()] += eps;
+                continue;
+            }
+            // A corner keeps its point: it is the data.
+            DualLimitSite::Corner(c) => {
+                W[c.index()] = I[i];
+                continue;
+            }
+            DualLimitSite::FaceCentroid(f) if t1.face(f).iter().any(|&k| k as usize >= corner_images) => {
+                darts.push((i, f));
+                continue;
+            }
+            DualLimitSite::FaceCentroid(_) => {}
+            // Valence 2 (below) and isolated vertices have no V-face.
+            DualLimitSite::ValenceTwoEdge(..) | DualLimitSite::Isolated => continue,
         }
         ring.clear();
         ring.extend(t.vertex_fan(v).iter().map(|&h| centroids[t.he_face(h).index()]));
@@ -497,11 +533,32 @@ pub(crate) fn interpolate_prepared(
             W[k] = I[v as usize] + (w - w.dot(n) * n);
         }
     }
+    // Darts: the same perturbation on the V-face itself (its corner images and
+    // the crease's point next to the dart, which no other V-face has).
+    for &(i, f) in &darts {
+        let face = t1.face(f);
+        let W_c = face.iter().map(|&k| W[k as usize]).sum::<DVec3>() / face.len() as f64;
+        let given = opts.normals.as_ref().and_then(|n| n[i]);
+        let n = unit_direction(given.unwrap_or_else(|| newell_normal(face.iter().map(|&k| W[k as usize]))))
+            .unwrap_or(DVec3::ZERO);
+        for &k in face {
+            let w = W[k as usize] - W_c;
+            W[k as usize] = I[i] + (w - w.dot(n) * n); // Eq. (17), as above
+        }
+    }
     let mut handles_applied = 0;
     if let Some(handles) = &opts.handles {
+        // The V-faces of every vertex: one per sector (two on a crease).
+        let mut v_faces: Vec<Vec<u32>> = vec![Vec::new(); t.vertex_count()];
+        for (f, origin) in dual.face_origin.iter().enumerate() {
+            if let DualFace::V(v) = origin {
+                v_faces[v.index()].push(f as u32);
+            }
+        }
+        let mut points = Vec::new();
         for v in t.vertices().filter(|v| handles[v.index()] != 1.0) {
             let i = v.index();
-            let Some(f) = dual.vertex_face[i] else {
+            if v_faces[i].is_empty() {
                 if let Some(c) = doo_sabin::valence_two_corners(t, v) {
                     // Valence 2: scale the two images about their midpoint (keeps L).
                     let (a, b) = (c[0].0.index(), c[1].0.index());
@@ -513,15 +570,15 @@ pub(crate) fn interpolate_prepared(
                     warnings.push(format!("vertex {v} has no V-face (isolated): its shape handle has no effect"));
                 }
                 continue;
-            };
-            let face = t1.face(f);
+            }
             // The homothety's centre: the vertex's limit point, I after step 4.
-            let centre = match boundary_pair[i] {
-                Some((a, b)) => (W[a.index()] + W[b.index()]) / 2.0,
-                None => face.iter().map(|&k| W[k as usize]).sum::<DVec3>() / face.len() as f64,
-            };
-            let centre = if SI[i] { I[i] } else { centre };
-            for &k in face {
+            let centre = if SI[i] { I[i] } else { sites[i].point(&t1, &W).expect("a vertex with a V-face") };
+            // Every point of its V-faces once (two sectors share the crease's points).
+            points.clear();
+            v_faces[i].iter().for_each(|&f| points.extend_from_slice(t1.face(subdiv_mesh::FaceId(f))));
+            points.sort_unstable();
+            points.dedup();
+            for &k in &points {
                 W[k as usize] = centre + handles[i] * (W[k as usize] - centre); // §4.2: W' = D + S(W − D)
             }
             handles_applied += 1;
@@ -551,18 +608,26 @@ pub(crate) fn interpolate_prepared(
         serde_json::json!({ "count": handles_applied, "min": lo, "max": hi })
     });
     parameters.insert("handles".into(), handles.unwrap_or(serde_json::Value::Null));
+    let sharp = opts.common.surface.sharpness(tags);
+    let uvs = crate::interpolant::carry_uvs(
+        mesh,
+        &sharp,
+        &t1,
+        subdiv_stencil::Scheme::DooSabin,
+        opts.common.surface.fvar,
+        &mut warnings,
+    );
+    let control = Mesh::from_topology(t1, W)
+        .with_tags(tags1)
+        .with_uvs(uvs)
+        .expect("the refined channel has one value per corner of M¹");
     Ok(Interpolant {
         surface_options: opts.common.surface,
         method: Method::ZhengCai,
-        control: Mesh::from_topology(t1, W),
+        control,
         scheme: ControlScheme::DooSabin,
         interpolated: aux.interpolated,
-        association: LimitAssociation::DualFace {
-            v_face: dual.vertex_face,
-            boundary_pair,
-            corner_point: Vec::new(),
-            valence_two: crate::interpolant::valence_two_images(t),
-        },
+        association: LimitAssociation::DualSites(sites),
         solve: Some(aux.summary),
         setup_seconds,
         solve_seconds,

@@ -84,8 +84,10 @@
 //! different faces, so across a seam they would mix values of two charts: a
 //! channel with seams is refused ([`FVarError::Seam`]). The dual split has no
 //! vertex rules to make linear, so every mode gives the same values. Deng-Ma
-//! (interpolatory, geometric tension) is refused
-//! ([`FVarError::SchemeNotSupported`]).
+//! (interpolatory, geometric tension: a rule for positions only) refines on
+//! Catmull-Clark's split, and its channel takes Catmull-Clark's rules in the
+//! chosen mode: the texture coordinates of a Deng-Ma surface are a smooth (or,
+//! under `linear-all`, bilinear) parametrisation of it, seams kept.
 //!
 //! # Deviations from OpenSubdiv
 //!
@@ -204,7 +206,8 @@ pub enum FVarError {
 /// [`FVarError::Channel`] when `channel` does not fit `parent`,
 /// [`FVarError::Stencil`] with [`StencilError::NotTriangles`] for Loop on a
 /// non-triangle, [`FVarError::Seam`] for Doo-Sabin with seams,
-/// [`FVarError::SchemeNotSupported`] for Deng-Ma and for Doo-Sabin with tags.
+/// [`FVarError::SchemeNotSupported`] for Doo-Sabin with tags. Deng-Ma's
+/// channel follows Catmull-Clark's rules on the same split.
 ///
 /// # Panics
 /// If `child` does not have the counts of the scheme's split of `parent` (a
@@ -231,12 +234,11 @@ pub fn refine(
             })
         }
         Scheme::DooSabin => return refine_dual(parent, child, channel),
-        Scheme::DengMa(_) => {
-            return Err(FVarError::SchemeNotSupported {
-                scheme: scheme.name(),
-                reason: "its tension is geometric, so it has no rule for values other than positions",
-            })
-        }
+        // Deng-Ma refines on Catmull-Clark's connectivity (`quad_split`) and
+        // its tension is geometric, a rule for positions only: the channel
+        // takes Catmull-Clark's face-varying rules on the same split (a
+        // parametrisation of the surface, which need not interpolate).
+        Scheme::DengMa(_) => Primal::CatmullClark,
     };
     let (nv, nf, ne) = (parent.vertex_count(), parent.face_count(), parent.edge_count());
     let expected = match primal {

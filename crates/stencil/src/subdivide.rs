@@ -347,7 +347,7 @@ fn copies_input(scheme: Scheme, levels: usize, limit: bool) -> bool {
 /// As [`SubdivisionPlan::new`]; [`StencilError::NotRepresentable`] when an
 /// output coordinate is not a finite f64 (the surface leaves the range of f64);
 /// [`StencilError::FaceVarying`] when the scheme cannot refine the mesh's
-/// texture coordinates (Deng-Ma; Doo-Sabin with seams or tags).
+/// texture coordinates (Doo-Sabin with seams or tags).
 pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
     let options = options.into();
     options.validate()?;
