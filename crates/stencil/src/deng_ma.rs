@@ -1,5 +1,5 @@
 //! The Deng-Ma interpolatory step (Deng & Ma 2011 §3.3-3.4, ERRATA D2, D5),
-//! on closed and open meshes.
+//! on closed and open meshes, with infinitely sharp creases and corners.
 //!
 //! At every old vertex P with Doo-Sabin images Qᵢ (one per face) and their
 //! centroid G, the moved vertices are Q̄ᵢ = P + ω_P(Qᵢ − G); the new face point
@@ -18,6 +18,57 @@
 //! taken about G = (P₋ + 6P + P₊)/8 (P at a corner) instead of the centroid
 //! of its images; face points and interior edge points are then the report's
 //! centroids.
+//!
+//! # Creases and corners
+//!
+//! The same rule on the **sharp polygon**, the boundary edges and the edges of
+//! sharpness ≥ 10 (construction and why: `subdiv_rules::deng_ma`, "Creases and
+//! corners"). Each vertex gets a place from the level's [`LevelSharpness`]:
+//! a *corner* (corner sharpness ≥ 10 — a tag, or a one-face boundary vertex
+//! under `edge-and-corner`, exactly the open-mesh corner — or three or more
+//! sharp edges), a *crease vertex* (two sharp edges; every other boundary
+//! vertex), a *dart* (one) or *smooth*. Then:
+//!
+//! 1. a sharp edge's point is the 4-point point of its piece of the sharp
+//!    polygon, cut at corners and darts (phantom beyond them), closed loops
+//!    without them periodic: the boundary rule, read off the sharp polygon;
+//! 2. a crease vertex's images, in all its faces, are moved about
+//!    (P₋ + 6P + P₊)/8, its two sharp neighbours P±; a corner's about P; a
+//!    smooth vertex's and a dart's about their centroid;
+//! 3. with the variable tension, the images in each *sector* (faces between
+//!    two consecutive sharp edges) take the open-mesh ω_P of that sector alone,
+//!    so a crease vertex is on each side what a boundary vertex of the cut
+//!    mesh would be;
+//! 4. the refined level's sharpness is [`LevelSharpness`]'s refinement on the
+//!    quad split: the halves of sharp edges stay infinitely sharp, corner
+//!    tags stay, so sharp edge points are crease vertices of the next level.
+//!
+//! A crease thus refines exactly as the mesh cut along it (each side an open
+//! mesh, the sides sharing the crease's 4-point points), and the sharp
+//! polygon of level k is the input's refined k times by the 4-point rule
+//! (`tests/deng_ma_creases.rs`). Without tags the sharp polygon is the
+//! boundary and every point is the open-mesh rule's, bit for bit, under
+//! `edge-and-corner`; under `edge-only` (and `none`) a one-face boundary
+//! vertex is a crease vertex, no corner. Semi-sharp values (0 < s < 10) are
+//! refused: [`StencilError::SemiSharpDengMa`], naming the element.
+//!
+//! ```
+//! use subdiv_mesh::{shapes, EdgeTag, TagList, Tags, SHARPNESS_INFINITE};
+//! use subdiv_stencil::{subdivide, Options, Scheme, Tension};
+//! // The cube's top loop (z = 1) creased: it stays a planar curve, the top flat.
+//! let cube = shapes::cube();
+//! let creases = [(4, 5), (5, 7), (7, 6), (6, 4)].map(|(a, b)| EdgeTag { a, b, sharpness: SHARPNESS_INFINITE });
+//! let tags = Tags::from_list(cube.topology(), &TagList { creases: creases.to_vec(), corners: vec![] }).unwrap();
+//! let options = Options::new(Scheme::DengMa(Tension::default()));
+//! let refined = subdivide(&cube.with_tags(tags), options, 3, false).unwrap();
+//! let t = refined.topology();
+//! let crease: Vec<_> = t.edges().filter(|&e| refined.tags().edge_sharpness(e) >= SHARPNESS_INFINITE).collect();
+//! assert_eq!(crease.len(), 4 * 8);
+//! for e in crease {
+//!     let (a, b) = t.edge_vertices(e);
+//!     assert!([a, b].iter().all(|v| (refined.position(*v).z - 1.0).abs() < 1e-15));
+//! }
+//! ```
 //!
 //! **The exception to "one sparse product".** With a global ω the step is
 //! linear and [`stencil`] gives its matrix. The displacement-safe variable ω_P
@@ -218,8 +269,9 @@ pub fn step_positions(t: &Topology, positions: &[DVec3], tension: Tension) -> Re
 /// The positions of one Deng-Ma step with the creases and corners of
 /// `sharp` (module docs), numbered as [`quad_split`] numbers the refined
 /// vertices (old vertices, face points, edge points). Old vertices are
-/// copied bit for bit. The refined level's sharpness is
-/// `sharp.refine`'s on the quad split, which [`crate::subdivide`] carries.
+/// copied bit for bit. The refined level's sharpness (halves of sharp edges
+/// infinitely sharp, corner tags kept) is the one [`SchemeRules::split`]
+/// gives and [`crate::subdivide()`] carries.
 ///
 /// # Errors
 /// [`StencilError::InvalidParameter`] for ω or λ outside (0, 1],
