@@ -943,7 +943,7 @@ fn tension() -> impl Strategy<Value = Tension> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
     /// Random shapes, mixed into polygons, with random infinitely sharp
     /// edges (10 or +∞) and corners: never a panic or an error, old vertices
@@ -971,6 +971,46 @@ proptest! {
         let levels = if t.face_count() > 60 { 2 } else { 3 };
         if let Err(e) = check_levels(&format!("{shape:?}"), &mesh.with_tags(tags), tension, levels) {
             return Err(TestCaseError::fail(e));
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+
+    /// A semi-sharp value on a random edge or vertex: the typed refusal
+    /// where the rules would see it (an interior edge, a vertex that is not
+    /// a one-face boundary corner already), else the surface of the tag
+    /// left out; never a panic.
+    #[test]
+    fn random_semi_sharp_tags_are_refused_or_inert(
+        shape in shape(),
+        pick in any::<prop::sample::Index>(),
+        on_edge in any::<bool>(),
+        sharpness in 0.01f32..9.99,
+        tension in tension(),
+    ) {
+        let mesh = shape.mesh();
+        let t = mesh.topology();
+        let (mut edges, mut vertices) = (vec![0.0f32; t.edge_count()], vec![0.0f32; t.vertex_count()]);
+        let seen = if on_edge {
+            let e = subdiv_mesh::EdgeId(pick.index(t.edge_count()) as u32);
+            edges[e.index()] = sharpness;
+            !t.is_boundary_edge(e)
+        } else {
+            let v = VertexId(pick.index(t.vertex_count()) as u32);
+            vertices[v.index()] = sharpness;
+            !(t.is_boundary_vertex(v) && t.vertex_face_count(v) == 1)
+        };
+        let tagged = mesh.clone().with_tags(Tags::from_arrays(t, edges, vertices).unwrap());
+        match subdivide(&tagged, deng_ma(tension), 2, false) {
+            Err(StencilError::SemiSharpDengMa { sharpness: s, .. }) => prop_assert!(seen && s == sharpness),
+            Err(e) => prop_assert!(false, "unexpected error {e}"),
+            Ok(out) => {
+                prop_assert!(!seen);
+                let plain = subdivide(&mesh, deng_ma(tension), 2, false).unwrap();
+                prop_assert_eq!(hash(out.positions()), hash(plain.positions()));
+            }
         }
     }
 }
