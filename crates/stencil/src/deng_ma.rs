@@ -178,17 +178,6 @@ fn place(t: &Topology, sharp: &LevelSharpness, v: VertexId) -> Place {
     }
 }
 
-/// The places of all vertices of a level.
-fn places(t: &Topology, sharp: &LevelSharpness) -> Vec<Place> {
-    let mut out = vec![Place::Smooth; t.vertex_count()];
-    fill_in_chunks(&mut out, |first, chunk| {
-        for (k, p) in chunk.iter_mut().enumerate() {
-            *p = place(t, sharp, VertexId((first + k) as u32));
-        }
-    });
-    out
-}
-
 /// The positions of a vertex's neighbours along the sharp polygon, as the
 /// rules of `subdiv_rules::deng_ma` take them (`None` at a piece end).
 fn curve_neighbours(place: Place, x: &[DVec3]) -> Option<([f64; 3], [f64; 3])> {
@@ -236,9 +225,9 @@ impl Outer {
 /// ends a, b and their outer neighbours a₋ (before a) and b₊ (after b). A
 /// corner or a dart ends the piece, and beyond it stands the linear phantom
 /// 2a − b (or 2b − a), the open end rule of `subdiv_rules::curves::four_point`.
-fn curve_stencil(t: &Topology, places: &[Place], h: HalfEdgeId) -> (VertexId, VertexId, Outer, Outer) {
+fn curve_stencil(t: &Topology, sharp: &LevelSharpness, h: HalfEdgeId) -> (VertexId, VertexId, Outer, Outer) {
     let (a, b) = (t.he_from(h), t.he_to(h));
-    let outer = |end: VertexId, other: VertexId| match places[end.index()] {
+    let outer = |end: VertexId, other: VertexId| match place(t, sharp, end) {
         Place::Crease { prev, next } => Outer::Vertex(if prev == other { next } else { prev }),
         _ => Outer::Phantom { end, other },
     };
@@ -288,7 +277,6 @@ pub fn step_positions_tagged(
     check_tension(tension)?;
     check_sharpness(t, sharp)?;
     assert_eq!(positions.len(), t.vertex_count(), "one point per vertex");
-    let places = places(t, sharp);
     // §3.3 step 1: the Doo-Sabin images Q of every corner (the first H points
     // of a Doo-Sabin step; its boundary Chaikin points are not used).
     let images = first_step(t, CornerRule::Standard, positions)?;
@@ -299,7 +287,7 @@ pub fn step_positions_tagged(
         let mut scratch = Scratch::default();
         for (k, c) in chunk.iter_mut().enumerate() {
             let v = VertexId((first + k) as u32);
-            *c = centre(t, sharp, v, places[v.index()], positions, &images, tension, &mut scratch);
+            *c = centre(t, sharp, v, positions, &images, tension, &mut scratch);
         }
     });
     let mut moved = vec![DVec3::ZERO; t.half_edge_count()];
@@ -310,7 +298,7 @@ pub fn step_positions_tagged(
             let v = t.he_from(h);
             let c = centres[v.index()];
             let omega = if c.sectors {
-                sector_omega(t, sharp, v, h, places[v.index()], positions, &images, c.g, tension, &mut scratch)
+                sector_omega(t, sharp, v, h, positions, &images, c.g, tension, &mut scratch)
             } else {
                 c.omega
             };
@@ -337,7 +325,7 @@ pub fn step_positions_tagged(
                 Some(g) if !is_sharp_edge(t, sharp, e) => {
                     e_face_corners(t, h, g).iter().map(|c| moved[c.index()]).sum::<DVec3>() / 4.0
                 }
-                _ => sharp_edge_point(t, &places, h, positions, tension, &centres),
+                _ => sharp_edge_point(t, sharp, h, positions, tension, &centres),
             };
         }
     });
@@ -383,7 +371,6 @@ fn centre(
     t: &Topology,
     sharp: &LevelSharpness,
     v: VertexId,
-    at: Place,
     positions: &[DVec3],
     images: &[DVec3],
     tension: Tension,
@@ -394,6 +381,7 @@ fn centre(
         return Centre::default(); // isolated: no corners, nothing moves
     }
     let p = positions[v.index()];
+    let at = place(t, sharp, v);
     let mut gather = || {
         ring.clear();
         ring.extend(t.vertex_neighbors(v).map(|e| positions[e.index()].to_array()));
@@ -438,7 +426,6 @@ fn sector_omega(
     sharp: &LevelSharpness,
     v: VertexId,
     h: HalfEdgeId,
-    at: Place,
     positions: &[DVec3],
     images: &[DVec3],
     g: DVec3,
@@ -470,7 +457,7 @@ fn sector_omega(
     qs.clear();
     qs.extend((0..m).map(|i| images[fan[(start + i) % n].index()].to_array()));
     let p = positions[v.index()].to_array();
-    tension.boundary_omega(p, curve_neighbours(at, positions), ring, qs, g.to_array())
+    tension.boundary_omega(p, curve_neighbours(place(t, sharp, v), positions), ring, qs, g.to_array())
 }
 
 /// The new point of sharp half-edge `h`: the 4-point rule along its piece of
@@ -478,13 +465,13 @@ fn sector_omega(
 /// phantom beyond a corner or a dart.
 fn sharp_edge_point(
     t: &Topology,
-    places: &[Place],
+    sharp: &LevelSharpness,
     h: HalfEdgeId,
     positions: &[DVec3],
     tension: Tension,
     centres: &[Centre],
 ) -> DVec3 {
-    let (a, b, before, after) = curve_stencil(t, places, h);
+    let (a, b, before, after) = curve_stencil(t, sharp, h);
     let (pa, pb) = (positions[a.index()], positions[b.index()]);
     let (before, after) = (before.point(positions), after.point(positions));
     let (wa, wb) = (centres[a.index()].curve_tension, centres[b.index()].curve_tension);
@@ -516,7 +503,6 @@ pub fn stencil(t: &Topology, omega: f64) -> Result<SparseMatrix, StencilError> {
 pub fn stencil_tagged(t: &Topology, sharp: &LevelSharpness, omega: f64) -> Result<SparseMatrix, StencilError> {
     check_tension(Tension::Global(omega))?;
     check_sharpness(t, sharp)?;
-    let places = places(t, sharp);
     let ds = doo_sabin_stencil(t, CornerRule::Standard)?;
     // Row of Q̄_h = P_v + ω(Q_h − G_v): G_v the mean of Q over v's corners
     // (smooth vertices and darts), (P₋ + 6P + P₊)/8 on the sharp polygon, P
@@ -532,7 +518,7 @@ pub fn stencil_tagged(t: &Topology, sharp: &LevelSharpness, omega: f64) -> Resul
             }
         };
         add_q(rows, h, scale * omega);
-        match places[v.index()] {
+        match place(t, sharp, v) {
             Place::Smooth | Place::Dart => {
                 for &c in fan {
                     add_q(rows, c, -scale * omega / fan.len() as f64);
@@ -569,7 +555,7 @@ pub fn stencil_tagged(t: &Topology, sharp: &LevelSharpness, omega: f64) -> Resul
             }
             _ => {
                 // (½+ω)(Pᵢ + Pᵢ₊₁) − ω(Pᵢ₋₁ + Pᵢ₊₂), phantoms expanded.
-                let (a, b, before, after) = curve_stencil(t, &places, h);
+                let (a, b, before, after) = curve_stencil(t, sharp, h);
                 rows.add(a.0, 0.5 + w);
                 rows.add(b.0, 0.5 + w);
                 before.add_to(&mut rows, -w);
