@@ -116,10 +116,9 @@ pub fn check_sharpness(t: &Topology, sharp: &LevelSharpness) -> Result<(), Stenc
 /// Where a vertex sits on the sharp polygon (boundary edges and infinitely
 /// sharp creases), which decides its centre G and how the pieces of the
 /// sharp polygon end (module docs, "Creases and corners").
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Place {
     /// No sharp edge (or isolated): G is the centroid of its images.
-    #[default]
     Smooth,
     /// One sharp edge: G is the centroid of its images, as for a smooth
     /// vertex, but the piece of the sharp polygon ends here (linear phantom).
@@ -141,6 +140,8 @@ fn is_sharp_edge(t: &Topology, sharp: &LevelSharpness, e: EdgeId) -> bool {
     is_infinite(sharp.edge(t, e))
 }
 
+/// The [`Place`] of vertex `v` at this level: its corner sharpness, then its
+/// number of sharp edges (untagged: the boundary alone, as before tags).
 fn place(t: &Topology, sharp: &LevelSharpness, v: VertexId) -> Place {
     if t.is_isolated(v) {
         return Place::Smooth;
