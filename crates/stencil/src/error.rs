@@ -52,6 +52,20 @@ pub enum StencilError {
         /// Its sharpness.
         sharpness: f32,
     },
+    /// A tag with semi-sharp sharpness (0 < s < 10) on a Deng-Ma mesh:
+    /// the interpolatory scheme keeps infinitely sharp creases and corners
+    /// only (the 4-point rule along them has no semi-sharp blend).
+    #[error(
+        "deng-ma cannot take these tags: {what} has sharpness {sharpness}, but Deng-Ma creases and corners \
+         are infinitely sharp only (0 or ≥ 10); use sharpness ≥ 10, or a Catmull-Clark/Loop method for \
+         semi-sharp creases"
+    )]
+    SemiSharpDengMa {
+        /// The tagged element, e.g. "edge 12 (vertices 3-7)" or "vertex 5".
+        what: String,
+        /// Its sharpness.
+        sharpness: f32,
+    },
     /// The refined mesh would exceed the `u32` index range.
     #[error("the refined mesh would have more than 2³² elements")]
     TooLarge,

@@ -33,10 +33,10 @@ impl Scheme {
     }
 
     /// Whether the scheme takes sharpness tags: Catmull-Clark and Loop take
-    /// every tag (OpenSubdiv's rules), Doo-Sabin infinitely sharp creases and
-    /// corners; Deng-Ma none.
+    /// every tag (OpenSubdiv's rules), Doo-Sabin and Deng-Ma infinitely sharp
+    /// creases and corners (semi-sharp values are refused) — all of them now.
     pub fn takes_tags(&self) -> bool {
-        !matches!(self, Scheme::DengMa(_))
+        true
     }
 }
 

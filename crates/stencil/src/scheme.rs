@@ -25,7 +25,7 @@ pub struct Split {
 /// level `t` (the coarse side of a step).
 pub trait SchemeRules: Sync {
     /// Refuses a mesh or tags the scheme cannot take (Loop on non-triangles,
-    /// semi-sharp tags on Doo-Sabin, tags on Deng-Ma).
+    /// semi-sharp tags on Doo-Sabin and Deng-Ma).
     fn check(&self, t: &Topology, sharp: &LevelSharpness) -> Result<(), StencilError>;
 
     /// The refined connectivity and its sharpness.
