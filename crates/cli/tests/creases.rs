@@ -193,7 +193,7 @@ fn boundary_options_move_the_corners_or_not() {
 }
 
 #[test]
-fn schemes_without_crease_rules_refuse_tags_and_interpolation_drops_them() {
+fn deng_ma_refuses_semi_sharp_tags_and_interpolation_keeps_them() {
     let tagged = case("cube_crease_top_s1", "cube_crease_top_s1.obj");
     let out = out_path("deng-ma-tagged.obj");
     let run = subdiv(&[
@@ -208,14 +208,50 @@ fn schemes_without_crease_rules_refuse_tags_and_interpolation_drops_them() {
     ]);
     assert_no_panic(&run);
     assert_eq!(run.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&run.stderr).contains("cannot take these tags"));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(stderr.contains("infinitely sharp only") && stderr.contains("sharpness 1"), "{stderr}");
     assert!(!out.exists());
-    // interpolate: warns, and the control mesh has no tags (it was solved without them).
+    // Infinitely sharp: Deng-Ma takes them.
+    let all10 = case("cube_crease_all10", "cube_crease_all10.obj");
+    run_ok(&[
+        "subdivide",
+        all10.to_str().unwrap(),
+        "--scheme",
+        "deng-ma",
+        "--levels",
+        "2",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(read(&out).tags.creases.len(), 12 * 4);
+    // interpolate: the control mesh is solved with the tags and written with
+    // them; read back from the file alone, its limit points pass through the data.
     let control = out_path("cheng-tagged.obj");
-    let stderr =
-        run_ok(&["interpolate", tagged.to_str().unwrap(), "--method", "cheng", "-o", control.to_str().unwrap()]);
-    assert!(stderr.contains("tags ignored"), "{stderr}");
-    assert!(read(&control).tags.is_empty());
+    let report = out_path("cheng-tagged.json");
+    let stderr = run_ok(&[
+        "interpolate",
+        tagged.to_str().unwrap(),
+        "--method",
+        "cheng",
+        "-o",
+        control.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert!(!stderr.contains("ignored"), "{stderr}");
+    let written = read(&control);
+    assert_eq!(crease_set(&written).len(), 4);
+    assert_eq!(written.tags.creases.iter().map(|t| t.sharpness).collect::<Vec<_>>(), vec![1.0; 4]);
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(json["input"]["tags"]["creases"], 4);
+    assert_eq!(json["control"]["tags"]["creases"], 4);
+    assert_eq!(json["surface_options"]["crease_method"], "uniform");
+    let data = subdiv_mesh::Mesh::from_soup(read(&tagged)).unwrap().0;
+    let written = subdiv_mesh::Mesh::from_soup(written).unwrap().0;
+    let candidates =
+        subdiv_interp::verify::candidate_limit_points(&written, subdiv_interp::verify::Plain::CatmullClark).unwrap();
+    let gap = subdiv_interp::verify::nearest_gap(data.positions(), &candidates, data.bbox_diagonal());
+    assert!(gap <= 1e-6, "{gap:e}");
 }
 
 #[test]

@@ -34,6 +34,14 @@
 //!   moved images take the smaller of that and §3.4 over its faces.
 //! - The variable tension is nonlinear in the positions; the surface is then
 //!   computed geometrically level by level instead of by a stencil.
+//! - Creases and corners (beyond the report): the input's infinitely sharp
+//!   tags are kept by the control mesh (the input) and refined with the
+//!   surface: every crease polygon is refined by the 4-point curve rule, as
+//!   the boundary (`subdiv_stencil::deng_ma`, "Creases and corners"), so the
+//!   surface passes through the data and is creased along the 4-point curve
+//!   of each crease polygon. Semi-sharp values are refused. The texture
+//!   coordinates of the surface follow Catmull-Clark's face-varying rules
+//!   on the same split (`subdiv_stencil::fvar`).
 //!
 //! ```
 //! use subdiv_interp::{deng_ma, DengMaOptions};
@@ -90,9 +98,12 @@ fn validate(tension: Tension) -> Result<(), InterpError> {
 /// # Errors
 /// [`InterpError::InvalidParameter`] for ω or λ outside (0, 1];
 /// [`InterpError::CoincidentVertices`] and [`InterpError::NotRepresentable`]
-/// for data without a finite, non-zero bounding-box diagonal.
+/// for data without a finite, non-zero bounding-box diagonal;
+/// [`InterpError::Stencil`] with `StencilError::SemiSharpDengMa` for a
+/// semi-sharp tag (Deng-Ma's creases and corners are infinitely sharp).
 pub fn interpolate(mesh: &Mesh, opts: &DengMaOptions) -> Result<Interpolant, InterpError> {
     validate(opts.tension)?;
+    subdiv_stencil::deng_ma::check_sharpness(mesh.topology(), &opts.surface.sharpness(mesh.tags()))?;
     // Nothing is computed from the positions: the method sees them unscaled.
     let prepared = crate::numeric::prepare(Method::DengMa, mesh, None)?.unscaled();
     let mut parameters = serde_json::Map::new();

@@ -140,7 +140,8 @@ pub(crate) fn interpolate_prepared(
     let phase_one = first_step_tagged(t, tags, rule, &solved.x).map_err(bad_shape)?;
     let mut warnings = Vec::new();
     let sharp = opts.common.surface.sharpness(tags);
-    let uvs = crate::interpolant::carry_uvs(mesh, &sharp, &t1, Scheme::DooSabin, opts.common.surface.fvar, &mut warnings);
+    let uvs =
+        crate::interpolant::carry_uvs(mesh, &sharp, &t1, Scheme::DooSabin, opts.common.surface.fvar, &mut warnings);
     let control = Mesh::from_topology(t1, phase_one)
         .with_tags(tags1)
         .with_uvs(uvs)

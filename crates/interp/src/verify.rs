@@ -1,63 +1,86 @@
 //! Checking an interpolant from its control mesh alone (SPEC §6: "anyone can
-//! check it independently"): the candidate limit points a plain scheme
-//! exposes on a control mesh, and the distance from every data point to the
-//! nearest of them. Nothing here knows which method produced the mesh or
-//! which limit point belongs to which vertex.
+//! check it independently"): the candidate limit points a scheme exposes on
+//! a control mesh with its tags (as a file's `t` lines give them), and the
+//! distance from every data point to the nearest of them. Nothing here knows
+//! which method produced the mesh or which limit point belongs to which
+//! vertex.
 
 use crate::numeric::max_nan;
 use glam::DVec3;
 use std::collections::HashMap;
+use subdiv_mesh::refine::DualFeatures;
 use subdiv_mesh::{Mesh, PowerOfTwoScale};
-use subdiv_stencil::{catmull_clark, loop_subdivision, subdivide, LoopBeta, Scheme, StencilError};
+use subdiv_stencil::{subdivide, LoopBeta, Scheme, StencilError, SubdivisionPlan};
 
-/// The plain scheme of a control mesh.
+use crate::SurfaceOptions;
+
+/// The scheme of a control mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Plain {
-    /// Doo-Sabin: after one plain step, every face centroid and every
-    /// boundary-curve point (midpoint of consecutive boundary vertices); if
-    /// the control mesh has interior vertices of valence 2 (which have no
-    /// V-face after one step), also every face centroid after a second step.
+    /// Doo-Sabin (with the control mesh's infinitely sharp creases and
+    /// corners): after one step, every face centroid and every sharp-curve
+    /// point (midpoint of consecutive vertices of the boundary and of the
+    /// refined crease polygons), and every corner; if the control mesh has
+    /// interior vertices of valence 2 (which have no V-face after one step),
+    /// also every face centroid after a second step.
     DooSabin,
-    /// Catmull-Clark: the limit mask at every vertex.
+    /// Catmull-Clark: the limit point of every vertex, with the tags.
     CatmullClark,
-    /// Loop: the limit mask at every vertex.
+    /// Loop: the limit point of every vertex, with the tags.
     Loop(LoopBeta),
     /// An interpolatory scheme: the vertices themselves.
     Interpolatory,
 }
 
-/// Every limit point the plain scheme exposes on `control`, computed on the
-/// control positions scaled by a power of two (exact) so that no sum
-/// overflows, and scaled back.
+/// Every limit point the scheme exposes on `control` with its tags and the
+/// default surface options ([`candidate_limit_points_with`]).
 pub fn candidate_limit_points(control: &Mesh, plain: Plain) -> Result<Vec<DVec3>, StencilError> {
+    candidate_limit_points_with(control, plain, SurfaceOptions::default())
+}
+
+/// Every limit point the scheme exposes on `control` with its tags and
+/// `surface` (boundary option, crease method), computed on the control
+/// positions scaled by a power of two (exact) so that no sum overflows, and
+/// scaled back. Texture coordinates play no part.
+pub fn candidate_limit_points_with(
+    control: &Mesh,
+    plain: Plain,
+    surface: SurfaceOptions,
+) -> Result<Vec<DVec3>, StencilError> {
     let scale = PowerOfTwoScale::normalizing(control.positions().iter().copied());
-    // The plain scheme: positions only, no tags, no texture coordinates.
-    let mut scaled =
-        control.clone().with_tags(subdiv_mesh::Tags::none()).with_uvs(None).expect("no channel is always valid");
+    let mut scaled = control.clone().with_uvs(None).expect("no channel is always valid");
     scale.apply_points(scaled.positions_mut());
-    let mut points = scaled_candidates(&scaled, plain)?;
+    let mut points = scaled_candidates(&scaled, plain, surface)?;
     scale.inverse().apply_points(&mut points);
     Ok(points)
 }
 
-fn scaled_candidates(control: &Mesh, plain: Plain) -> Result<Vec<DVec3>, StencilError> {
-    let t = control.topology();
+fn scaled_candidates(control: &Mesh, plain: Plain, surface: SurfaceOptions) -> Result<Vec<DVec3>, StencilError> {
+    let (t, tags) = (control.topology(), control.tags());
+    let limits = |scheme| {
+        let plan = SubdivisionPlan::with_tags(t, tags, surface.for_scheme(scheme), 0)?;
+        Ok(plan.limit_points(control.positions()).expect("the scheme has limit masks"))
+    };
     Ok(match plain {
-        Plain::CatmullClark => catmull_clark::limit_points(t, control.positions()),
-        Plain::Loop(beta) => loop_subdivision::limit_points(t, beta, control.positions())?,
+        Plain::CatmullClark => limits(Scheme::CatmullClark)?,
+        Plain::Loop(beta) => limits(Scheme::Loop(beta))?,
         Plain::Interpolatory => control.positions().to_vec(),
         Plain::DooSabin => {
             let refined = subdivide(control, Scheme::DooSabin, 1, false)?;
-            let rt = refined.topology();
+            let (rt, rtags) = (refined.topology(), refined.tags());
             let mut points = refined.face_centroids();
             if t.vertices().any(|v| !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2) {
                 points.extend(subdivide(&refined, Scheme::DooSabin, 1, false)?.face_centroids());
             }
-            for lp in rt.boundary_loops() {
-                points.extend(
-                    lp.iter().map(|&h| (refined.position(rt.he_from(h)) + refined.position(rt.he_to(h))) / 2.0),
-                );
+            // The sharp curves: midpoints of the refined boundary and crease edges.
+            let features = DualFeatures::new(rt, rtags);
+            for e in rt.edges().filter(|&e| features.is_sharp(rt, e)) {
+                let (a, b) = rt.edge_vertices(e);
+                points.push((refined.position(a) + refined.position(b)) / 2.0);
             }
+            // Corners keep their point.
+            let features = DualFeatures::new(t, tags);
+            points.extend(t.vertices().filter(|&v| features.is_corner(v)).map(|v| control.position(v)));
             points
         }
     })

@@ -112,10 +112,10 @@ use crate::{
     SolveSummary, SolverChoice,
 };
 use glam::DVec3;
+use subdiv_mesh::refine::DualFace;
 use subdiv_mesh::{newell_normal, Mesh, Topology, VertexId};
 use subdiv_solve::{SolveError, SolveOptions, Solver, SweepOrder};
 use subdiv_stencil::doo_sabin::{self, CornerRule};
-use subdiv_mesh::refine::DualFace;
 use subdiv_stencil::{doo_sabin_limit_sites, limit_matrix_doo_sabin_sharp, DualLimitSite, LimitMatrix};
 
 const METHOD: &str = "zheng-cai";

@@ -192,3 +192,109 @@ fn cheng_honours_the_boundary_option() {
     other.surface_options.boundary = BoundaryInterpolation::EdgeAndCorner;
     assert!(max_rel(&other, &mesh) > 1e-4);
 }
+
+/// The Doo-Sabin methods and Deng-Ma on a tagged mesh, by name.
+fn run_method(method: Method, mesh: &Mesh) -> Result<Interpolant, InterpError> {
+    let common = CommonOptions { tol: 1e-10, ..CommonOptions::default() };
+    match method {
+        Method::Nasri => nasri::interpolate(mesh, &NasriOptions { common }),
+        Method::ZhengCai => zheng_cai::interpolate(mesh, &ZhengCaiOptions { common, ..ZhengCaiOptions::default() }),
+        Method::FanChengLai => {
+            fan_cheng_lai::interpolate(mesh, &FanChengLaiOptions { common, shape: Shape::Uniform(0.4) })
+        }
+        Method::DengMa => deng_ma::interpolate(mesh, &DengMaOptions::default()),
+        Method::Cheng => cheng::interpolate(mesh, &ChengOptions { common }),
+        Method::DengWang => deng_wang::interpolate(mesh, &DengWangOptions { common, ..DengWangOptions::default() }),
+    }
+}
+
+fn plain(method: Method) -> support::Plain {
+    match method {
+        Method::Cheng => support::Plain::CatmullClark,
+        Method::DengWang => support::Plain::Loop(subdiv_stencil::LoopBeta::Warren),
+        Method::DengMa => support::Plain::Interpolatory,
+        _ => support::Plain::DooSabin,
+    }
+}
+
+/// Nasri, Zheng-Cai and Fan-Cheng-Lai: every infinitely sharp case is
+/// interpolated to round-off — measured by the limit sites of the
+/// association and, knowing nothing of the method, by the candidate limit
+/// points of the control mesh with its tags (`verify`); the tags matter
+/// (without them the control mesh misses the data); semi-sharp values are a
+/// typed refusal.
+#[test]
+fn doo_sabin_methods_interpolate_infinitely_sharp_cases() {
+    for method in [Method::Nasri, Method::ZhengCai, Method::FanChengLai] {
+        for (name, mesh, semi) in cases() {
+            let run = run_method(method, &mesh);
+            if semi {
+                match run {
+                    Err(InterpError::Stencil(subdiv_stencil::StencilError::SemiSharpDooSabin { .. })) => continue,
+                    other => panic!("{}, {name}: semi-sharp must be refused, got {other:?}", method.name()),
+                }
+            }
+            let r = run.unwrap_or_else(|e| panic!("{}, {name}: {e}", method.name()));
+            let d = mesh.bbox_diagonal();
+            let err = max_rel(&r, &mesh);
+            assert!(err <= 1e-10, "{}, {name}: error {err:e}", method.name());
+            let candidates = support::candidate_limit_points(&r.control, plain(method));
+            let gap = support::nearest_gap(mesh.positions(), &candidates, d);
+            assert!(gap <= 1e-10, "{}, {name}: nearest candidate {gap:e}·d", method.name());
+            if method == Method::Nasri {
+                assert_same_tags(&r.control, &mesh);
+            } else {
+                // M¹'s tags: the pieces of the refined crease polygons, all infinitely sharp.
+                let tags = r.control.tags();
+                assert!(tags.crease_count() >= mesh.tags().crease_count(), "{name}");
+                assert!(tags.edge_values().iter().all(|&s| s == 0.0 || s >= INF), "{name}");
+            }
+            let untagged = r.control.clone().with_tags(Tags::none());
+            let candidates = support::candidate_limit_points(&untagged, plain(method));
+            let untagged_gap = support::nearest_gap(mesh.positions(), &candidates, d);
+            assert!(untagged_gap > 1e-4, "{}, {name}: the tags make no difference ({untagged_gap:e})", method.name());
+        }
+    }
+}
+
+/// Deng-Ma: the control mesh is the input with its tags; the surface keeps
+/// the input vertices and the crease polygons' curves (and differs from the
+/// untagged surface); semi-sharp values are a typed refusal.
+#[test]
+fn deng_ma_keeps_creases_and_passes_through_the_data() {
+    for (name, mesh, semi) in cases() {
+        let run = deng_ma::interpolate(&mesh, &DengMaOptions::default());
+        if semi {
+            assert!(
+                matches!(run, Err(InterpError::Stencil(subdiv_stencil::StencilError::SemiSharpDengMa { .. }))),
+                "{name}: {run:?}"
+            );
+            continue;
+        }
+        let r = run.unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_same_tags(&r.control, &mesh);
+        let surface = r.surface(3).unwrap();
+        let n = mesh.topology().vertex_count();
+        assert_eq!(&surface.positions()[..n], mesh.positions(), "{name}");
+        assert!(surface.tags().crease_count() >= 8 * mesh.tags().crease_count(), "{name}");
+        let mut plain = r.clone();
+        plain.control = r.control.clone().with_tags(Tags::none());
+        let untagged = plain.surface(3).unwrap();
+        let moved = surface.positions().iter().zip(untagged.positions()).any(|(a, b)| a.distance(*b) > 1e-6);
+        assert!(moved, "{name}: the tags change nothing");
+    }
+}
+
+/// Every method measures the same error from the written control mesh
+/// whichever way it is read: the limit sites / control vertices of the
+/// association ([`Interpolant::error`]) and the nearest candidate limit
+/// point of the tagged control mesh agree.
+#[test]
+fn cheng_control_meshes_pass_the_independent_candidate_check() {
+    for (name, mesh, _) in cases() {
+        let r = cheng::interpolate(&mesh, &ChengOptions::default()).unwrap();
+        let candidates = support::candidate_limit_points(&r.control, plain(Method::Cheng));
+        let gap = support::nearest_gap(mesh.positions(), &candidates, mesh.bbox_diagonal());
+        assert!(gap <= 1e-6, "{name}: {gap:e}");
+    }
+}
