@@ -14,8 +14,24 @@
 //! | [`deng_wang`] | Deng & Wang 2010 | M¹ after a modified first step, Loop |
 //! | [`deng_ma`] | Deng & Ma 2011 | none: the scheme interpolates |
 //!
-//! The error of a result is measured from the control mesh by the plain
-//! scheme's own rules ([`Interpolant::error`]), never from the solver's residual.
+//! The error of a result is measured from the control mesh by the scheme's
+//! own rules with the control mesh's tags ([`Interpolant::error`]), never
+//! from the solver's residual.
+//!
+//! **Sharp features and UVs** (beyond every paper). Every method honours the
+//! creases and corners of its input ([`subdiv_mesh::Mesh::tags`]) under the
+//! surface options of [`CommonOptions::surface`] ([`SurfaceOptions`]:
+//! OpenSubdiv's boundary option, crease method and face-varying mode): its
+//! control mesh, written with its tags, has the data as limit points of
+//! *that* surface (which any OpenSubdiv-based tool reproduces). The solved
+//! methods use the limit matrices with crease, corner and composed rows
+//! (`subdiv_stencil::limit_matrix`), solved block by block — corners, crease
+//! polygons, interior; Deng-Wang solves its first step against the tagged
+//! Loop limit of M¹; Deng-Ma refines crease polygons by its 4-point rule.
+//! Doo-Sabin and Deng-Ma take infinitely sharp tags only (semi-sharp values
+//! are a typed refusal). The control mesh keeps the input's texture
+//! coordinates (refined by one level where it is a first refined mesh), and
+//! [`Interpolant::surface`] refines them with the surface.
 //!
 //! **The numeric rule.** Every method computes on the data scaled by an exact
 //! power of two and maps its result back, and returns it only if every

@@ -86,9 +86,15 @@
 //! form, Loop's L), so its eigenvalues interlace the untagged ones (⊂ [0, 1]
 //! when every valence is ≥ 3), and it is singular only on a kernel vector of
 //! the untagged matrix supported on the smooth vertices alone: the cube's
-//! checkerboard needs every vertex, so any crease or corner makes Cheng's A
-//! on the cube nonsingular. Blocks with general rows have no such bound;
-//! measured nonsingular on every case of `tests/limit_matrices_creases.rs`.
+//! checkerboard needs every vertex, so a crease vertex or a corner makes
+//! Cheng's A on the cube nonsingular (its crease row maps the checkerboard
+//! to ±(4 − 2)/6 ≠ 0). Blocks with general rows have no such bound, and a
+//! **dart** keeps the singularity: the first step maps the checkerboard to 0
+//! (face points, smooth edge points, the dart's crease midpoint and the
+//! valence-3 vertex points all vanish), so the cube with one crease edge is
+//! as singular as the plain cube (`subdiv-interp` tests A·c = 0 itself,
+//! `preconditions::cheng_kernel`). Otherwise measured nonsingular on every
+//! case of `tests/limit_matrices_creases.rs`.
 //! Doo-Sabin's blocks: below.
 //!
 //! **Doo-Sabin with creases and corners** ([`limit_matrix_doo_sabin_sharp`]).
