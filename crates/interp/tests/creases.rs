@@ -298,3 +298,44 @@ fn cheng_control_meshes_pass_the_independent_candidate_check() {
         assert!(gap <= 1e-6, "{name}: {gap:e}");
     }
 }
+
+/// Zheng-Cai near creases: a prescribed normal at a crease vertex or a corner
+/// is refused (the surface has one tangent plane per side there, or none),
+/// at a dart it is the dart's V-face plane; shape handles at crease
+/// vertices, corners and darts scale their V-faces about the data point and
+/// keep the interpolation.
+#[test]
+fn zheng_cai_normals_and_handles_near_creases() {
+    let mesh = torus_case(INF); // ring 0..8 (crease vertices), dart edge 50-58
+    let n = mesh.topology().vertex_count();
+    for (v, what) in [(3usize, "crease"), (50, "dart")] {
+        let mut normals = vec![None; n];
+        normals[v] = Some(DVec3::new(0.3, 0.2, 1.0));
+        let opts = ZhengCaiOptions { normals: Some(normals), ..ZhengCaiOptions::default() };
+        let run = zheng_cai::interpolate(&mesh, &opts);
+        match what {
+            "crease" => {
+                let e = run.expect_err("a normal at a crease vertex is refused");
+                assert!(e.to_string().contains("crease"), "{e}");
+            }
+            _ => {
+                let r = run.unwrap();
+                assert!(max_rel(&r, &mesh) <= 1e-10);
+                let LimitAssociation::DualSites(sites) = &r.association else { panic!() };
+                let subdiv_stencil::DualLimitSite::FaceCentroid(f) = sites[v] else {
+                    panic!("a dart's site is its V-face")
+                };
+                let normal = r.control.face_normal(f).normalize();
+                let given = DVec3::new(0.3, 0.2, 1.0).normalize();
+                assert!(normal.cross(given).length() <= 1e-9, "the dart's V-face is ⟂ the given normal");
+            }
+        }
+    }
+    let cube = tagged(&jittered(&shapes::cube(), 0.1), &[(0, 1, INF), (1, 3, INF)], &[(6, INF)]);
+    let handles = (0..8).map(|i| if i % 2 == 0 { 0.5 } else { 1.8 }).collect();
+    let opts = ZhengCaiOptions { handles: Some(handles), ..ZhengCaiOptions::default() };
+    let r = zheng_cai::interpolate(&cube, &opts).unwrap();
+    assert!(max_rel(&r, &cube) <= 1e-10);
+    let plain = zheng_cai::interpolate(&cube, &ZhengCaiOptions::default()).unwrap();
+    assert!(r.control.positions().iter().zip(plain.control.positions()).any(|(a, b)| a.distance(*b) > 1e-3));
+}
