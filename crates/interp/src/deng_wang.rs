@@ -24,8 +24,11 @@
 //!    ERRATA W4).
 //! 4. Output M¹: the [`triangle_split`] connectivity of the input (old
 //!    vertices keep their indices, then one edge point per edge in edge
-//!    order), scheme Loop(β). Control vertex i of M¹ has input vertex i as
-//!    its plain Loop limit point ([`LimitAssociation::ControlVertex`]).
+//!    order), scheme Loop(β), with the input's tags decayed by one level and
+//!    its UVs refined by one level ("Creases, corners and UVs" below).
+//!    Control vertex i of M¹
+//!    has input vertex i as its Loop limit point with M¹'s tags
+//!    ([`LimitAssociation::ControlVertex`]).
 //!
 //! Steps 2-4 run on the triangulation M⁰ of the input ([`triangulate`]:
 //! every polygon split over its own corners, no vertex added or moved), so
@@ -94,10 +97,84 @@
 //! - Vertex subset (beyond the paper): vertices not interpolated get the
 //!   plain Loop vertex rule (Eq. 1, boundary (p₋ + 6p + p₊)/8); edge points
 //!   are computed by Eq. 9 everywhere.
-//! - Of [`CommonOptions`] only `subset` and `tol` are read: the method is
-//!   explicit, so iteration cap and solver do not apply; `tol` bounds the
+//! - Of [`CommonOptions`] only `subset`, `tol` and `surface` are read: the
+//!   method is explicit, so iteration cap and solver do not apply; `tol` bounds the
 //!   measured error of the result (the numeric rule, [`crate`] docs), which
 //!   is round-off for moderate μ and grows with |μ| (μ = 1e300 fails it).
+//!
+//!
+//! # Creases, corners and UVs
+//! The paper has no sharp features; they follow OpenSubdiv's rules
+//! (tags of [`Mesh::tags`], the boundary option and crease method of
+//! [`CommonOptions::surface`], [`crate::SurfaceOptions`]). The contract is
+//! the crate's: the control mesh, **with its tags** and those options, has
+//! the data as its Loop limit points (the limit of
+//! `subdiv_stencil::SubdivisionPlan::with_tags`: OpenSubdiv's `Limit` after
+//! the levels the semi-sharp values need, at least one).
+//! 1. M⁰ is the triangulation (it keeps the tags; its diagonals are smooth)
+//!    and s⁰ its sharpness. M¹ is Loop's split of M⁰ with s⁰ — the
+//!    [`triangle_split`] numbering above — and carries the tags of that
+//!    split, the input's **decayed by one level** as OpenSubdiv hands them
+//!    down (infinitely sharp values stay, semi-sharp ones lose 1, or
+//!    Chaikin's average; corners likewise). So every later level of the
+//!    surface refines M¹ exactly as if the input had been refined once.
+//! 2. Edge points, by the step rule of the edge in s⁰
+//!    ([`edge_points_sharp`]): a smooth edge by Eq. 9; an edge that stays
+//!    sharp through the step (infinitely sharp, semi-sharp with s ≥ 1 under
+//!    uniform decay — the standard step would take its midpoint) by the
+//!    **curve analogue** of the boundary: offsets projected on the normal
+//!    plane of the sharp polygon's tangent at each end, μ scaled by
+//!    [`BOUNDARY_MU_SCALE`] — an infinitely sharp crease's limit is the cubic
+//!    B-spline of M¹'s crease polygon, as the boundary's, so the same ⁸⁄₉
+//!    cancels its shrinkage (test `crease_limit_curve_follows_a_circle`: a
+//!    crease ring sampled from a circle, 16/32/64 points, deviates 2.9e-4,
+//!    1.8e-5, 1.2e-6 at μ = ⅜, O(h⁴), and 3.4e-3, 8.2e-4, 2.0e-4 at μ = ¼).
+//!    The tangent at an end is that of its two sharp edges when it is a
+//!    crease vertex (exactly two sharp edges, no vertex sharpness), else —
+//!    corner, dart, three or more sharp edges, a tagged vertex — the edge's
+//!    own direction, so that end adds nothing: corners are fixed, a dart's
+//!    edge is straight at its free end. An edge whose sharpness runs out in
+//!    the step (the standard step's blend s·midpoint + (1 − s)·smooth, s < 1)
+//!    gets the same blend of the two choices, s·curve + (1 − s)·Eq. 9: the
+//!    edge point moves continuously from the smooth to the sharp choice as
+//!    the tag grows (under Chaikin a blend with s > 1 is taken as the curve).
+//!    Normals (Eq. 8, or [`DengWangOptions::normals`]) are accepted at crease
+//!    vertices too: the sharp edges do not read them, the smooth edges there
+//!    do (Eq. 8 averages over both sides of the crease).
+//! 3. Vertex points: the limit row of old vertex i in M¹ (with M¹'s tags)
+//!    is taken from `subdiv_stencil::limit_matrix_loop_sharp`, by its
+//!    [`RowKind`]: smooth as above; crease (an M¹ vertex with exactly two
+//!    infinitely sharp edges and no other sharpness) the boundary's
+//!    p¹ = (6p⁰ − e₋ − e₊)/4 over its two crease edge points; corner p¹ = p⁰;
+//!    **general** (semi-sharp values left at i in M¹, darts: the composed
+//!    limit after more levels) w_i p¹ + Σ_c w_c x_c = p⁰. A Loop limit row
+//!    reads only the closed 1-ring of its vertex at every level (a vertex
+//!    point reads its 1-ring, the edge points of its edges their ends and
+//!    opposite corners, all in that ring), and in the triangle split the
+//!    neighbours of an old vertex are edge points: so every row, general
+//!    ones included, has the unknown p¹ alone among known edge points and is
+//!    solved explicitly, p¹ = (p⁰ − Σ_c w_c x_c)/w_i — no coupled system. The
+//!    report's `limit_rows` counts the interpolated vertices by row kind
+//!    (`smooth`, `crease`, `corner`, `general`). Vertices outside the subset
+//!    get the tagged Loop vertex point of M⁰ (crease (p₋ + 6p + p₊)/8,
+//!    corner p, semi-sharp blends).
+//! 4. UVs: M¹ carries the input's (triangulated) face-varying channel
+//!    refined by one Loop level with s⁰ and the face-varying mode of the
+//!    options (`subdiv_stencil::fvar::refine`), so [`Interpolant::surface`]
+//!    writes UVs, with the input's seams (their halves, level by level). Under
+//!    `linear-all` (the default) an old vertex keeps its UV at every level,
+//!    so the surface's point of data point i has input vertex i's UV.
+//!
+//! Untagged input with `edge-and-corner` boundaries takes the plain masks of
+//! M⁰'s topology and gives the bits it gave before tags existed; on tagged
+//! input, vertex and edge points away from the tags use the same formulas
+//! and are bit-identical to the untagged run. Darts: the limit this contract
+//! uses is OpenSubdiv's smooth limit mask at the dart, which differs from
+//! the limit of refinement (the crease edge's midpoint rule breaks the
+//! smooth mask's invariance) by ~2e-4·d on a 12 × 8 torus; refining M¹
+//! converges there to that point (test
+//! `refining_the_control_mesh_converges_onto_the_data`), as it does for
+//! plain Loop.
 //!
 //! ```
 //! use subdiv_interp::{deng_wang, DengWangOptions};
@@ -115,7 +192,24 @@
 //! assert_eq!(result.control.topology().face_count(), 48);
 //! assert_eq!(result.parameters["triangulated_faces"], 6);
 //! assert!(result.error(cube.positions(), &[true; 8], cube.bbox_diagonal()).max_rel <= 1e-14);
+//!
+//! // Tagged: the cube's top loop as an infinitely sharp crease, a corner below.
+//! use subdiv_mesh::{EdgeTag, TagList, Tags, VertexTag, SHARPNESS_INFINITE};
+//! let creases = [(4, 5), (5, 7), (7, 6), (6, 4)]
+//!     .map(|(a, b)| EdgeTag { a, b, sharpness: SHARPNESS_INFINITE })
+//!     .to_vec();
+//! let corners = vec![VertexTag { vertex: 0, sharpness: SHARPNESS_INFINITE }];
+//! let tags = Tags::from_list(cube.topology(), &TagList { creases, corners }).unwrap();
+//! let cube = cube.with_tags(tags);
+//! let result = deng_wang::interpolate(&cube, &DengWangOptions::default()).unwrap();
+//! // The 4 crease edges became 8 halves in M¹, the corner stays.
+//! assert_eq!((result.control.tags().crease_count(), result.control.tags().corner_count()), (8, 1));
+//! assert_eq!(result.control.positions()[0], cube.positions()[0]);
+//! assert_eq!(result.parameters["limit_rows"]["crease"], 4);
+//! assert!(result.error(cube.positions(), &[true; 8], cube.bbox_diagonal()).max_rel <= 1e-14);
 //! ```
+//!
+//! [`triangle_split`]: subdiv_mesh::refine::triangle_split
 
 use crate::numeric::unit_direction;
 use crate::{
@@ -447,7 +541,7 @@ fn general_vertex_point(
             rest += (d * w) * known(c);
         }
     }
-    if !(centre.abs() >= MIN_CENTRE_WEIGHT) {
+    if centre.is_nan() || centre.abs() < MIN_CENTRE_WEIGHT {
         return Err(InterpError::UnsupportedMesh {
             method: Method::DengWang.name(),
             reason: format!(
@@ -468,20 +562,25 @@ fn uv_error(e: fvar::FVarError) -> InterpError {
     }
 }
 
-/// Interpolates the vertices of `mesh` (any polygons, open or closed;
-/// non-triangles are triangulated first, module docs) with the Loop limit
-/// surface of the modified first refined mesh M¹.
+/// Interpolates the vertices of `mesh` (any polygons, open or closed, with
+/// or without tags and UVs; non-triangles are triangulated first, module
+/// docs) with the Loop limit surface of the modified first refined mesh M¹
+/// with its tags.
 ///
 /// With M⁰ the triangulation of `mesh` (the input itself for a triangle
 /// mesh; same vertices), the control mesh has V + E vertices
-/// ([`triangle_split`] numbering, E the edges of M⁰) and 4F triangles (F the
-/// triangles of M⁰); vertex i < V has input vertex i as its Loop limit point.
+/// ([`triangle_split`](subdiv_mesh::refine::triangle_split) numbering, E the
+/// edges of M⁰) and 4F triangles (F the triangles of M⁰), the tags of M⁰
+/// decayed by one level and M⁰'s UVs refined by one level; vertex i < V has
+/// input vertex i as its Loop limit point with those tags and
+/// [`CommonOptions::surface`] ("Creases, corners and UVs").
 ///
 /// # Errors
 /// As every method ([`crate`] docs, "The numeric rule": an extreme μ fails
 /// the measured-error check); [`InterpError::InvalidParameter`] for a μ that
 /// is not finite or a bad normal; [`InterpError::UnsupportedMesh`] for a
-/// polygon without a valid triangulation.
+/// polygon without a valid triangulation, or a vertex whose tagged limit
+/// does not depend on its own control point (none is known).
 pub fn interpolate(mesh: &Mesh, opts: &DengWangOptions) -> Result<Interpolant, InterpError> {
     if !opts.mu.is_finite() {
         return Err(InterpError::invalid(Parameter::Mu, format!("Deng-Wang μ = {} is not finite", opts.mu)));
