@@ -239,8 +239,8 @@ pub const TESTED_MU: (f64, f64) = (0.0, 0.5);
 
 /// Smallest weight of the centre in a general limit row that the vertex
 /// point is solved from (module docs, "Creases, corners and UVs"); the
-/// weights met are ≥ 0.1 (darts ≈ ½, semi-sharp creases between the crease
-/// row's ⅔ and the smooth row's).
+/// weights of every row in the tests are ≥ 0.4 (the smooth row's 1 − kγ at
+/// valence 3; test `old_vertex_limit_rows_read_only_edge_points`).
 const MIN_CENTRE_WEIGHT: f64 = 1e-6;
 
 /// Options of [`interpolate`].

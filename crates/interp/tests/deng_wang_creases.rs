@@ -197,6 +197,34 @@ fn every_tagged_case_is_interpolated_by_the_control_mesh_with_its_tags() {
     }
 }
 
+/// Why no coupled system is solved: in M¹'s tagged limit matrix the row of
+/// every old vertex — general rows (darts, semi-sharp values left) included —
+/// reads no other old vertex, only edge points (the closed 1-ring), and its
+/// own weight is far from 0 (≥ 0.1 here; the method refuses below 1e-6).
+#[test]
+fn old_vertex_limit_rows_read_only_edge_points() {
+    let mut smallest = f64::INFINITY;
+    for (name, mesh, semi) in cases() {
+        for &method in methods(semi) {
+            let r = deng_wang::interpolate(&mesh, &options(method)).unwrap();
+            let sharp = r.surface_options.sharpness(r.control.tags());
+            let a = subdiv_stencil::limit_matrix_loop_sharp(r.control.topology(), &sharp, LoopBeta::Warren).unwrap();
+            let nv = mesh.topology().vertex_count();
+            for v in 0..nv {
+                let row = a.s.outer_view(v).unwrap();
+                for (c, &w) in row.iter() {
+                    assert!(c == v || c >= nv, "{name}: row {v} reads old vertex {c}");
+                    if c == v {
+                        smallest = smallest.min(a.d[v] * w);
+                    }
+                }
+            }
+        }
+    }
+    println!("smallest centre weight of an old vertex's limit row: {smallest}");
+    assert!(smallest >= 0.1);
+}
+
 /// The interior vertices of `mesh` with exactly one sharp edge, infinitely
 /// sharp, and no other sharpness: darts for ever.
 fn darts(mesh: &Mesh) -> Vec<bool> {
@@ -596,4 +624,26 @@ fn uv_seams_follow_the_input_seams_exactly() {
         assert_eq!(surface_seams, seams, "{fvar:?}: surface seams");
         assert_eq!(surface_seams.len(), 8 * input_seams.len());
     }
+}
+
+/// Determinism: the same bits (control points, tags, UVs) whatever the thread count.
+#[test]
+fn tagged_results_do_not_depend_on_the_thread_count() {
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut out = Vec::new();
+            for (_, mesh, semi) in cases() {
+                for &method in methods(semi) {
+                    let r = deng_wang::interpolate(&mesh, &options(method)).unwrap();
+                    out.push((fnv(r.control.positions()), r.control.tags().clone()));
+                }
+            }
+            let spot = fixture("peer/creases/spot_uv/spot_uv.obj");
+            let r = deng_wang::interpolate(&spot, &DengWangOptions::default()).unwrap();
+            out.push((fnv(r.control.positions()), r.control.tags().clone()));
+            (out, r.control.uvs().cloned())
+        })
+    };
+    assert_eq!(run(1), run(4));
 }
