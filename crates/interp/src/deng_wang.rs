@@ -24,8 +24,11 @@
 //!    ERRATA W4).
 //! 4. Output M¹: the [`triangle_split`] connectivity of the input (old
 //!    vertices keep their indices, then one edge point per edge in edge
-//!    order), scheme Loop(β). Control vertex i of M¹ has input vertex i as
-//!    its plain Loop limit point ([`LimitAssociation::ControlVertex`]).
+//!    order), scheme Loop(β), with the input's tags decayed by one level and
+//!    its UVs refined by one level ("Creases, corners and UVs" below).
+//!    Control vertex i of M¹
+//!    has input vertex i as its Loop limit point with M¹'s tags
+//!    ([`LimitAssociation::ControlVertex`]).
 //!
 //! Steps 2-4 run on the triangulation M⁰ of the input ([`triangulate`]:
 //! every polygon split over its own corners, no vertex added or moved), so
@@ -94,10 +97,84 @@
 //! - Vertex subset (beyond the paper): vertices not interpolated get the
 //!   plain Loop vertex rule (Eq. 1, boundary (p₋ + 6p + p₊)/8); edge points
 //!   are computed by Eq. 9 everywhere.
-//! - Of [`CommonOptions`] only `subset` and `tol` are read: the method is
-//!   explicit, so iteration cap and solver do not apply; `tol` bounds the
+//! - Of [`CommonOptions`] only `subset`, `tol` and `surface` are read: the
+//!   method is explicit, so iteration cap and solver do not apply; `tol` bounds the
 //!   measured error of the result (the numeric rule, [`crate`] docs), which
 //!   is round-off for moderate μ and grows with |μ| (μ = 1e300 fails it).
+//!
+//!
+//! # Creases, corners and UVs
+//! The paper has no sharp features; they follow OpenSubdiv's rules
+//! (tags of [`Mesh::tags`], the boundary option and crease method of
+//! [`CommonOptions::surface`], [`crate::SurfaceOptions`]). The contract is
+//! the crate's: the control mesh, **with its tags** and those options, has
+//! the data as its Loop limit points (the limit of
+//! `subdiv_stencil::SubdivisionPlan::with_tags`: OpenSubdiv's `Limit` after
+//! the levels the semi-sharp values need, at least one).
+//! 1. M⁰ is the triangulation (it keeps the tags; its diagonals are smooth)
+//!    and s⁰ its sharpness. M¹ is Loop's split of M⁰ with s⁰ — the
+//!    [`triangle_split`] numbering above — and carries the tags of that
+//!    split, the input's **decayed by one level** as OpenSubdiv hands them
+//!    down (infinitely sharp values stay, semi-sharp ones lose 1, or
+//!    Chaikin's average; corners likewise). So every later level of the
+//!    surface refines M¹ exactly as if the input had been refined once.
+//! 2. Edge points, by the step rule of the edge in s⁰
+//!    ([`edge_points_sharp`]): a smooth edge by Eq. 9; an edge that stays
+//!    sharp through the step (infinitely sharp, semi-sharp with s ≥ 1 under
+//!    uniform decay — the standard step would take its midpoint) by the
+//!    **curve analogue** of the boundary: offsets projected on the normal
+//!    plane of the sharp polygon's tangent at each end, μ scaled by
+//!    [`BOUNDARY_MU_SCALE`] — an infinitely sharp crease's limit is the cubic
+//!    B-spline of M¹'s crease polygon, as the boundary's, so the same ⁸⁄₉
+//!    cancels its shrinkage (test `crease_limit_curve_follows_a_circle`: a
+//!    crease ring sampled from a circle, 16/32/64 points, deviates 2.9e-4,
+//!    1.8e-5, 1.2e-6 at μ = ⅜, O(h⁴), and 3.4e-3, 8.2e-4, 2.0e-4 at μ = ¼).
+//!    The tangent at an end is that of its two sharp edges when it is a
+//!    crease vertex (exactly two sharp edges, no vertex sharpness), else —
+//!    corner, dart, three or more sharp edges, a tagged vertex — the edge's
+//!    own direction, so that end adds nothing: corners are fixed, a dart's
+//!    edge is straight at its free end. An edge whose sharpness runs out in
+//!    the step (the standard step's blend s·midpoint + (1 − s)·smooth, s < 1)
+//!    gets the same blend of the two choices, s·curve + (1 − s)·Eq. 9: the
+//!    edge point moves continuously from the smooth to the sharp choice as
+//!    the tag grows (under Chaikin a blend with s > 1 is taken as the curve).
+//!    Normals (Eq. 8, or [`DengWangOptions::normals`]) are accepted at crease
+//!    vertices too: the sharp edges do not read them, the smooth edges there
+//!    do (Eq. 8 averages over both sides of the crease).
+//! 3. Vertex points: the limit row of old vertex i in M¹ (with M¹'s tags)
+//!    is taken from `subdiv_stencil::limit_matrix_loop_sharp`, by its
+//!    [`RowKind`]: smooth as above; crease (an M¹ vertex with exactly two
+//!    infinitely sharp edges and no other sharpness) the boundary's
+//!    p¹ = (6p⁰ − e₋ − e₊)/4 over its two crease edge points; corner p¹ = p⁰;
+//!    **general** (semi-sharp values left at i in M¹, darts: the composed
+//!    limit after more levels) w_i p¹ + Σ_c w_c x_c = p⁰. A Loop limit row
+//!    reads only the closed 1-ring of its vertex at every level (a vertex
+//!    point reads its 1-ring, the edge points of its edges their ends and
+//!    opposite corners, all in that ring), and in the triangle split the
+//!    neighbours of an old vertex are edge points: so every row, general
+//!    ones included, has the unknown p¹ alone among known edge points and is
+//!    solved explicitly, p¹ = (p⁰ − Σ_c w_c x_c)/w_i — no coupled system. The
+//!    report's `limit_rows` counts the interpolated vertices by row kind
+//!    (`smooth`, `crease`, `corner`, `general`). Vertices outside the subset
+//!    get the tagged Loop vertex point of M⁰ (crease (p₋ + 6p + p₊)/8,
+//!    corner p, semi-sharp blends).
+//! 4. UVs: M¹ carries the input's (triangulated) face-varying channel
+//!    refined by one Loop level with s⁰ and the face-varying mode of the
+//!    options (`subdiv_stencil::fvar::refine`), so [`Interpolant::surface`]
+//!    writes UVs, with the input's seams (their halves, level by level). Under
+//!    `linear-all` (the default) an old vertex keeps its UV at every level,
+//!    so the surface's point of data point i has input vertex i's UV.
+//!
+//! Untagged input with `edge-and-corner` boundaries takes the plain masks of
+//! M⁰'s topology and gives the bits it gave before tags existed; on tagged
+//! input, vertex and edge points away from the tags use the same formulas
+//! and are bit-identical to the untagged run. Darts: the limit this contract
+//! uses is OpenSubdiv's smooth limit mask at the dart, which differs from
+//! the limit of refinement (the crease edge's midpoint rule breaks the
+//! smooth mask's invariance) by ~2e-4·d on a 12 × 8 torus; refining M¹
+//! converges there to that point (test
+//! `refining_the_control_mesh_converges_onto_the_data`), as it does for
+//! plain Loop.
 //!
 //! ```
 //! use subdiv_interp::{deng_wang, DengWangOptions};
@@ -115,35 +192,63 @@
 //! assert_eq!(result.control.topology().face_count(), 48);
 //! assert_eq!(result.parameters["triangulated_faces"], 6);
 //! assert!(result.error(cube.positions(), &[true; 8], cube.bbox_diagonal()).max_rel <= 1e-14);
+//!
+//! // Tagged: the cube's top loop as an infinitely sharp crease, a corner below.
+//! use subdiv_mesh::{EdgeTag, TagList, Tags, VertexTag, SHARPNESS_INFINITE};
+//! let creases = [(4, 5), (5, 7), (7, 6), (6, 4)]
+//!     .map(|(a, b)| EdgeTag { a, b, sharpness: SHARPNESS_INFINITE })
+//!     .to_vec();
+//! let corners = vec![VertexTag { vertex: 0, sharpness: SHARPNESS_INFINITE }];
+//! let tags = Tags::from_list(cube.topology(), &TagList { creases, corners }).unwrap();
+//! let cube = cube.with_tags(tags);
+//! let result = deng_wang::interpolate(&cube, &DengWangOptions::default()).unwrap();
+//! // The 4 crease edges became 8 halves in M¹, the corner stays.
+//! assert_eq!((result.control.tags().crease_count(), result.control.tags().corner_count()), (8, 1));
+//! assert_eq!(result.control.positions()[0], cube.positions()[0]);
+//! assert_eq!(result.parameters["limit_rows"]["crease"], 4);
+//! assert!(result.error(cube.positions(), &[true; 8], cube.bbox_diagonal()).max_rel <= 1e-14);
 //! ```
+//!
+//! [`triangle_split`]: subdiv_mesh::refine::triangle_split
 
 use crate::numeric::unit_direction;
 use crate::{
     seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter,
 };
 use glam::DVec3;
-use subdiv_mesh::refine::triangle_split;
-use subdiv_mesh::{triangulate, EdgeId, Mesh, Topology, VertexId};
+use subdiv_mesh::{triangulate, EdgeId, Mesh, Tags, Topology, VertexId};
 use subdiv_rules::loop_scheme::{limit_mask, vertex_point_mask};
 use subdiv_rules::{LoopBeta, VertexKind, VertexMask};
+use subdiv_stencil::{
+    fvar, limit_matrix_loop_sharp, loop_subdivision, BoundaryInterpolation, EdgeStep, LevelSharpness, LimitMatrix,
+    RowKind, Rule, Scheme, StencilError,
+};
 
 /// Default edge parameter μ of Eq. 9: ⅜, the value at which the first step
 /// cancels Loop's shrinkage on a regular lattice (module docs; ERRATA W6's
 /// ¼ puts the edge points, not the limit surface, on a sphere).
 pub const DEFAULT_MU: f64 = 0.375;
 
-/// Boundary edges use BOUNDARY_MU_SCALE·μ: the cubic B-spline boundary's
-/// shrinkage is cancelled at ⅓ where Loop's interior is at ⅜ (module docs).
+/// Boundary and crease edges use BOUNDARY_MU_SCALE·μ: the cubic B-spline
+/// curve's shrinkage is cancelled at ⅓ where Loop's interior is at ⅜ (module
+/// docs).
 pub const BOUNDARY_MU_SCALE: f64 = 8.0 / 9.0;
 
 /// Range of μ the tests and the μ experiment cover; outside it a warning is given.
 pub const TESTED_MU: (f64, f64) = (0.0, 0.5);
 
+/// Smallest weight of the centre in a general limit row that the vertex
+/// point is solved from (module docs, "Creases, corners and UVs"); the
+/// weights of every row in the tests are ≥ 0.4 (the smooth row's 1 − kγ at
+/// valence 3; test `old_vertex_limit_rows_read_only_edge_points`).
+const MIN_CENTRE_WEIGHT: f64 = 1e-6;
+
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct DengWangOptions {
-    /// Vertex subset and the bound `tol` on the measured error (the method
-    /// solves nothing: `max_iter` and `solver` are not read).
+    /// Vertex subset, the bound `tol` on the measured error and the surface
+    /// options (boundary, crease method, face-varying mode); the method
+    /// solves nothing: `max_iter` and `solver` are not read.
     pub common: CommonOptions,
     /// The free parameter μ of Eq. 9 (default [`DEFAULT_MU`] = ⅜).
     pub mu: f64,
@@ -151,6 +256,8 @@ pub struct DengWangOptions {
     pub beta: LoopBeta,
     /// Per-vertex normals replacing Eq. 8 where `Some` (need not be unit
     /// length; must be finite and non-zero). One entry per input vertex.
+    /// Crease and boundary edge points do not use normals; at a crease
+    /// vertex its normal still steers the smooth edges (module docs).
     pub normals: Option<Vec<Option<DVec3>>>,
 }
 
@@ -194,12 +301,14 @@ fn ring_sum(t: &Topology, v: VertexId, mask: &VertexMask, point: impl Fn(EdgeId)
         .sum()
 }
 
-/// Unit tangent of the boundary polygon at boundary vertex `v`: the sum of
-/// the unit vectors along its two boundary edges (zero if they cancel).
-fn boundary_tangent(t: &Topology, p: &[DVec3], v: VertexId) -> DVec3 {
-    let (prev, next) = t.boundary_neighbors(v).expect("a boundary vertex");
+/// Unit tangent at `v` of the sharp polygon through its crease ends `a` and
+/// `b`: the sum of the unit vectors along its two sharp edges, from a to v
+/// and from v to b (zero if they cancel). For a boundary vertex, whose ends
+/// the rules give as (next, previous), this is the boundary polygon's
+/// tangent (up to its sign, which no projection sees).
+fn crease_tangent(p: &[DVec3], v: VertexId, (a, b): (VertexId, VertexId)) -> DVec3 {
     let pv = p[v.index()];
-    ((p[next.index()] - pv).normalize_or_zero() + (pv - p[prev.index()]).normalize_or_zero()).normalize_or_zero()
+    ((p[a.index()] - pv).normalize_or_zero() + (pv - p[b.index()]).normalize_or_zero()).normalize_or_zero()
 }
 
 /// The normals of step 1: Eq. 8, replaced by the user's where given.
@@ -228,80 +337,250 @@ fn normals(mesh: &Mesh, user: Option<&[Option<DVec3>]>) -> Result<Vec<DVec3>, In
 
 /// The E edge points of the modified first step (Eq. 9; boundary edges by
 /// the curve analogue described in the module docs), in edge order, from
-/// V positions and V unit normals.
+/// V positions and V unit normals, on an untagged mesh with `edge-and-corner`
+/// boundaries: [`edge_points_sharp`] with [`LevelSharpness::plain`].
 pub fn edge_points(t: &Topology, p: &[DVec3], normals: &[DVec3], mu: f64) -> Vec<DVec3> {
+    edge_points_sharp(t, &LevelSharpness::plain(), p, normals, mu)
+}
+
+/// The E edge points of the modified first step on a level with the
+/// sharpness `sharp` (its tags and boundary option), in edge order, from V
+/// positions and V unit normals: smooth edges by Eq. 9; boundary and sharp
+/// edges whose halves stay sharp by the curve analogue (module docs), with
+/// the tangent of the sharp polygon at each end (at a corner, dart or
+/// junction of three sharp edges the edge itself, so that end adds nothing);
+/// an edge whose sharpness s runs out in the step (s < 1 under uniform
+/// decay) by the blend min(s, 1)·curve + (1 − min(s, 1))·Eq. 9 (module docs,
+/// "Creases, corners and UVs").
+///
+/// # Panics
+/// If `p` or `normals` has fewer entries than `t` has vertices (a caller bug).
+pub fn edge_points_sharp(t: &Topology, sharp: &LevelSharpness, p: &[DVec3], normals: &[DVec3], mu: f64) -> Vec<DVec3> {
     t.edges()
         .map(|e| {
             let (i, j) = t.edge_vertices(e);
             let (pi, pj) = (p[i.index()], p[j.index()]);
             let m = (pi + pj) / 2.0;
-            if t.is_boundary_edge(e) {
+            let smooth = || {
+                let (ni, nj) = (normals[i.index()], normals[j.index()]);
+                let (di, dj) = ((pi - m).dot(ni), (pj - m).dot(nj)); // Eq. (9): dᵢ = (pᵢ − (pᵢ+pⱼ)/2)·nᵢ
+                m + mu * (di * ni + dj * nj) // Eq. (9): p = (pᵢ+pⱼ)/2 + μ(dᵢnᵢ + dⱼnⱼ)
+            };
+            let curve = || {
                 // Curve analogue of Eq. (9): the offsets projected on each end's normal plane.
                 let project = |v: VertexId, pv: DVec3| {
-                    let tangent = if kind(t, v) == VertexKind::Corner {
-                        (pj - pi).normalize_or_zero()
-                    } else {
-                        boundary_tangent(t, p, v)
+                    let tangent = match sharp.limit_rule(t, v) {
+                        (Rule::Crease, Some(ends)) => crease_tangent(p, v, ends),
+                        _ => (pj - pi).normalize_or_zero(),
                     };
                     let d = pv - m;
                     d - d.dot(tangent) * tangent
                 };
                 m + BOUNDARY_MU_SCALE * mu * (project(i, pi) + project(j, pj))
-            } else {
-                let (ni, nj) = (normals[i.index()], normals[j.index()]);
-                let (di, dj) = ((pi - m).dot(ni), (pj - m).dot(nj)); // Eq. (9): dᵢ = (pᵢ − (pᵢ+pⱼ)/2)·nᵢ
-                m + mu * (di * ni + dj * nj) // Eq. (9): p = (pᵢ+pⱼ)/2 + μ(dᵢnᵢ + dⱼnⱼ)
+            };
+            match sharp.edge_step(t, e) {
+                EdgeStep::Smooth => smooth(),
+                EdgeStep::Midpoint => curve(),
+                EdgeStep::Blend(s) if s >= 1.0 => curve(),
+                EdgeStep::Blend(s) => {
+                    let s = s.max(0.0);
+                    s * curve() + (1.0 - s) * smooth()
+                }
             }
         })
         .collect()
 }
 
-/// M¹'s points: the normal-based edge points (Eq. 8-9) and the vertex
-/// points, solved so that the Loop limit of each interpolated vertex is its
-/// data point (ERRATA W7), the plain Loop vertex point elsewhere.
-fn first_refined_points(
-    t: &Topology,
+/// How many interpolated vertices' limit rows in M¹ were of each kind
+/// ([`RowKind`]), as the report's `limit_rows` gives them.
+#[derive(Clone, Copy, Debug, Default)]
+struct RowCounts {
+    smooth: usize,
+    crease: usize,
+    corner: usize,
+    general: usize,
+}
+
+impl RowCounts {
+    fn add(&mut self, kind: RowKind) {
+        match kind {
+            RowKind::Smooth => self.smooth += 1,
+            RowKind::Crease => self.crease += 1,
+            RowKind::Corner => self.corner += 1,
+            RowKind::General => self.general += 1,
+        }
+    }
+
+    fn to_json(self) -> serde_json::Value {
+        serde_json::json!({
+            "smooth": self.smooth, "crease": self.crease, "corner": self.corner, "general": self.general,
+        })
+    }
+}
+
+/// Per vertex: whether a tag touches it (its own, or one of an edge at it).
+fn touched_by_tags(t: &Topology, tags: &Tags) -> Vec<bool> {
+    let mut touched: Vec<bool> = t.vertices().map(|v| tags.vertex_sharpness(v) > 0.0).collect();
+    for e in t.edges().filter(|&e| tags.edge_sharpness(e) > 0.0) {
+        let (a, b) = t.edge_vertices(e);
+        touched[a.index()] = true;
+        touched[b.index()] = true;
+    }
+    touched
+}
+
+/// What the vertex points of M¹ are solved against: M¹'s limit matrix with
+/// its tags (`None` on an untagged `edge-and-corner` mesh, whose rows are
+/// the plain masks of M⁰'s topology), and M⁰'s sharpness and tags.
+struct Level0<'a> {
+    t: &'a Topology,
+    sharp: &'a LevelSharpness,
+    tags: &'a Tags,
+    limit: Option<&'a LimitMatrix>,
+}
+
+/// M¹'s vertex points (the first V points of M¹), given M¹'s edge points:
+/// solved so that the Loop limit of each interpolated vertex is its data
+/// point (ERRATA W7, with M¹'s tags: module docs), the plain tagged Loop
+/// vertex point elsewhere; with the kinds of the rows used.
+fn vertex_points(
+    level: &Level0<'_>,
     p: &[DVec3],
-    n: &[DVec3],
+    edge: &[DVec3],
     interpolated: &[bool],
-    opts: &DengWangOptions,
-) -> Vec<DVec3> {
-    let edge = edge_points(t, p, n, opts.mu);
-    let mut positions = Vec::with_capacity(t.vertex_count() + t.edge_count());
+    beta: LoopBeta,
+) -> Result<(Vec<DVec3>, RowCounts), InterpError> {
+    let t = level.t;
+    let nv = t.vertex_count();
+    let touched = level.limit.map(|_| touched_by_tags(t, level.tags));
+    // Vertex points by the tagged rules, for the vertices the plain mask does not fit.
+    let mut tagged_step: Option<Vec<DVec3>> = None;
+    let mut counts = RowCounts::default();
+    let mut positions = Vec::with_capacity(nv + edge.len());
+    // A control point of M¹: old vertex c < V is unknown (it never enters a row but its own), edge point c ≥ V.
+    let known = |c: usize| edge[c - nv];
     for v in t.vertices() {
         let p0 = p[v.index()];
         let k = t.valence(v);
+        let untouched_plain = match &touched {
+            None => true,
+            Some(touched) => !touched[v.index()] && level.sharp.boundary() == BoundaryInterpolation::EdgeAndCorner,
+        };
         positions.push(if t.is_isolated(v) {
             p0
         } else if interpolated[v.index()] {
-            // W7: solve the plain limit mask of M¹ at v (Eq. 5; boundary (e₋ + 4p + e₊)/6; corner p) for p¹:
+            // W7: solve the limit row of M¹ at v for p¹. Plain masks (Eq. 5; boundary (e₋ + 4p + e₊)/6; corner p):
             // interior p¹ = (p⁰ − γ Σ p_e) / (1 − kγ), boundary p¹ = (6p⁰ − e₋ − e₊)/4, corner p¹ = p⁰.
-            let mask = limit_mask(kind(t, v), k, opts.beta);
-            (p0 - ring_sum(t, v, &mask, |e| edge[e.index()])) / mask.vertex
-        } else {
+            let row_kind = match level.limit {
+                None => match kind(t, v) {
+                    VertexKind::Interior => RowKind::Smooth,
+                    VertexKind::Boundary => RowKind::Crease,
+                    VertexKind::Corner => RowKind::Corner,
+                },
+                Some(a) => a.row_kinds[v.index()],
+            };
+            counts.add(row_kind);
+            match (level.limit, row_kind) {
+                (None, _) | (Some(_), RowKind::Smooth) => {
+                    let mask = limit_mask(kind(t, v), k, beta);
+                    (p0 - ring_sum(t, v, &mask, |e| edge[e.index()])) / mask.vertex
+                }
+                (Some(_), RowKind::Corner) => p0,
+                (Some(a), RowKind::Crease) => {
+                    // The crease ends in M¹ are the edge points of v's two sharp edges.
+                    let mask = limit_mask(VertexKind::Boundary, k, beta);
+                    let row = a.s.outer_view(v.index()).expect("a row per vertex");
+                    let ends = row.indices().iter().map(|&c| c as usize).filter(|&c| c != v.index());
+                    (p0 - ends.map(|c| mask.boundary_neighbor * known(c)).sum::<DVec3>()) / mask.vertex
+                }
+                (Some(a), RowKind::General) => general_vertex_point(a, v, p0, nv, known)?,
+            }
+        } else if untouched_plain {
             // Not interpolated: the plain Loop vertex point on M⁰ (Eq. 1; boundary (p₋ + 6p + p₊)/8).
-            let mask = vertex_point_mask(kind(t, v), k, opts.beta);
+            let mask = vertex_point_mask(kind(t, v), k, beta);
             mask.vertex * p0 + ring_sum(t, v, &mask, |e| p[other_end(t, e, v).index()])
+        } else {
+            // Not interpolated, touched by a tag: the tagged Loop vertex point on M⁰.
+            if tagged_step.is_none() {
+                tagged_step = Some(loop_subdivision::step_points_sharp(t, level.sharp, beta, p)?);
+            }
+            tagged_step.as_ref().expect("just computed")[v.index()]
         });
     }
-    positions.extend_from_slice(&edge);
-    positions
+    positions.extend_from_slice(edge);
+    Ok((positions, counts))
 }
 
-/// Interpolates the vertices of `mesh` (any polygons, open or closed;
-/// non-triangles are triangulated first, module docs) with the Loop limit
-/// surface of the modified first refined mesh M¹.
+/// The vertex point of old vertex `v` from its general limit row in M¹
+/// (OpenSubdiv's limit after the levels its semi-sharp values or its dart
+/// need): w_v p¹ + Σ_c w_c x_c = p⁰ over M¹'s closed 1-ring of v, whose
+/// other vertices are all edge points (known); so p¹ = (p⁰ − Σ_c w_c x_c)/w_v.
+fn general_vertex_point(
+    a: &LimitMatrix,
+    v: VertexId,
+    p0: DVec3,
+    nv: usize,
+    known: impl Fn(usize) -> DVec3,
+) -> Result<DVec3, InterpError> {
+    let row = a.s.outer_view(v.index()).expect("a row per vertex");
+    let d = a.d[v.index()];
+    let mut centre = 0.0;
+    let mut rest = DVec3::ZERO;
+    for (c, &w) in row.iter() {
+        if c == v.index() {
+            centre = d * w;
+        } else if c < nv {
+            // Cannot happen: a Loop limit row reads only the closed 1-ring of its vertex, and in the
+            // triangle split an old vertex has edge points as its only neighbours.
+            return Err(InterpError::UnsupportedMesh {
+                method: Method::DengWang.name(),
+                reason: format!("the limit row of vertex {v} in M¹ reads old vertex {c}, outside its 1-ring"),
+                suggestion: "cheng, which solves the whole tagged limit matrix".into(),
+            });
+        } else {
+            rest += (d * w) * known(c);
+        }
+    }
+    if centre.is_nan() || centre.abs() < MIN_CENTRE_WEIGHT {
+        return Err(InterpError::UnsupportedMesh {
+            method: Method::DengWang.name(),
+            reason: format!(
+                "the limit of vertex {v} in M¹ with its tags does not depend on its own control point (weight \
+                 {centre:e}), so no vertex point interpolates it"
+            ),
+            suggestion: "other sharpness values at that vertex".into(),
+        });
+    }
+    Ok((p0 - rest) / centre)
+}
+
+/// A face-varying error of the control mesh's UVs, as the crate reports stencil errors.
+fn uv_error(e: fvar::FVarError) -> InterpError {
+    match e {
+        fvar::FVarError::Stencil(e) => InterpError::Stencil(e),
+        other => InterpError::Stencil(StencilError::FaceVarying(other.to_string())),
+    }
+}
+
+/// Interpolates the vertices of `mesh` (any polygons, open or closed, with
+/// or without tags and UVs; non-triangles are triangulated first, module
+/// docs) with the Loop limit surface of the modified first refined mesh M¹
+/// with its tags.
 ///
 /// With M⁰ the triangulation of `mesh` (the input itself for a triangle
 /// mesh; same vertices), the control mesh has V + E vertices
-/// ([`triangle_split`] numbering, E the edges of M⁰) and 4F triangles (F the
-/// triangles of M⁰); vertex i < V has input vertex i as its Loop limit point.
+/// ([`triangle_split`](subdiv_mesh::refine::triangle_split) numbering, E the
+/// edges of M⁰) and 4F triangles (F the triangles of M⁰), the tags of M⁰
+/// decayed by one level and M⁰'s UVs refined by one level; vertex i < V has
+/// input vertex i as its Loop limit point with those tags and
+/// [`CommonOptions::surface`] ("Creases, corners and UVs").
 ///
 /// # Errors
 /// As every method ([`crate`] docs, "The numeric rule": an extreme μ fails
 /// the measured-error check); [`InterpError::InvalidParameter`] for a μ that
 /// is not finite or a bad normal; [`InterpError::UnsupportedMesh`] for a
-/// polygon without a valid triangulation.
+/// polygon without a valid triangulation, or a vertex whose tagged limit
+/// does not depend on its own control point (none is known).
 pub fn interpolate(mesh: &Mesh, opts: &DengWangOptions) -> Result<Interpolant, InterpError> {
     if !opts.mu.is_finite() {
         return Err(InterpError::invalid(Parameter::Mu, format!("Deng-Wang μ = {} is not finite", opts.mu)));
@@ -338,19 +617,41 @@ pub(crate) fn interpolate_prepared(
         ));
     }
 
-    // M¹'s connectivity (setup, with the triangulation) does not depend on the geometry: it
-    // is built on one core while the other computes the normals and M¹'s points (solve).
+    // M¹'s connectivity and tags, and with tags M¹'s limit matrix (setup, with the triangulation), do
+    // not depend on the geometry: built on one core while the other computes the normals and the edge
+    // points (solve).
+    let sharp = opts.common.surface.sharpness(triangulation.mesh.tags());
+    let plain = sharp.is_plain();
+    let scheme = Scheme::Loop(opts.beta);
     let start = std::time::Instant::now();
-    let (topology, points) = rayon::join(
-        || (triangle_split(t).expect("a triangulation has only triangles"), seconds_since(start)),
+    let (level1, edges) = rayon::join(
+        || -> Result<_, InterpError> {
+            let split = scheme.rules().split(t, &sharp)?;
+            // Untagged with `edge-and-corner` boundaries the rows are the plain masks: no matrix.
+            let limit =
+                if plain { None } else { Some(limit_matrix_loop_sharp(&split.topology, &split.sharpness, opts.beta)?) };
+            Ok((split, limit, seconds_since(start)))
+        },
         || -> Result<_, InterpError> {
             let start = std::time::Instant::now();
             let n = normals(&triangulation.mesh, opts.normals.as_deref())?;
-            Ok((first_refined_points(t, mesh.positions(), &n, &interpolated, opts), seconds_since(start)))
+            Ok((edge_points_sharp(t, &sharp, mesh.positions(), &n, opts.mu), seconds_since(start)))
         },
     );
-    let ((topology, split_seconds), (positions, solve_seconds)) = (topology, points?);
+    let ((split, limit, split_seconds), (edge, edge_seconds)) = (level1?, edges?);
+    let start = std::time::Instant::now();
+    let level = Level0 { t, sharp: &sharp, tags: triangulation.mesh.tags(), limit: limit.as_ref() };
+    let (positions, rows) = vertex_points(&level, mesh.positions(), &edge, &interpolated, opts.beta)?;
+    // The input's UVs (triangulated) refined by one Loop level with M⁰'s tags, as every level after it.
+    let uvs = match triangulation.mesh.uvs() {
+        Some(channel) => Some(
+            fvar::refine(t, &sharp, &split.topology, scheme, opts.common.surface.fvar, channel).map_err(uv_error)?,
+        ),
+        None => None,
+    };
+    let solve_seconds = edge_seconds + seconds_since(start);
     let setup_seconds = triangulate_seconds + split_seconds;
+    let tags = split.sharpness.tags(&split.topology);
     let mut parameters = serde_json::Map::new();
     parameters.insert("mu".into(), opts.mu.into());
     parameters.insert(
@@ -364,10 +665,17 @@ pub(crate) fn interpolate_prepared(
     let user_normals = opts.normals.as_ref().map_or(0, |u| u.iter().flatten().count());
     parameters.insert("user_normals".into(), user_normals.into());
     parameters.insert("triangulated_faces".into(), triangulation.split_faces.into());
+    parameters.insert("limit_rows".into(), rows.to_json());
+    parameters.insert("control_creases".into(), tags.crease_count().into());
+    parameters.insert("control_corners".into(), tags.corner_count().into());
+    let control = Mesh::from_topology(split.topology, positions)
+        .with_tags(tags)
+        .with_uvs(uvs)
+        .expect("the refined channel has one value per face corner of M¹");
     Ok(Interpolant {
         surface_options: opts.common.surface,
         method: Method::DengWang,
-        control: Mesh::from_topology(topology, positions),
+        control,
         scheme: ControlScheme::Loop(opts.beta),
         interpolated,
         association: LimitAssociation::ControlVertex,
