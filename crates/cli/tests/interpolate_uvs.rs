@@ -104,7 +104,11 @@ fn surface_keeps_the_seams_of_a_uv_quad_mesh() {
                 "{method}, {fvar}: seam edges at level {levels}"
             );
             let values = values_per_vertex(&s);
-            assert_eq!(&values[..input_values.len()], &input_values[..], "{method}, {fvar}: siblings of input vertices");
+            assert_eq!(
+                &values[..input_values.len()],
+                &input_values[..],
+                "{method}, {fvar}: siblings of input vertices"
+            );
             if method == "cheng" {
                 // The control mesh has the input's topology: its UVs are the input's, bit for bit.
                 let c = read(&control);

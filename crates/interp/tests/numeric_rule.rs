@@ -476,6 +476,11 @@ proptest! {
     fn power_of_two_scales_give_exactly_scaled_results(base in base_shape(), exponent in -1000i32..1000) {
         let scale = PowerOfTwoScale { exponent };
         let mesh = scaled(&base, scale);
+        // The claim is about exactly scaled data: a coordinate that scaling
+        // pushes onto the subnormal grid is rounded already in the input (a
+        // prism's 6e-17 by 2^-970), and then the methods see other data.
+        let exact = mesh.positions().iter().zip(base.positions()).all(|(s, b)| scale.inverse().apply_point(*s) == *b);
+        prop_assume!(exact);
         for ((name, plain), (_, big)) in every_method(&base).into_iter().zip(every_method(&mesh)) {
             match (plain, big) {
                 (Ok(plain), Ok(big)) => {

@@ -6,8 +6,10 @@
 //!
 //! The sharpness measure, per tagged input edge e = (a, b) between faces f₁
 //! and f₂: m = (P_a + P_b)/2, uᵢ the unit vector in fᵢ's plane perpendicular
-//! to e pointing into fᵢ, h = |e|/16; the surface face (level 3, limit
-//! positions) whose centroid is nearest to m + h·uᵢ gives the unit Newell
+//! to e pointing into fᵢ, hᵢ = ⅛ of the distance from e to fᵢ's centroid
+//! along uᵢ (the middle of the first row of level-3 faces on that side); the
+//! surface face (level 3, limit positions) whose centroid is nearest to
+//! m + hᵢ·uᵢ gives the unit Newell
 //! normal nᵢ; sharpness(e) = ∠(n₁, n₂) / ∠(N(f₁), N(f₂)), the surface's
 //! turning across the edge over the input's. 1: the surface turns as much as
 //! the input does, 0: it is smooth there.
@@ -152,11 +154,14 @@ fn sharpness(input: &Mesh, features: &FeatureEdges, surface: &Mesh) -> Vec<f64> 
             let (f1, f2) = t.edge_faces(e);
             let f2 = f2.expect("features are interior edges");
             let m = (pa + pb) / 2.0;
-            let (along, h) = ((pb - pa).normalize(), pa.distance(pb) / 16.0);
+            let along = (pb - pa).normalize();
             let surface_normal = |f| {
-                // uᵢ: in fᵢ's plane, ⟂ e, towards fᵢ's centroid.
+                // uᵢ: in fᵢ's plane, ⟂ e, towards fᵢ's centroid; hᵢ: ⅛ of the way
+                // there, the middle of the first row of level-3 faces on fᵢ's side
+                // (faces may be long and thin: |e| says nothing of their width).
                 let u = input.face_normal(f).cross(along).normalize_or_zero();
-                let u = if u.dot(input.face_centroid(f) - m) < 0.0 { -u } else { u };
+                let towards = u.dot(input.face_centroid(f) - m);
+                let (u, h) = if towards < 0.0 { (-u, -towards / 8.0) } else { (u, towards / 8.0) };
                 normals[grid.nearest(m + h * u)]
             };
             let turned = angle(surface_normal(f1), surface_normal(f2));
@@ -287,12 +292,12 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
          over the bounding-box diagonal d. *Time*: the `interpolate` call. *Sharpness*, per tagged edge \
          e = (a, b) between input faces f₁, f₂, on the surface `Interpolant::surface({LEVELS})` (level {LEVELS}, \
          limit positions): m = (P_a + P_b)/2, uᵢ the unit vector in fᵢ's plane perpendicular to e pointing into \
-         fᵢ, h = |e|/16; the surface face whose centroid is nearest to m + h·uᵢ (exact, grid search) gives the \
+         fᵢ, hᵢ = ⅛ of the distance from e to fᵢ's centroid along uᵢ (the middle of the first row of level-3 faces on that side, whatever the face's aspect); the surface face whose centroid is nearest to m + hᵢ·uᵢ (exact, grid search) gives the \
          unit Newell normal nᵢ; sharpness(e) = ∠(n₁, n₂)/∠(N(f₁), N(f₂)), the surface's turning across e over \
          the input's. 1: the surface turns as much as the input (a sharp crease), 0: it does not turn (smooth \
          across e, or both samples on one face); above 1 it turns more (the interpolating surface bulges next \
-         to the crease). At level {LEVELS} the faces next to e are about |e|/8 wide, so the samples fall on the \
-         first row of faces on each side while the surface stays within about h of the input there. Untagged \
+         to the crease). At level {LEVELS} the faces next to e are about ⅛ of the input face wide, so the samples fall \
+         on the first row of faces on each side. Untagged \
          runs are measured on the same edges. We ask ≥ {ACCEPT} (min and median) for every method with tags. \
          The measure's own reference: on the input itself refined bilinearly (Catmull-Clark with every edge \
          infinitely sharp, so every face is its bilinear patch) it gives min {:.3}, median {:.3}, mean {:.3}; \
