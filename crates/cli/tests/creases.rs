@@ -4,31 +4,13 @@
 //! files, `--boundary`, `--crease-method`, and the refusals.
 
 mod common;
-use common::{assert_no_panic, fixtures, subdiv};
+use common::{assert_no_panic, fixtures, out_path, read, run_ok, subdiv};
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use subdiv_mesh::{DVec3, PolygonSoup};
-
-fn out_path(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("subdiv-cli-creases-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn read(path: &Path) -> PolygonSoup {
-    subdiv_io::read_mesh(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
 
 fn case(name: &str, file: &str) -> PathBuf {
     fixtures().join("peer/creases").join(name).join(file)
-}
-
-fn run_ok(args: &[&str]) -> String {
-    let run = subdiv(args);
-    assert_no_panic(&run);
-    let stderr = String::from_utf8_lossy(&run.stderr).to_string();
-    assert_eq!(run.status.code(), Some(0), "{args:?}: {stderr}");
-    stderr
 }
 
 /// Largest distance from a point of `a` to the nearest of `b`, both ways.
@@ -67,7 +49,7 @@ fn tagged_subdivision_and_its_tags_equal_opensubdiv() {
     ] {
         let scheme = if name.starts_with("octahedron") { "loop" } else { "catmull-clark" };
         let input = case(name, &format!("{name}.obj"));
-        let out = out_path(&format!("{name}-L2.obj"));
+        let out = out_path("creases", &format!("{name}-L2.obj"));
         let mut args = vec!["subdivide", input.to_str().unwrap(), "--scheme", scheme, "--levels", "2"];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["-o", out.to_str().unwrap()]);
@@ -90,7 +72,7 @@ fn zero_levels_limit_of_tagged_inputs_equals_opensubdiv() {
         ("cube_corners2", &[][..], "opensubdiv-catmull-clark-limit.txt"),
     ] {
         let input = case(name, &format!("{name}.obj"));
-        let out = out_path(&format!("{name}-limit.obj"));
+        let out = out_path("creases", &format!("{name}-limit.obj"));
         let mut args = vec!["subdivide", input.to_str().unwrap(), "--scheme", "catmull-clark", "--levels", "0"];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["--limit", "-o", out.to_str().unwrap()]);
@@ -113,10 +95,10 @@ fn zero_levels_limit_of_tagged_inputs_equals_opensubdiv() {
 /// A `--tags` file on the untagged cube gives the tagged OBJ's surface.
 #[test]
 fn tag_file_equals_obj_tag_lines() {
-    let tags = out_path("top.json");
+    let tags = out_path("creases", "top.json");
     std::fs::write(&tags, r#"{"creases": [[1, 5, 2.5], [5, 7, 2.5], [7, 3, 2.5], [3, 1, 2.5]]}"#).unwrap();
     let cube = fixtures().join("canonical/cube_quad.obj");
-    let (a, b) = (out_path("cube-tagfile.obj"), out_path("cube-tagged.obj"));
+    let (a, b) = (out_path("creases", "cube-tagfile.obj"), out_path("creases", "cube-tagged.obj"));
     let common = ["--scheme", "catmull-clark", "--levels", "2", "-o"];
     run_ok(
         &[
@@ -131,7 +113,7 @@ fn tag_file_equals_obj_tag_lines() {
     assert_eq!(read(&a).positions, read(&b).positions);
     // A tag file naming a non-edge is refused (exit 2), nothing written.
     std::fs::write(&tags, r#"{"creases": [[0, 7, 1.0]]}"#).unwrap();
-    let c = out_path("cube-bad-tags.obj");
+    let c = out_path("creases", "cube-bad-tags.obj");
     let run = subdiv(
         &[
             &["subdivide", cube.to_str().unwrap(), "--tags", tags.to_str().unwrap()][..],
@@ -154,7 +136,7 @@ fn boundary_options_move_the_corners_or_not() {
     let input = read(&grid).positions;
     let mut limits = Vec::new();
     for boundary in ["edge-and-corner", "edge-only", "none"] {
-        let out = out_path(&format!("grid-{boundary}.obj"));
+        let out = out_path("creases", &format!("grid-{boundary}.obj"));
         run_ok(&[
             "subdivide",
             grid.to_str().unwrap(),
@@ -195,7 +177,7 @@ fn boundary_options_move_the_corners_or_not() {
 #[test]
 fn deng_ma_refuses_semi_sharp_tags_and_interpolation_keeps_them() {
     let tagged = case("cube_crease_top_s1", "cube_crease_top_s1.obj");
-    let out = out_path("deng-ma-tagged.obj");
+    let out = out_path("creases", "deng-ma-tagged.obj");
     let run = subdiv(&[
         "subdivide",
         tagged.to_str().unwrap(),
@@ -226,8 +208,8 @@ fn deng_ma_refuses_semi_sharp_tags_and_interpolation_keeps_them() {
     assert_eq!(read(&out).tags.creases.len(), 12 * 4);
     // interpolate: the control mesh is solved with the tags and written with
     // them; read back from the file alone, its limit points pass through the data.
-    let control = out_path("cheng-tagged.obj");
-    let report = out_path("cheng-tagged.json");
+    let control = out_path("creases", "cheng-tagged.obj");
+    let report = out_path("creases", "cheng-tagged.json");
     let stderr = run_ok(&[
         "interpolate",
         tagged.to_str().unwrap(),
@@ -324,7 +306,7 @@ fn texture_coordinates_follow_opensubdiv_in_each_fvar_mode() {
         ("uv_grid", "linear-none", "edge-only"),
     ] {
         let input = case(name, &format!("{name}.obj"));
-        let out = out_path(&format!("{name}-{mode}-{boundary}.obj"));
+        let out = out_path("creases", &format!("{name}-{mode}-{boundary}.obj"));
         run_ok(&[
             "subdivide",
             input.to_str().unwrap(),
@@ -348,7 +330,7 @@ fn texture_coordinates_follow_opensubdiv_in_each_fvar_mode() {
         assert!(gap < 1e-12, "{name} {mode} {boundary}: UVs off by {gap:.3e}");
     }
     // Doo-Sabin refines no channel with seams: the positions are written, the UVs dropped with a warning.
-    let out = out_path("spot-ds.obj");
+    let out = out_path("creases", "spot-ds.obj");
     let spot = case("spot_uv", "spot_uv.obj");
     let stderr = run_ok(&[
         "subdivide",
@@ -370,7 +352,7 @@ fn texture_coordinates_follow_opensubdiv_in_each_fvar_mode() {
 #[test]
 fn doo_sabin_keeps_infinitely_sharp_creases() {
     let cube = case("cube_crease_all10", "cube_crease_all10.obj");
-    let out = out_path("cube-ds-sharp.obj");
+    let out = out_path("creases", "cube-ds-sharp.obj");
     run_ok(&[
         "subdivide",
         cube.to_str().unwrap(),

@@ -6,13 +6,9 @@
 //! control meshes.
 
 mod common;
-use common::{assert_no_panic, fixtures, subdiv};
+use common::{assert_no_panic, fixtures, read, subdiv};
 use std::path::{Path, PathBuf};
-use subdiv_mesh::{DVec3, PolygonSoup};
-
-fn read(path: &Path) -> PolygonSoup {
-    subdiv_io::read_mesh(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
+use subdiv_mesh::DVec3;
 
 fn read_points(path: &Path) -> Vec<DVec3> {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));

@@ -3,20 +3,9 @@
 //! `--surface` writes them, with the seams where the input has them.
 
 mod common;
-use common::{assert_no_panic, fixtures, subdiv};
+use common::{fixtures, out_path, read, run_ok};
 use std::collections::{BTreeSet, HashMap};
-use std::path::{Path, PathBuf};
 use subdiv_mesh::PolygonSoup;
-
-fn out_path(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("subdiv-cli-uvs-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn read(path: &Path) -> PolygonSoup {
-    subdiv_io::read_mesh(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
 
 /// The seam edges of a soup, as vertex pairs (a < b): interior edges whose
 /// two faces give different UV values at either end (compared by value).
@@ -59,14 +48,6 @@ fn values_per_vertex(soup: &PolygonSoup) -> Vec<usize> {
     sets.iter().map(BTreeSet::len).collect()
 }
 
-fn run_ok(args: &[&str]) -> String {
-    let run = subdiv(args);
-    assert_no_panic(&run);
-    let stderr = String::from_utf8_lossy(&run.stderr).to_string();
-    assert_eq!(run.status.code(), Some(0), "{args:?}: {stderr}");
-    stderr
-}
-
 /// Catmull-Clark methods (cheng, and deng-ma on the same split): the seams
 /// of the surface are exactly the descendants of the input's: at level L
 /// each input seam edge is 2^L surface seam edges and no other edge is one,
@@ -80,8 +61,8 @@ fn surface_keeps_the_seams_of_a_uv_quad_mesh() {
     let input_values = values_per_vertex(&input);
     for method in ["cheng", "deng-ma"] {
         for (levels, fvar) in [(1usize, "linear-all"), (2, "linear-none"), (2, "linear-corners-only")] {
-            let surface = out_path(&format!("spot-{method}-{levels}-{fvar}.obj"));
-            let control = out_path(&format!("spot-{method}-control.obj"));
+            let surface = out_path("uvs", &format!("spot-{method}-{levels}-{fvar}.obj"));
+            let control = out_path("uvs", &format!("spot-{method}-control.obj"));
             run_ok(&[
                 "interpolate",
                 input_path.to_str().unwrap(),
@@ -129,8 +110,8 @@ fn doo_sabin_methods_carry_seamless_uvs_and_warn_about_seams() {
     let grid = fixtures().join("peer/creases/uv_grid/uv_grid.obj");
     let spot = fixtures().join("peer/creases/spot_uv/spot_uv.obj");
     for method in ["nasri", "zheng-cai", "fan-cheng-lai"] {
-        let control = out_path(&format!("grid-{method}-control.obj"));
-        let surface = out_path(&format!("grid-{method}-surface.obj"));
+        let control = out_path("uvs", &format!("grid-{method}-control.obj"));
+        let surface = out_path("uvs", &format!("grid-{method}-surface.obj"));
         let stderr = run_ok(&[
             "interpolate",
             grid.to_str().unwrap(),

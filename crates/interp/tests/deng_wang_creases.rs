@@ -17,75 +17,14 @@ mod support;
 use glam::{DVec2, DVec3};
 use subdiv_interp::*;
 use subdiv_mesh::refine::triangle_split;
-use subdiv_mesh::{shapes, triangulate, EdgeTag, FaceVarying, Mesh, TagList, Tags, Topology, VertexTag};
+use subdiv_mesh::{shapes, triangulate, FaceVarying, Mesh, Tags, Topology};
 use subdiv_mesh::{VertexId, SHARPNESS_INFINITE};
 use subdiv_stencil::{subdivide, BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta};
 use support::fixture;
 
-const INF: f32 = SHARPNESS_INFINITE;
+use support::tagged::*;
 
 // ---- the tagged cases (as `tests/creases.rs`, plus triangle input) --------
-
-/// `mesh` with the edges `creases` (vertex pairs, sharpness) and corners tagged.
-fn tagged(mesh: &Mesh, creases: &[(u32, u32, f32)], corners: &[(u32, f32)]) -> Mesh {
-    let list = TagList {
-        creases: creases.iter().map(|&(a, b, sharpness)| EdgeTag { a, b, sharpness }).collect(),
-        corners: corners.iter().map(|&(vertex, sharpness)| VertexTag { vertex, sharpness }).collect(),
-    };
-    let tags = Tags::from_list(mesh.topology(), &list).expect("valid tags");
-    mesh.clone().with_tags(tags)
-}
-
-/// Moves every vertex by a small deterministic offset (no symmetry left).
-fn jittered(mesh: &Mesh, amount: f64) -> Mesh {
-    let mut rng = shapes::SplitMix64(17);
-    let p = mesh
-        .positions()
-        .iter()
-        .map(|&p| p + amount * DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5))
-        .collect();
-    mesh.with_positions(p)
-}
-
-/// The cube's top loop (z = 1: vertices 4, 5, 7, 6).
-const CUBE_TOP: [(u32, u32); 4] = [(4, 5), (5, 7), (7, 6), (6, 4)];
-/// All 12 edges of the cube.
-const CUBE_EDGES: [(u32, u32); 12] =
-    [(0, 1), (1, 3), (3, 2), (2, 0), (4, 5), (5, 7), (7, 6), (6, 4), (0, 4), (1, 5), (2, 6), (3, 7)];
-
-fn with_sharpness(pairs: &[(u32, u32)], s: f32) -> Vec<(u32, u32, f32)> {
-    pairs.iter().map(|&(a, b)| (a, b, s)).collect()
-}
-
-/// Grid vertex (i, j) of `shapes::quad_grid(nx, _)`.
-fn grid_id(nx: u32, i: u32, j: u32) -> u32 {
-    j * (nx + 1) + i
-}
-
-/// The bumpy open 6 × 5 quad grid of the cases.
-fn bumpy_grid() -> Mesh {
-    let g = shapes::quad_grid(6, 5);
-    let p = g.positions().iter().map(|&p| DVec3::new(p.x, p.y, 0.3 * (3.0 * p.x).sin() * (2.0 * p.y).cos())).collect();
-    g.with_positions(p)
-}
-
-/// A bumpy open grid with an interior crease row from boundary to boundary
-/// (corners where it meets the boundary) and a corner tag on the boundary.
-fn grid_case(s: f32) -> Mesh {
-    let nx = 6u32;
-    let row: Vec<(u32, u32, f32)> = (0..nx).map(|i| (grid_id(nx, i, 2), grid_id(nx, i + 1, 2), s)).collect();
-    tagged(&bumpy_grid(), &row, &[(grid_id(nx, 3, 0), INF)])
-}
-
-/// A torus with a closed crease ring around the tube and a dart (one crease
-/// edge ending in the smooth surface).
-fn torus_case(s: f32) -> Mesh {
-    let torus = jittered(&shapes::torus(12, 8), 0.05);
-    let ring: Vec<(u32, u32, f32)> = (0..8).map(|j| (j, (j + 1) % 8, s)).collect();
-    let mut creases = ring;
-    creases.push((8 * 6 + 2, 8 * 7 + 2, INF)); // a dart at both ends
-    tagged(&torus, &creases, &[])
-}
 
 /// The jittered icosahedron (a triangle mesh: no triangulation) with the
 /// pentagon around vertex 0 as a crease loop at `s` and a dart at vertex 0's

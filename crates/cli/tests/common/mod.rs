@@ -25,3 +25,25 @@ pub fn assert_no_panic(out: &Output) {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked") && !stderr.contains("RUST_BACKTRACE"), "panic: {stderr}");
 }
+
+/// A path in this test binary's scratch folder (`subdiv-cli-{suite}-{pid}`
+/// in the temporary directory, created on first use).
+pub fn out_path(suite: &str, name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("subdiv-cli-{suite}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Reads a mesh file as it is (panics naming the file).
+pub fn read(path: &Path) -> subdiv_mesh::PolygonSoup {
+    subdiv_io::read_mesh(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Runs `subdiv` with `args`, asserts exit 0 without a panic, returns stderr.
+pub fn run_ok(args: &[&str]) -> String {
+    let run = subdiv(args);
+    assert_no_panic(&run);
+    let stderr = String::from_utf8_lossy(&run.stderr).to_string();
+    assert_eq!(run.status.code(), Some(0), "{args:?}: {stderr}");
+    stderr
+}

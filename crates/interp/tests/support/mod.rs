@@ -2,6 +2,8 @@
 //! `subdiv_interp::verify`, and a volume measure.
 #![allow(dead_code)]
 
+pub mod tagged;
+
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 #[allow(unused_imports)]
