@@ -2,7 +2,7 @@
 
 use crate::budget::{Budget, MemoryArgs};
 use crate::failure::{bad_input, Failure};
-use crate::load::load_mesh_with_tags;
+use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::{self, Outputs};
 use crate::subdivide::{BetaArg, SurfaceArgs, TensionArgs};
 use crate::{params, progress};
@@ -91,12 +91,9 @@ pub struct InterpolateArgs {
     /// mesh interpolates the data under these options and its tags.
     #[command(flatten)]
     surface_options: SurfaceArgs,
-    /// Crease and corner tags for formats without them (or in addition to an OBJ's `t` lines):
-    /// JSON {"creases": [[v0, v1, sharpness], …], "corners": [[v, sharpness], …]}. Every method
-    /// keeps them (doo-sabin methods and deng-ma: infinitely sharp ones, ≥ 10); the control mesh
-    /// is written with its tags.
-    #[arg(long)]
-    tags: Option<PathBuf>,
+    /// Tags besides the file's own: a tag file, feature edges by angle.
+    #[command(flatten)]
+    tags: TagArgs,
     /// Write the control mesh (deng-ma: the refined surface).
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -222,10 +219,11 @@ fn classify(args: &InterpolateArgs, e: InterpError) -> Failure {
 
 /// The parameter files given: inputs that no output may overwrite.
 fn parameter_files(args: &InterpolateArgs) -> impl Iterator<Item = &Path> {
-    [&args.shape_file, &args.normals, &args.subset, &args.handles, &args.tags]
+    [&args.shape_file, &args.normals, &args.subset, &args.handles]
         .into_iter()
         .flatten()
         .map(PathBuf::as_path)
+        .chain(args.tags.files())
 }
 
 /// Runs `subdiv interpolate`.
@@ -239,7 +237,7 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     if let Some(path) = &args.report {
         outputs.other("--report", path)?;
     }
-    let mesh = load_mesh_with_tags(&args.mesh, args.tags.as_deref())?;
+    let mesh = load_tagged_mesh(&args.mesh, &args.tags)?;
     let name = args_method_name(args.method);
     let (bar, observer) = progress::solver(format!("{name}: {} vertices", mesh.topology().vertex_count()), args.tol);
     let result = run_method(args, &mesh, observer);

@@ -3,7 +3,7 @@
 use crate::failure::{bad_input, Failure};
 use crate::progress;
 use anyhow::anyhow;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use subdiv_mesh::{Mesh, PolygonSoup};
 
 /// Reads a mesh file as it is (unvalidated), with a progress bar for large
@@ -21,6 +21,48 @@ pub fn read_soup(path: &Path) -> Result<PolygonSoup, Failure> {
         progress::warn(w.to_string());
     }
     Ok(soup)
+}
+
+/// Where a command's tags come from besides the file's own `t` lines.
+#[derive(clap::Args, Debug, Default)]
+pub struct TagArgs {
+    /// Crease and corner tags for formats without them (or in addition to an OBJ's `t` lines):
+    /// JSON {"creases": [[v0, v1, sharpness], …], "corners": [[v, sharpness], …]}, 0-based vertex
+    /// indices, sharpness 0 smooth … ≥ 10 infinitely sharp.
+    #[arg(long)]
+    pub tags: Option<PathBuf>,
+    /// Tag every interior edge whose two faces' normals turn by at least DEG degrees as an
+    /// infinitely sharp crease (feature edges of a CAD-like mesh); tags from the file or --tags
+    /// on the same edges win.
+    #[arg(long, value_name = "DEG")]
+    pub feature_angle: Option<f64>,
+}
+
+impl TagArgs {
+    /// The tag file, an input no output may overwrite.
+    pub fn files(&self) -> impl Iterator<Item = &Path> {
+        self.tags.as_deref().into_iter()
+    }
+}
+
+/// Reads and validates a mesh with the tags of `tags`: the file's own, then
+/// the tag file's (a later tag of the same edge or vertex wins), the feature
+/// edges of `--feature-angle` under both; warnings go to stderr.
+pub fn load_tagged_mesh(path: &Path, tags: &TagArgs) -> Result<Mesh, Failure> {
+    if let Some(deg) = tags.feature_angle {
+        if !(deg > 0.0 && deg <= 180.0) {
+            return Err(bad_input(anyhow!("--feature-angle: {deg}° is outside (0, 180]")));
+        }
+    }
+    let mesh = load_mesh_with_tags(path, tags.tags.as_deref())?;
+    let Some(deg) = tags.feature_angle else { return Ok(mesh) };
+    let t = mesh.topology();
+    let mut list = subdiv_mesh::feature_edges(&mesh, deg).list;
+    let given = mesh.tags().to_list(t);
+    list.creases.extend(given.creases);
+    list.corners = given.corners;
+    let tags = subdiv_mesh::Tags::from_list(t, &list).map_err(|e| bad_input(anyhow!("{}: {e}", path.display())))?;
+    Ok(mesh.with_tags(tags))
 }
 
 /// Reads and validates a mesh, with the crease and corner tags of

@@ -3,7 +3,7 @@
 
 use crate::budget::{Budget, MemoryArgs};
 use crate::failure::{bad_input, Failure};
-use crate::load::load_mesh_with_tags;
+use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::Outputs;
 use crate::progress;
 use anyhow::anyhow;
@@ -125,11 +125,9 @@ pub struct SubdivideArgs {
     /// Boundary and crease options.
     #[command(flatten)]
     surface: SurfaceArgs,
-    /// Crease and corner tags for formats without them (or in addition to an OBJ's `t` lines):
-    /// JSON {"creases": [[v0, v1, sharpness], …], "corners": [[v, sharpness], …]}, 0-based vertex
-    /// indices, sharpness 0 smooth … ≥ 10 infinitely sharp.
-    #[arg(long)]
-    tags: Option<PathBuf>,
+    /// Tags besides the file's own: a tag file, feature edges by angle.
+    #[command(flatten)]
+    tags: TagArgs,
     /// Loop on a mesh with non-triangles: triangulate every face first (over its own corners,
     /// keeping the mesh manifold: quads along the shorter valid diagonal, larger faces by ear clipping).
     #[arg(long)]
@@ -161,9 +159,9 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
             "--limit: the Deng-Ma scheme is interpolatory and has no limit mask; its refined vertices are the surface"
         )));
     }
-    let mut outputs = Outputs::new(std::iter::once(args.mesh.as_path()).chain(args.tags.as_deref()));
+    let mut outputs = Outputs::new(std::iter::once(args.mesh.as_path()).chain(args.tags.files()));
     let format = outputs.mesh("--output", &args.output)?;
-    let mut mesh = load_mesh_with_tags(&args.mesh, args.tags.as_deref())?;
+    let mut mesh = load_tagged_mesh(&args.mesh, &args.tags)?;
     let input = args.mesh.display();
     if args.triangulate && args.scheme == SchemeArg::Loop {
         mesh = subdiv_mesh::triangulate(&mesh).map_err(|e| bad_input(anyhow!("{input}: --triangulate: {e}")))?.mesh;

@@ -387,3 +387,68 @@ fn doo_sabin_keeps_infinitely_sharp_creases() {
     assert_no_panic(&run);
     assert_eq!(run.status.code(), Some(2), "{}", String::from_utf8_lossy(&run.stderr));
 }
+
+/// `--feature-angle`: the feature edges of `subdiv_mesh::feature_edges`
+/// become infinitely sharp creases of the input (under the file's and the
+/// tag file's own tags), for `interpolate` and `subdivide` alike.
+#[test]
+fn feature_angle_tags_the_feature_edges() {
+    let fandisk = fixtures().join("quad/fandisk_quads.off");
+    let data = subdiv_mesh::Mesh::from_soup(read(&fandisk)).unwrap().0;
+    let expected = subdiv_mesh::feature_edges(&data, 30.0).edges.len();
+    assert!(expected > 100, "fandisk has CAD edges");
+    let (control, report) = (out_path("creases", "fandisk-cheng.obj"), out_path("creases", "fandisk-cheng.json"));
+    run_ok(&[
+        "interpolate",
+        fandisk.to_str().unwrap(),
+        "--method",
+        "cheng",
+        "--feature-angle",
+        "30",
+        "-o",
+        control.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(json["input"]["tags"]["creases"], expected);
+    assert_eq!(json["input"]["tags"]["infinitely_sharp_creases"], expected);
+    let written = subdiv_mesh::Mesh::from_soup(read(&control)).unwrap().0;
+    assert_eq!(written.tags().crease_count(), expected, "the control mesh is written with the features");
+    let plain = subdiv_interp::verify::Plain::CatmullClark;
+    let candidates = subdiv_interp::verify::candidate_limit_points(&written, plain).unwrap();
+    let gap = subdiv_interp::verify::nearest_gap(data.positions(), &candidates, data.bbox_diagonal());
+    assert!(gap <= 1e-6, "{gap:e}");
+
+    // A tag file's value on a feature edge wins; subdivide takes the flag too.
+    let cube = fixtures().join("canonical/cube_quad.obj");
+    let tags = out_path("creases", "semi.json");
+    std::fs::write(&tags, r#"{"creases": [[0, 1, 2.5]]}"#).unwrap();
+    let out = out_path("creases", "cube-features.obj");
+    let (cube_s, tags_s, out_s) = (cube.to_str().unwrap(), tags.to_str().unwrap(), out.to_str().unwrap());
+    let cube_args = |levels| {
+        let tail = ["--feature-angle", "30", "--tags", tags_s, "-o", out_s];
+        [&["subdivide", cube_s, "--scheme", "catmull-clark", "--levels", levels][..], &tail[..]].concat()
+    };
+    run_ok(&cube_args("0"));
+    let tagged = read(&out).tags.creases;
+    assert_eq!(tagged.len(), 12);
+    assert_eq!(tagged.iter().filter(|t| t.sharpness == 2.5).count(), 1);
+    run_ok(&cube_args("1"));
+    assert_eq!(read(&out).tags.creases.len(), 24);
+    let bad = subdiv(&[
+        "subdivide",
+        cube.to_str().unwrap(),
+        "--scheme",
+        "loop",
+        "--levels",
+        "1",
+        "--feature-angle",
+        "200",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_no_panic(&bad);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--feature-angle"));
+}

@@ -260,7 +260,16 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     let mut table = Table::new(
         "table-creases",
         "Creased interpolation — fandisk with its feature edges tagged",
-        &["method", "tags", "max error / d", "time (ms)", "sharpness min", "sharpness median", "sharpness mean"],
+        &[
+            "method",
+            "tags",
+            "max error / d",
+            "time (ms)",
+            "sharpness min",
+            "sharpness median",
+            "sharpness mean",
+            "edges ≥ 0.8",
+        ],
     );
     let mesh = ctx.fixture("quad/fandisk_quads.off")?;
     let features = feature_edges(&mesh, THRESHOLD_DEGREES);
@@ -336,7 +345,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
             Ok(ok) => ok,
             Err(reason) => {
                 let mut cells = vec![run.method.into(), label, reason.clone()];
-                cells.extend(["—"; 4].map(String::from));
+                cells.extend(["—"; 5].map(String::from));
                 table.row(cells);
                 table.json.push(json!({"method": run.method, "tagged": run.tagged, "outcome": reason}));
                 if run.tagged {
@@ -356,6 +365,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
             format!("{min:.3}"),
             format!("{median:.3}"),
             format!("{mean:.3}"),
+            format!("{} of {}", s.iter().filter(|&&x| x >= ACCEPT).count(), s.len()),
         ]);
         table.json.push(json!({
             "method": run.method, "tagged": run.tagged, "creases": if run.tagged { n_features } else { 0 },
