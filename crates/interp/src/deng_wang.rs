@@ -144,9 +144,11 @@
 //!    the tag grows (under Chaikin a blend with s > 1 is taken as the curve).
 //!    Normals (Eq. 8, or [`DengWangOptions::normals`]) are accepted at crease
 //!    vertices too: the sharp edges do not read them, the smooth edges there
-//!    do (Eq. 8 averages over both sides of the crease).
+//!    do, with the normal of their sector where the vertex is on a crease.
 //! 3. Vertex points: the limit row of old vertex i in M¹ (with M¹'s tags)
-//!    is taken from `subdiv_stencil::limit_matrix_loop_sharp`, by its
+//!    is taken from `subdiv_stencil::limit_rows_loop_sharp` (the rows of
+//!    `limit_matrix_loop_sharp` for the vertices a tag touches; the others
+//!    keep the plain masks), by its
 //!    [`RowKind`]: smooth as above; crease (an M¹ vertex with exactly two
 //!    infinitely sharp edges and no other sharpness) the boundary's
 //!    p¹ = (6p⁰ − e₋ − e₊)/4 over its two crease edge points; corner p¹ = p⁰;
@@ -224,8 +226,8 @@ use subdiv_mesh::{triangulate, EdgeId, Mesh, Tags, Topology, VertexId};
 use subdiv_rules::loop_scheme::{limit_mask, vertex_point_mask};
 use subdiv_rules::{LoopBeta, VertexKind, VertexMask};
 use subdiv_stencil::{
-    fvar, limit_matrix_loop_sharp, loop_subdivision, BoundaryInterpolation, EdgeStep, LevelSharpness, LimitMatrix,
-    RowKind, Rule, Scheme, StencilError,
+    fvar, limit_rows_loop_sharp, loop_subdivision, BoundaryInterpolation, EdgeStep, LevelSharpness, LimitRows, RowKind,
+    Rule, Scheme, StencilError,
 };
 
 /// Default edge parameter μ of Eq. 9: ⅜, the value at which the first step
@@ -531,14 +533,33 @@ fn touched_by_tags(t: &Topology, tags: &Tags) -> Vec<bool> {
     touched
 }
 
-/// What the vertex points of M¹ are solved against: M¹'s limit matrix with
-/// its tags (`None` on an untagged `edge-and-corner` mesh, whose rows are
-/// the plain masks of M⁰'s topology), and M⁰'s sharpness and tags.
+/// What the vertex points of M¹ are solved against: M¹'s tagged limit rows
+/// of the touched vertices (`None` on an untagged `edge-and-corner` mesh,
+/// whose rows are the plain masks of M⁰'s topology), and M⁰'s sharpness.
 struct Level0<'a> {
     t: &'a Topology,
     sharp: &'a LevelSharpness,
-    tags: &'a Tags,
-    limit: Option<&'a LimitMatrix>,
+    /// Per vertex of M⁰: touched by the tags or the boundary option (the
+    /// plain masks do not fit it); empty when nothing is.
+    touched: &'a [bool],
+    /// M¹'s tagged limit rows of the touched interpolated vertices, and the
+    /// row of each vertex (`u32::MAX` for none).
+    limit: Option<(&'a LimitRows, &'a [u32])>,
+}
+
+/// Per vertex of M⁰: whether its limit row in M¹ or its vertex point may
+/// differ from the plain masks — a tag on it or on one of its edges, or,
+/// under a boundary option other than `edge-and-corner`, a boundary vertex.
+/// Empty for a plain level.
+fn touched_vertices(t: &Topology, sharp: &LevelSharpness, tags: &Tags) -> Vec<bool> {
+    if sharp.is_plain() {
+        return Vec::new();
+    }
+    let mut touched = touched_by_tags(t, tags);
+    if sharp.boundary() != BoundaryInterpolation::EdgeAndCorner {
+        t.vertices().filter(|&v| t.is_boundary_vertex(v)).for_each(|v| touched[v.index()] = true);
+    }
+    touched
 }
 
 /// M¹'s vertex points (the first V points of M¹), given M¹'s edge points:
@@ -554,7 +575,6 @@ fn vertex_points(
 ) -> Result<(Vec<DVec3>, RowCounts), InterpError> {
     let t = level.t;
     let nv = t.vertex_count();
-    let touched = level.limit.map(|_| touched_by_tags(t, level.tags));
     // Vertex points by the tagged rules, for the vertices the plain mask does not fit.
     let mut tagged_step: Option<Vec<DVec3>> = None;
     let mut counts = RowCounts::default();
@@ -564,38 +584,37 @@ fn vertex_points(
     for v in t.vertices() {
         let p0 = p[v.index()];
         let k = t.valence(v);
-        let untouched_plain = match &touched {
-            None => true,
-            Some(touched) => !touched[v.index()] && level.sharp.boundary() == BoundaryInterpolation::EdgeAndCorner,
-        };
+        let untouched_plain = !level.touched.get(v.index()).copied().unwrap_or(false);
+        let limit_row =
+            level.limit.and_then(|(rows, of)| (of[v.index()] != u32::MAX).then(|| (rows, of[v.index()] as usize)));
         positions.push(if t.is_isolated(v) {
             p0
         } else if interpolated[v.index()] {
             // W7: solve the limit row of M¹ at v for p¹. Plain masks (Eq. 5; boundary (e₋ + 4p + e₊)/6; corner p):
             // interior p¹ = (p⁰ − γ Σ p_e) / (1 − kγ), boundary p¹ = (6p⁰ − e₋ − e₊)/4, corner p¹ = p⁰.
-            let row_kind = match level.limit {
+            let row_kind = match limit_row {
                 None => match kind(t, v) {
                     VertexKind::Interior => RowKind::Smooth,
                     VertexKind::Boundary => RowKind::Crease,
                     VertexKind::Corner => RowKind::Corner,
                 },
-                Some(a) => a.row_kinds[v.index()],
+                Some((rows, i)) => rows.kinds[i],
             };
             counts.add(row_kind);
-            match (level.limit, row_kind) {
+            match (limit_row, row_kind) {
                 (None, _) | (Some(_), RowKind::Smooth) => {
                     let mask = limit_mask(kind(t, v), k, beta);
                     (p0 - ring_sum(t, v, &mask, |e| edge[e.index()])) / mask.vertex
                 }
                 (Some(_), RowKind::Corner) => p0,
-                (Some(a), RowKind::Crease) => {
+                (Some((rows, i)), RowKind::Crease) => {
                     // The crease ends in M¹ are the edge points of v's two sharp edges.
                     let mask = limit_mask(VertexKind::Boundary, k, beta);
-                    let row = a.s.outer_view(v.index()).expect("a row per vertex");
+                    let row = rows.s.outer_view(i).expect("a row per listed vertex");
                     let ends = row.indices().iter().map(|&c| c as usize).filter(|&c| c != v.index());
                     (p0 - ends.map(|c| mask.boundary_neighbor * known(c)).sum::<DVec3>()) / mask.vertex
                 }
-                (Some(a), RowKind::General) => general_vertex_point(a, v, p0, nv, known)?,
+                (Some((rows, i)), RowKind::General) => general_vertex_point(rows, i, v, p0, nv, known)?,
             }
         } else if untouched_plain {
             // Not interpolated: the plain Loop vertex point on M⁰ (Eq. 1; boundary (p₋ + 6p + p₊)/8).
@@ -618,14 +637,15 @@ fn vertex_points(
 /// need): w_v p¹ + Σ_c w_c x_c = p⁰ over M¹'s closed 1-ring of v, whose
 /// other vertices are all edge points (known); so p¹ = (p⁰ − Σ_c w_c x_c)/w_v.
 fn general_vertex_point(
-    a: &LimitMatrix,
+    rows: &LimitRows,
+    i: usize,
     v: VertexId,
     p0: DVec3,
     nv: usize,
     known: impl Fn(usize) -> DVec3,
 ) -> Result<DVec3, InterpError> {
-    let row = a.s.outer_view(v.index()).expect("a row per vertex");
-    let d = a.d[v.index()];
+    let row = rows.s.outer_view(i).expect("a row per listed vertex");
+    let d = rows.d[i];
     let mut centre = 0.0;
     let mut rest = DVec3::ZERO;
     for (c, &w) in row.iter() {
@@ -719,19 +739,28 @@ pub(crate) fn interpolate_prepared(
         ));
     }
 
-    // M¹'s connectivity and tags, and with tags M¹'s limit matrix (setup, with the triangulation), do
+    // M¹'s connectivity and tags, and with tags M¹'s limit rows (setup, with the triangulation), do
     // not depend on the geometry: built on one core while the other computes the normals and the edge
     // points (solve).
     let sharp = opts.common.surface.sharpness(triangulation.mesh.tags());
     let plain = sharp.is_plain();
+    let touched = touched_vertices(t, &sharp, triangulation.mesh.tags());
     let scheme = Scheme::Loop(opts.beta);
     let start = std::time::Instant::now();
     let (level1, edges) = rayon::join(
         || -> Result<_, InterpError> {
             let split = scheme.rules().split(t, &sharp)?;
-            // Untagged with `edge-and-corner` boundaries the rows are the plain masks: no matrix.
-            let limit =
-                if plain { None } else { Some(limit_matrix_loop_sharp(&split.topology, &split.sharpness, opts.beta)?) };
+            // The tagged limit rows of M¹, for the interpolated vertices the tags or the boundary
+            // option touch only (old vertex v is vertex v of M¹); the others take the plain masks.
+            let rows: Vec<u32> = (0..t.vertex_count() as u32)
+                .filter(|&v| touched.get(v as usize).copied().unwrap_or(false) && interpolated[v as usize])
+                .filter(|&v| !t.is_isolated(VertexId(v)))
+                .collect();
+            let limit = if plain || rows.is_empty() {
+                None
+            } else {
+                Some(limit_rows_loop_sharp(&split.topology, &split.sharpness, opts.beta, &rows)?)
+            };
             Ok((split, limit, seconds_since(start)))
         },
         || -> Result<_, InterpError> {
@@ -744,7 +773,12 @@ pub(crate) fn interpolate_prepared(
     );
     let ((split, limit, split_seconds), (edge, edge_seconds)) = (level1?, edges?);
     let start = std::time::Instant::now();
-    let level = Level0 { t, sharp: &sharp, tags: triangulation.mesh.tags(), limit: limit.as_ref() };
+    let mut row_of = Vec::new();
+    if let Some(rows) = &limit {
+        row_of = vec![u32::MAX; t.vertex_count()];
+        rows.vertices.iter().enumerate().for_each(|(i, &v)| row_of[v as usize] = i as u32);
+    }
+    let level = Level0 { t, sharp: &sharp, touched: &touched, limit: limit.as_ref().map(|rows| (rows, &row_of[..])) };
     let (positions, rows) = vertex_points(&level, mesh.positions(), &edge, &interpolated, opts.beta)?;
     // The input's UVs (triangulated) refined by one Loop level with M⁰'s tags, as every level after it.
     let uvs = match triangulation.mesh.uvs() {

@@ -1044,6 +1044,79 @@ pub fn limit_matrix_loop_sharp(
     }))
 }
 
+/// Some rows of a limit matrix, for methods that need the rows of a few
+/// vertices only (Deng-Wang reads those of the tagged old vertices of M¹):
+/// row i is vertex `vertices[i]`, with its kind, its D entry and its S row
+/// (`vertices.len()` × V), equal to those rows of the whole matrix.
+#[derive(Clone, Debug)]
+pub struct LimitRows {
+    /// The vertices, in the order asked for.
+    pub vertices: Vec<u32>,
+    /// The kind of each row.
+    pub kinds: Vec<RowKind>,
+    /// The D entry of each row.
+    pub d: Vec<f64>,
+    /// The S rows.
+    pub s: SparseMatrix,
+}
+
+/// Rows `vertices` of [`limit_matrix_loop_sharp`]`(t, sharp, beta)`, built
+/// alone: time linear in the rows (and the levels their composed rows need),
+/// not in the mesh.
+///
+/// # Errors
+/// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
+///
+/// # Panics
+/// If a vertex is out of range (a caller bug).
+pub fn limit_rows_loop_sharp(
+    t: &Topology,
+    sharp: &LevelSharpness,
+    beta: LoopBeta,
+    vertices: &[u32],
+) -> Result<LimitRows, StencilError> {
+    crate::loop_subdivision::require_triangles(t)?;
+    let rules: Vec<RowRule> = vertices.iter().map(|&v| row_rule(t, sharp, VertexId(v))).collect();
+    let general: Vec<u32> =
+        vertices.iter().zip(&rules).filter(|(_, r)| matches!(r, RowRule::General)).map(|(&v, _)| v).collect();
+    let composed = if general.is_empty() { None } else { Some(composed_rows(t, sharp, Scheme::Loop(beta), &general)?) };
+    let mut next_general = 0;
+    let mut rows = RowBuilder::with_capacity(vertices.len(), 8 * vertices.len());
+    let (mut kinds, mut d) = (Vec::with_capacity(vertices.len()), Vec::with_capacity(vertices.len()));
+    for (&v, rule) in vertices.iter().zip(&rules) {
+        let vid = VertexId(v);
+        let (kind, dv) = match *rule {
+            RowRule::Smooth => {
+                // As limit_matrix_loop_sharp's assembly: 3/(8β) on the diagonal, 1 per neighbour.
+                rows.add(v, 3.0 / (8.0 * beta.beta(t.valence(vid))));
+                t.vertex_neighbors(vid).for_each(|e| rows.add(e.0, 1.0));
+                (RowKind::Smooth, beta.gamma(t.valence(vid)))
+            }
+            RowRule::Crease(a, b) => {
+                let mut row = [(a.0, CUBIC_B_SPLINE.end), (v, CUBIC_B_SPLINE.centre), (b.0, CUBIC_B_SPLINE.end)];
+                row.sort_by_key(|&(c, _)| c);
+                row.iter().for_each(|&(c, w)| rows.add(c, w));
+                (RowKind::Crease, CUBIC_B_SPLINE.d)
+            }
+            RowRule::Corner => {
+                rows.add(v, 1.0);
+                (RowKind::Corner, 1.0)
+            }
+            RowRule::General => {
+                let m = composed.as_ref().expect("general rows were composed");
+                let row = m.outer_view(next_general).expect("one composed row per general vertex");
+                row.iter().for_each(|(c, &w)| rows.add(c as u32, w));
+                next_general += 1;
+                (RowKind::General, 1.0)
+            }
+        };
+        rows.finish_row();
+        kinds.push(kind);
+        d.push(dv);
+    }
+    Ok(LimitRows { vertices: vertices.to_vec(), kinds, d, s: rows.build(t.vertex_count()) })
+}
+
 /// Why Cheng's A cannot be inverted safely on a mesh (SPEC §3, ERRATA C3).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Degeneracy {

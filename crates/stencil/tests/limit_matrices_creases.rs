@@ -509,3 +509,29 @@ proptest! {
         check_equals_plan(&c, &a);
     }
 }
+
+/// `limit_rows_loop_sharp` gives the rows of `limit_matrix_loop_sharp`,
+/// kinds and D entries equal, S rows equal to round-off, for any subset of
+/// vertices in any order (here: every vertex, reversed).
+#[test]
+fn loop_rows_alone_equal_the_whole_matrix() {
+    let mut checked = 0;
+    for c in all_cases() {
+        let Scheme::Loop(beta) = c.options.scheme else { continue };
+        let (t, sharp) = (c.mesh.topology(), c.sharpness());
+        let a = limit_matrix_loop_sharp(t, &sharp, beta).unwrap();
+        let vertices: Vec<u32> = (0..t.vertex_count() as u32).rev().collect();
+        let rows = subdiv_stencil::limit_rows_loop_sharp(t, &sharp, beta, &vertices).unwrap();
+        for (i, &v) in vertices.iter().enumerate() {
+            assert_eq!(rows.kinds[i], a.row_kinds[v as usize], "{}: vertex {v}", c.name);
+            assert_eq!(rows.d[i], a.d[v as usize], "{}: vertex {v}", c.name);
+            let (mine, whole) = (row_of(&rows.s, i), row_of(&a.s, v as usize));
+            assert_eq!(mine.len(), whole.len(), "{}: vertex {v}", c.name);
+            for ((c1, w1), (c2, w2)) in mine.iter().zip(&whole) {
+                assert!(c1 == c2 && (w1 - w2).abs() <= 1e-15 * w2.abs().max(1.0), "{}: vertex {v}", c.name);
+            }
+        }
+        checked += 1;
+    }
+    assert!(checked >= 3, "Loop cases: {checked}");
+}
