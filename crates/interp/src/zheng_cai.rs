@@ -453,26 +453,32 @@ pub(crate) fn interpolate_prepared(
 ) -> Result<Interpolant, InterpError> {
     let t = mesh.topology();
     let tags = mesh.tags();
-    // M¹'s connectivity with the creases and corners of the tags (the untagged
-    // split without them), and where each input vertex's limit point sits in it.
-    let ((t1, dual, tags1), topology_seconds) = {
-        let start = std::time::Instant::now();
-        (subdiv_mesh::refine::dual_split_tagged(t, tags), seconds_since(start))
-    };
+    // The connectivity of M¹ (with the creases and corners of the tags) is
+    // needed only from step 4 on: it is built on one core while the other
+    // builds Z and runs steps 1-3 (step 3 evaluated directly, without
+    // building the Eq. (4) stencil).
+    let start = std::time::Instant::now();
+    let (refined, steps) = rayon::join(
+        || (subdiv_mesh::refine::dual_split_tagged(t, tags), seconds_since(start)),
+        || -> Result<_, InterpError> {
+            let z = limit_matrix_doo_sabin_sharp(t, CornerRule::Uniform(EQ4_LAMBDA), tags)?;
+            let operators_seconds = seconds_since(start);
+            let solve_start = std::time::Instant::now();
+            // Steps 1-2, then step 3: M¹ = Eq. (4) step of M⁰.
+            let aux = auxiliary_from(mesh, opts, &z, si.clone())?;
+            let W = doo_sabin::first_step_tagged(t, tags, CornerRule::Uniform(EQ4_LAMBDA), aux.mesh.positions())?;
+            Ok((aux, W, operators_seconds, seconds_since(solve_start)))
+        },
+    );
+    // Where each input vertex's limit point sits in M¹; the normals and
+    // handles are checked against it (a normal at a crease or corner is refused).
+    let ((t1, dual, tags1), topology_seconds) = refined;
     let sites = doo_sabin_limit_sites(t, tags, &dual)?;
     validate(t, opts, &si, &sites)?;
-    // Z, then steps 1-3 (step 3 evaluated directly, without building the
-    // Eq. (4) stencil).
-    let start = std::time::Instant::now();
-    let z = limit_matrix_doo_sabin_sharp(t, CornerRule::Uniform(EQ4_LAMBDA), tags)?;
-    let operators_seconds = seconds_since(start);
-    let solve_start = std::time::Instant::now();
-    // Steps 1-2, then step 3: M¹ = Eq. (4) step of M⁰.
-    let aux = auxiliary_from(mesh, opts, &z, si)?;
-    let mut W = doo_sabin::first_step_tagged(t, tags, CornerRule::Uniform(EQ4_LAMBDA), aux.mesh.positions())?;
-    let steps_seconds = seconds_since(solve_start);
-    // Setup: Z and M¹'s connectivity; solve: steps 1-3 above and 4-5 below.
-    let setup_seconds = operators_seconds + topology_seconds;
+    let (aux, mut W, operators_seconds, steps_seconds) = steps?;
+    // Setup: Z and M¹'s connectivity (side by side, so the longer of the two
+    // branches); solve: steps 1-3 above and steps 4-5 below.
+    let setup_seconds = operators_seconds.max(topology_seconds);
     let solve_start = std::time::Instant::now();
     let SI = &aux.interpolated;
     let mut warnings = Vec::new();
