@@ -259,6 +259,11 @@ proptest! {
         let face: Vec<u32> = (0..p.len() as u32).collect();
         let single = mesh(p.clone(), &[&face]);
         let checked = check(&single, &triangulate(&single).unwrap()).map_err(TestCaseError::fail)?;
+        // Random radii can put three corners so nearly in line that no split
+        // has only triangles of positive area above the tolerance (the
+        // checker's exhaustive search says so, independently of ours): the
+        // property is about polygons that have a valid triangulation.
+        prop_assume!(checked.impossible == 0);
         prop_assert_eq!(checked, Checked { split: 1, valid: 1, impossible: 0, planar: 1 });
         let apex = first_ear(&p, from % p.len());
         let closed = closed_by_a_fan(p.clone(), apex);
