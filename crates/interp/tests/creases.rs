@@ -16,22 +16,7 @@ use support::tagged::*;
 
 /// Every tagged case, with a name and whether it has semi-sharp values.
 fn cases() -> Vec<(&'static str, Mesh, bool)> {
-    let cube = jittered(&shapes::cube(), 0.1);
-    vec![
-        ("cube, top loop infinitely sharp", tagged(&cube, &with_sharpness(&CUBE_TOP, INF), &[]), false),
-        ("cube, all 12 edges infinitely sharp", tagged(&cube, &with_sharpness(&CUBE_EDGES, INF), &[]), false),
-        ("cube, two corners", tagged(&cube, &[], &[(1, INF), (5, INF)]), false),
-        ("cube, top loop at 2.5", tagged(&cube, &with_sharpness(&CUBE_TOP, 2.5), &[]), true),
-        (
-            "cube, top loop 0.75/2.5 and a semi-sharp corner",
-            tagged(&cube, &[(4, 5, 0.75), (5, 7, 2.5), (7, 6, 0.75), (6, 4, 2.5)], &[(1, 1.5)]),
-            true,
-        ),
-        ("torus, ring and dart", torus_case(INF), false),
-        ("torus, ring at 3 and dart", torus_case(3.0), true),
-        ("open grid, crease row and corner", grid_case(INF), false),
-        ("open grid, crease row at 1.5", grid_case(1.5), true),
-    ]
+    common_cases()
 }
 
 fn max_rel(result: &Interpolant, mesh: &Mesh) -> f64 {

@@ -44,23 +44,11 @@ fn icosahedron_case(s: f32) -> Mesh {
     tagged(&ico, &creases, &[])
 }
 
-/// Every tagged case, with a name and whether it has semi-sharp values.
+/// Every tagged case, with a name and whether it has semi-sharp values:
+/// the common ones and two on a triangle mesh.
 fn cases() -> Vec<(&'static str, Mesh, bool)> {
-    let cube = jittered(&shapes::cube(), 0.1);
-    vec![
-        ("cube, top loop infinitely sharp", tagged(&cube, &with_sharpness(&CUBE_TOP, INF), &[]), false),
-        ("cube, all 12 edges infinitely sharp", tagged(&cube, &with_sharpness(&CUBE_EDGES, INF), &[]), false),
-        ("cube, two corners", tagged(&cube, &[], &[(1, INF), (5, INF)]), false),
-        ("cube, top loop at 2.5", tagged(&cube, &with_sharpness(&CUBE_TOP, 2.5), &[]), true),
-        (
-            "cube, top loop 0.75/2.5 and a semi-sharp corner",
-            tagged(&cube, &[(4, 5, 0.75), (5, 7, 2.5), (7, 6, 0.75), (6, 4, 2.5)], &[(1, 1.5)]),
-            true,
-        ),
-        ("torus, ring and dart", torus_case(INF), false),
-        ("torus, ring at 3 and dart", torus_case(3.0), true),
-        ("open grid, crease row and corner", grid_case(INF), false),
-        ("open grid, crease row at 1.5", grid_case(1.5), true),
+    let mut cases = common_cases();
+    cases.extend([
         ("icosahedron (triangles), crease loop and dart", icosahedron_case(INF), false),
         ("icosahedron (triangles), crease loop at 0.5 and dart", icosahedron_case(0.5), true),
         (
@@ -68,7 +56,8 @@ fn cases() -> Vec<(&'static str, Mesh, bool)> {
             fixture("peer/creases/octahedron_corner_creases/octahedron_corner_creases.obj"),
             true,
         ),
-    ]
+    ]);
+    cases
 }
 
 /// The crease methods a case is run with: Chaikin differs only with semi-sharp values.

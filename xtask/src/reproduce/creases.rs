@@ -19,24 +19,12 @@ use super::doo_sabin_creases::panel;
 use crate::render::{side_by_side, stack, Camera, Image, Style, Up, View};
 use anyhow::Result;
 use serde_json::json;
-use subdiv_interp::{
-    cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, DengMaOptions, DengWangOptions,
-    FanChengLaiOptions, InterpError, Interpolant, NasriOptions, ZhengCaiOptions,
-};
+use subdiv_interp::{InterpError, Interpolant};
 use subdiv_mesh::features::{feature_edges, FeatureEdges};
 use subdiv_mesh::{DVec3, EdgeId, Mesh, Tags, SHARPNESS_INFINITE};
 use subdiv_stencil::Scheme;
 
-type MethodFn = fn(&Mesh) -> Result<Interpolant, InterpError>;
-
-const METHODS: [(&str, MethodFn); 6] = [
-    ("nasri", |m| nasri::interpolate(m, &NasriOptions::default())),
-    ("zheng-cai", |m| zheng_cai::interpolate(m, &ZhengCaiOptions::default())),
-    ("cheng", |m| cheng::interpolate(m, &ChengOptions::default())),
-    ("fan-cheng-lai", |m| fan_cheng_lai::interpolate(m, &FanChengLaiOptions::default())),
-    ("deng-wang", |m| deng_wang::interpolate(m, &DengWangOptions::default())),
-    ("deng-ma", |m| deng_ma::interpolate(m, &DengMaOptions::default())),
-];
+use super::methods::METHODS;
 
 /// Dihedral turning angle (degrees) from which an edge of fandisk is a feature.
 const THRESHOLD_DEGREES: f64 = 30.0;

@@ -12,9 +12,11 @@ use subdiv_interp::{
 };
 use subdiv_mesh::Mesh;
 
-type MethodFn = fn(&Mesh) -> Result<Interpolant, InterpError>;
+/// A method with its default options.
+pub(super) type MethodFn = fn(&Mesh) -> Result<Interpolant, InterpError>;
 
-const METHODS: [(&str, MethodFn); 6] = [
+/// The six methods with their default options, by name.
+pub(super) const METHODS: [(&str, MethodFn); 6] = [
     ("nasri", |m| nasri::interpolate(m, &NasriOptions::default())),
     ("zheng-cai", |m| zheng_cai::interpolate(m, &ZhengCaiOptions::default())),
     ("cheng", |m| cheng::interpolate(m, &ChengOptions::default())),

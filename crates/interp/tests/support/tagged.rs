@@ -67,3 +67,24 @@ pub fn torus_case(s: f32) -> Mesh {
     creases.push((8 * 6 + 2, 8 * 7 + 2, INF)); // a dart at both ends
     tagged(&torus, &creases, &[])
 }
+
+/// The tagged cases every method is tested on, with a name and whether
+/// they have semi-sharp values.
+pub fn common_cases() -> Vec<(&'static str, Mesh, bool)> {
+    let cube = jittered(&shapes::cube(), 0.1);
+    vec![
+        ("cube, top loop infinitely sharp", tagged(&cube, &with_sharpness(&CUBE_TOP, INF), &[]), false),
+        ("cube, all 12 edges infinitely sharp", tagged(&cube, &with_sharpness(&CUBE_EDGES, INF), &[]), false),
+        ("cube, two corners", tagged(&cube, &[], &[(1, INF), (5, INF)]), false),
+        ("cube, top loop at 2.5", tagged(&cube, &with_sharpness(&CUBE_TOP, 2.5), &[]), true),
+        (
+            "cube, top loop 0.75/2.5 and a semi-sharp corner",
+            tagged(&cube, &[(4, 5, 0.75), (5, 7, 2.5), (7, 6, 0.75), (6, 4, 2.5)], &[(1, 1.5)]),
+            true,
+        ),
+        ("torus, ring and dart", torus_case(INF), false),
+        ("torus, ring at 3 and dart", torus_case(3.0), true),
+        ("open grid, crease row and corner", grid_case(INF), false),
+        ("open grid, crease row at 1.5", grid_case(1.5), true),
+    ]
+}
