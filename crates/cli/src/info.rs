@@ -55,9 +55,9 @@ struct Summary {
     methods: BTreeMap<&'static str, MethodVerdict>,
 }
 
-/// How many tags, by kind.
+/// How many tags, by kind (also the `tags` of `interpolate`'s report).
 #[derive(Serialize, Debug, Default)]
-struct TagCounts {
+pub(crate) struct TagCounts {
     /// Edges with sharpness > 0.
     creases: usize,
     /// Vertices with corner sharpness > 0.
@@ -69,6 +69,11 @@ struct TagCounts {
 }
 
 impl TagCounts {
+    /// The tags of a validated mesh.
+    pub(crate) fn of_mesh(mesh: &subdiv_mesh::Mesh) -> Self {
+        Self::of(mesh.tags().edge_values().iter().copied(), mesh.tags().vertex_values().iter().copied())
+    }
+
     fn of(creases: impl Iterator<Item = f32>, corners: impl Iterator<Item = f32>) -> Self {
         let creases: Vec<f32> = creases.filter(|&s| s > 0.0).collect();
         let corners: Vec<f32> = corners.filter(|&s| s > 0.0).collect();
@@ -179,7 +184,7 @@ fn valid_summary(file: String, mesh: &Mesh, warnings: &[Warning]) -> Summary {
         oriented: true,
         isolated_vertices: t.vertices().filter(|&v| t.is_isolated(v)).count(),
         bbox_diagonal: Some(mesh.bbox_diagonal()),
-        tags: TagCounts::of(mesh.tags().edge_values().iter().copied(), mesh.tags().vertex_values().iter().copied()),
+        tags: TagCounts::of_mesh(mesh),
         uvs: mesh.uvs().map(|uvs| UvCounts::of(uvs, t.faces(), t.vertex_count())),
         warnings: warnings.iter().map(ToString::to_string).collect(),
         problems: BTreeMap::new(),

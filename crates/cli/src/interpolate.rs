@@ -2,6 +2,7 @@
 
 use crate::budget::{Budget, MemoryArgs};
 use crate::failure::{bad_input, Failure};
+use crate::info::TagCounts;
 use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::{self, Outputs};
 use crate::subdivide::{BetaArg, SurfaceArgs, TensionArgs};
@@ -301,8 +302,8 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     let report = json!({
         "method": name,
         "control_scheme": result.scheme.report_name(),
-        "input": {"file": args.mesh.display().to_string(), "vertices": n, "faces": mesh.topology().face_count(), "bbox_diagonal": d, "tags": tag_counts(&mesh), "uvs": mesh.uvs().is_some()},
-        "control": {"vertices": control_size.vertex_count(), "faces": control_size.face_count(), "tags": tag_counts(control_mesh), "uvs": control_mesh.uvs().is_some()},
+        "input": {"file": args.mesh.display().to_string(), "vertices": n, "faces": mesh.topology().face_count(), "bbox_diagonal": d, "tags": TagCounts::of_mesh(&mesh), "uvs": mesh.uvs().is_some()},
+        "control": {"vertices": control_size.vertex_count(), "faces": control_size.face_count(), "tags": TagCounts::of_mesh(control_mesh), "uvs": control_mesh.uvs().is_some()},
         "surface_options": {"boundary": result.surface_options.boundary.name(), "crease_method": result.surface_options.crease_method.name(), "fvar": result.surface_options.fvar.name()},
         "solver": {
             "name": if result.solve.is_some() { json!(solve.solver) } else { json!(null) },
@@ -336,19 +337,6 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
         error.count, error.max_rel, error.mean_rel, solve.iterations, total_ms
     ));
     Ok(())
-}
-
-/// The report's tag counts of a mesh: creases and corners (tagged edges and
-/// vertices with sharpness > 0), and how many of them are infinitely sharp.
-fn tag_counts(mesh: &Mesh) -> serde_json::Value {
-    let tags = mesh.tags();
-    let infinite = |s: &f32| *s >= subdiv_mesh::SHARPNESS_INFINITE;
-    json!({
-        "creases": tags.crease_count(),
-        "corners": tags.corner_count(),
-        "infinitely_sharp_creases": tags.edge_values().iter().filter(|s| infinite(s)).count(),
-        "infinitely_sharp_corners": tags.vertex_values().iter().filter(|s| infinite(s)).count(),
-    })
 }
 
 fn args_method_name(m: MethodArg) -> &'static str {

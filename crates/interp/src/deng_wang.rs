@@ -222,7 +222,7 @@ use crate::{
     seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter,
 };
 use glam::DVec3;
-use subdiv_mesh::{triangulate, EdgeId, Mesh, Tags, Topology, VertexId};
+use subdiv_mesh::{triangulate, EdgeId, Mesh, Topology, VertexId};
 use subdiv_rules::loop_scheme::{limit_mask, vertex_point_mask};
 use subdiv_rules::{LoopBeta, VertexKind, VertexMask};
 use subdiv_stencil::{
@@ -378,34 +378,26 @@ impl SectorNormals {
             if sector.is_empty() {
                 sector = vec![None; t.half_edge_count()];
             }
-            // Faces of v's fan joined across its smooth edges: union-find on fan positions.
-            let position = |f: subdiv_mesh::FaceId| fan.iter().position(|&g| t.he_face(g) == f);
-            let mut parent: Vec<usize> = (0..fan.len()).collect();
-            fn root(parent: &mut [usize], mut k: usize) -> usize {
-                while parent[k] != k {
-                    parent[k] = parent[parent[k]];
-                    k = parent[k];
-                }
-                k
-            }
-            for (k, &h) in fan.iter().enumerate() {
-                let e = t.he_edge(h);
-                if sharp_edge(e) {
-                    continue;
-                }
-                if let Some(other) = t.he_twin(h).map(|g| t.he_face(g)).and_then(position) {
-                    let (a, b) = (root(&mut parent, k), root(&mut parent, other));
-                    parent[a] = b;
-                }
-            }
+            // Walk the fan: face k and face k + 1 share the other edge of face k at v
+            // (the fan is in face order); a sharp one starts a new sector. A closed fan's
+            // last run joins its first unless the edge between them is sharp.
             local.clear();
             let mut sums = vec![DVec3::ZERO; fan.len()];
+            let mut current = 0;
             for (k, &h) in fan.iter().enumerate() {
                 let (prev, next) = (t.he_from(t.he_prev(h)), t.he_to(h));
                 let angle = subdiv_mesh::corner_angle(p[prev.index()], p[v.index()], p[next.index()]);
-                let r = root(&mut parent, k);
-                sums[r] += angle * mesh.face_normal(t.he_face(h)); // Eq. (8) over the sector
-                local.push((h, r));
+                sums[current] += angle * mesh.face_normal(t.he_face(h)); // Eq. (8) over the sector
+                local.push((h, current));
+                if k + 1 < fan.len() && sharp_edge(t.he_edge(t.he_prev(h))) {
+                    current += 1;
+                }
+            }
+            let closed = !t.is_boundary_vertex(v) && !sharp_edge(t.he_edge(t.he_prev(fan[fan.len() - 1])));
+            if closed && current > 0 {
+                let last = sums[current];
+                sums[0] += last;
+                local.iter_mut().filter(|(_, r)| *r == current).for_each(|(_, r)| *r = 0);
             }
             for &(h, r) in &local {
                 sector[h.index()] = Some(unit_direction(sums[r]).unwrap_or(vertex[v.index()]));
@@ -522,17 +514,6 @@ impl RowCounts {
     }
 }
 
-/// Per vertex: whether a tag touches it (its own, or one of an edge at it).
-fn touched_by_tags(t: &Topology, tags: &Tags) -> Vec<bool> {
-    let mut touched: Vec<bool> = t.vertices().map(|v| tags.vertex_sharpness(v) > 0.0).collect();
-    for e in t.edges().filter(|&e| tags.edge_sharpness(e) > 0.0) {
-        let (a, b) = t.edge_vertices(e);
-        touched[a.index()] = true;
-        touched[b.index()] = true;
-    }
-    touched
-}
-
 /// What the vertex points of M¹ are solved against: M¹'s tagged limit rows
 /// of the touched vertices (`None` on an untagged `edge-and-corner` mesh,
 /// whose rows are the plain masks of M⁰'s topology), and M⁰'s sharpness.
@@ -551,15 +532,12 @@ struct Level0<'a> {
 /// differ from the plain masks — a tag on it or on one of its edges, or,
 /// under a boundary option other than `edge-and-corner`, a boundary vertex.
 /// Empty for a plain level.
-fn touched_vertices(t: &Topology, sharp: &LevelSharpness, tags: &Tags) -> Vec<bool> {
+fn touched_vertices(t: &Topology, sharp: &LevelSharpness) -> Vec<bool> {
     if sharp.is_plain() {
         return Vec::new();
     }
-    let mut touched = touched_by_tags(t, tags);
-    if sharp.boundary() != BoundaryInterpolation::EdgeAndCorner {
-        t.vertices().filter(|&v| t.is_boundary_vertex(v)).for_each(|v| touched[v.index()] = true);
-    }
-    touched
+    let other_boundary = sharp.boundary() != BoundaryInterpolation::EdgeAndCorner;
+    t.vertices().map(|v| !sharp.untouched(t, v) || (other_boundary && t.is_boundary_vertex(v))).collect()
 }
 
 /// M¹'s vertex points (the first V points of M¹), given M¹'s edge points:
@@ -744,7 +722,7 @@ pub(crate) fn interpolate_prepared(
     // points (solve).
     let sharp = opts.common.surface.sharpness(triangulation.mesh.tags());
     let plain = sharp.is_plain();
-    let touched = touched_vertices(t, &sharp, triangulation.mesh.tags());
+    let touched = touched_vertices(t, &sharp);
     let scheme = Scheme::Loop(opts.beta);
     let start = std::time::Instant::now();
     let (level1, edges) = rayon::join(

@@ -4,7 +4,7 @@ use crate::numeric::max_nan;
 use crate::{InterpError, Method, SurfaceOptions};
 use glam::DVec3;
 use std::borrow::Cow;
-use subdiv_mesh::{Mesh, PowerOfTwoScale, VertexId};
+use subdiv_mesh::{Mesh, PowerOfTwoScale};
 use subdiv_stencil::{
     doo_sabin, doo_sabin_limit_sites, subdivide, DualLimitSite, LoopBeta, Options, Scheme, StencilError,
     SubdivisionPlan, Tension,
@@ -69,19 +69,6 @@ pub enum LimitAssociation {
     Interpolatory,
 }
 
-/// The two Chaikin points of boundary vertex `v` in the first refined mesh of
-/// `dual_split(t)`: on its outgoing boundary edge and on its incoming one,
-/// both next to v. Their midpoint is v's point on the boundary curve.
-pub(crate) fn chaikin_pair(
-    t: &subdiv_mesh::Topology,
-    prov: &subdiv_mesh::refine::DualProvenance,
-    v: VertexId,
-) -> (VertexId, VertexId) {
-    let fan = t.vertex_fan(v);
-    let incoming = t.he_prev(fan[fan.len() - 1]);
-    (VertexId(prov.boundary_point[fan[0].index()]), VertexId(prov.boundary_point[incoming.index()] + 1))
-}
-
 /// The input's texture coordinates carried onto a control mesh that is the
 /// first refined mesh `child` of `mesh` by `scheme` (Zheng-Cai's and
 /// Fan-Cheng-Lai's M¹, Deng-Wang's): refined by one level with the
@@ -108,27 +95,6 @@ pub(crate) fn carry_uvs(
 }
 
 impl LimitAssociation {
-    /// The association of an untagged Doo-Sabin first refined mesh M¹ =
-    /// `dual_split(t)` with provenance `prov`: V-faces for interior vertices,
-    /// the two Chaikin points next to each boundary vertex, the images of
-    /// valence-2 vertices ([`Self::for_sharp_dual_split`] without tags).
-    pub fn for_dual_split(t: &subdiv_mesh::Topology, prov: &subdiv_mesh::refine::DualProvenance) -> Self {
-        let site = |v: VertexId| {
-            if t.is_isolated(v) {
-                DualLimitSite::Isolated
-            } else if t.is_boundary_vertex(v) {
-                let (a, b) = chaikin_pair(t, prov, v);
-                DualLimitSite::SharpMidpoint(a, b)
-            } else if let Some(f) = prov.vertex_face[v.index()] {
-                DualLimitSite::FaceCentroid(f)
-            } else {
-                let c = doo_sabin::valence_two_corners(t, v).expect("an interior vertex without V-face has valence 2");
-                DualLimitSite::ValenceTwoEdge(VertexId(c[0].0 .0), VertexId(c[1].0 .0))
-            }
-        };
-        LimitAssociation::DualSites(t.vertices().map(site).collect())
-    }
-
     /// The association of a Doo-Sabin first refined mesh M¹ with the
     /// infinitely sharp creases and corners of `tags`, `dual_split_tagged(t,
     /// tags)` with provenance `prov` (`subdiv_stencil::doo_sabin_limit_sites`).

@@ -246,10 +246,10 @@ impl LevelSharpness {
 
     /// Whether no tag touches `v`: its own sharpness and that of every edge
     /// at it are 0 (boundary edges aside, which are sharp by topology). Then
-    /// its rule is the untagged one and stays so in the step. One pass over
-    /// the fan, no buffers: most vertices of a tagged mesh are like this.
+    /// its rule is the untagged one and stays so in the step. One lookup in
+    /// a bitmap built once per level: most vertices of a tagged mesh are like this.
     #[inline]
-    fn untouched(&self, t: &Topology, v: VertexId) -> bool {
+    pub fn untouched(&self, t: &Topology, v: VertexId) -> bool {
         if self.is_untagged() {
             return true;
         }
