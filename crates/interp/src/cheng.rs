@@ -62,10 +62,13 @@ use subdiv_stencil::{limit_matrix_catmull_clark_sharp, Degeneracy, LimitMatrix, 
 
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct ChengOptions {
     /// Subset, tolerance, solver.
     pub common: CommonOptions,
 }
+
+crate::options::common_setters!(ChengOptions);
 
 /// Interpolates the vertices of `mesh` with a Catmull-Clark limit surface.
 ///

@@ -64,12 +64,27 @@ use subdiv_stencil::Tension;
 
 /// Options of [`interpolate`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct DengMaOptions {
     /// Global ω ∈ (0, 1] (default 1) or the variable ω_P with λ ∈ (0, 1].
     pub tension: Tension,
     /// The surface options (the face-varying mode of the surface's UVs;
     /// Deng-Ma has its own boundary rule and no semi-sharp creases).
     pub surface: crate::SurfaceOptions,
+}
+
+impl DengMaOptions {
+    /// Sets the tension.
+    pub fn with_tension(mut self, tension: Tension) -> Self {
+        self.tension = tension;
+        self
+    }
+
+    /// Sets the surface options.
+    pub fn with_surface(mut self, surface: crate::SurfaceOptions) -> Self {
+        self.surface = surface;
+        self
+    }
 }
 
 /// Checks that `tension`'s parameter lies in (0, 1].
@@ -106,10 +121,11 @@ pub fn interpolate(mesh: &Mesh, opts: &DengMaOptions) -> Result<Interpolant, Int
     subdiv_stencil::deng_ma::check_sharpness(mesh.topology(), &opts.surface.sharpness(mesh.tags()))?;
     // Nothing is computed from the positions: the method sees them unscaled.
     let prepared = crate::numeric::prepare(Method::DengMa, mesh, None)?.unscaled();
-    let mut parameters = serde_json::Map::new();
-    match opts.tension {
-        Tension::Global(omega) => parameters.insert("omega".into(), omega.into()),
-        Tension::Variable { lambda } => parameters.insert("lambda".into(), lambda.into()),
+    let parameters = match opts.tension {
+        Tension::Global(omega) => crate::Parameters { omega: Some(omega), ..Default::default() },
+        Tension::Variable { lambda } => {
+            crate::Parameters { lambda: Some(crate::report::Lambda::Uniform(lambda)), ..Default::default() }
+        }
     };
     let result = Interpolant {
         surface_options: opts.surface,

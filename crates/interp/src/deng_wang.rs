@@ -218,6 +218,7 @@
 //! [`triangle_split`]: subdiv_mesh::refine::triangle_split
 
 use crate::numeric::unit_direction;
+use crate::report::RowCounts;
 use crate::{
     seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter,
 };
@@ -251,6 +252,7 @@ const MIN_CENTRE_WEIGHT: f64 = 1e-6;
 
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct DengWangOptions {
     /// Vertex subset, the bound `tol` on the measured error and the surface
     /// options (boundary, crease method, face-varying mode); the method
@@ -265,6 +267,28 @@ pub struct DengWangOptions {
     /// Crease and boundary edge points do not use normals; at a crease
     /// vertex its normal still steers the smooth edges (module docs).
     pub normals: Option<Vec<Option<DVec3>>>,
+}
+
+crate::options::common_setters!(DengWangOptions);
+
+impl DengWangOptions {
+    /// Sets μ of Eq. 9.
+    pub fn with_mu(mut self, mu: f64) -> Self {
+        self.mu = mu;
+        self
+    }
+
+    /// Sets Loop's β.
+    pub fn with_beta(mut self, beta: LoopBeta) -> Self {
+        self.beta = beta;
+        self
+    }
+
+    /// Sets the prescribed normals (one entry per input vertex; `None`: Eq. 8 everywhere).
+    pub fn with_normals(mut self, normals: impl Into<Option<Vec<Option<DVec3>>>>) -> Self {
+        self.normals = normals.into();
+        self
+    }
 }
 
 impl Default for DengWangOptions {
@@ -487,30 +511,13 @@ fn edge_points_with(
         .collect()
 }
 
-/// How many interpolated vertices' limit rows in M¹ were of each kind
-/// ([`RowKind`]), as the report's `limit_rows` gives them.
-#[derive(Clone, Copy, Debug, Default)]
-struct RowCounts {
-    smooth: usize,
-    crease: usize,
-    corner: usize,
-    general: usize,
-}
-
-impl RowCounts {
-    fn add(&mut self, kind: RowKind) {
-        match kind {
-            RowKind::Smooth => self.smooth += 1,
-            RowKind::Crease => self.crease += 1,
-            RowKind::Corner => self.corner += 1,
-            RowKind::General => self.general += 1,
-        }
-    }
-
-    fn to_json(self) -> serde_json::Value {
-        serde_json::json!({
-            "smooth": self.smooth, "crease": self.crease, "corner": self.corner, "general": self.general,
-        })
+/// Counts a row of kind `kind` (the report's `limit_rows`).
+fn count_row(counts: &mut RowCounts, kind: RowKind) {
+    match kind {
+        RowKind::Smooth => counts.smooth += 1,
+        RowKind::Crease => counts.crease += 1,
+        RowKind::Corner => counts.corner += 1,
+        RowKind::General => counts.general += 1,
     }
 }
 
@@ -578,7 +585,7 @@ fn vertex_points(
                 },
                 Some((rows, i)) => rows.kinds[i],
             };
-            counts.add(row_kind);
+            count_row(&mut counts, row_kind);
             match (limit_row, row_kind) {
                 (None, _) | (Some(_), RowKind::Smooth) => {
                     let mask = limit_mask(kind(t, v), k, beta);
@@ -768,22 +775,21 @@ pub(crate) fn interpolate_prepared(
     let solve_seconds = edge_seconds + seconds_since(start);
     let setup_seconds = triangulate_seconds + split_seconds;
     let tags = split.sharpness.tags(&split.topology);
-    let mut parameters = serde_json::Map::new();
-    parameters.insert("mu".into(), opts.mu.into());
-    parameters.insert(
-        "beta".into(),
-        match opts.beta {
-            LoopBeta::Warren => "warren",
-            LoopBeta::Loop => "loop",
-        }
-        .into(),
-    );
     let user_normals = opts.normals.as_ref().map_or(0, |u| u.iter().flatten().count());
-    parameters.insert("user_normals".into(), user_normals.into());
-    parameters.insert("triangulated_faces".into(), triangulation.split_faces.into());
-    parameters.insert("limit_rows".into(), rows.to_json());
-    parameters.insert("control_creases".into(), tags.crease_count().into());
-    parameters.insert("control_corners".into(), tags.corner_count().into());
+    let beta = match opts.beta {
+        LoopBeta::Warren => "warren",
+        LoopBeta::Loop => "loop",
+    };
+    let parameters = crate::Parameters {
+        mu: Some(opts.mu),
+        beta: Some(beta.to_string()),
+        user_normals: Some(user_normals),
+        triangulated_faces: Some(triangulation.split_faces),
+        limit_rows: Some(rows),
+        control_creases: Some(tags.crease_count()),
+        control_corners: Some(tags.corner_count()),
+        ..Default::default()
+    };
     let control = Mesh::from_topology(split.topology, positions)
         .with_tags(tags)
         .with_uvs(uvs)

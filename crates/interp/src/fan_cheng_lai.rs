@@ -72,11 +72,22 @@ impl Default for Shape {
 
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct FanChengLaiOptions {
     /// Subset, tolerance, solver (`Auto` = the paper's progressive iteration).
     pub common: CommonOptions,
     /// λ per face.
     pub shape: Shape,
+}
+
+crate::options::common_setters!(FanChengLaiOptions);
+
+impl FanChengLaiOptions {
+    /// Sets the shape parameters λ.
+    pub fn with_shape(mut self, shape: Shape) -> Self {
+        self.shape = shape;
+        self
+    }
 }
 
 /// Interpolates the vertices of `mesh` with a two-phase Doo-Sabin surface.
@@ -147,15 +158,15 @@ pub(crate) fn interpolate_prepared(
         .with_uvs(uvs)
         .expect("the refined channel has one value per corner of M¹");
     let solve_seconds = seconds_since(start);
-    let mut parameters = serde_json::Map::new();
-    parameters.insert("solver".into(), solver.name().into());
-    parameters.insert("tol".into(), opts.common.tol.into());
-    match &opts.shape {
-        Shape::Uniform(l) => parameters.insert("lambda".into(), (*l).into()),
-        Shape::PerFace(ls) => {
-            let (lo, hi) = ls.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &l| (a.min(l), b.max(l)));
-            parameters.insert("lambda".into(), serde_json::json!({ "per_face": ls.len(), "min": lo, "max": hi }))
-        }
+    let lambda = match &opts.shape {
+        Shape::Uniform(l) => crate::report::Lambda::Uniform(*l),
+        Shape::PerFace(ls) => crate::report::Lambda::PerFace(crate::report::Range::of(ls)),
+    };
+    let parameters = crate::Parameters {
+        solver: Some(solver.name().to_string()),
+        tol: Some(opts.common.tol),
+        lambda: Some(lambda),
+        ..Default::default()
     };
     Ok(Interpolant {
         surface_options: opts.common.surface,

@@ -110,8 +110,10 @@ impl LimitAssociation {
     }
 }
 
-/// How the solve went.
+/// How the solve went. `#[non_exhaustive]`: read its fields; the library
+/// builds it.
 #[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct SolveSummary {
     /// Solver name.
     pub solver: String,
@@ -131,7 +133,10 @@ pub struct SolveSummary {
 
 /// Interpolation error relative to d (SPEC §1). A NaN distance makes the
 /// maxima and means NaN: a point that is not a number is never skipped.
+///
+/// `#[non_exhaustive]`: read its fields; [`Interpolant::error`] builds it.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct ErrorStats {
     /// max_i |L_i − P_i| / d.
     pub max_rel: f64,
@@ -147,7 +152,11 @@ pub struct ErrorStats {
 
 /// The result of a method: a control mesh whose plain-scheme limit surface
 /// interpolates the data, and how it was obtained.
+///
+/// `#[non_exhaustive]`: read its fields (and change them: the control mesh
+/// is the caller's); the methods build it.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Interpolant {
     /// The method.
     pub method: Method,
@@ -174,7 +183,7 @@ pub struct Interpolant {
     /// Things the user should know (non-unique solution, …).
     pub warnings: Vec<String>,
     /// The method's parameters, for the report.
-    pub parameters: serde_json::Map<String, serde_json::Value>,
+    pub parameters: crate::Parameters,
 }
 
 impl Interpolant {
@@ -259,6 +268,13 @@ impl Interpolant {
         stats
     }
 
+    /// [`Self::error`] of every interpolated vertex ([`Self::interpolated`])
+    /// of `input`, the mesh the method was given, relative to its
+    /// bounding-box diagonal d.
+    pub fn error_all(&self, input: &Mesh) -> ErrorStats {
+        self.error(input.positions(), &self.interpolated, input.bbox_diagonal())
+    }
+
     /// The surface: the control mesh refined `levels` times by its scheme
     /// with its tags and [`Self::options`], vertices moved to their limit
     /// positions where a mask exists; the control mesh's texture coordinates
@@ -285,5 +301,30 @@ impl Interpolant {
             }
             e => e.into(),
         })
+    }
+}
+
+impl std::fmt::Display for ErrorStats {
+    /// `max 1.234e-9·d, mean 5.678e-10·d over N vertices`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "max {:.3e}·d, mean {:.3e}·d over {} vertices", self.max_rel, self.mean_rel, self.count)
+    }
+}
+
+impl std::fmt::Display for SolveSummary {
+    /// `cg-jacobi: converged in 12 iterations (24 products), residual 1.0e-9·d`
+    /// (`… stopped after …` when it did not converge; `, N negative pivots`
+    /// for an indefinite LDLᵀ).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let how = if self.converged { "converged in" } else { "stopped after" };
+        write!(
+            f,
+            "{}: {how} {} iterations ({} products), residual {:.1e}·d",
+            self.solver, self.iterations, self.matvecs, self.residual
+        )?;
+        match self.negative_pivots {
+            Some(k) if k > 0 => write!(f, ", {k} negative pivots"),
+            _ => Ok(()),
+        }
     }
 }

@@ -57,10 +57,12 @@ pub mod deng_wang;
 mod error;
 pub mod fan_cheng_lai;
 mod interpolant;
+mod method;
 pub mod nasri;
 mod numeric;
 mod options;
 pub mod preconditions;
+pub mod report;
 mod system;
 pub mod verify;
 pub mod zheng_cai;
@@ -71,41 +73,20 @@ pub use deng_wang::DengWangOptions;
 pub use error::{InterpError, Parameter};
 pub use fan_cheng_lai::{FanChengLaiOptions, Shape};
 pub use interpolant::{ControlScheme, ErrorStats, Interpolant, LimitAssociation, SolveSummary};
+pub use method::{interpolate, Method, MethodOptions, UnknownMethod};
 pub use nasri::NasriOptions;
 pub use options::{CommonOptions, SolverChoice, SurfaceOptions, DEFAULT_MAX_ITER, DEFAULT_TOL};
 pub use preconditions::accepting_methods;
+pub use report::{Parameters, Report, TagCounts};
 pub use zheng_cai::ZhengCaiOptions;
 
-/// The six methods.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Method {
-    /// Nasri 1987: standard Doo-Sabin, C·M⁰ = P.
-    Nasri,
-    /// Zheng & Cai 2005.
-    ZhengCai,
-    /// Cheng et al.: Catmull-Clark progressive interpolation.
-    Cheng,
-    /// Fan, Cheng & Lai: two-phase Doo-Sabin progressive interpolation.
-    FanChengLai,
-    /// Deng & Wang 2010: explicit Loop interpolation.
-    DengWang,
-    /// Deng & Ma 2011: interpolatory scheme derived from Doo-Sabin.
-    DengMa,
-}
-
-impl Method {
-    /// The method id used on the command line and in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Nasri => "nasri",
-            Method::ZhengCai => "zheng-cai",
-            Method::Cheng => "cheng",
-            Method::FanChengLai => "fan-cheng-lai",
-            Method::DengWang => "deng-wang",
-            Method::DengMa => "deng-ma",
-        }
-    }
-}
+/// The types of the lower crates this crate's API mentions, so that one
+/// dependency suffices: meshes, solvers and their errors, scheme options.
+pub use subdiv_mesh::{DVec3, Mesh, MeshError};
+pub use subdiv_solve::{IterationObserver, SolveError, Solver};
+pub use subdiv_stencil::{
+    BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, Options, Scheme, StencilError, Tension,
+};
 
 /// Seconds elapsed since `start`.
 pub(crate) fn seconds_since(start: std::time::Instant) -> f64 {

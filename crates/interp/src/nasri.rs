@@ -46,10 +46,13 @@ use subdiv_stencil::limit_matrix_doo_sabin_sharp;
 
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct NasriOptions {
     /// Subset, tolerance, solver.
     pub common: CommonOptions,
 }
+
+crate::options::common_setters!(NasriOptions);
 
 /// Interpolates the vertices of `mesh` with a Doo-Sabin limit surface of M⁰.
 ///

@@ -172,7 +172,7 @@ impl<'a> Prepared<'a> {
             });
         }
         let count = result.interpolated.iter().filter(|&&b| b).count();
-        result.parameters.insert("interpolated_vertices".into(), count.into());
+        result.parameters.interpolated_vertices = Some(count);
         result.warnings.splice(0..0, self.warnings);
         Ok(result)
     }

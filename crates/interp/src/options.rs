@@ -32,7 +32,11 @@ pub enum SolverChoice {
 /// decay. `fvar` says how the input's texture coordinates are refined where
 /// the control mesh is a refined mesh (Zheng-Cai, Fan-Cheng-Lai, Deng-Wang)
 /// and on the surface.
+///
+/// `#[non_exhaustive]`: build it with `Default` and the `with_*` setters, so
+/// that a new option is not a breaking change.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct SurfaceOptions {
     /// How boundary vertices are treated.
     pub boundary: BoundaryInterpolation,
@@ -43,6 +47,24 @@ pub struct SurfaceOptions {
 }
 
 impl SurfaceOptions {
+    /// Sets the boundary option.
+    pub fn with_boundary(mut self, boundary: BoundaryInterpolation) -> Self {
+        self.boundary = boundary;
+        self
+    }
+
+    /// Sets the crease method.
+    pub fn with_crease_method(mut self, crease_method: CreaseMethod) -> Self {
+        self.crease_method = crease_method;
+        self
+    }
+
+    /// Sets the face-varying mode.
+    pub fn with_fvar(mut self, fvar: FVarInterpolation) -> Self {
+        self.fvar = fvar;
+        self
+    }
+
     /// The subdivision options of `scheme` with these surface options.
     pub fn for_scheme(self, scheme: Scheme) -> Options {
         Options::new(scheme).with_boundary(self.boundary).with_crease_method(self.crease_method).with_fvar(self.fvar)
@@ -56,7 +78,32 @@ impl SurfaceOptions {
 }
 
 /// Options every method takes.
+///
+/// `#[non_exhaustive]`, like every options struct of the crate: build it with
+/// `Default` and the `with_*` setters (each method's options also have the
+/// setters of these fields), so that a new option is not a breaking change:
+///
+/// ```
+/// use subdiv_interp::{ChengOptions, CommonOptions, SolverChoice};
+/// let common = CommonOptions::default().with_tol(1e-9).with_solver(SolverChoice::Use(subdiv_interp::Solver::Ldl));
+/// let cheng = ChengOptions::default().with_common(common.clone());
+/// assert_eq!(cheng, ChengOptions::default().with_tol(1e-9).with_solver(common.solver));
+/// ```
+///
+/// A struct literal does not compile outside the crate:
+///
+/// ```compile_fail
+/// let common = subdiv_interp::CommonOptions {
+///     subset: None,
+///     tol: 1e-6,
+///     max_iter: 100,
+///     solver: subdiv_interp::SolverChoice::Auto,
+///     observer: Default::default(),
+///     surface: Default::default(),
+/// };
+/// ```
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct CommonOptions {
     /// Vertices to interpolate (default: all). The others follow each paper's
     /// rule for non-interpolated vertices (they keep their input position in
@@ -91,6 +138,42 @@ impl Default for CommonOptions {
 }
 
 impl CommonOptions {
+    /// Sets the vertices to interpolate (`None`: all).
+    pub fn with_subset(mut self, subset: impl Into<Option<Vec<u32>>>) -> Self {
+        self.subset = subset.into();
+        self
+    }
+
+    /// Sets the relative tolerance.
+    pub fn with_tol(mut self, tol: f64) -> Self {
+        self.tol = tol;
+        self
+    }
+
+    /// Sets the iteration cap.
+    pub fn with_max_iter(mut self, max_iter: usize) -> Self {
+        self.max_iter = max_iter;
+        self
+    }
+
+    /// Sets the solver.
+    pub fn with_solver(mut self, solver: SolverChoice) -> Self {
+        self.solver = solver;
+        self
+    }
+
+    /// Sets the observer told every iterate's residual.
+    pub fn with_observer(mut self, observer: IterationObserver) -> Self {
+        self.observer = observer;
+        self
+    }
+
+    /// Sets the surface options.
+    pub fn with_surface(mut self, surface: SurfaceOptions) -> Self {
+        self.surface = surface;
+        self
+    }
+
     /// Per-vertex flag: interpolate this vertex? Out-of-range subset indices
     /// are an error naming the index; so is an empty subset.
     pub fn interpolated(&self, vertex_count: usize) -> Result<Vec<bool>, InterpError> {
@@ -115,3 +198,54 @@ impl CommonOptions {
         }
     }
 }
+
+/// The setters of [`CommonOptions`]'s fields on a method's options struct
+/// (whose `common` field holds them), plus `with_common`.
+macro_rules! common_setters {
+    ($($options:ty),* $(,)?) => {$(
+        impl $options {
+            /// Sets every shared option at once.
+            pub fn with_common(mut self, common: $crate::CommonOptions) -> Self {
+                self.common = common;
+                self
+            }
+
+            /// Sets the vertices to interpolate (`None`: all).
+            pub fn with_subset(mut self, subset: impl Into<Option<Vec<u32>>>) -> Self {
+                self.common.subset = subset.into();
+                self
+            }
+
+            /// Sets the relative tolerance.
+            pub fn with_tol(mut self, tol: f64) -> Self {
+                self.common.tol = tol;
+                self
+            }
+
+            /// Sets the iteration cap.
+            pub fn with_max_iter(mut self, max_iter: usize) -> Self {
+                self.common.max_iter = max_iter;
+                self
+            }
+
+            /// Sets the solver.
+            pub fn with_solver(mut self, solver: $crate::SolverChoice) -> Self {
+                self.common.solver = solver;
+                self
+            }
+
+            /// Sets the observer told every iterate's residual.
+            pub fn with_observer(mut self, observer: subdiv_solve::IterationObserver) -> Self {
+                self.common.observer = observer;
+                self
+            }
+
+            /// Sets the surface options.
+            pub fn with_surface(mut self, surface: $crate::SurfaceOptions) -> Self {
+                self.common.surface = surface;
+                self
+            }
+        }
+    )*};
+}
+pub(crate) use common_setters;

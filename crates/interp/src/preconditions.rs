@@ -20,15 +20,6 @@ use subdiv_mesh::{Mesh, PowerOfTwoScale, VertexId};
 use subdiv_stencil::{catmull_clark_kernel, limit_matrix_catmull_clark_sharp, LimitMatrix};
 
 impl Method {
-    /// The six methods, in the order of the documentation.
-    pub const ALL: [Method; 6] =
-        [Method::Nasri, Method::ZhengCai, Method::Cheng, Method::FanChengLai, Method::DengWang, Method::DengMa];
-
-    /// The method with command-line / report name `name`.
-    pub fn from_name(name: &str) -> Option<Method> {
-        Method::ALL.into_iter().find(|m| m.name() == name)
-    }
-
     /// Whether this method interpolates every vertex of `mesh` with its
     /// default options: `Err(reason)` says why not (module table).
     pub fn check(self, mesh: &Mesh) -> Result<(), String> {

@@ -233,9 +233,8 @@ pub(crate) fn interpolate_on_input_topology(
     if let Some(k) = solved.summary.negative_pivots.filter(|&k| k > 0) {
         warnings.push(format!("the limit matrix is indefinite ({k} negative pivots); the solution is valid but progressive iteration cannot reach it"));
     }
-    let mut parameters = serde_json::Map::new();
-    parameters.insert("solver".into(), solved.summary.solver.clone().into());
-    parameters.insert("tol".into(), common.tol.into());
+    let parameters =
+        crate::Parameters { solver: Some(solved.summary.solver.clone()), tol: Some(common.tol), ..Default::default() };
     Ok(crate::Interpolant {
         surface_options: common.surface,
         method,

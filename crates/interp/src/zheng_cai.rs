@@ -128,6 +128,7 @@ pub const DEFAULT_EPS: f64 = 0.003;
 
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct ZhengCaiOptions {
     /// Subset and solver. `solver`: `Auto` (or `Use` of Gauss-Seidel in
     /// storage order) = Eq. 7 as the paper sweeps it; `Use(Solver::Jacobi)` =
@@ -147,6 +148,34 @@ pub struct ZhengCaiOptions {
     /// Per input vertex, Brunet's shape handle S_k > 0 (§4.2); 1 = none,
     /// < 1 sharper, > 1 flatter around the vertex.
     pub handles: Option<Vec<f64>>,
+}
+
+crate::options::common_setters!(ZhengCaiOptions);
+
+impl ZhengCaiOptions {
+    /// Sets ITE_MAX, the most sweeps of Eq. 7.
+    pub fn with_ite_max(mut self, ite_max: usize) -> Self {
+        self.ite_max = ite_max;
+        self
+    }
+
+    /// Sets EPS (relative to d).
+    pub fn with_eps(mut self, eps: f64) -> Self {
+        self.eps = eps;
+        self
+    }
+
+    /// Sets the prescribed normals (one entry per input vertex; `None`: Eq. 10 everywhere).
+    pub fn with_normals(mut self, normals: impl Into<Option<Vec<Option<DVec3>>>>) -> Self {
+        self.normals = normals.into();
+        self
+    }
+
+    /// Sets Brunet's shape handles (one per input vertex; `None`: none).
+    pub fn with_handles(mut self, handles: impl Into<Option<Vec<f64>>>) -> Self {
+        self.handles = handles.into();
+        self
+    }
 }
 
 impl Default for ZhengCaiOptions {
@@ -602,18 +631,20 @@ pub(crate) fn interpolate_prepared(
     let solve_seconds = steps_seconds + seconds_since(solve_start);
 
     let iteration = Iteration::of(opts.common.solver);
-    let mut parameters = serde_json::Map::new();
-    parameters.insert("solver".into(), iteration.name().into());
-    parameters.insert("ite_max".into(), opts.ite_max.into());
-    parameters.insert("eps".into(), opts.eps.into());
-    parameters.insert("history".into(), iteration.history_quantity().into());
     let normals_given = opts.normals.as_ref().map_or(0, |n| n.iter().flatten().count());
-    parameters.insert("normals".into(), normals_given.into());
     let handles = opts.handles.as_ref().map(|h| {
-        let (lo, hi) = h.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &s| (lo.min(s), hi.max(s)));
-        serde_json::json!({ "count": handles_applied, "min": lo, "max": hi })
+        let range = crate::report::Range::of(h);
+        crate::report::HandlesSummary { count: handles_applied, min: range.min, max: range.max }
     });
-    parameters.insert("handles".into(), handles.unwrap_or(serde_json::Value::Null));
+    let parameters = crate::Parameters {
+        solver: Some(iteration.name().to_string()),
+        ite_max: Some(opts.ite_max),
+        eps: Some(opts.eps),
+        history: Some(iteration.history_quantity().to_string()),
+        normals: Some(normals_given),
+        handles: Some(handles),
+        ..Default::default()
+    };
     let sharp = opts.common.surface.sharpness(tags);
     let uvs = crate::interpolant::carry_uvs(
         mesh,
