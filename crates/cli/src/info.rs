@@ -5,7 +5,7 @@ use anyhow::anyhow;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use subdiv_interp::Method;
+use subdiv_interp::{Method, TagCounts};
 use subdiv_mesh::{diagnose, Mesh, Warning};
 
 /// Arguments of `subdiv info`.
@@ -53,39 +53,6 @@ struct Summary {
     /// Per interpolation method: does it take this mesh, and if not, why
     /// (`subdiv_interp::Method::check`, the check the method itself makes).
     methods: BTreeMap<&'static str, MethodVerdict>,
-}
-
-/// How many tags, by kind (also the `tags` of `interpolate`'s report).
-#[derive(Serialize, Debug, Default)]
-pub(crate) struct TagCounts {
-    /// Edges with sharpness > 0.
-    creases: usize,
-    /// Vertices with corner sharpness > 0.
-    corners: usize,
-    /// Of both, those ≥ 10 (infinitely sharp).
-    infinitely_sharp: usize,
-    /// Of both, those in (0, 10) (semi-sharp: they decay level by level).
-    semi_sharp: usize,
-}
-
-impl TagCounts {
-    /// The tags of a validated mesh.
-    pub(crate) fn of_mesh(mesh: &subdiv_mesh::Mesh) -> Self {
-        Self::of(mesh.tags().edge_values().iter().copied(), mesh.tags().vertex_values().iter().copied())
-    }
-
-    fn of(creases: impl Iterator<Item = f32>, corners: impl Iterator<Item = f32>) -> Self {
-        let creases: Vec<f32> = creases.filter(|&s| s > 0.0).collect();
-        let corners: Vec<f32> = corners.filter(|&s| s > 0.0).collect();
-        let infinitely_sharp =
-            creases.iter().chain(&corners).filter(|&&s| s >= subdiv_mesh::SHARPNESS_INFINITE).count();
-        TagCounts {
-            creases: creases.len(),
-            corners: corners.len(),
-            infinitely_sharp,
-            semi_sharp: creases.len() + corners.len() - infinitely_sharp,
-        }
-    }
 }
 
 /// The texture-coordinate channel.

@@ -2,40 +2,25 @@
 
 use crate::budget::{Budget, MemoryArgs};
 use crate::failure::{bad_input, Failure};
-use crate::info::TagCounts;
 use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::{self, Outputs};
 use crate::subdivide::{BetaArg, SurfaceArgs, TensionArgs};
 use crate::{params, progress};
 use anyhow::anyhow;
-use clap::ValueEnum;
-use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use subdiv_interp::{
-    cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, CommonOptions, DengMaOptions,
-    DengWangOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Parameter, Shape, SolverChoice,
-    SurfaceOptions, ZhengCaiOptions,
+    DengMaOptions, DengWangOptions, FanChengLaiOptions, InterpError, IterationObserver, Method, MethodOptions,
+    Parameter, Report, Shape, Solver, SolverChoice, SurfaceOptions, ZhengCaiOptions,
 };
 use subdiv_mesh::Mesh;
-use subdiv_solve::{IterationObserver, Solver};
-use subdiv_stencil::LoopBeta;
 
-/// Method names on the command line.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum MethodArg {
-    /// Nasri 1987: Doo-Sabin, global system C·M⁰ = P.
-    Nasri,
-    /// Zheng & Cai 2005: Doo-Sabin, a few Gauss-Seidel sweeps + exact perturbation of M¹.
-    ZhengCai,
-    /// Cheng et al.: Catmull-Clark, A·M̂ = P.
-    Cheng,
-    /// Fan, Cheng & Lai: two-phase Doo-Sabin with per-face shape λ.
-    FanChengLai,
-    /// Deng & Wang 2010: Loop, explicit modified first step.
-    DengWang,
-    /// Deng & Ma 2011: interpolatory scheme (writes the refined surface).
-    DengMa,
+/// `--method`: the library's method names ([`Method::from_str`]), each with
+/// its [`Method::summary`] in the help.
+fn method_parser() -> impl clap::builder::TypedValueParser<Value = Method> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    PossibleValuesParser::new(Method::ALL.map(|m| PossibleValue::new(m.name()).help(m.summary())))
+        .map(|name| name.parse::<Method>().expect("a possible value is a method name"))
 }
 
 /// Arguments of `subdiv interpolate`.
@@ -44,8 +29,8 @@ pub struct InterpolateArgs {
     /// Input mesh: its vertices are the data to interpolate.
     mesh: PathBuf,
     /// Interpolation method.
-    #[arg(long, value_enum)]
-    method: MethodArg,
+    #[arg(long, value_parser = method_parser())]
+    method: Method,
     /// Solver: auto, pia, weighted-pia, jacobi, gauss-seidel, gauss-seidel-symmetric,
     /// gauss-seidel-multicolor, chebyshev, cg, cg-jacobi, minres, gmres, ldl, dense.
     /// auto: CG on positive definite symmetric systems, MINRES on possibly
@@ -122,7 +107,7 @@ fn solver_choice(name: &str) -> Result<SolverChoice, Failure> {
 }
 
 fn check_applies(args: &InterpolateArgs) -> Result<(), Failure> {
-    use MethodArg::*;
+    use Method::*;
     let misuse = |flag: &str, methods: &str| Err(bad_input(anyhow!("{flag} applies to --method {methods} only")));
     if (args.shape.is_some() || args.shape_file.is_some()) && args.method != FanChengLai {
         return misuse("--shape/--shape-file", "fan-cheng-lai");
@@ -147,44 +132,48 @@ fn check_applies(args: &InterpolateArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn run_method(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserver) -> Result<Interpolant, Failure> {
+/// The method's options from the flags and parameter files.
+fn method_options(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserver) -> Result<MethodOptions, Failure> {
     let n = mesh.topology().vertex_count();
     let subset = args.subset.as_deref().map(|p| params::subset(p, n)).transpose().map_err(bad_input)?;
-    let surface = SurfaceOptions {
-        boundary: args.surface_options.boundary,
-        crease_method: args.surface_options.crease_method,
-        fvar: args.surface_options.fvar,
-    };
-    let common = CommonOptions {
-        subset,
-        tol: args.tol,
-        max_iter: args.max_iter,
-        solver: solver_choice(&args.solver)?,
-        observer,
-        surface,
-    };
     let normals = args.normals.as_deref().map(|p| params::normals(p, n)).transpose().map_err(bad_input)?;
-    let beta: LoopBeta = args.beta.into();
-    let result = match args.method {
-        MethodArg::Nasri => nasri::interpolate(mesh, &NasriOptions { common }),
-        MethodArg::Cheng => cheng::interpolate(mesh, &ChengOptions { common }),
-        MethodArg::ZhengCai => {
+    let options: MethodOptions = match args.method {
+        Method::ZhengCai => {
             let handles = args.handles.as_deref().map(|p| params::handles(p, n)).transpose().map_err(bad_input)?;
-            let opts = ZhengCaiOptions { common, ite_max: args.ite_max, eps: args.eps, normals, handles };
-            zheng_cai::interpolate(mesh, &opts)
+            ZhengCaiOptions::default()
+                .with_ite_max(args.ite_max)
+                .with_eps(args.eps)
+                .with_normals(normals)
+                .with_handles(handles)
+                .into()
         }
-        MethodArg::FanChengLai => {
+        Method::FanChengLai => {
             let shape = match (&args.shape, &args.shape_file) {
                 (_, Some(file)) => Shape::PerFace(params::shape_file(file, mesh).map_err(bad_input)?),
                 (Some(l), None) => Shape::Uniform(*l),
                 (None, None) => Shape::default(),
             };
-            fan_cheng_lai::interpolate(mesh, &FanChengLaiOptions { common, shape })
+            FanChengLaiOptions::default().with_shape(shape).into()
         }
-        MethodArg::DengWang => deng_wang::interpolate(mesh, &DengWangOptions { common, mu: args.mu, beta, normals }),
-        MethodArg::DengMa => deng_ma::interpolate(mesh, &DengMaOptions { tension: args.tension.tension(), surface }),
+        Method::DengWang => {
+            DengWangOptions::default().with_mu(args.mu).with_beta(args.beta.into()).with_normals(normals).into()
+        }
+        Method::DengMa => DengMaOptions::default().with_tension(args.tension.tension()).into(),
+        method => MethodOptions::new(method),
     };
-    result.map_err(|e| classify(args, e))
+    let surface = SurfaceOptions::default()
+        .with_boundary(args.surface_options.boundary)
+        .with_crease_method(args.surface_options.crease_method)
+        .with_fvar(args.surface_options.fvar);
+    let options = options
+        .with_tol(args.tol)
+        .with_max_iter(args.max_iter)
+        .with_solver(solver_choice(&args.solver)?)
+        .with_observer(observer)
+        .with_surface(surface)
+        .with_subset(subset)
+        .map_err(|e| classify(args, e))?;
+    Ok(options)
 }
 
 /// Exit 3 when the solver did not get there (with the error reached), 2 otherwise.
@@ -239,18 +228,18 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
         outputs.other("--report", path)?;
     }
     let mesh = load_tagged_mesh(&args.mesh, &args.tags)?;
-    let name = args_method_name(args.method);
+    let name = args.method.name();
     let (bar, observer) = progress::solver(format!("{name}: {} vertices", mesh.topology().vertex_count()), args.tol);
-    let result = run_method(args, &mesh, observer);
+    let result = method_options(args, &mesh, observer)
+        .and_then(|options| subdiv_interp::interpolate(&mesh, &options).map_err(|e| classify(args, e)));
     bar.finish_and_clear();
     let result = result?;
     let d = mesh.bbox_diagonal();
-    let n = mesh.topology().vertex_count();
     // The subset, less the isolated vertices every method leaves out (with a warning).
     let interpolated = &result.interpolated;
 
     // The refined meshes to write: sized before they are built.
-    let is_deng_ma = args.method == MethodArg::DengMa;
+    let is_deng_ma = args.method == Method::DengMa;
     let budget = Budget::new(&args.memory);
     let plain = result.scheme.scheme();
     let refined_outputs = [(is_deng_ma, "--output", control_format), (true, "--surface", surface_format)];
@@ -296,28 +285,11 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     }
 
     let total_ms = total.elapsed().as_secs_f64() * 1e3;
-    let solve = result.solve.clone().unwrap_or_default();
     let control_mesh = control_out.as_ref().unwrap_or(&result.control);
-    let control_size = control_mesh.topology();
-    let report = json!({
-        "method": name,
-        "control_scheme": result.scheme.report_name(),
-        "input": {"file": args.mesh.display().to_string(), "vertices": n, "faces": mesh.topology().face_count(), "bbox_diagonal": d, "tags": TagCounts::of_mesh(&mesh), "uvs": mesh.uvs().is_some()},
-        "control": {"vertices": control_size.vertex_count(), "faces": control_size.face_count(), "tags": TagCounts::of_mesh(control_mesh), "uvs": control_mesh.uvs().is_some()},
-        "surface_options": {"boundary": result.surface_options.boundary.name(), "crease_method": result.surface_options.crease_method.name(), "fvar": result.surface_options.fvar.name()},
-        "solver": {
-            "name": if result.solve.is_some() { json!(solve.solver) } else { json!(null) },
-            "iterations": solve.iterations,
-            "converged": result.solve.as_ref().is_none_or(|s| s.converged),
-            "matvecs": solve.matvecs,
-            "residual": solve.residual,
-            "residual_history": solve.history,
-        },
-        "error": {"max_rel": error.max_rel, "mean_rel": error.mean_rel, "max_abs": error.max_abs, "mean_abs": error.mean_abs, "vertices": error.count},
-        "timing_ms": {"setup": result.setup_seconds * 1e3, "solve": result.solve_seconds * 1e3, "total": total_ms},
-        "parameters": result.parameters,
-        "warnings": result.warnings,
-    });
+    let report = Report::new(&mesh, &result, error)
+        .with_input_file(args.mesh.display().to_string())
+        .with_control(control_mesh)
+        .with_total_ms(total_ms);
     if let (Some(path), Some(control)) = (&args.output, &control_out) {
         outputs.stage_mesh("--output", path, control, is_deng_ma)?;
     }
@@ -334,19 +306,7 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     }
     progress::summary(format!(
         "{name}: {} vertices interpolated, max error {:.3e}·d (mean {:.3e}·d), {} iterations, {:.1} ms",
-        error.count, error.max_rel, error.mean_rel, solve.iterations, total_ms
+        error.count, error.max_rel, error.mean_rel, report.solver.iterations, total_ms
     ));
     Ok(())
-}
-
-fn args_method_name(m: MethodArg) -> &'static str {
-    let method = match m {
-        MethodArg::Nasri => subdiv_interp::Method::Nasri,
-        MethodArg::ZhengCai => subdiv_interp::Method::ZhengCai,
-        MethodArg::Cheng => subdiv_interp::Method::Cheng,
-        MethodArg::FanChengLai => subdiv_interp::Method::FanChengLai,
-        MethodArg::DengWang => subdiv_interp::Method::DengWang,
-        MethodArg::DengMa => subdiv_interp::Method::DengMa,
-    };
-    method.name()
 }

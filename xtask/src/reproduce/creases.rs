@@ -24,8 +24,6 @@ use subdiv_mesh::features::{feature_edges, FeatureEdges};
 use subdiv_mesh::{DVec3, EdgeId, Mesh, Tags, SHARPNESS_INFINITE};
 use subdiv_stencil::Scheme;
 
-use super::methods::METHODS;
-
 /// Dihedral turning angle (degrees) from which an edge of fandisk is a feature.
 const THRESHOLD_DEGREES: f64 = 30.0;
 /// Subdivision levels of the measured (and drawn) surfaces.
@@ -311,9 +309,10 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     );
     let d = mesh.bbox_diagonal();
     let mut runs = Vec::new();
-    for (method, f) in METHODS {
+    for m in subdiv_interp::Method::ALL {
+        let (method, options) = (m.name(), subdiv_interp::MethodOptions::new(m));
         for (tagged, input) in [(false, &mesh), (true, &tagged_input)] {
-            let (r, time) = timed(ctx.runs(), || f(input));
+            let (r, time) = timed(ctx.runs(), || subdiv_interp::interpolate(input, &options));
             let outcome = match r {
                 Ok(r) => match r.surface(LEVELS) {
                     Ok(surface) => Ok((r, surface, time)),

@@ -6,24 +6,8 @@ use super::common::{ms, sci, timed, Ctx, Kind, Table};
 use super::meshes::closed_mix;
 use anyhow::Result;
 use serde_json::json;
-use subdiv_interp::{
-    cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, DengMaOptions, DengWangOptions,
-    FanChengLaiOptions, InterpError, Interpolant, NasriOptions, ZhengCaiOptions,
-};
+use subdiv_interp::{interpolate, InterpError, Method, MethodOptions};
 use subdiv_mesh::Mesh;
-
-/// A method with its default options.
-pub(super) type MethodFn = fn(&Mesh) -> Result<Interpolant, InterpError>;
-
-/// The six methods with their default options, by name.
-pub(super) const METHODS: [(&str, MethodFn); 6] = [
-    ("nasri", |m| nasri::interpolate(m, &NasriOptions::default())),
-    ("zheng-cai", |m| zheng_cai::interpolate(m, &ZhengCaiOptions::default())),
-    ("cheng", |m| cheng::interpolate(m, &ChengOptions::default())),
-    ("fan-cheng-lai", |m| fan_cheng_lai::interpolate(m, &FanChengLaiOptions::default())),
-    ("deng-wang", |m| deng_wang::interpolate(m, &DengWangOptions::default())),
-    ("deng-ma", |m| deng_ma::interpolate(m, &DengMaOptions::default())),
-];
 
 /// Table 6.
 pub fn run(ctx: &Ctx) -> Result<Table> {
@@ -63,11 +47,12 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     for (name, mesh) in &models {
         let tri =
             if mesh.topology().faces().all_of_size(3) { None } else { Some(subdiv_mesh::triangulate(mesh)?.mesh) };
-        for (method, f) in METHODS {
-            let input = if method == "deng-wang" { tri.as_ref().unwrap_or(mesh) } else { mesh };
+        for m in Method::ALL {
+            let (method, options) = (m.name(), MethodOptions::new(m));
+            let input = if m == Method::DengWang { tri.as_ref().unwrap_or(mesh) } else { mesh };
             let mut phases = Vec::new(); // (setup, solve) of every run: their medians are reported
             let (r, total) = timed(ctx.runs(), || {
-                let r = f(input);
+                let r = interpolate(input, &options);
                 if let Ok(r) = &r {
                     phases.push((r.setup_seconds, r.solve_seconds));
                 }
@@ -82,8 +67,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
             let n = input.topology().vertex_count();
             match r {
                 Ok(r) => {
-                    let all = vec![true; n];
-                    let err = r.error(input.positions(), &all, input.bbox_diagonal()).max_rel;
+                    let err = r.error_all(input).max_rel;
                     let it = r.solve.as_ref().map_or(0, |s| s.iterations);
                     table.row(vec![
                         name.clone(),
