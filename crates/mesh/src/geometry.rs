@@ -222,8 +222,8 @@ pub fn distance(a: DVec3, b: DVec3) -> f64 {
 /// Newell's vector of a polygon: twice its vector area, exact for planar polygons
 /// and translation-invariant (Zheng-Cai Eq. 10 with cyclic indices, ERRATA Z5).
 ///
-/// Formed in exact power-of-two scalings of the corners (see
-/// [`scaled_newell`]), so no intermediate overflows or underflows: the result
+/// Formed in exact power-of-two scalings of the corners, so no intermediate
+/// overflows or underflows: the result
 /// is the naive Σ (Vᵢ − V₀) × (Vᵢ₊₁ − V₀) bit for bit wherever that neither
 /// overflows nor underflows, and a component is ±∞ only where the true
 /// vector's exceeds `f64::MAX` (areas beyond about 1e308: coordinates beyond

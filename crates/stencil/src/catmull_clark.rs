@@ -255,13 +255,15 @@ fn smooth_limit_row(t: &Topology, v: VertexId, rows: &mut RowBuilder, scratch: &
     }
 }
 
-/// V × V limit stencil: row v gives the limit point of vertex v ([`limit_row`]).
+/// V × V limit stencil: row v gives the limit point of vertex v
+/// ([`limit_stencil_sharp`] with no tags).
 pub fn limit_stencil(t: &Topology) -> SparseMatrix {
     limit_stencil_sharp(t, &LevelSharpness::plain(), t.vertex_count())
 }
 
 /// The first `rows` rows of the limit stencil with the rules of `sharp`
-/// ([`limit_row`]): exact where no semi-sharp value is left.
+/// (each vertex by its rule at this level, [`LevelSharpness::limit_rule`]):
+/// exact where no semi-sharp value is left.
 pub fn limit_stencil_sharp(t: &Topology, sharp: &LevelSharpness, rows: usize) -> SparseMatrix {
     let nv = t.vertex_count();
     RowBuilder::build_parallel_with_scratch(rows, nv, Summation::InOrder, |i, out, scratch: &mut LimitScratch| {

@@ -12,7 +12,7 @@
 //! | [`loop_subdivision`] | refinement R and limit stencil, Warren's or Loop's β |
 //! | [`doo_sabin`] | refinement R for the standard step and the first-step variants (Zheng-Cai Eq. 4, two-phase Eq. 1), Chaikin boundary |
 //! | [`deng_ma`] | the interpolatory Deng-Ma step |
-//! | [`subdivide`] | multi-level plans: topology once, geometry as repeated products, on normalised positions ([`normalized`]) |
+//! | [`mod@subdivide`] | multi-level plans: topology once, geometry as repeated products, on normalised positions ([`normalized`]) |
 //! | [`limit_matrix`] | the methods' limit matrices A = D·S (Nasri C, Zheng-Cai Z, two-phase B(λ), Cheng A, Loop L) |
 //!
 //! ```

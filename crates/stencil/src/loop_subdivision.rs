@@ -169,7 +169,8 @@ fn limit_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, beta: LoopBeta, 
     }
 }
 
-/// V × V limit stencil ([`limit_row`]).
+/// V × V limit stencil: row v gives the limit point of vertex v
+/// ([`limit_stencil_sharp`] with no tags).
 ///
 /// # Errors
 /// [`StencilError::NotTriangles`] on a mesh with a non-triangle.

@@ -25,7 +25,7 @@ const ROWS_PER_TASK: usize = 4096;
 ///
 /// Rows are short (a stencil touches a vertex's neighbourhood), so each row is
 /// merged on its own, with no global sort: a short row by sorting it in place,
-/// a long one by grouping its columns in a small hash table ([`Merger`]).
+/// a long one by grouping its columns in a small hash table.
 #[derive(Debug, Default)]
 pub struct RowBuilder {
     indptr: Vec<u32>,

@@ -18,7 +18,7 @@
 //! valence 2 (after one step there are none of those). Isolated vertices are
 //! kept by the primal schemes and dropped by Doo-Sabin.
 //!
-//! The memory estimate covers what [`crate::subdivide`] holds at its peak:
+//! The memory estimate covers what [`crate::subdivide()`] holds at its peak:
 //! every level's topology and stencil (a [`crate::SubdivisionPlan`] keeps them
 //! all) and two levels of positions. Its constants are the peak resident
 //! memory per final-level corner measured on meshes of 0.7–73 M corners
@@ -125,7 +125,7 @@ pub fn refined_sizes(t: &Topology, scheme: Scheme, levels: usize) -> Vec<LevelSi
     out
 }
 
-/// Peak resident bytes of [`crate::subdivide`] with these level sizes
+/// Peak resident bytes of [`crate::subdivide()`] with these level sizes
 /// (saturating), not counting the input mesh: a constant per corner of the
 /// last level (module docs). Add 24 bytes per final vertex
 /// for each further per-vertex array a caller builds (normals, limit
