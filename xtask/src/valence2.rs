@@ -54,7 +54,7 @@ pub fn run(args: &Valence2Args) -> Result<()> {
     let split = split_edges(&mesh, args.count, args.chain, args.offset)
         .with_context(|| format!("{}: cannot split {} edges", args.input.display(), args.count))?;
     let view = subdiv_io::MeshView::new(split.positions(), split.topology().faces());
-    subdiv_io::write_mesh(&args.output, view).with_context(|| args.output.display().to_string())?;
+    subdiv_io::write_mesh_view(&args.output, view).with_context(|| args.output.display().to_string())?;
     let t = split.topology();
     eprintln!(
         "valence2-mesh: {} vertices ({} of valence 2 in chains of {}, numbered from {}), {} faces → {}",

@@ -225,7 +225,8 @@ fn error_from_written_control_mesh(mesh: &Mesh, control: &Mesh, beta: LoopBeta, 
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("deng-wang-polygons");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{}.obj", name.replace('/', "_")));
-    subdiv_io::write_mesh(&path, subdiv_io::MeshView::new(control.positions(), control.topology().faces())).unwrap();
+    subdiv_io::write_mesh_view(&path, subdiv_io::MeshView::new(control.positions(), control.topology().faces()))
+        .unwrap();
     let back = load(&path);
     let t = mesh.topology();
     let data: Vec<DVec3> = t.vertices().filter(|&v| !t.is_isolated(v)).map(|v| mesh.position(v)).collect();

@@ -13,8 +13,9 @@ use crate::Format;
 /// `mesh.obj:12: face index 'x' is not an integer`.
 ///
 /// Topological defects (out-of-range or repeated indices, faces with fewer
-/// than three corners, NaN coordinates) are *not* errors here: readers pass
-/// them through and `subdiv_mesh` reports them when it validates the soup.
+/// than three corners, NaN coordinates) are *not* errors of the readers:
+/// they pass them through and `subdiv_mesh` reports them when it validates
+/// the soup — as [`IoError::Validation`] when [`crate::load_mesh`] does.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum IoError {
@@ -122,6 +123,16 @@ pub enum IoError {
         /// What is wrong with the mesh.
         message: String,
     },
+    /// The file was read, but what it holds is no valid mesh (non-manifold,
+    /// an index out of range, a NaN coordinate, …): [`crate::load_mesh`].
+    #[error("{}: {source}", .path.display())]
+    Validation {
+        /// The file that was read.
+        path: PathBuf,
+        /// Why its mesh is not valid, naming the offending element.
+        #[source]
+        source: subdiv_mesh::MeshError,
+    },
 }
 
 impl IoError {
@@ -138,7 +149,8 @@ impl IoError {
             | IoError::NotAFile { path, .. }
             | IoError::RefusedUri { path, .. }
             | IoError::Utf16 { path }
-            | IoError::BinaryData { path, .. } => path,
+            | IoError::BinaryData { path, .. }
+            | IoError::Validation { path, .. } => path,
         }
     }
 
@@ -187,6 +199,15 @@ pub enum ReadWarning {
         /// [`ReadWarning::NAMES_KEPT`] of them.
         names: Vec<String>,
     },
+    /// A defect of the validated mesh that does not stop its use
+    /// ([`subdiv_mesh::Warning`]: isolated vertices, zero-area faces), from
+    /// [`crate::load_mesh_with_warnings`].
+    MeshDefect {
+        /// The file that was read.
+        path: PathBuf,
+        /// The defect.
+        warning: subdiv_mesh::Warning,
+    },
 }
 
 impl ReadWarning {
@@ -196,7 +217,9 @@ impl ReadWarning {
     /// The file the warning is about.
     pub fn path(&self) -> &Path {
         match self {
-            ReadWarning::UvsDropped { path, .. } | ReadWarning::TagsIgnored { path, .. } => path,
+            ReadWarning::UvsDropped { path, .. }
+            | ReadWarning::TagsIgnored { path, .. }
+            | ReadWarning::MeshDefect { path, .. } => path,
         }
     }
 }
@@ -217,6 +240,7 @@ impl fmt::Display for ReadWarning {
                     names.join(", ")
                 )
             }
+            ReadWarning::MeshDefect { path, warning } => write!(f, "{}: {warning}", path.display()),
         }
     }
 }
@@ -337,6 +361,7 @@ mod tests {
             ctx.refused_uri("/etc/hostname", "it is an absolute path"),
             IoError::NotAFile { path: ctx.path.to_path_buf(), kind: "a FIFO" },
             IoError::UnknownFormat { path: ctx.path.to_path_buf() },
+            IoError::Validation { path: ctx.path.to_path_buf(), source: subdiv_mesh::MeshError::NoFaces },
         ];
         for e in errors {
             assert_eq!(e.path(), Path::new("dir/m.gltf"));

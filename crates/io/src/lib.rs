@@ -5,6 +5,42 @@
 //! format: `obj.rs`, `off.rs`, `ply.rs`, `stl.rs`, `gltf.rs`, and
 //! `tag_file.rs` for JSON tag files ([`read_tag_file`], [`parse_tag_json`]).
 //!
+//! In one call, for a validated [`Mesh`]: [`load_mesh`] reads and validates
+//! a file (a [`MeshError`] becomes [`IoError::Validation`];
+//! [`load_mesh_with_warnings`] also gives the warnings), [`write_mesh`]
+//! writes a mesh with its texture coordinates and tags, and vertex normals
+//! on request ([`WriteOptions`]):
+//!
+//! ```
+//! use subdiv_io::{load_mesh, write_mesh, Format, WriteOptions};
+//! use subdiv_mesh::{Mesh, VertexId};
+//!
+//! let dir = std::env::temp_dir().join(format!("subdiv-io-crate-example-{}", std::process::id()));
+//! std::fs::create_dir_all(&dir)?;
+//! // A tetrahedron from plain arrays, written as OBJ.
+//! let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+//! let mesh = Mesh::from_arrays(&positions, &[[0u32, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])?;
+//! let input = dir.join("tetrahedron.obj");
+//! write_mesh(&input, &mesh, &WriteOptions::default())?;
+//!
+//! // Read → modify → write: lift the apex, save as binary PLY (from the
+//! // extension) with vertex normals.
+//! let mut mesh = load_mesh(&input)?;
+//! mesh.positions_mut()[3].z = 2.0;
+//! let output = dir.join("lifted.ply");
+//! write_mesh(&output, &mesh, &WriteOptions::default().with_normals(true))?;
+//!
+//! let back = load_mesh(&output)?;
+//! assert_eq!(back.position(VertexId(3)).z, 2.0);
+//! assert_eq!(back.topology().faces(), mesh.topology().faces());
+//! // glTF stores f32 and triangles: the format overrides the extension.
+//! write_mesh(dir.join("lifted.bin"), &mesh, &WriteOptions::default().with_format(Format::Glb))?;
+//! std::fs::remove_dir_all(&dir)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! At the level of soups and views:
+//!
 //! - Texture coordinates ([`PolygonSoup::uvs`], one [`FaceVarying`]
 //!   channel) are read from OBJ `vt`, PLY, glTF `TEXCOORD_0` and OFF `ST`;
 //!   crease and corner tags ([`PolygonSoup::tags`], a [`TagList`]) from
@@ -25,10 +61,11 @@
 //! - Text formats skip a UTF-8 byte-order mark and report UTF-16 text
 //!   ([`IoError::Utf16`]) and binary data ([`IoError::BinaryData`]) as such,
 //!   not as an empty or malformed file.
-//! - [`write_mesh`] / [`write_mesh_as`] write atomically: a temporary file in
-//!   the same directory is renamed over the target, so a failed write never
-//!   leaves a partial file; the encoding is streamed to it through a 1 MiB
-//!   buffer (glTF, whose header needs the buffer length, is assembled first).
+//! - [`write_mesh_view`] / [`write_mesh_as`] (and [`write_mesh`]) write
+//!   atomically: a temporary file in the same directory is renamed over the
+//!   target, so a failed write never leaves a partial file; the encoding is
+//!   streamed to it through a 1 MiB buffer (glTF, whose header needs the
+//!   buffer length, is assembled first).
 //!   [`stage_mesh`] and [`stage_bytes`] stop before the rename, so that a
 //!   command's outputs can be committed together ([`commit_all`]: all of them
 //!   or none); [`remove_staged_files`] is for signal handlers.
@@ -36,7 +73,8 @@
 //! - [`IoError`] names the file, and the 1-based line for text formats:
 //!   `mesh.obj:12: face index 'x' is not an integer`.
 //!
-//! What it does **not** do: validate topology. Out-of-range and repeated
+//! What the readers do **not** do: validate topology ([`load_mesh`] leaves
+//! that to `subdiv_mesh`, [`Mesh::from_soup`]). Out-of-range and repeated
 //! indices, faces with fewer than three corners and NaN/infinite coordinates
 //! are read as they are, so that `subdiv_mesh`'s validator can report them;
 //! so are texture coordinate indices past the `vt` pool, crease pairs that
@@ -93,6 +131,7 @@ mod ply;
 mod stl;
 mod tag_file;
 mod text;
+mod validated;
 
 use glam::DVec3;
 use std::io::Read;
@@ -101,8 +140,9 @@ use std::path::Path;
 pub use atomic::{commit_all, remove_staged_files, stage_bytes, StagedFile};
 pub use error::{IoError, ReadWarning};
 pub use format::Format;
-pub use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, PolygonSoup, TagList, VertexTag};
+pub use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, Mesh, MeshError, PolygonSoup, TagList, VertexTag};
 pub use tag_file::{parse_tag_json, read_tag_file, TAG_FILE_LIMIT};
+pub use validated::{load_mesh, load_mesh_with_warnings, write_mesh, WriteOptions};
 
 use error::Ctx;
 
@@ -346,14 +386,15 @@ pub(crate) fn fan(face: &[u32]) -> impl Iterator<Item = [u32; 3]> + '_ {
     (2..face.len()).map(move |i| [face[0], face[i - 1], face[i]])
 }
 
-/// Writes a mesh in the format of the path's extension (binary for `.ply`
-/// and `.stl`), atomically.
+/// Writes a mesh view in the format of the path's extension (binary for
+/// `.ply` and `.stl`), atomically. [`write_mesh`] writes a validated
+/// [`Mesh`].
 ///
 /// # Errors
 /// [`IoError::UnknownFormat`], [`IoError::InvalidMesh`] (see
 /// [`write_mesh_to_vec`]) or [`IoError::Io`]; on any error the target file is
 /// left as it was.
-pub fn write_mesh(path: &Path, mesh: MeshView<'_>) -> Result<(), IoError> {
+pub fn write_mesh_view(path: &Path, mesh: MeshView<'_>) -> Result<(), IoError> {
     write_mesh_as(path, mesh, Format::from_path(path)?)
 }
 

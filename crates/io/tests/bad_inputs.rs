@@ -6,7 +6,7 @@ mod common;
 
 use common::{fixture, scratch_dir};
 use std::time::{Duration, Instant};
-use subdiv_io::{read_mesh, read_mesh_from_bytes, write_mesh, Format, IoError, MeshView};
+use subdiv_io::{read_mesh, read_mesh_from_bytes, write_mesh_view, Format, IoError, MeshView};
 use subdiv_mesh::{DVec3, FaceList};
 
 fn error(name: &str) -> IoError {
@@ -144,17 +144,17 @@ fn failed_writes_leave_no_file_behind() {
     // An invalid mesh never touches an existing output.
     let target = dir.join("keep.obj");
     std::fs::write(&target, "old contents").unwrap();
-    let e = write_mesh(&target, MeshView::new(&positions, &bad)).unwrap_err();
+    let e = write_mesh_view(&target, MeshView::new(&positions, &bad)).unwrap_err();
     assert!(matches!(e, IoError::InvalidMesh { .. }) && e.to_string().contains("keep.obj"), "{e}");
     assert_eq!(std::fs::read_to_string(&target).unwrap(), "old contents");
 
     // The target is a directory: the rename fails and the temporary file goes.
     let target = dir.join("a_directory.ply");
     std::fs::create_dir(&target).unwrap();
-    assert!(matches!(write_mesh(&target, MeshView::new(&positions, &good)), Err(IoError::Io { .. })));
+    assert!(matches!(write_mesh_view(&target, MeshView::new(&positions, &good)), Err(IoError::Io { .. })));
 
     // A missing directory: nothing is created.
-    let e = write_mesh(&dir.join("missing/out.stl"), MeshView::new(&positions, &good)).unwrap_err();
+    let e = write_mesh_view(&dir.join("missing/out.stl"), MeshView::new(&positions, &good)).unwrap_err();
     assert!(matches!(e, IoError::Io { .. }), "{e}");
 
     let mut left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
@@ -162,7 +162,7 @@ fn failed_writes_leave_no_file_behind() {
     assert_eq!(left, ["a_directory.ply", "keep.obj"]);
 
     // A successful write replaces the old file whole.
-    write_mesh(&dir.join("keep.obj"), MeshView::new(&positions, &good)).unwrap();
+    write_mesh_view(&dir.join("keep.obj"), MeshView::new(&positions, &good)).unwrap();
     assert_eq!(read_mesh(&dir.join("keep.obj")).unwrap().faces, good);
 }
 

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{assert_round_trip, fixture, scratch_dir};
-use subdiv_io::{read_mesh, read_mesh_from_bytes, write_mesh, write_mesh_as, write_mesh_to_vec, Format, MeshView};
+use subdiv_io::{read_mesh, read_mesh_from_bytes, write_mesh_as, write_mesh_to_vec, write_mesh_view, Format, MeshView};
 
 const FIXTURES: &[&str] = &[
     "canonical/cross3d_quad.obj",
@@ -51,7 +51,7 @@ fn every_format_round_trips_through_files() {
     }
     // The extension alone picks the (binary) format.
     let path = dir.join("by_extension.PLY");
-    write_mesh(&path, MeshView::from(&original)).unwrap();
+    write_mesh_view(&path, MeshView::from(&original)).unwrap();
     assert!(std::fs::read(&path).unwrap().starts_with(b"ply\nformat binary_little_endian"));
     // Nothing but the outputs is left in the directory: no temporary files.
     let count = std::fs::read_dir(&dir).unwrap().count();

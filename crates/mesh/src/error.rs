@@ -183,6 +183,52 @@ pub enum MeshError {
         /// v.
         v: f64,
     },
+    /// A vertex index of plain-data faces ([`crate::FaceArrays`]) does not
+    /// fit the `u32` vertex ids: out of range whatever the vertex count.
+    #[error("face {face} refers to vertex {index}, beyond the 2³² − 2 vertices a mesh can have")]
+    IndexTooLarge {
+        /// Offending face.
+        face: u32,
+        /// The index as given.
+        index: usize,
+    },
+    /// A flat index array of faces of one size ([`crate::FaceArrays::uniform`])
+    /// is not a whole number of faces, or the size is 0.
+    #[error("{indices} vertex indices do not make faces of {size} corners each")]
+    UniformIndexCount {
+        /// Corners per face.
+        size: usize,
+        /// Length of the index array.
+        indices: usize,
+    },
+    /// CSR face offsets ([`crate::FaceArrays::csr`]) without a single entry:
+    /// m faces need m + 1 offsets, a lone 0 for none.
+    #[error("the face offsets are empty; m faces need m + 1 offsets, the first 0 and the last the index count")]
+    OffsetsEmpty,
+    /// The first CSR face offset is not 0.
+    #[error("the face offsets start at {first}, not 0")]
+    OffsetsStart {
+        /// The first offset.
+        first: usize,
+    },
+    /// A CSR face offset is smaller than the one before it.
+    #[error("face {face} ends at offset {end}, before its start {start}; face offsets must not decrease")]
+    OffsetsDecrease {
+        /// The face whose offsets decrease (its position in the offsets, 0-based).
+        face: usize,
+        /// `offsets[face]`.
+        start: usize,
+        /// `offsets[face + 1]`.
+        end: usize,
+    },
+    /// The last CSR face offset is not the number of vertex indices.
+    #[error("the face offsets end at {last}, but there are {indices} vertex indices")]
+    OffsetsEnd {
+        /// The last offset.
+        last: usize,
+        /// Length of the index array.
+        indices: usize,
+    },
     /// The mesh needs more than `u32::MAX` elements.
     #[error("the mesh is too large: {what}")]
     TooLarge {

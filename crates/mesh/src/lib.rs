@@ -25,6 +25,38 @@
 //! power-of-two scalings ([`PowerOfTwoScale`], which other crates use to
 //! normalise a mesh before refining or solving and map the result back).
 //!
+//! From plain arrays ([`Mesh::from_arrays`]: `&[[u32; N]]`, `&[Vec<usize>]`,
+//! CSR offsets and indices, … — see [`FaceArrays`]) to topology queries and
+//! back:
+//!
+//! ```
+//! use subdiv_mesh::{Mesh, MeshError, VertexId};
+//! // A unit cube: 8 corners, 6 quads, counter-clockwise seen from outside.
+//! let positions: Vec<[f64; 3]> =
+//!     (0..8).map(|i| [f64::from(i & 1), f64::from((i >> 1) & 1), f64::from(i >> 2)]).collect();
+//! let quads = [[0u32, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+//! let mesh = Mesh::from_arrays(&positions, &quads)?;
+//!
+//! let t = mesh.topology();
+//! assert_eq!((t.vertex_count(), t.edge_count(), t.face_count()), (8, 12, 6));
+//! assert!(t.is_closed() && t.genus() == Some(0));
+//! let neighbours: Vec<VertexId> = t.vertex_neighbors(VertexId(0)).collect();
+//! assert_eq!(neighbours.len(), 3); // 1, 2 and 4, in cyclic order
+//! assert!(neighbours.contains(&VertexId(4)));
+//! assert_eq!(mesh.face_area(subdiv_mesh::FaceId(0)), 1.0);
+//!
+//! // Back to plain data.
+//! assert_eq!(mesh.positions_to_arrays(), positions);
+//! let (offsets, indices) = mesh.faces_as_csr();
+//! assert_eq!((offsets.len(), indices.len()), (7, 24));
+//!
+//! // A flipped face is a typed error naming it, not a panic.
+//! let mut flipped = quads;
+//! flipped[5].reverse();
+//! assert!(matches!(Mesh::from_arrays(&positions, &flipped), Err(MeshError::InconsistentOrientation { .. })));
+//! # Ok::<(), MeshError>(())
+//! ```
+//!
 //! ```
 //! use subdiv_mesh::{shapes, Mesh};
 //! let mesh = shapes::cube();
@@ -36,6 +68,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod arrays;
 mod error;
 pub mod features;
 mod geometry;
@@ -49,6 +82,7 @@ mod topology;
 mod triangulate;
 mod validate;
 
+pub use arrays::{FaceArrays, IndexSlice};
 pub use error::{MeshError, Warning};
 pub use features::{dihedral_turning_angle, feature_edges, FeatureEdges};
 pub use geometry::{
