@@ -69,6 +69,7 @@ pub mod prelude {
         interpolate, ChengOptions, CommonOptions, DengMaOptions, DengWangOptions, FanChengLaiOptions, Interpolant,
         Method, MethodOptions, NasriOptions, Report, Shape, SolverChoice, SurfaceOptions, ZhengCaiOptions,
     };
+    pub use subdiv_io::{load_mesh, write_mesh, WriteOptions};
     pub use subdiv_mesh::{DVec3, Mesh};
     pub use subdiv_solve::Solver;
     pub use subdiv_stencil::{
