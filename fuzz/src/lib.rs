@@ -515,37 +515,53 @@ fn interpolate(mesh: &Mesh, method: Operation, levels: usize, head: &mut Bytes, 
         s => SolverChoice::Use(Solver::ALL[usize::from(s) % Solver::ALL.len()]),
     };
     let max_iter = head.pick(&[subdiv_interp::DEFAULT_MAX_ITER, 200]);
-    let subset = match head.u8() {
+    let subset: Option<Vec<u32>> = match head.u8() {
         0..=199 => None,
         count => Some((0..count % 8).map(|_| u32::from(tail.u8()) % (n as u32 + 1)).collect()),
     };
-    let common = CommonOptions { subset, tol, max_iter, solver, ..Default::default() };
+    let common = CommonOptions::default().with_subset(subset).with_tol(tol).with_max_iter(max_iter).with_solver(solver);
     let result = match method {
-        Operation::Nasri => nasri::interpolate(mesh, &NasriOptions { common: common.clone() }),
-        Operation::Cheng => cheng::interpolate(mesh, &ChengOptions { common: common.clone() }),
+        Operation::Nasri => nasri::interpolate(mesh, &NasriOptions::default().with_common(common.clone())),
+        Operation::Cheng => cheng::interpolate(mesh, &ChengOptions::default().with_common(common.clone())),
         Operation::ZhengCai => {
             let ite_max = head.pick(&[zheng_cai::DEFAULT_ITE_MAX, 0, 1, 50]);
             let eps = head.pick(&[zheng_cai::DEFAULT_EPS, 0.0, 1e-12, 0.5, 1e300, -1.0, f64::NAN]);
             let normals = normals(n, head, tail);
-            let handles = (head.u8() >= 192).then(|| (0..n).map(|_| tail.pick(&HANDLES)).collect());
-            zheng_cai::interpolate(mesh, &ZhengCaiOptions { common: common.clone(), ite_max, eps, normals, handles })
+            let handles: Option<Vec<f64>> = (head.u8() >= 192).then(|| (0..n).map(|_| tail.pick(&HANDLES)).collect());
+            zheng_cai::interpolate(
+                mesh,
+                &ZhengCaiOptions::default()
+                    .with_common(common.clone())
+                    .with_ite_max(ite_max)
+                    .with_eps(eps)
+                    .with_normals(normals)
+                    .with_handles(handles),
+            )
         }
         Operation::FanChengLai => {
             let shape = match head.u8() {
                 0..=191 => Shape::Uniform(head.pick(&LAMBDAS)),
                 k => Shape::PerFace((0..nf + usize::from(k % 3) - 1).map(|_| tail.pick(&LAMBDAS)).collect()),
             };
-            fan_cheng_lai::interpolate(mesh, &FanChengLaiOptions { common: common.clone(), shape })
+            fan_cheng_lai::interpolate(
+                mesh,
+                &FanChengLaiOptions::default().with_common(common.clone()).with_shape(shape),
+            )
         }
         Operation::DengWang => {
             let mu = head.pick(&[deng_wang::DEFAULT_MU, 0.25, 0.0, 0.5, 1.0, -1.0, 1e300, 1e-300, f64::NAN]);
             let beta = head.pick(&[LoopBeta::Warren, LoopBeta::Loop]);
             let normals = normals(n, head, tail);
-            deng_wang::interpolate(mesh, &DengWangOptions { common: common.clone(), mu, beta, normals })
+            deng_wang::interpolate(
+                mesh,
+                &DengWangOptions::default()
+                    .with_common(common.clone())
+                    .with_mu(mu)
+                    .with_beta(beta)
+                    .with_normals(normals),
+            )
         }
-        Operation::DengMa => {
-            deng_ma::interpolate(mesh, &DengMaOptions { tension: tension(head), ..Default::default() })
-        }
+        Operation::DengMa => deng_ma::interpolate(mesh, &DengMaOptions::default().with_tension(tension(head))),
         Operation::Subdivide => unreachable!("subdivide is not a method"),
     };
     let name = format!("{method:?}");
