@@ -1,13 +1,12 @@
 //! Times every method on one mesh: median total, setup and solve over the
 //! runs, iterations and error (release):
 //! `cargo run --release -p subdiv-interp --example method_time [-- mesh.obj [runs [method]]]`.
-//! Without a file (or with `-`), a generated closed polygon mesh of about 10⁶ vertices
-//! (Loop's Deng-Wang is skipped on meshes with non-triangles).
+//! Without a file (or with `-`), a generated closed polygon mesh of about 10⁶ vertices.
+//! `method` is a name of `subdiv_interp::Method` (`nasri`, `zheng-cai`, …); each
+//! method runs with its defaults, and one that refuses the mesh prints its error.
 use std::time::Instant;
-use subdiv_interp::{cheng, deng_wang, fan_cheng_lai, nasri, zheng_cai, InterpError, Interpolant};
+use subdiv_interp::{interpolate, Method, MethodOptions};
 use subdiv_mesh::Mesh;
-
-type Run = fn(&Mesh) -> Result<Interpolant, InterpError>;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -28,22 +27,16 @@ fn main() {
     };
     let n = mesh.topology().vertex_count();
     let runs: usize = args.next().map_or(if n < 100_000 { 100 } else { 3 }, |r| r.parse().expect("a run count"));
-    let only = args.next();
+    let only: Option<Method> = args.next().map(|m| m.parse().expect("a method name"));
     let all = vec![true; n];
     let d = mesh.bbox_diagonal();
-    let methods: [(&str, Run); 5] = [
-        ("nasri", |m| nasri::interpolate(m, &Default::default())),
-        ("zheng-cai", |m| zheng_cai::interpolate(m, &Default::default())),
-        ("cheng", |m| cheng::interpolate(m, &Default::default())),
-        ("fan-cheng-lai", |m| fan_cheng_lai::interpolate(m, &Default::default())),
-        ("deng-wang", |m| deng_wang::interpolate(m, &Default::default())),
-    ];
-    for (name, run) in methods.into_iter().filter(|(name, _)| only.as_deref().is_none_or(|o| o == *name)) {
+    for method in Method::ALL.into_iter().filter(|&m| only.is_none_or(|o| o == m)) {
+        let (name, options) = (method.name(), MethodOptions::new(method));
         let (mut total, mut setup, mut solve) = (Vec::new(), Vec::new(), Vec::new());
         let mut last = None;
         for _ in 0..runs {
             let start = Instant::now();
-            match run(&mesh) {
+            match interpolate(&mesh, &options) {
                 Ok(r) => {
                     total.push(start.elapsed().as_secs_f64());
                     setup.push(r.setup_seconds);

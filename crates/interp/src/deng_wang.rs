@@ -196,7 +196,7 @@
 //! let cube = shapes::cube();
 //! let result = deng_wang::interpolate(&cube, &DengWangOptions::default()).unwrap();
 //! assert_eq!(result.control.topology().face_count(), 48);
-//! assert_eq!(result.parameters["triangulated_faces"], 6);
+//! assert_eq!(result.parameters.triangulated_faces, Some(6));
 //! assert!(result.error(cube.positions(), &[true; 8], cube.bbox_diagonal()).max_rel <= 1e-14);
 //!
 //! // Tagged: the cube's top loop as an infinitely sharp crease, a corner below.
@@ -211,7 +211,7 @@
 //! // The 4 crease edges became 8 halves in M¹, the corner stays.
 //! assert_eq!((result.control.tags().crease_count(), result.control.tags().corner_count()), (8, 1));
 //! assert_eq!(result.control.positions()[0], cube.positions()[0]);
-//! assert_eq!(result.parameters["limit_rows"]["crease"], 4);
+//! assert_eq!(result.parameters.limit_rows.map(|rows| rows.crease), Some(4));
 //! assert!(result.error(cube.positions(), &[true; 8], cube.bbox_diagonal()).max_rel <= 1e-14);
 //! ```
 //!

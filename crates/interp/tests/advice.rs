@@ -7,23 +7,13 @@
 mod support;
 use glam::DVec3;
 use std::path::Path;
-use subdiv_interp::{
-    cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, DengMaOptions, DengWangOptions,
-    FanChengLaiOptions, InterpError, Interpolant, Method, NasriOptions, ZhengCaiOptions,
-};
+use subdiv_interp::{interpolate, InterpError, Interpolant, Method, MethodOptions};
 use subdiv_mesh::{shapes, EdgeId, Mesh};
 use support::{fixtures, load, torus_with_untriangulable_hexagon};
 
 /// `method` with its default options.
 fn run(method: Method, mesh: &Mesh) -> Result<Interpolant, InterpError> {
-    match method {
-        Method::Nasri => nasri::interpolate(mesh, &NasriOptions::default()),
-        Method::ZhengCai => zheng_cai::interpolate(mesh, &ZhengCaiOptions::default()),
-        Method::Cheng => cheng::interpolate(mesh, &ChengOptions::default()),
-        Method::FanChengLai => fan_cheng_lai::interpolate(mesh, &FanChengLaiOptions::default()),
-        Method::DengWang => deng_wang::interpolate(mesh, &DengWangOptions::default()),
-        Method::DengMa => deng_ma::interpolate(mesh, &DengMaOptions::default()),
-    }
+    interpolate(mesh, &MethodOptions::new(method))
 }
 
 /// Succeeds within the default tolerance, measured from the output by the

@@ -123,17 +123,12 @@ fn cheng_honours_the_boundary_option() {
 
 /// The Doo-Sabin methods and Deng-Ma on a tagged mesh, by name.
 fn run_method(method: Method, mesh: &Mesh) -> Result<Interpolant, InterpError> {
-    let common = CommonOptions { tol: 1e-10, ..CommonOptions::default() };
-    match method {
-        Method::Nasri => nasri::interpolate(mesh, &NasriOptions { common }),
-        Method::ZhengCai => zheng_cai::interpolate(mesh, &ZhengCaiOptions { common, ..ZhengCaiOptions::default() }),
-        Method::FanChengLai => {
-            fan_cheng_lai::interpolate(mesh, &FanChengLaiOptions { common, shape: Shape::Uniform(0.4) })
-        }
-        Method::DengMa => deng_ma::interpolate(mesh, &DengMaOptions::default()),
-        Method::Cheng => cheng::interpolate(mesh, &ChengOptions { common }),
-        Method::DengWang => deng_wang::interpolate(mesh, &DengWangOptions { common, ..DengWangOptions::default() }),
-    }
+    let options = match method {
+        Method::FanChengLai => FanChengLaiOptions::default().with_shape(Shape::Uniform(0.4)).into(),
+        method => MethodOptions::new(method),
+    };
+    // Deng-Ma takes no tolerance: it keeps its defaults.
+    interpolate(mesh, &options.with_tol(1e-10))
 }
 
 fn plain(method: Method) -> support::Plain {
@@ -239,7 +234,7 @@ fn zheng_cai_normals_and_handles_near_creases() {
     for (v, what) in [(3usize, "crease"), (50, "dart")] {
         let mut normals = vec![None; n];
         normals[v] = Some(DVec3::new(0.3, 0.2, 1.0));
-        let opts = ZhengCaiOptions { normals: Some(normals), ..ZhengCaiOptions::default() };
+        let opts = ZhengCaiOptions::default().with_normals(normals);
         let run = zheng_cai::interpolate(&mesh, &opts);
         match what {
             "crease" => {
@@ -260,8 +255,8 @@ fn zheng_cai_normals_and_handles_near_creases() {
         }
     }
     let cube = tagged(&jittered(&shapes::cube(), 0.1), &[(0, 1, INF), (1, 3, INF)], &[(6, INF)]);
-    let handles = (0..8).map(|i| if i % 2 == 0 { 0.5 } else { 1.8 }).collect();
-    let opts = ZhengCaiOptions { handles: Some(handles), ..ZhengCaiOptions::default() };
+    let handles: Vec<f64> = (0..8).map(|i| if i % 2 == 0 { 0.5 } else { 1.8 }).collect();
+    let opts = ZhengCaiOptions::default().with_handles(handles);
     let r = zheng_cai::interpolate(&cube, &opts).unwrap();
     assert!(max_rel(&r, &cube) <= 1e-10);
     let plain = zheng_cai::interpolate(&cube, &ZhengCaiOptions::default()).unwrap();

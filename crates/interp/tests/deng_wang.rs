@@ -14,9 +14,7 @@ use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
 use subdiv_interp::deng_wang::{self, DEFAULT_MU};
-use subdiv_interp::{
-    CommonOptions, ControlScheme, DengWangOptions, InterpError, Interpolant, LimitAssociation, Parameter,
-};
+use subdiv_interp::{ControlScheme, DengWangOptions, InterpError, Interpolant, LimitAssociation, Parameter};
 use subdiv_mesh::{shapes, Mesh};
 use subdiv_stencil::{apply, loop_subdivision, LoopBeta, Scheme, SubdivisionPlan};
 use support::{candidate_limit_points, fixture, fixtures, load, nearest_gap, torus_with_untriangulable_hexagon, Plain};
@@ -67,7 +65,7 @@ const POLYGON_FIXTURES: [&str; 22] = [
 const BETAS: [LoopBeta; 2] = [LoopBeta::Warren, LoopBeta::Loop];
 
 fn opts(mu: f64, beta: LoopBeta) -> DengWangOptions {
-    DengWangOptions { mu, beta, ..DengWangOptions::default() }
+    DengWangOptions::default().with_mu(mu).with_beta(beta)
 }
 
 fn all(mesh: &Mesh) -> Vec<bool> {
@@ -251,7 +249,7 @@ fn polygon_fixtures_are_triangulated_and_interpolated() {
         let result =
             deng_wang::interpolate(&mesh, &DengWangOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(result.scheme, ControlScheme::Loop(LoopBeta::Warren));
-        assert_eq!(result.parameters["triangulated_faces"], serde_json::json!(polygons));
+        assert_eq!(result.parameters.triangulated_faces, Some(polygons));
         let triangles: usize = t.face_ids().map(|f| t.face_size(f) - 2).sum();
         assert_eq!(
             result.warnings,
@@ -295,14 +293,8 @@ fn polygons_behave_as_their_triangulation() {
         let triangulated = subdiv_mesh::triangulate(&mesh).unwrap().mesh;
         let subset: Vec<u32> = (0..n as u32).filter(|v| v % 2 == 0).collect();
         let tilted: Vec<Option<DVec3>> = (0..n).map(|v| (v % 3 == 0).then_some(DVec3::new(1.0, 2.0, 3.0))).collect();
-        let options = [
-            DengWangOptions::default(),
-            DengWangOptions {
-                common: CommonOptions { subset: Some(subset.clone()), ..CommonOptions::default() },
-                normals: Some(tilted),
-                ..DengWangOptions::default()
-            },
-        ];
+        let options =
+            [DengWangOptions::default(), DengWangOptions::default().with_subset(subset.clone()).with_normals(tilted)];
         for o in &options {
             let a = deng_wang::interpolate(&mesh, o).unwrap();
             let b = deng_wang::interpolate(&triangulated, o).unwrap();
@@ -400,10 +392,7 @@ fn subset_interpolates_the_chosen_vertices_and_loop_rule_elsewhere() {
         let subset: Vec<u32> = (0..n as u32).filter(|v| v % 3 == 0).collect();
         let mut flags = vec![false; n];
         subset.iter().for_each(|&v| flags[v as usize] = true);
-        let options = DengWangOptions {
-            common: CommonOptions { subset: Some(subset), ..CommonOptions::default() },
-            ..DengWangOptions::default()
-        };
+        let options = DengWangOptions::default().with_subset(subset);
         let result = deng_wang::interpolate(&mesh, &options).unwrap();
         let d = mesh.bbox_diagonal();
         let err = result.error(mesh.positions(), &flags, d);
@@ -418,7 +407,7 @@ fn subset_interpolates_the_chosen_vertices_and_loop_rule_elsewhere() {
         // … and those are not interpolated (the subset really changes something).
         let others: Vec<bool> = flags.iter().map(|f| !f).collect();
         assert!(result.error(mesh.positions(), &others, d).max_rel > 1e-4);
-        assert_eq!(result.parameters["interpolated_vertices"], serde_json::json!(flags.iter().filter(|&&f| f).count()));
+        assert_eq!(result.parameters.interpolated_vertices, Some(flags.iter().filter(|&&f| f).count()));
     }
 }
 
@@ -477,7 +466,7 @@ fn boundary_limit_curve_reproduces_circles() {
         let faces: Vec<[u32; 3]> = (0..n as u32).map(|k| [0, 1 + k, 1 + (k + 1) % n as u32]).collect();
         let disc = Mesh::new(p, subdiv_mesh::FaceList::from_faces(faces)).unwrap();
         let rim_error = |mu: f64| {
-            let result = deng_wang::interpolate(&disc, &DengWangOptions { mu, ..DengWangOptions::default() }).unwrap();
+            let result = deng_wang::interpolate(&disc, &DengWangOptions::default().with_mu(mu)).unwrap();
             assert!(result.control.positions().iter().all(|q| q.z == 0.0));
             assert!(result.error(disc.positions(), &all(&disc), disc.bbox_diagonal()).max_rel <= 1e-14);
             let s = result.surface(5).unwrap();
@@ -537,26 +526,17 @@ fn a_face_without_triangulation_is_refused_naming_it() {
 fn bad_options_are_invalid_parameters() {
     let ico = shapes::icosahedron();
     let cases = [
-        (DengWangOptions { mu: f64::NAN, ..DengWangOptions::default() }, Parameter::Mu),
-        (DengWangOptions { normals: Some(vec![None; 5]), ..DengWangOptions::default() }, Parameter::Normals),
-        (
-            DengWangOptions { normals: Some(vec![Some(DVec3::ZERO); 12]), ..DengWangOptions::default() },
-            Parameter::Normals,
-        ),
-        (
-            DengWangOptions {
-                common: CommonOptions { subset: Some(vec![12]), ..CommonOptions::default() },
-                ..DengWangOptions::default()
-            },
-            Parameter::Subset,
-        ),
+        (DengWangOptions::default().with_mu(f64::NAN), Parameter::Mu),
+        (DengWangOptions::default().with_normals(vec![None; 5]), Parameter::Normals),
+        (DengWangOptions::default().with_normals(vec![Some(DVec3::ZERO); 12]), Parameter::Normals),
+        (DengWangOptions::default().with_subset(vec![12]), Parameter::Subset),
     ];
     for (o, expected) in cases {
         let err = deng_wang::interpolate(&ico, &o).unwrap_err();
         assert!(matches!(err, InterpError::InvalidParameter { parameter, .. } if parameter == expected), "{err:?}");
     }
     // μ outside the tested range still interpolates, with a warning.
-    let result = deng_wang::interpolate(&ico, &DengWangOptions { mu: 2.0, ..DengWangOptions::default() }).unwrap();
+    let result = deng_wang::interpolate(&ico, &DengWangOptions::default().with_mu(2.0)).unwrap();
     assert_eq!(result.warnings.len(), 1);
     assert!(result.error(ico.positions(), &all(&ico), ico.bbox_diagonal()).max_rel <= 1e-12);
 }
@@ -567,13 +547,10 @@ fn user_normals_replace_eq_8() {
     let n = mesh.topology().vertex_count();
     let tilted: Vec<Option<DVec3>> = (0..n).map(|v| (v % 2 == 0).then_some(DVec3::new(1.0, 2.0, 3.0))).collect();
     let a = deng_wang::interpolate(&mesh, &DengWangOptions::default()).unwrap();
-    let b = deng_wang::interpolate(&mesh, &DengWangOptions { normals: Some(tilted), ..DengWangOptions::default() })
-        .unwrap();
+    let b = deng_wang::interpolate(&mesh, &DengWangOptions::default().with_normals(tilted)).unwrap();
     assert_ne!(a.control.positions(), b.control.positions());
     // All-`None` normals are Eq. 8 exactly.
-    let c =
-        deng_wang::interpolate(&mesh, &DengWangOptions { normals: Some(vec![None; n]), ..DengWangOptions::default() })
-            .unwrap();
+    let c = deng_wang::interpolate(&mesh, &DengWangOptions::default().with_normals(vec![None; n])).unwrap();
     assert_eq!(a.control.positions(), c.control.positions());
     assert!(b.error(mesh.positions(), &all(&mesh), mesh.bbox_diagonal()).max_rel <= 1e-12);
 }
@@ -618,11 +595,9 @@ fn mu_experiment_sphere_and_fairness() {
     let (mut max_dev, mut rms_dev) = (Vec::new(), Vec::new());
     for normals in ["radial", "Eq. 8"] {
         for mu in mus {
-            let o = DengWangOptions {
-                mu,
-                normals: (normals == "radial").then(|| radial_normals(&sphere)),
-                ..DengWangOptions::default()
-            };
+            let o = DengWangOptions::default()
+                .with_mu(mu)
+                .with_normals((normals == "radial").then(|| radial_normals(&sphere)));
             let result = deng_wang::interpolate(&sphere, &o).unwrap();
             assert!(result.error(sphere.positions(), &all(&sphere), 2.0).max_rel <= 1e-12);
             let surface = limit_surface(&result, 4);
@@ -651,7 +626,7 @@ fn mu_experiment_sphere_and_fairness() {
     for (times, levels) in [(1, 5), (2, 4), (3, 3), (4, 2)] {
         let mesh = icosphere(times);
         let dev = |mu: f64| {
-            let o = DengWangOptions { mu, normals: Some(radial_normals(&mesh)), ..DengWangOptions::default() };
+            let o = DengWangOptions::default().with_mu(mu).with_normals(radial_normals(&mesh));
             sphere_deviation(deng_wang::interpolate(&mesh, &o).unwrap().surface(levels).unwrap().positions())
         };
         let (q, e) = (dev(0.25), dev(0.375));

@@ -81,9 +81,9 @@ fn max_rel(result: &Interpolant, mesh: &Mesh) -> f64 {
 }
 
 /// The `limit_rows` counts of a result: smooth, crease, corner, general.
-fn limit_rows(result: &Interpolant) -> [u64; 4] {
-    let rows = &result.parameters["limit_rows"];
-    ["smooth", "crease", "corner", "general"].map(|k| rows[k].as_u64().expect("a count"))
+fn limit_rows(result: &Interpolant) -> [usize; 4] {
+    let rows = result.parameters.limit_rows.expect("Deng-Wang counts its limit rows");
+    [rows.smooth, rows.crease, rows.corner, rows.general]
 }
 
 // ---- interpolation with tags ------------------------------------------------
@@ -117,7 +117,7 @@ fn every_tagged_case_is_interpolated_by_the_control_mesh_with_its_tags() {
             assert!(untagged > 1e-4, "{name}, {method:?}: the tags make no difference ({untagged:e})");
             // Every interpolated vertex has one row, and the report counts them.
             let rows = limit_rows(&r);
-            assert_eq!(rows.iter().sum::<u64>(), mesh.topology().vertex_count() as u64, "{name}");
+            assert_eq!(rows.iter().sum::<usize>(), mesh.topology().vertex_count(), "{name}");
             if semi {
                 assert!(rows[3] > 0, "{name}: semi-sharp values leave general rows ({rows:?})");
             }
@@ -286,7 +286,7 @@ fn fnv(points: &[DVec3]) -> u64 {
 fn untagged_cases() -> Vec<(&'static str, Mesh, DengWangOptions, u64)> {
     let d = DengWangOptions::default;
     let torus = jittered(&shapes::torus(12, 8), 0.05);
-    let mut torus_opts = DengWangOptions { mu: 0.25, beta: LoopBeta::Loop, ..d() };
+    let mut torus_opts = d().with_mu(0.25).with_beta(LoopBeta::Loop);
     torus_opts.common.subset = Some((0..torus.topology().vertex_count() as u32).step_by(2).collect());
     let tri_grid = jittered(&shapes::triangle_grid(5, 4), 0.05);
     let mut grid_opts = d();
@@ -306,7 +306,7 @@ fn untagged_input_gives_the_bits_of_before() {
         let r = deng_wang::interpolate(&mesh, &opts).unwrap();
         assert_eq!(fnv(r.control.positions()), hash, "{name}: the control points changed");
         assert!(r.control.tags().is_empty(), "{name}");
-        assert_eq!(r.parameters["control_creases"], 0);
+        assert_eq!(r.parameters.control_creases, Some(0));
     }
 }
 
@@ -372,7 +372,7 @@ fn crease_limit_curve_follows_a_circle() {
         let ring: Vec<(u32, u32, f32)> = (0..n).map(|j| (j, (j + 1) % n, INF)).collect();
         let torus = tagged(&shapes::torus(3, n as usize), &ring, &[]);
         let deviation = |mu: f64| {
-            let r = deng_wang::interpolate(&torus, &DengWangOptions { mu, ..DengWangOptions::default() }).unwrap();
+            let r = deng_wang::interpolate(&torus, &DengWangOptions::default().with_mu(mu)).unwrap();
             let surface = r.surface(3).unwrap();
             let t = surface.topology();
             let on_crease = t.edges().filter(|&e| surface.tags().edge_sharpness(e) > 0.0);
@@ -405,7 +405,7 @@ fn crease_edges_do_not_read_normals() {
     let n = mesh.topology().vertex_count();
     let mut normals = vec![None; n];
     normals[3] = Some(DVec3::new(0.3, -1.0, 0.2)); // vertex 3 lies on the ring
-    let opts = DengWangOptions { normals: Some(normals), ..options(CreaseMethod::Uniform) };
+    let opts = options(CreaseMethod::Uniform).with_normals(normals);
     let (a, b) = (
         deng_wang::interpolate(&mesh, &opts).unwrap(),
         deng_wang::interpolate(&mesh, &options(CreaseMethod::Uniform)).unwrap(),

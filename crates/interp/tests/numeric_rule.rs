@@ -9,9 +9,8 @@ use glam::DVec3;
 use proptest::prelude::*;
 use subdiv_interp::verify::nearest_gap;
 use subdiv_interp::{
-    cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, CommonOptions, DengMaOptions,
-    DengWangOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Parameter, ZhengCaiOptions,
-    DEFAULT_TOL,
+    cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, DengMaOptions, DengWangOptions,
+    FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Parameter, ZhengCaiOptions, DEFAULT_TOL,
 };
 use subdiv_mesh::{shapes, Mesh, PowerOfTwoScale};
 use subdiv_stencil::{subdivide, LoopBeta, Scheme, StencilError, Tension};
@@ -275,7 +274,7 @@ fn isolated_vertices_are_left_out_by_every_method_with_a_warning() {
             );
             assert_eq!(r.interpolated.len(), nv + 2, "{name}");
             assert!(r.interpolated[..nv].iter().all(|&b| b) && !r.interpolated[nv] && !r.interpolated[nv + 1]);
-            assert_eq!(r.parameters["interpolated_vertices"], nv, "{name}");
+            assert_eq!(r.parameters.interpolated_vertices, Some(nv), "{name}");
         }
     }
     // A subset of isolated vertices only leaves nothing to interpolate.
@@ -283,8 +282,7 @@ fn isolated_vertices_are_left_out_by_every_method_with_a_warning() {
     let mut positions = cube.positions().to_vec();
     positions.push(DVec3::splat(5.0));
     let mesh = Mesh::new(positions, cube.topology().faces().clone()).unwrap();
-    let common = CommonOptions { subset: Some(vec![8]), ..Default::default() };
-    let err = nasri::interpolate(&mesh, &NasriOptions { common }).unwrap_err();
+    let err = nasri::interpolate(&mesh, &NasriOptions::default().with_subset(vec![8])).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Subset, .. }), "{err}");
 }
 
@@ -316,8 +314,8 @@ fn huge_shape_handles_fail_the_measured_error_check() {
     let mesh = shapes::torus(8, 6);
     let n = mesh.topology().vertex_count();
     for handle in [1e12, 1e15, 1e300] {
-        let handles = Some((0..n).map(|v| if v % 3 == 0 { handle } else { 1.0 }).collect());
-        let result = zheng_cai::interpolate(&mesh, &ZhengCaiOptions { handles, ..Default::default() });
+        let handles: Option<Vec<f64>> = Some((0..n).map(|v| if v % 3 == 0 { handle } else { 1.0 }).collect());
+        let result = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_handles(handles));
         let err = result.expect_err("round-off of S·d is far above 1e-6·d");
         match &err {
             InterpError::ToleranceNotMet { max_rel, tol, .. } => {
@@ -330,8 +328,8 @@ fn huge_shape_handles_fail_the_measured_error_check() {
         }
     }
     // Moderate handles still interpolate.
-    let handles = Some((0..n).map(|v| if v % 3 == 0 { 4.0 } else { 1.0 }).collect());
-    let result = zheng_cai::interpolate(&mesh, &ZhengCaiOptions { handles, ..Default::default() });
+    let handles: Option<Vec<f64>> = Some((0..n).map(|v| if v % 3 == 0 { 4.0 } else { 1.0 }).collect());
+    let result = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_handles(handles));
     assert!(check_rule("S = 4", &mesh, &result, DEFAULT_TOL));
 }
 
@@ -339,13 +337,13 @@ fn huge_shape_handles_fail_the_measured_error_check() {
 fn huge_mu_fails_the_measured_error_check() {
     let mesh = shapes::icosahedron();
     for mu in [1e17, 1e300, -1e300] {
-        let err = deng_wang::interpolate(&mesh, &DengWangOptions { mu, ..Default::default() }).unwrap_err();
+        let err = deng_wang::interpolate(&mesh, &DengWangOptions::default().with_mu(mu)).unwrap_err();
         assert!(
             matches!(err, InterpError::ToleranceNotMet { .. } | InterpError::NotRepresentable { .. }),
             "μ = {mu}: {err}"
         );
     }
-    let result = deng_wang::interpolate(&mesh, &DengWangOptions { mu: 3.0, ..Default::default() });
+    let result = deng_wang::interpolate(&mesh, &DengWangOptions::default().with_mu(3.0));
     assert!(check_rule("μ = 3", &mesh, &result, DEFAULT_TOL));
 }
 
@@ -353,8 +351,7 @@ fn huge_mu_fails_the_measured_error_check() {
 fn a_tighter_tolerance_than_round_off_is_reported_not_met() {
     // Exact-by-construction methods measure too: 1e-300·d is below their round-off.
     let mesh = shapes::polygon_mix(&shapes::torus(8, 6), 3, 0.2, 0.2, 0.1);
-    let common = CommonOptions { tol: 1e-300, ..Default::default() };
-    let err = zheng_cai::interpolate(&mesh, &ZhengCaiOptions { common, ..Default::default() }).unwrap_err();
+    let err = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_tol(1e-300)).unwrap_err();
     assert!(matches!(err, InterpError::ToleranceNotMet { tol, .. } if tol == 1e-300), "{err}");
     assert!(err.is_not_converged());
 }
@@ -366,32 +363,27 @@ fn invalid_parameters_name_the_parameter_on_one_line() {
     let mesh = shapes::icosahedron();
     let mut normals = vec![None; 12];
     normals[3] = Some(DVec3::ZERO);
-    let err = deng_wang::interpolate(&mesh, &DengWangOptions { normals: Some(normals.clone()), ..Default::default() })
-        .unwrap_err();
+    let err = deng_wang::interpolate(&mesh, &DengWangOptions::default().with_normals(normals.clone())).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Normals, .. }), "{err}");
     assert!(err.to_string().starts_with("invalid normals: the normal of vertex 3"), "{err}");
-    let err =
-        zheng_cai::interpolate(&mesh, &ZhengCaiOptions { normals: Some(normals), ..Default::default() }).unwrap_err();
+    let err = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_normals(normals)).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Normals, .. }), "{err}");
     for tol in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let common = CommonOptions { tol, ..Default::default() };
-        let err = cheng::interpolate(&mesh, &ChengOptions { common }).unwrap_err();
+        let err = cheng::interpolate(&mesh, &ChengOptions::default().with_tol(tol)).unwrap_err();
         assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Tol, .. }), "{tol}: {err}");
     }
-    let common = CommonOptions { subset: Some(Vec::new()), ..Default::default() };
-    let err = fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions { common, ..Default::default() }).unwrap_err();
+    let err = fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_subset(Vec::new())).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Subset, .. }), "{err}");
     assert_eq!(err.to_string(), "invalid subset: the subset is empty: there is nothing to interpolate");
     let shape = subdiv_interp::Shape::Uniform(1.5);
-    let err = fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions { shape, ..Default::default() }).unwrap_err();
+    let err = fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_shape(shape)).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Shape, .. }), "{err}");
-    let err = deng_ma::interpolate(&mesh, &DengMaOptions { tension: Tension::Global(2.0), ..Default::default() })
-        .unwrap_err();
+    let err = deng_ma::interpolate(&mesh, &DengMaOptions::default().with_tension(Tension::Global(2.0))).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Tension, .. }), "{err}");
-    let err = zheng_cai::interpolate(&mesh, &ZhengCaiOptions { eps: f64::NAN, ..Default::default() }).unwrap_err();
+    let err = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_eps(f64::NAN)).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Eps, .. }), "{err}");
     let handles = Some(vec![0.0; 12]);
-    let err = zheng_cai::interpolate(&mesh, &ZhengCaiOptions { handles, ..Default::default() }).unwrap_err();
+    let err = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_handles(handles)).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Handles, .. }), "{err}");
 }
 
@@ -400,10 +392,12 @@ fn normals_given_with_tiny_or_huge_components_keep_their_direction() {
     let mesh = shapes::torus(8, 6);
     let n = mesh.topology().vertex_count();
     let with = |length: f64| {
-        let normals = (0..n).map(|v| (v % 4 == 1).then(|| DVec3::new(0.3, 0.9, 0.1) * length)).collect();
-        let zc = zheng_cai::interpolate(&mesh, &ZhengCaiOptions { normals: Some(normals), ..Default::default() });
-        let normals = (0..n).map(|v| (v % 4 == 1).then(|| DVec3::new(0.3, 0.9, 0.1) * length)).collect();
-        let dw = deng_wang::interpolate(&mesh, &DengWangOptions { normals: Some(normals), ..Default::default() });
+        let normals: Vec<Option<DVec3>> =
+            (0..n).map(|v| (v % 4 == 1).then(|| DVec3::new(0.3, 0.9, 0.1) * length)).collect();
+        let zc = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_normals(normals));
+        let normals: Vec<Option<DVec3>> =
+            (0..n).map(|v| (v % 4 == 1).then(|| DVec3::new(0.3, 0.9, 0.1) * length)).collect();
+        let dw = deng_wang::interpolate(&mesh, &DengWangOptions::default().with_normals(normals));
         (bits(zc.unwrap().control.positions()), bits(dw.unwrap().control.positions()))
     };
     let unit = with(1.0);

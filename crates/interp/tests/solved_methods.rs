@@ -51,14 +51,13 @@ fn every_fixture_interpolates_within_tolerance() {
     for name in closed().into_iter().chain(open()) {
         let mesh = fixture(name);
         let t = mesh.topology();
-        let common = CommonOptions { tol: TOL, ..Default::default() };
+        let common = CommonOptions::default().with_tol(TOL);
         let ds_ok = t.vertices().all(|v| t.is_boundary_vertex(v) || t.vertex_face_count(v) != 2);
         if ds_ok {
-            let r = nasri::interpolate(&mesh, &NasriOptions { common: common.clone() }).unwrap();
+            let r = nasri::interpolate(&mesh, &NasriOptions::default().with_common(common.clone())).unwrap();
             let e = check(&format!("nasri {name}"), &mesh, &r, Plain::DooSabin, TOL);
             let f =
-                fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions { common: common.clone(), ..Default::default() })
-                    .unwrap();
+                fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_common(common.clone())).unwrap();
             let e2 = check(&format!("fan-cheng-lai {name}"), &mesh, &f, Plain::DooSabin, TOL);
             eprintln!(
                 "{name}: nasri {e:.2e} ({} it), fcl {e2:.2e} ({} it)",
@@ -66,7 +65,7 @@ fn every_fixture_interpolates_within_tolerance() {
                 f.solve.as_ref().unwrap().iterations
             );
         }
-        match cheng::interpolate(&mesh, &ChengOptions { common: common.clone() }) {
+        match cheng::interpolate(&mesh, &ChengOptions::default().with_common(common.clone())) {
             Ok(r) => {
                 let e = check(&format!("cheng {name}"), &mesh, &r, Plain::CatmullClark, TOL);
                 eprintln!("{name}: cheng {e:.2e} ({} it)", r.solve.as_ref().unwrap().iterations);
@@ -79,27 +78,19 @@ fn every_fixture_interpolates_within_tolerance() {
 #[test]
 fn every_solver_reaches_the_same_control_mesh() {
     let mesh = fixture("quad/spot_control_mesh.obj");
-    let reference = cheng::interpolate(
-        &mesh,
-        &ChengOptions {
-            common: CommonOptions { solver: SolverChoice::Use(Solver::Ldl), tol: 1e-12, ..Default::default() },
-        },
-    )
-    .unwrap();
+    let reference =
+        cheng::interpolate(&mesh, &ChengOptions::default().with_solver(SolverChoice::Use(Solver::Ldl)).with_tol(1e-12))
+            .unwrap();
     // Jacobi needs diagonal dominance, which Cheng's A lacks (4/9 vs 5/9 for a
     // regular vertex): it must report divergence, not return garbage.
-    let jacobi = CommonOptions { solver: SolverChoice::Use(Solver::Jacobi), ..Default::default() };
-    let err = cheng::interpolate(&mesh, &ChengOptions { common: jacobi.clone() }).unwrap_err();
+    let jacobi = CommonOptions::default().with_solver(SolverChoice::Use(Solver::Jacobi));
+    let err = cheng::interpolate(&mesh, &ChengOptions::default().with_common(jacobi.clone())).unwrap_err();
     assert!(err.is_not_converged(), "{err}");
     // Nasri's C is diagonally dominant: Jacobi converges to the LDLᵀ solution.
-    let by_jacobi = nasri::interpolate(&mesh, &NasriOptions { common: CommonOptions { tol: 1e-9, ..jacobi } }).unwrap();
-    let by_ldl = nasri::interpolate(
-        &mesh,
-        &NasriOptions {
-            common: CommonOptions { solver: SolverChoice::Use(Solver::Ldl), tol: 1e-12, ..Default::default() },
-        },
-    )
-    .unwrap();
+    let by_jacobi = nasri::interpolate(&mesh, &NasriOptions::default().with_common(jacobi.with_tol(1e-9))).unwrap();
+    let by_ldl =
+        nasri::interpolate(&mesh, &NasriOptions::default().with_solver(SolverChoice::Use(Solver::Ldl)).with_tol(1e-12))
+            .unwrap();
     let gap = by_jacobi
         .control
         .positions()
@@ -121,8 +112,9 @@ fn every_solver_reaches_the_same_control_mesh() {
         "dense",
     ] {
         let s: Solver = solver.parse().unwrap();
-        let common = CommonOptions { solver: SolverChoice::Use(s), tol: 1e-9, ..Default::default() };
-        let r = cheng::interpolate(&mesh, &ChengOptions { common }).unwrap_or_else(|e| panic!("{solver}: {e}"));
+        let common = CommonOptions::default().with_solver(SolverChoice::Use(s)).with_tol(1e-9);
+        let r = cheng::interpolate(&mesh, &ChengOptions::default().with_common(common))
+            .unwrap_or_else(|e| panic!("{solver}: {e}"));
         let gap = r
             .control
             .positions()
@@ -160,14 +152,14 @@ fn valence_two_is_solved_by_default_and_refused_only_for_solvers_that_need_a_def
     assert_eq!(r.solve.as_ref().unwrap().solver, "minres");
     check("pillow auto", &pillow, &r, Plain::CatmullClark, TOL);
     for solver in [Solver::Pia, Solver::Cg { jacobi: false }, Solver::Cg { jacobi: true }] {
-        let common = CommonOptions { solver: SolverChoice::Use(solver), ..Default::default() };
-        let err = cheng::interpolate(&pillow, &ChengOptions { common }).unwrap_err();
+        let common = CommonOptions::default().with_solver(SolverChoice::Use(solver));
+        let err = cheng::interpolate(&pillow, &ChengOptions::default().with_common(common)).unwrap_err();
         let msg = err.to_string();
         assert!(matches!(err, InterpError::UnsupportedMesh { .. }), "{solver}: {msg}");
         assert!(msg.contains("Solver::Minres") && msg.contains("Solver::Ldl"), "{solver}: {msg}");
     }
-    let common = CommonOptions { solver: SolverChoice::Use(Solver::Ldl), ..Default::default() };
-    let r = cheng::interpolate(&pillow, &ChengOptions { common }).unwrap();
+    let common = CommonOptions::default().with_solver(SolverChoice::Use(Solver::Ldl));
+    let r = cheng::interpolate(&pillow, &ChengOptions::default().with_common(common)).unwrap();
     assert!(r.warnings.iter().any(|w| w.contains("indefinite")), "{:?}", r.warnings);
     check("pillow ldl", &pillow, &r, Plain::CatmullClark, TOL);
 }
@@ -178,13 +170,12 @@ fn subsets_interpolate_only_the_listed_vertices() {
     let n = mesh.topology().vertex_count();
     let subset: Vec<u32> = (0..n as u32).step_by(3).collect();
     let flags: Vec<bool> = (0..n).map(|v| v % 3 == 0).collect();
-    let common = CommonOptions { subset: Some(subset), ..Default::default() };
+    let common = CommonOptions::default().with_subset(subset);
     let d = mesh.bbox_diagonal();
     let results = [
-        cheng::interpolate(&mesh, &ChengOptions { common: common.clone() }).unwrap(),
-        nasri::interpolate(&mesh, &NasriOptions { common: common.clone() }).unwrap(),
-        fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions { common: common.clone(), ..Default::default() })
-            .unwrap(),
+        cheng::interpolate(&mesh, &ChengOptions::default().with_common(common.clone())).unwrap(),
+        nasri::interpolate(&mesh, &NasriOptions::default().with_common(common.clone())).unwrap(),
+        fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_common(common.clone())).unwrap(),
     ];
     for r in &results {
         assert!(r.error(mesh.positions(), &flags, d).max_rel <= TOL);
@@ -204,11 +195,8 @@ fn shape_parameter_moves_the_surface_monotonically_while_interpolating() {
     let mesh = fixture("poly/mpi.off");
     let mut volumes = Vec::new();
     for lambda in [0.2, 0.4, 0.6, 0.8] {
-        let r = fan_cheng_lai::interpolate(
-            &mesh,
-            &FanChengLaiOptions { shape: Shape::Uniform(lambda), ..Default::default() },
-        )
-        .unwrap();
+        let r = fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_shape(Shape::Uniform(lambda)))
+            .unwrap();
         check(&format!("λ = {lambda}"), &mesh, &r, Plain::DooSabin, TOL);
         volumes.push(volume(&r.surface(3).unwrap()));
     }
@@ -219,11 +207,8 @@ fn shape_parameter_moves_the_surface_monotonically_while_interpolating() {
     // Local control: λ changed on one group of faces moves only the surface near them.
     let t = mesh.topology();
     let per_face: Vec<f64> = (0..t.face_count()).map(|f| if f < t.face_count() / 4 { 0.9 } else { 0.5 }).collect();
-    let r = fan_cheng_lai::interpolate(
-        &mesh,
-        &FanChengLaiOptions { shape: Shape::PerFace(per_face), ..Default::default() },
-    )
-    .unwrap();
+    let r =
+        fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_shape(Shape::PerFace(per_face))).unwrap();
     check("per-face λ", &mesh, &r, Plain::DooSabin, TOL);
 }
 

@@ -9,7 +9,7 @@
 mod support;
 
 use proptest::prelude::*;
-use subdiv_interp::{cheng, ChengOptions, CommonOptions, InterpError, Interpolant, SolverChoice};
+use subdiv_interp::{cheng, ChengOptions, InterpError, Interpolant, SolverChoice};
 use subdiv_mesh::{shapes, EdgeId, Mesh};
 use subdiv_solve::Solver;
 use support::{candidate_limit_points, nearest_gap, Plain};
@@ -80,7 +80,7 @@ fn check(name: &str, mesh: &Mesh, r: &Interpolant, tol: f64) -> f64 {
 }
 
 fn with_solver(solver: Solver, tol: f64) -> ChengOptions {
-    ChengOptions { common: CommonOptions { solver: SolverChoice::Use(solver), tol, ..Default::default() } }
+    ChengOptions::default().with_solver(SolverChoice::Use(solver)).with_tol(tol)
 }
 
 #[test]
@@ -92,7 +92,7 @@ fn cheng_with_defaults_interpolates_meshes_with_valence_two_vertices_through_min
         let e = check(name, &mesh, &r, TOL);
         let solve = r.solve.as_ref().unwrap();
         assert_eq!(solve.solver, "minres", "{name}");
-        assert_eq!(r.parameters["solver"], "minres", "{name}");
+        assert_eq!(r.parameters.solver.as_deref(), Some("minres"), "{name}");
         assert!(solve.converged && solve.residual <= TOL, "{name}");
         // The same control mesh as the direct solver's, and the inertia LDLᵀ sees:
         // adjacent valence-2 vertices (and the pillow) make A indefinite, lone ones do not.

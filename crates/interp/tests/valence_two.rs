@@ -82,15 +82,15 @@ fn check(name: &str, mesh: &Mesh, result: &Interpolant, plain: Plain, tol: f64) 
 #[test]
 fn doo_sabin_methods_interpolate_valence_two_vertices() {
     for (name, mesh) in meshes() {
-        let common = CommonOptions { tol: TOL, ..Default::default() };
+        let common = CommonOptions::default().with_tol(TOL);
         let r = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default())
             .unwrap_or_else(|e| panic!("zheng-cai {name}: {e}"));
         // Exact by construction (step 4), so round-off.
         let e_zc = check(&format!("zheng-cai {name}"), &mesh, &r, Plain::DooSabin, 1e-13);
-        let r = fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions { common: common.clone(), ..Default::default() })
+        let r = fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_common(common.clone()))
             .unwrap_or_else(|e| panic!("fan-cheng-lai {name}: {e}"));
         let e_fcl = check(&format!("fan-cheng-lai {name}"), &mesh, &r, Plain::DooSabin, TOL);
-        let r = nasri::interpolate(&mesh, &NasriOptions { common: common.clone() })
+        let r = nasri::interpolate(&mesh, &NasriOptions::default().with_common(common.clone()))
             .unwrap_or_else(|e| panic!("nasri {name}: {e}"));
         let e_nasri = check(&format!("nasri {name}"), &mesh, &r, Plain::DooSabin, TOL);
         eprintln!("{name}: nasri {e_nasri:.1e}, zheng-cai {e_zc:.1e}, fan-cheng-lai {e_fcl:.1e}");
@@ -121,18 +121,17 @@ fn shape_control_and_subsets_with_valence_two_vertices() {
     let v2 = valence_two_vertices(t);
     // Two-phase λ per face, from 0.2 to 0.8.
     let lambdas: Vec<f64> = (0..t.face_count()).map(|f| 0.2 + 0.6 * (f % 7) as f64 / 6.0).collect();
-    let opts = FanChengLaiOptions { shape: Shape::PerFace(lambdas), ..Default::default() };
+    let opts = FanChengLaiOptions::default().with_shape(Shape::PerFace(lambdas));
     let r = fan_cheng_lai::interpolate(&mesh, &opts).unwrap();
     check("fan-cheng-lai per-face λ", &mesh, &r, Plain::DooSabin, TOL);
     // A subset that holds the valence-2 vertices and every third other vertex.
     let subset: Vec<u32> = (0..n as u32).filter(|&v| v % 3 == 0 || v2.contains(&VertexId(v))).collect();
     let flags: Vec<bool> = (0..n).map(|v| subset.contains(&(v as u32))).collect();
-    let common = CommonOptions { subset: Some(subset.clone()), ..Default::default() };
+    let common = CommonOptions::default().with_subset(subset.clone());
     let results = [
-        nasri::interpolate(&mesh, &NasriOptions { common: common.clone() }).unwrap(),
-        zheng_cai::interpolate(&mesh, &ZhengCaiOptions { common: common.clone(), ..Default::default() }).unwrap(),
-        fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions { common: common.clone(), ..Default::default() })
-            .unwrap(),
+        nasri::interpolate(&mesh, &NasriOptions::default().with_common(common.clone())).unwrap(),
+        zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_common(common.clone())).unwrap(),
+        fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_common(common.clone())).unwrap(),
     ];
     for r in &results {
         assert!(r.error(mesh.positions(), &flags, d).max_rel <= TOL, "{:?}", r.method);
@@ -141,8 +140,7 @@ fn shape_control_and_subsets_with_valence_two_vertices() {
     // and change the surface.
     let handles: Vec<f64> = (0..n).map(|v| if v % 2 == 0 { 0.4 } else { 2.5 }).collect();
     let plain = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default()).unwrap();
-    let handled =
-        zheng_cai::interpolate(&mesh, &ZhengCaiOptions { handles: Some(handles), ..Default::default() }).unwrap();
+    let handled = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_handles(handles)).unwrap();
     check("zheng-cai handles", &mesh, &handled, Plain::DooSabin, 1e-13);
     let moved =
         plain.control.positions().iter().zip(handled.control.positions()).any(|(a, b)| a.distance(*b) > 1e-3 * d);
@@ -153,12 +151,10 @@ fn shape_control_and_subsets_with_valence_two_vertices() {
     let mut normals = vec![None; n];
     let neighbour = t.vertex_neighbors(v).find(|&w| !t.is_boundary_vertex(w) && t.valence(w) > 2).unwrap();
     normals[neighbour.index()] = Some(DVec3::new(0.3, 0.9, 0.1));
-    let r = zheng_cai::interpolate(&mesh, &ZhengCaiOptions { normals: Some(normals.clone()), ..Default::default() })
-        .unwrap();
+    let r = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_normals(normals.clone())).unwrap();
     check("zheng-cai normals", &mesh, &r, Plain::DooSabin, 1e-13);
     normals[v.index()] = Some(DVec3::Z);
-    let err =
-        zheng_cai::interpolate(&mesh, &ZhengCaiOptions { normals: Some(normals), ..Default::default() }).unwrap_err();
+    let err = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_normals(normals)).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Normals, .. }), "{err}");
     assert!(err.to_string().contains(&format!("vertex {v}")) && err.to_string().contains("valence 2"), "{err}");
 }

@@ -9,9 +9,7 @@ mod support;
 use glam::DVec3;
 use proptest::prelude::*;
 use std::collections::HashMap;
-use subdiv_interp::{
-    zheng_cai, CommonOptions, InterpError, Interpolant, LimitAssociation, Parameter, SolverChoice, ZhengCaiOptions,
-};
+use subdiv_interp::{zheng_cai, InterpError, Interpolant, LimitAssociation, Parameter, SolverChoice, ZhengCaiOptions};
 use subdiv_mesh::{newell_normal, shapes, FaceId, FaceList, Mesh, Topology, VertexId};
 use subdiv_solve::{Solver, SweepOrder};
 use subdiv_stencil::doo_sabin::{self, CornerRule};
@@ -62,11 +60,7 @@ fn on_faces(mesh: &Mesh) -> Vec<bool> {
 
 fn options(ite_max: usize, jacobi: bool) -> ZhengCaiOptions {
     let solver = if jacobi { SolverChoice::Use(Solver::Jacobi) } else { SolverChoice::Auto };
-    ZhengCaiOptions {
-        ite_max,
-        common: CommonOptions { solver, ..CommonOptions::default() },
-        ..ZhengCaiOptions::default()
-    }
+    ZhengCaiOptions::default().with_ite_max(ite_max).with_solver(solver)
 }
 
 fn max_rel(mesh: &Mesh, result: &Interpolant, flags: &[bool]) -> f64 {
@@ -182,15 +176,14 @@ fn the_paper_stopping_rule_is_the_update_size() {
     // (562 vertices, "three iterations with an iterative termination threshold of 0.3%").
     let mesh = fixture("tri/decimated-knight.off");
     let d = mesh.bbox_diagonal();
-    let aux =
-        zheng_cai::auxiliary_mesh(&mesh, &ZhengCaiOptions { ite_max: 100, ..ZhengCaiOptions::default() }).unwrap();
+    let aux = zheng_cai::auxiliary_mesh(&mesh, &ZhengCaiOptions::default().with_ite_max(100)).unwrap();
     let s = &aux.summary;
     println!("decimated-knight, EPS 0.3 %: {} sweeps, max update / d per sweep {:?}", s.iterations, s.history);
     assert!(s.converged);
     assert!(*s.history.last().unwrap() <= 0.003);
     assert!(s.history[..s.history.len() - 1].iter().all(|&u| u > 0.003), "stops at the first small sweep");
     // The recorded update is the real one: M⁰ after k and after k − 1 sweeps differ by it.
-    let sweeps = |k| zheng_cai::auxiliary_mesh(&mesh, &ZhengCaiOptions { ite_max: k, eps: 0.0, ..Default::default() });
+    let sweeps = |k| zheng_cai::auxiliary_mesh(&mesh, &ZhengCaiOptions::default().with_ite_max(k).with_eps(0.0));
     for k in 1..=s.iterations {
         let (before, after) = (sweeps(k - 1).unwrap(), sweeps(k).unwrap());
         assert!(!after.summary.converged);
@@ -202,8 +195,7 @@ fn the_paper_stopping_rule_is_the_update_size() {
     }
     // EPS = 0 runs ITE_MAX sweeps, unless one moves nothing at all (a fixed
     // point in floating point), and the update shrinks geometrically (spec(Z) ⊂ [½, 1]).
-    let long =
-        zheng_cai::auxiliary_mesh(&mesh, &ZhengCaiOptions { ite_max: 30, eps: 0.0, ..Default::default() }).unwrap();
+    let long = zheng_cai::auxiliary_mesh(&mesh, &ZhengCaiOptions::default().with_ite_max(30).with_eps(0.0)).unwrap();
     let h = &long.summary.history;
     let last = *h.last().unwrap();
     assert!(h.len() == 30 || (h.len() < 30 && last == 0.0 && long.summary.converged), "{} sweeps", h.len());
@@ -220,16 +212,13 @@ fn the_paper_sweeps_converge_to_the_direct_solution_of_z() {
         let d = mesh.bbox_diagonal();
         for jacobi in [false, true] {
             let swept =
-                zheng_cai::auxiliary_mesh(&mesh, &ZhengCaiOptions { ite_max: 200, eps: 1e-15, ..options(0, jacobi) })
-                    .unwrap();
+                zheng_cai::auxiliary_mesh(&mesh, &options(0, jacobi).with_ite_max(200).with_eps(1e-15)).unwrap();
             let direct = zheng_cai::auxiliary_mesh(
                 &mesh,
-                &ZhengCaiOptions {
-                    ite_max: 10,
-                    eps: 1e-14,
-                    common: CommonOptions { solver: SolverChoice::Use(Solver::Ldl), ..CommonOptions::default() },
-                    ..ZhengCaiOptions::default()
-                },
+                &ZhengCaiOptions::default()
+                    .with_ite_max(10)
+                    .with_eps(1e-14)
+                    .with_solver(SolverChoice::Use(Solver::Ldl)),
             )
             .unwrap();
             let gap =
@@ -249,12 +238,10 @@ fn other_solvers_on_z_also_interpolate_and_solve_z_when_given_the_budget() {
             [Solver::Cg { jacobi: true }, Solver::Ldl, Solver::GaussSeidel(SweepOrder::Multicolor), Solver::Pia]
         {
             for (ite_max, eps) in [(1, 0.003), (200, 1e-13)] {
-                let opts = ZhengCaiOptions {
-                    ite_max,
-                    eps,
-                    common: CommonOptions { solver: SolverChoice::Use(solver), ..CommonOptions::default() },
-                    ..ZhengCaiOptions::default()
-                };
+                let opts = ZhengCaiOptions::default()
+                    .with_ite_max(ite_max)
+                    .with_eps(eps)
+                    .with_solver(SolverChoice::Use(solver));
                 let result = zheng_cai::interpolate(&mesh, &opts).unwrap();
                 let err = max_rel(&mesh, &result, &flags);
                 let s = result.solve.as_ref().unwrap();
@@ -283,7 +270,7 @@ fn independent_check_one_plain_step_of_the_output_has_a_limit_point_at_every_inp
         // The check can fail: without the perturbation, the Eq. 4 step of M⁰ = I
         // (ITE_MAX 0) misses. (With ITE_MAX 5 it may not: Gauss-Seidel solves the
         // octahedron's Z·M⁰ = I exactly in two sweeps.)
-        let aux = zheng_cai::auxiliary_mesh(&mesh, &ZhengCaiOptions { ite_max: 0, ..Default::default() }).unwrap();
+        let aux = zheng_cai::auxiliary_mesh(&mesh, &ZhengCaiOptions::default().with_ite_max(0)).unwrap();
         let (t1, _, r) = doo_sabin::refine(mesh.topology(), CornerRule::Uniform(0.5)).unwrap();
         let unperturbed = Mesh::from_topology(t1, apply(&r, aux.mesh.positions()));
         let miss = worst(nearest_distances(&targets, &exposed_limit_points(&unperturbed), d));
@@ -351,7 +338,7 @@ fn normal_angles(patch: &Mesh, normal: DVec3, levels: usize) -> Vec<(f64, f64)> 
 /// approach the given plane level by level.
 fn check_normals(name: &str, mesh: &Mesh, normals: Vec<Option<DVec3>>, sample: &[usize], settles: bool) -> f64 {
     let levels = 6;
-    let with = ZhengCaiOptions { normals: Some(normals.clone()), ..ZhengCaiOptions::default() };
+    let with = ZhengCaiOptions::default().with_normals(normals.clone());
     let result = zheng_cai::interpolate(mesh, &with).unwrap();
     let plain = zheng_cai::interpolate(mesh, &ZhengCaiOptions::default()).unwrap();
     assert!(max_rel(mesh, &result, &on_faces(mesh)) <= EXACT, "{name}: normals broke interpolation");
@@ -444,7 +431,7 @@ fn shape_handles_keep_interpolation_and_move_the_surface_monotonically() {
         let nv = mesh.topology().vertex_count();
         let mut volumes = Vec::new();
         for s in [0.4, 1.0, 2.5] {
-            let opts = ZhengCaiOptions { handles: Some(vec![s; nv]), ..ZhengCaiOptions::default() };
+            let opts = ZhengCaiOptions::default().with_handles(vec![s; nv]);
             let result = zheng_cai::interpolate(&mesh, &opts).unwrap();
             let err = max_rel(&mesh, &result, &on_faces(&mesh));
             assert!(err <= EXACT, "{name}, S = {s}: {err:e}");
@@ -461,9 +448,7 @@ fn shape_handles_keep_interpolation_and_move_the_surface_monotonically() {
         let mesh = fixture(name);
         let nv = mesh.topology().vertex_count();
         for s in [0.4, 2.5] {
-            let result =
-                zheng_cai::interpolate(&mesh, &ZhengCaiOptions { handles: Some(vec![s; nv]), ..Default::default() })
-                    .unwrap();
+            let result = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_handles(vec![s; nv])).unwrap();
             assert!(max_rel(&mesh, &result, &on_faces(&mesh)) <= EXACT, "{name}, S = {s}");
         }
     }
@@ -473,11 +458,9 @@ fn shape_handles_keep_interpolation_and_move_the_surface_monotonically() {
 fn handles_and_normals_combine() {
     let mesh = fixture("canonical/icosphere_2.obj");
     let nv = mesh.topology().vertex_count();
-    let opts = ZhengCaiOptions {
-        normals: Some(mesh.positions().iter().map(|p| Some(p.normalize())).collect()),
-        handles: Some((0..nv).map(|i| if i % 2 == 0 { 0.4 } else { 2.5 }).collect()),
-        ..ZhengCaiOptions::default()
-    };
+    let opts = ZhengCaiOptions::default()
+        .with_normals(mesh.positions().iter().map(|p| Some(p.normalize())).collect::<Vec<_>>())
+        .with_handles((0..nv).map(|i| if i % 2 == 0 { 0.4 } else { 2.5 }).collect::<Vec<_>>());
     let result = zheng_cai::interpolate(&mesh, &opts).unwrap();
     assert!(max_rel(&mesh, &result, &on_faces(&mesh)) <= EXACT);
     let v_face = &v_faces(&result.association);
@@ -497,10 +480,7 @@ fn a_subset_is_interpolated_and_the_other_vertices_are_not_perturbed() {
         let subset: Vec<u32> = (0..t.vertex_count() as u32).step_by(3).collect();
         let flags: Vec<bool> = (0..t.vertex_count()).map(|i| i % 3 == 0).collect();
         let others: Vec<bool> = flags.iter().map(|f| !f).collect();
-        let opts = ZhengCaiOptions {
-            common: CommonOptions { subset: Some(subset), ..CommonOptions::default() },
-            ..Default::default()
-        };
+        let opts = ZhengCaiOptions::default().with_subset(subset);
         let result = zheng_cai::interpolate(&mesh, &opts).unwrap();
         let err = max_rel(&mesh, &result, &flags);
         assert!(err <= EXACT, "{name}: subset error {err:e}");
@@ -545,7 +525,7 @@ fn ite_max_changes_the_auxiliary_mesh_not_the_error() {
         let d = mesh.bbox_diagonal();
         let flags = on_faces(&mesh);
         let run = |ite_max| {
-            zheng_cai::interpolate(&mesh, &ZhengCaiOptions { ite_max, eps: 0.0, ..Default::default() }).unwrap()
+            zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_ite_max(ite_max).with_eps(0.0)).unwrap()
         };
         let (r0, r5, r50) = (run(0), run(5), run(50));
         let (e0, e5) = (max_rel(&mesh, &r0, &flags), max_rel(&mesh, &r5, &flags));
@@ -574,8 +554,7 @@ fn bad_parameters_are_refused_naming_the_vertex() {
     let b = t.vertices().find(|&v| t.is_boundary_vertex(v)).unwrap();
     let mut normals = vec![None; nv];
     normals[b.index()] = Some(DVec3::Z);
-    let err =
-        zheng_cai::interpolate(&open, &ZhengCaiOptions { normals: Some(normals), ..Default::default() }).unwrap_err();
+    let err = zheng_cai::interpolate(&open, &ZhengCaiOptions::default().with_normals(normals)).unwrap_err();
     assert!(
         matches!(&err, InterpError::InvalidParameter { parameter: Parameter::Normals, reason: m }
             if m.contains(&format!("vertex {}", b.0)) && m.contains("boundary")),
@@ -585,58 +564,35 @@ fn bad_parameters_are_refused_naming_the_vertex() {
     let closed = fixture("poly/mpi.off");
     let nv = closed.topology().vertex_count();
     let cases: Vec<(ZhengCaiOptions, &str, Parameter)> = vec![
+        (ZhengCaiOptions::default().with_normals(vec![None; nv - 1]), "normals for", Parameter::Normals),
         (
-            ZhengCaiOptions { normals: Some(vec![None; nv - 1]), ..Default::default() },
-            "normals for",
-            Parameter::Normals,
-        ),
-        (
-            ZhengCaiOptions {
-                normals: Some((0..nv).map(|i| (i == 7).then_some(DVec3::ZERO)).collect()),
-                ..Default::default()
-            },
+            ZhengCaiOptions::default()
+                .with_normals((0..nv).map(|i| (i == 7).then_some(DVec3::ZERO)).collect::<Vec<_>>()),
             "vertex 7",
             Parameter::Normals,
         ),
         (
-            ZhengCaiOptions {
-                normals: Some((0..nv).map(|i| (i == 4).then_some(DVec3::X)).collect()),
-                common: CommonOptions { subset: Some(vec![0, 1, 2]), ..Default::default() },
-                ..Default::default()
-            },
+            ZhengCaiOptions::default()
+                .with_normals((0..nv).map(|i| (i == 4).then_some(DVec3::X)).collect::<Vec<_>>())
+                .with_subset(vec![0, 1, 2]),
             "vertex 4 has a normal but is not interpolated",
             Parameter::Normals,
         ),
+        (ZhengCaiOptions::default().with_handles(vec![1.0; nv + 1]), "shape handles for", Parameter::Handles),
         (
-            ZhengCaiOptions { handles: Some(vec![1.0; nv + 1]), ..Default::default() },
-            "shape handles for",
-            Parameter::Handles,
-        ),
-        (
-            ZhengCaiOptions {
-                handles: Some((0..nv).map(|i| if i == 9 { -1.0 } else { 1.0 }).collect()),
-                ..Default::default()
-            },
+            ZhengCaiOptions::default()
+                .with_handles((0..nv).map(|i| if i == 9 { -1.0 } else { 1.0 }).collect::<Vec<_>>()),
             "vertex 9",
             Parameter::Handles,
         ),
         (
-            ZhengCaiOptions {
-                handles: Some((0..nv).map(|i| if i == 3 { f64::NAN } else { 1.0 }).collect()),
-                ..Default::default()
-            },
+            ZhengCaiOptions::default()
+                .with_handles((0..nv).map(|i| if i == 3 { f64::NAN } else { 1.0 }).collect::<Vec<_>>()),
             "vertex 3",
             Parameter::Handles,
         ),
-        (ZhengCaiOptions { eps: -1.0, ..Default::default() }, "EPS", Parameter::Eps),
-        (
-            ZhengCaiOptions {
-                common: CommonOptions { subset: Some(vec![nv as u32]), ..Default::default() },
-                ..Default::default()
-            },
-            "does not exist",
-            Parameter::Subset,
-        ),
+        (ZhengCaiOptions::default().with_eps(-1.0), "EPS", Parameter::Eps),
+        (ZhengCaiOptions::default().with_subset(vec![nv as u32]), "does not exist", Parameter::Subset),
     ];
     for (opts, needle, expected) in cases {
         let err = zheng_cai::interpolate(&closed, &opts).unwrap_err();
@@ -660,7 +616,7 @@ fn isolated_vertices_are_left_out_with_a_warning() {
     let mesh = Mesh::new(positions, cube.topology().faces().clone()).unwrap();
     let result = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default()).unwrap();
     assert!(result.warnings.iter().any(|w| w.contains("isolated")), "{:?}", result.warnings);
-    assert_eq!(result.parameters["interpolated_vertices"], 8);
+    assert_eq!(result.parameters.interpolated_vertices, Some(8));
     assert!(max_rel(&mesh, &result, &on_faces(&mesh)) <= EXACT);
 }
 
@@ -668,7 +624,8 @@ fn isolated_vertices_are_left_out_with_a_warning() {
 fn the_report_says_what_was_run() {
     let mesh = fixture("poly/P.off");
     let result = zheng_cai::interpolate(&mesh, &options(5, true)).unwrap();
-    let p = &result.parameters;
+    // As the report writes them.
+    let p = serde_json::to_value(&result.parameters).unwrap();
     assert_eq!(p["solver"], "jacobi");
     assert_eq!(p["ite_max"], 5);
     assert_eq!(p["eps"], 0.003);

@@ -221,16 +221,16 @@ fn solve_all(
             continue;
         }
         let common =
-            CommonOptions { tol: TOL, solver: SolverChoice::Use(solver), max_iter: 20_000, ..Default::default() };
+            CommonOptions::default().with_tol(TOL).with_solver(SolverChoice::Use(solver)).with_max_iter(20_000);
         let (r, t) = timed(ctx.runs(), || {
             if two_phase {
                 let shape = subdiv_interp::Shape::Uniform(0.5);
                 subdiv_interp::fan_cheng_lai::interpolate(
                     mesh,
-                    &subdiv_interp::FanChengLaiOptions { common: common.clone(), shape },
+                    &subdiv_interp::FanChengLaiOptions::default().with_common(common.clone()).with_shape(shape),
                 )
             } else {
-                cheng::interpolate(mesh, &ChengOptions { common: common.clone() })
+                cheng::interpolate(mesh, &ChengOptions::default().with_common(common.clone()))
             }
         });
         match r {

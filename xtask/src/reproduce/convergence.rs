@@ -12,7 +12,7 @@ use subdiv_interp::{
 use subdiv_solve::Solver;
 
 fn common(solver: Solver, tol: f64) -> CommonOptions {
-    CommonOptions { tol, solver: SolverChoice::Use(solver), max_iter: 5_000, ..Default::default() }
+    CommonOptions::default().with_tol(tol).with_solver(SolverChoice::Use(solver)).with_max_iter(5_000)
 }
 
 fn history(r: &Interpolant) -> Vec<f64> {
@@ -39,21 +39,21 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
 
     let mut s = Vec::new();
     for solver in [Solver::Pia, Solver::WeightedPia, Solver::Chebyshev, Solver::Cg { jacobi: true }] {
-        let r = cheng::interpolate(&spot, &ChengOptions { common: common(solver, TOL) })?;
+        let r = cheng::interpolate(&spot, &ChengOptions::default().with_common(common(solver, TOL)))?;
         s.push(("cheng", "spot_control_mesh", solver.name().to_string(), history(&r)));
     }
     for solver in [Solver::Pia, Solver::GaussSeidel(Default::default()), Solver::Cg { jacobi: true }] {
-        let r = nasri::interpolate(&mpi, &NasriOptions { common: common(solver, TOL) })?;
+        let r = nasri::interpolate(&mpi, &NasriOptions::default().with_common(common(solver, TOL)))?;
         s.push(("nasri", "mpi", solver.name().to_string(), history(&r)));
     }
     for lambda in [0.85, 0.5, 0.4] {
         let r = fan_cheng_lai::interpolate(
             &knight,
-            &FanChengLaiOptions { common: common(Solver::Pia, TOL), shape: Shape::Uniform(lambda) },
+            &FanChengLaiOptions::default().with_common(common(Solver::Pia, TOL)).with_shape(Shape::Uniform(lambda)),
         )?;
         s.push(("fan-cheng-lai", "decimated-knight", format!("pia, λ = {lambda}"), history(&r)));
     }
-    let zc = zheng_cai::auxiliary_mesh(&knight, &ZhengCaiOptions { ite_max: 60, eps: 0.0, ..Default::default() })?;
+    let zc = zheng_cai::auxiliary_mesh(&knight, &ZhengCaiOptions::default().with_ite_max(60).with_eps(0.0))?;
     s.push((
         "zheng-cai",
         "decimated-knight",

@@ -54,7 +54,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     for (file, mesh) in &models {
         let is_sphere = file.contains("icosphere");
         for mu in [0.0, 0.125, 0.25, 0.375, 0.5] {
-            let r = deng_wang::interpolate(mesh, &DengWangOptions { mu, ..Default::default() })?;
+            let r = deng_wang::interpolate(mesh, &DengWangOptions::default().with_mu(mu))?;
             let s = r.surface(3)?;
             let e = max_error(mesh, &r);
             let dev = if is_sphere { sci(deviation(&s)) } else { "—".into() };
@@ -75,7 +75,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
             ("variable, λ = 1", Tension::Variable { lambda: 1.0 }),
         ];
         for (name, tension) in tensions {
-            let r = deng_ma::interpolate(mesh, &DengMaOptions { tension, ..Default::default() })?;
+            let r = deng_ma::interpolate(mesh, &DengMaOptions::default().with_tension(tension))?;
             let s = r.surface(3)?;
             let n = mesh.topology().vertex_count();
             let e = s.positions()[..n].iter().zip(mesh.positions()).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max)

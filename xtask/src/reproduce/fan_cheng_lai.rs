@@ -94,8 +94,11 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
                 }
             };
             let solve = |solver: Solver| {
-                let common = CommonOptions { tol: TOL, solver: SolverChoice::Use(solver), ..Default::default() };
-                fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions { common, shape: shape.clone() })
+                let common = CommonOptions::default().with_tol(TOL).with_solver(SolverChoice::Use(solver));
+                fan_cheng_lai::interpolate(
+                    &mesh,
+                    &FanChengLaiOptions::default().with_common(common).with_shape(shape.clone()),
+                )
             };
             let pia = solve(Solver::Pia)?;
             let err = pia.error(mesh.positions(), &all, mesh.bbox_diagonal());

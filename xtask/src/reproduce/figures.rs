@@ -148,10 +148,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         .map(|&l| {
             Ok((
                 format!("λ = {l}"),
-                fan_cheng_lai::interpolate(
-                    &knight,
-                    &FanChengLaiOptions { shape: Shape::Uniform(l), ..Default::default() },
-                )?,
+                fan_cheng_lai::interpolate(&knight, &FanChengLaiOptions::default().with_shape(Shape::Uniform(l)))?,
             ))
         })
         .collect::<Result<_>>()?;
@@ -163,10 +160,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     let local: Vec<f64> = c.iter().map(|p| if p.y > median { 0.85 } else { 0.4 }).collect();
     runs.push((
         "upper part 0.85, rest 0.4".into(),
-        fan_cheng_lai::interpolate(
-            &knight,
-            &FanChengLaiOptions { shape: Shape::PerFace(local), ..Default::default() },
-        )?,
+        fan_cheng_lai::interpolate(&knight, &FanChengLaiOptions::default().with_shape(Shape::PerFace(local)))?,
     ));
     save(
         ctx,
@@ -179,7 +173,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     let handles: Vec<(String, Interpolant)> = [0.4, 1.0, 2.5]
         .iter()
         .map(|&s| {
-            let opts = ZhengCaiOptions { handles: Some(vec![s; spot.topology().vertex_count()]), ..Default::default() };
+            let opts = ZhengCaiOptions::default().with_handles(vec![s; spot.topology().vertex_count()]);
             Ok((format!("S = {s}"), zheng_cai::interpolate(&spot, &opts)?))
         })
         .collect::<Result<_>>()?;
@@ -192,18 +186,14 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         ("variable, λ = 1", Tension::Variable { lambda: 1.0 }),
     ]
     .iter()
-    .map(|(name, t)| {
-        Ok((name.to_string(), deng_ma::interpolate(&mpi, &DengMaOptions { tension: *t, ..Default::default() })?))
-    })
+    .map(|(name, t)| Ok((name.to_string(), deng_ma::interpolate(&mpi, &DengMaOptions::default().with_tension(*t))?)))
     .collect::<Result<_>>()?;
     save(ctx, &mut table, "fig-sweep-omega.png", sweep_figure("Deng-Ma: tension ω", &mpi, &omegas, &view)?, "Tension sweep: ω → 0 approaches the mesh's own facets, ω = 1 is the 4-point analogue; the variable ω_P keeps displacements safe.")?;
 
     let eight = ctx.fixture("tri/eight.off")?;
     let mus: Vec<(String, Interpolant)> = [0.0, 0.25, 0.5]
         .iter()
-        .map(|&mu| {
-            Ok((format!("μ = {mu}"), deng_wang::interpolate(&eight, &DengWangOptions { mu, ..Default::default() })?))
-        })
+        .map(|&mu| Ok((format!("μ = {mu}"), deng_wang::interpolate(&eight, &DengWangOptions::default().with_mu(mu))?)))
         .collect::<Result<_>>()?;
     save(
         ctx,

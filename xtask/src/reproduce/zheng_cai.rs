@@ -43,8 +43,9 @@ fn nasri_run(ctx: &Ctx, mesh: &Mesh, solver: Solver) -> Run {
             status: format!("does not fit (n > {DENSE_CAP})"),
         };
     }
-    let common = CommonOptions { solver: SolverChoice::Use(solver), tol: 1e-12, ..Default::default() };
-    let (result, t) = timed(ctx.runs(), || nasri::interpolate(mesh, &NasriOptions { common: common.clone() }));
+    let common = CommonOptions::default().with_solver(SolverChoice::Use(solver)).with_tol(1e-12);
+    let (result, t) =
+        timed(ctx.runs(), || nasri::interpolate(mesh, &NasriOptions::default().with_common(common.clone())));
     match result {
         Ok(r) => {
             // First refined mesh: one plain Doo-Sabin step of M⁰ (what the surface starts from).
@@ -176,9 +177,10 @@ fn size_series(ctx: &Ctx, table: &mut Table) -> Result<()> {
                 Some(Solver::Dense) if n > DENSE_CAP => None,
                 Some(Solver::Ldl) if n > 200_000 => None,
                 Some(s) => {
-                    let common = CommonOptions { solver: SolverChoice::Use(*s), ..Default::default() };
-                    let (r, t) =
-                        timed(ctx.runs(), || nasri::interpolate(&mesh, &NasriOptions { common: common.clone() }));
+                    let common = CommonOptions::default().with_solver(SolverChoice::Use(*s));
+                    let (r, t) = timed(ctx.runs(), || {
+                        nasri::interpolate(&mesh, &NasriOptions::default().with_common(common.clone()))
+                    });
                     r.map(|_| t).ok()
                 }
             };
