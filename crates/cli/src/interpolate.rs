@@ -5,8 +5,8 @@ use crate::failure::{bad_input, Failure};
 use crate::info::TagCounts;
 use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::{self, Outputs};
+use crate::progress;
 use crate::subdivide::{BetaArg, SurfaceArgs, TensionArgs};
-use crate::{params, progress};
 use anyhow::anyhow;
 use clap::ValueEnum;
 use serde_json::json;
@@ -149,7 +149,7 @@ fn check_applies(args: &InterpolateArgs) -> Result<(), Failure> {
 
 fn run_method(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserver) -> Result<Interpolant, Failure> {
     let n = mesh.topology().vertex_count();
-    let subset = args.subset.as_deref().map(|p| params::subset(p, n)).transpose().map_err(bad_input)?;
+    let subset = args.subset.as_deref().map(|p| subdiv_interp::params::subset(p, n)).transpose().map_err(bad_input)?;
     let surface = SurfaceOptions {
         boundary: args.surface_options.boundary,
         crease_method: args.surface_options.crease_method,
@@ -163,19 +163,21 @@ fn run_method(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserver) 
         observer,
         surface,
     };
-    let normals = args.normals.as_deref().map(|p| params::normals(p, n)).transpose().map_err(bad_input)?;
+    let normals =
+        args.normals.as_deref().map(|p| subdiv_interp::params::normals(p, n)).transpose().map_err(bad_input)?;
     let beta: LoopBeta = args.beta.into();
     let result = match args.method {
         MethodArg::Nasri => nasri::interpolate(mesh, &NasriOptions { common }),
         MethodArg::Cheng => cheng::interpolate(mesh, &ChengOptions { common }),
         MethodArg::ZhengCai => {
-            let handles = args.handles.as_deref().map(|p| params::handles(p, n)).transpose().map_err(bad_input)?;
+            let handles =
+                args.handles.as_deref().map(|p| subdiv_interp::params::handles(p, n)).transpose().map_err(bad_input)?;
             let opts = ZhengCaiOptions { common, ite_max: args.ite_max, eps: args.eps, normals, handles };
             zheng_cai::interpolate(mesh, &opts)
         }
         MethodArg::FanChengLai => {
             let shape = match (&args.shape, &args.shape_file) {
-                (_, Some(file)) => Shape::PerFace(params::shape_file(file, mesh).map_err(bad_input)?),
+                (_, Some(file)) => Shape::PerFace(subdiv_interp::params::shape_file(file, mesh).map_err(bad_input)?),
                 (Some(l), None) => Shape::Uniform(*l),
                 (None, None) => Shape::default(),
             };

@@ -60,6 +60,7 @@ mod interpolant;
 pub mod nasri;
 mod numeric;
 mod options;
+pub mod params;
 pub mod preconditions;
 mod system;
 pub mod verify;
