@@ -4,11 +4,12 @@ use crate::budget::{Budget, MemoryArgs};
 use crate::failure::{bad_input, Failure};
 use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::{self, Outputs};
+use crate::progress;
 use crate::subdivide::{BetaArg, SurfaceArgs, TensionArgs};
-use crate::{params, progress};
 use anyhow::anyhow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use subdiv_interp::params;
 use subdiv_interp::{
     DengMaOptions, DengWangOptions, FanChengLaiOptions, InterpError, IterationObserver, Method, MethodOptions,
     Parameter, Report, Shape, Solver, SolverChoice, SurfaceOptions, ZhengCaiOptions,

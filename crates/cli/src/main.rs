@@ -13,7 +13,6 @@ mod info;
 mod interpolate;
 mod load;
 mod outputs;
-mod params;
 mod progress;
 mod stdout;
 mod subdivide;

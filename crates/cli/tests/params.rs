@@ -1,7 +1,7 @@
 //! `subdiv interpolate` with bad parameter files (`--subset`, `--normals`,
 //! `--handles`, `--shape-file`): exit 2, one line on stderr naming the
 //! parameter file (never the mesh), nothing written. The details of every
-//! message are unit-tested in `src/params.rs`.
+//! message are unit-tested in subdiv-interp's `params` module.
 
 mod common;
 use common::{assert_no_panic, fixtures, subdiv};

@@ -61,6 +61,7 @@ mod method;
 pub mod nasri;
 mod numeric;
 mod options;
+pub mod params;
 pub mod preconditions;
 pub mod report;
 mod system;

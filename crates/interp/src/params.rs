@@ -1,21 +1,52 @@
-//! Parameter files of `subdiv interpolate`: subsets, normals, shape handles,
-//! per-face shape parameters. Text (one item per line, `#` comments) or JSON.
+//! Parameter files of the methods' options: vertex subsets
+//! ([`CommonOptions::subset`](crate::CommonOptions::subset)), prescribed
+//! normals (Zheng-Cai, Deng-Wang), Brunet shape handles (Zheng-Cai) and
+//! Fan-Cheng-Lai's per-face shape parameters λ ([`Shape::PerFace`](crate::Shape::PerFace)).
+//!
+//! Each reader comes twice: on a path ([`subset`], [`normals`], [`handles`],
+//! [`shape_file`]), which also checks the file itself (a regular file, UTF-8
+//! text), and on text already in memory ([`parse_subset`], [`parse_normals`],
+//! [`parse_handles`], [`parse_shape_file`]). Both return exactly what the
+//! options take.
+//!
+//! | file | text form (one entry a line) | JSON form | result |
+//! |---|---|---|---|
+//! | subset | `i j k …` | `[i, j, k, …]` | `Vec<u32>` |
+//! | normals | `i nx ny nz` | `{"i": [nx, ny, nz]}` | `Vec<Option<DVec3>>`, unit length |
+//! | shape handles | `i S` | `{"i": S}` | `Vec<f64>`, default 1 |
+//! | shape file | — | `{"default": λ, "faces": {"f": λ}, "groups": {"name": λ}}` | `Vec<f64>`, one λ per face |
+//!
+//! Vertex and face indices are 0-based. A text file has `#` comments and
+//! separates its fields by whitespace or commas; a file whose first
+//! non-blank character is `[` or `{` is JSON. A UTF-8 byte-order mark is
+//! skipped.
 //!
 //! Parsing is strict, because a parameter that is silently ignored gives a
-//! wrong surface with exit 0: unknown keys, wrong shapes, numbers written as
-//! strings, repeated entries and files that set nothing are errors. Every
-//! error is one line that names the parameter file, the line (text and JSON
-//! alike) and the offending item, e.g.
-//! `normals.txt:7: vertex 12 is listed twice (first on line 3)`.
+//! wrong surface with no error: unknown keys, wrong shapes, numbers written as
+//! strings, repeated entries (a JSON key given twice included, which a
+//! generic JSON reader would collapse to the last) and files that set nothing
+//! are errors. Every error is a [`ParamFileError`], one line that names the
+//! parameter file, the line (text and JSON alike) and the offending item,
+//! e.g. `normals.txt:7: vertex 12 is listed twice (first on line 3)`.
+//!
+//! ```
+//! use subdiv_interp::params;
+//! // Vertex 3's normal, scaled to unit length; the others are free.
+//! let normals = params::parse_normals("3 0 0 2  # up\n", 8).unwrap();
+//! assert_eq!(normals[3], Some(subdiv_mesh::DVec3::Z));
+//! assert_eq!(normals[0], None);
+//! let error = params::parse_normals("3 0 0 1\n3 0 1 0\n", 8).unwrap_err().with_path("normals.txt");
+//! assert_eq!(error.to_string(), "normals.txt:2: vertex 3 is listed twice (first on line 1)");
+//! ```
 
-use anyhow::{anyhow, bail, Result};
 use serde::de::{DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 use std::cell::Cell;
 use std::collections::hash_map::{Entry as MapEntry, HashMap};
 use std::fmt;
 use std::hash::Hash;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use subdiv_mesh::{DVec3, Mesh};
+use thiserror::Error;
 
 /// The shape file's format, quoted in its messages.
 const SHAPE_FORMAT: &str = r#"{"default": λ, "faces": {"face index": λ}, "groups": {"group name": λ}}"#;
@@ -26,16 +57,111 @@ const QUOTE_MAX_CHARS: usize = 40;
 /// Group names listed when a group is not found.
 const GROUPS_LISTED: usize = 10;
 
+/// Why a parameter file (or its text) was refused.
+///
+/// Displayed on one line as `path:line: message`, `path: message` when no
+/// line applies (a file that cannot be read, an empty subset), and
+/// `line N: message` or the bare message for text that
+/// [`with_path`](Self::with_path) did not name.
+///
+/// ```
+/// use subdiv_interp::params;
+/// let error = params::parse_handles("\n2 -1.5\n", 10).unwrap_err();
+/// assert_eq!((error.line(), error.message()), (Some(2), "vertex 2: shape handle -1.5 must be positive"));
+/// assert_eq!(error.to_string(), "line 2: vertex 2: shape handle -1.5 must be positive");
+/// assert_eq!(error.with_path("h.txt").to_string(), "h.txt:2: vertex 2: shape handle -1.5 must be positive");
+/// ```
+#[derive(Debug, Error)]
+#[error("{}", Shown(self))]
+pub struct ParamFileError {
+    path: Option<PathBuf>,
+    line: Option<usize>,
+    message: String,
+    /// Quoted in `message`, hence not a `source()` (it would be printed twice).
+    io: Option<std::io::Error>,
+}
+
+impl ParamFileError {
+    /// An error on no particular line.
+    fn new(message: impl fmt::Display) -> Self {
+        ParamFileError { path: None, line: None, message: message.to_string(), io: None }
+    }
+
+    /// The same error, naming `path` as the parameter file it came from
+    /// (the path functions do this; a caller of the `parse_` functions may
+    /// name where its text came from).
+    pub fn with_path(mut self, path: impl Into<PathBuf>) -> Self {
+        self.path = Some(path.into());
+        self
+    }
+
+    /// The parameter file, when named.
+    pub fn path(&self) -> Option<&Path> {
+        self.path.as_deref()
+    }
+
+    /// The line (1-based) of the offending entry, when there is one.
+    pub fn line(&self) -> Option<usize> {
+        self.line
+    }
+
+    /// What is wrong, without the path and the line.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+
+    /// The operating system's error when the file could not be read (its
+    /// text is already part of [`message`](Self::message)).
+    pub fn io_error(&self) -> Option<&std::io::Error> {
+        self.io.as_ref()
+    }
+}
+
+/// The display of a [`ParamFileError`].
+struct Shown<'a>(&'a ParamFileError);
+
+impl fmt::Display for Shown<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        let ParamFileError { path, line, message, .. } = self.0;
+        match (path, line) {
+            (Some(path), Some(line)) => write!(f, "{}:{line}: {message}", path.display()),
+            (Some(path), None) => write!(f, "{}: {message}", path.display()),
+            (None, Some(line)) => write!(f, "line {line}: {message}"),
+            (None, None) => f.write_str(message),
+        }
+    }
+}
+
+/// `line: message`, the path added by the caller.
+fn at(line: usize, message: impl fmt::Display) -> ParamFileError {
+    ParamFileError { line: Some(line), ..ParamFileError::new(message) }
+}
+
+/// A file that could not be read, with the system's reason.
+fn unreadable(error: std::io::Error) -> ParamFileError {
+    ParamFileError { message: format!("cannot read: {error}"), io: Some(error), ..ParamFileError::new("") }
+}
+
+/// Reads a parameter file and parses its text, every error naming the file.
+fn read_and<T>(path: &Path, parse: impl FnOnce(&str) -> Result<T, ParamFileError>) -> Result<T, ParamFileError> {
+    read(path).and_then(|text| parse(&text)).map_err(|e| e.with_path(path))
+}
+
 /// Reads a parameter file as text: regular files only (a FIFO or a device
 /// would block or never end), a UTF-8 BOM skipped, UTF-16 and binary data refused.
-fn read(path: &Path) -> Result<String> {
-    let shown = path.display();
-    let meta = std::fs::metadata(path).map_err(|e| anyhow!("{shown}: cannot read: {e}"))?;
+fn read(path: &Path) -> Result<String, ParamFileError> {
+    let meta = std::fs::metadata(path).map_err(unreadable)?;
     if !meta.is_file() {
-        bail!("{shown}: {}, not a regular file", file_kind(&meta.file_type()));
+        return Err(ParamFileError::new(format_args!("{}, not a regular file", file_kind(&meta.file_type()))));
     }
-    let bytes = std::fs::read(path).map_err(|e| anyhow!("{shown}: cannot read: {e}"))?;
-    decode(path, bytes)
+    let bytes = std::fs::read(path).map_err(unreadable)?;
+    decode(bytes)
+}
+
+/// `text` without a leading UTF-8 byte-order mark, as the path functions
+/// read it.
+fn without_bom(text: &str) -> &str {
+    text.strip_prefix('\u{FEFF}').unwrap_or(text)
 }
 
 fn file_kind(kind: &std::fs::FileType) -> &'static str {
@@ -60,28 +186,26 @@ fn file_kind(kind: &std::fs::FileType) -> &'static str {
 }
 
 /// The text of a parameter file's bytes.
-fn decode(path: &Path, mut bytes: Vec<u8>) -> Result<String> {
-    let shown = path.display();
+fn decode(mut bytes: Vec<u8>) -> Result<String, ParamFileError> {
     if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
-        bail!("{shown}: UTF-16 is not supported; save the file as UTF-8");
+        return Err(ParamFileError::new("UTF-16 is not supported; save the file as UTF-8"));
     }
     if bytes.starts_with(b"\xEF\xBB\xBF") {
         bytes.drain(..3);
     }
     let line_of = |offset: usize, bytes: &[u8]| 1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count();
     if let Some(nul) = bytes.iter().position(|&b| b == 0) {
-        bail!(
-            "{shown}:{}: NUL byte: binary data or UTF-16, not a text or JSON parameter file (save it as UTF-8)",
-            line_of(nul, &bytes)
-        );
+        return Err(at(
+            line_of(nul, &bytes),
+            "NUL byte: binary data or UTF-16, not a text or JSON parameter file (save it as UTF-8)",
+        ));
     }
     String::from_utf8(bytes).map_err(|e| {
         let offset = e.utf8_error().valid_up_to();
         let bytes = e.as_bytes();
-        anyhow!(
-            "{shown}:{}: not UTF-8 text (byte 0x{:02X}); save the file as UTF-8",
+        at(
             line_of(offset, bytes),
-            bytes[offset]
+            format_args!("not UTF-8 text (byte 0x{:02X}); save the file as UTF-8", bytes[offset]),
         )
     })
 }
@@ -101,11 +225,6 @@ impl fmt::Display for Quoted<'_> {
 
 fn quoted(text: &str) -> Quoted<'_> {
     Quoted(text)
-}
-
-/// `path:line: message`.
-fn at(path: &Path, line: usize, message: impl fmt::Display) -> anyhow::Error {
-    anyhow!("{}:{line}: {message}", path.display())
 }
 
 fn is_json(text: &str) -> bool {
@@ -358,7 +477,7 @@ impl<'de> Visitor<'de> for NodeSeed<'_> {
 }
 
 /// Parses JSON text into [`Node`]s; syntax errors give the line and column.
-fn parse_json(path: &Path, text: &str) -> Result<Node> {
+fn parse_json(text: &str) -> Result<Node, ParamFileError> {
     let tracker = LineTracker::default();
     let mut de = serde_json::Deserializer::from_reader(TrackedReader { rest: text.as_bytes(), tracker: &tracker });
     let node = NodeSeed(&tracker).deserialize(&mut de).and_then(|node| de.end().map(|()| node));
@@ -366,47 +485,77 @@ fn parse_json(path: &Path, text: &str) -> Result<Node> {
         let position = format!(" at line {} column {}", e.line(), e.column());
         let message = e.to_string();
         let message = message.strip_suffix(&position).unwrap_or(&message);
-        at(path, e.line(), format_args!("invalid JSON: {message} (column {})", e.column()))
+        at(e.line(), format_args!("invalid JSON: {message} (column {})", e.column()))
     })
 }
 
-/// Vertex indices (0-based): whitespace/comma separated, or a JSON array.
-/// Each vertex at most once; at least one.
-pub fn subset(path: &Path, n: usize) -> Result<Vec<u32>> {
-    parse_subset(path, &read(path)?, n)
+/// The vertex subset in the file at `path`: vertex indices (0-based),
+/// whitespace or comma separated (`#` comments), or a JSON array; each vertex
+/// at most once, at least one. For [`CommonOptions::subset`](crate::CommonOptions::subset).
+///
+/// ```
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// use subdiv_interp::params;
+/// let path = std::env::temp_dir().join(format!("subdiv-doc-subset-{}.json", std::process::id()));
+/// std::fs::write(&path, "[0, 5,\n 7]")?;
+/// assert_eq!(params::subset(&path, 8)?, [0, 5, 7]);
+/// std::fs::write(&path, "[0, 8]")?;
+/// let error = params::subset(&path, 8).unwrap_err();
+/// assert_eq!(error.to_string(), format!("{}:1: vertex 8 is out of range (the mesh has 8 vertices, 0-based)", path.display()));
+/// # std::fs::remove_file(&path)?;
+/// # Ok(())
+/// # }
+/// ```
+pub fn subset(path: impl AsRef<Path>, n: usize) -> Result<Vec<u32>, ParamFileError> {
+    read_and(path.as_ref(), |text| subset_from(text, n))
 }
 
-fn parse_subset(path: &Path, text: &str, n: usize) -> Result<Vec<u32>> {
+/// The vertex subset in `text`, the contents of a [`subset`] file, for a
+/// mesh of `n` vertices.
+///
+/// ```
+/// use subdiv_interp::params;
+/// assert_eq!(params::parse_subset("0 1\n# comment\n2,3 # tail\n", 8).unwrap(), [0, 1, 2, 3]);
+/// assert_eq!(params::parse_subset("[0, 5, 7]", 8).unwrap(), [0, 5, 7]);
+/// assert_eq!(
+///     params::parse_subset("0 1\n2 1", 8).unwrap_err().to_string(),
+///     "line 2: vertex 1 is listed twice (first on line 1)"
+/// );
+/// ```
+pub fn parse_subset(text: &str, n: usize) -> Result<Vec<u32>, ParamFileError> {
+    subset_from(without_bom(text), n)
+}
+
+fn subset_from(text: &str, n: usize) -> Result<Vec<u32>, ParamFileError> {
     let mut out = Vec::new();
     let mut seen = HashMap::new();
     let mut add = |v: u32, line: usize| match repeated(&mut seen, v, line) {
-        Some(first) => Err(at(path, line, format_args!("vertex {v} is listed twice (first on line {first})"))),
+        Some(first) => Err(at(line, format_args!("vertex {v} is listed twice (first on line {first})"))),
         None => {
             out.push(v);
             Ok(())
         }
     };
     if is_json(text) {
-        let root = parse_json(path, text)?;
+        let root = parse_json(text)?;
         let Json::Array(items) = &root.json else {
             return Err(at(
-                path,
                 root.line,
                 format_args!("expected a JSON array of vertex indices, found {}", root.json.kind()),
             ));
         };
         for item in items {
-            add(Kind::Vertex.of_node(item, n).map_err(|e| at(path, item.line, e))?, item.line)?;
+            add(Kind::Vertex.of_node(item, n).map_err(|e| at(item.line, e))?, item.line)?;
         }
     } else {
         for (line, fields) in text_rows(text) {
             for field in fields {
-                add(Kind::Vertex.parse(field, n).map_err(|e| at(path, line, e))?, line)?;
+                add(Kind::Vertex.parse(field, n).map_err(|e| at(line, e))?, line)?;
             }
         }
     }
     if out.is_empty() {
-        bail!("{}: the subset is empty: the file lists no vertex index", path.display());
+        return Err(ParamFileError::new("the subset is empty: the file lists no vertex index"));
     }
     Ok(out)
 }
@@ -431,25 +580,23 @@ struct PerVertexFormat {
 /// Per-vertex values from lines `i x…` (`W` numbers) or JSON `{"i": x}` (`W`
 /// = 1) / `{"i": [x…]}`; each vertex at most once, at least one.
 fn per_vertex<const W: usize>(
-    path: &Path,
     text: &str,
     n: usize,
     format: &PerVertexFormat,
-) -> Result<Vec<VertexValues<W>>> {
+) -> Result<Vec<VertexValues<W>>, ParamFileError> {
     let mut out = Vec::new();
     let mut seen = HashMap::new();
     let mut add = |vertex: u32, line: usize, values: [f64; W]| match repeated(&mut seen, vertex, line) {
-        Some(first) => Err(at(path, line, format_args!("vertex {vertex} is listed twice (first on line {first})"))),
+        Some(first) => Err(at(line, format_args!("vertex {vertex} is listed twice (first on line {first})"))),
         None => {
             out.push(VertexValues { vertex, line, values });
             Ok(())
         }
     };
     if is_json(text) {
-        let root = parse_json(path, text)?;
+        let root = parse_json(text)?;
         let Json::Object(members) = &root.json else {
             return Err(at(
-                path,
                 root.line,
                 format_args!(
                     "expected a JSON object {{\"vertex index\": {}}}, found {}",
@@ -459,16 +606,15 @@ fn per_vertex<const W: usize>(
             ));
         };
         for Member { key, line, value } in members {
-            let vertex = Kind::Vertex.parse(key, n).map_err(|e| at(path, *line, e))?;
+            let vertex = Kind::Vertex.parse(key, n).map_err(|e| at(*line, e))?;
             let values = json_values::<W>(value, format.json)
-                .map_err(|e| at(path, value.line, format_args!("vertex {vertex}: {e}")))?;
+                .map_err(|e| at(value.line, format_args!("vertex {vertex}: {e}")))?;
             add(vertex, *line, values)?;
         }
     } else {
         for (line, fields) in text_rows(text) {
             if fields.len() != W + 1 {
                 return Err(at(
-                    path,
                     line,
                     format_args!(
                         "expected \"{}\", found {} field{}",
@@ -478,16 +624,16 @@ fn per_vertex<const W: usize>(
                     ),
                 ));
             }
-            let vertex = Kind::Vertex.parse(fields[0], n).map_err(|e| at(path, line, e))?;
+            let vertex = Kind::Vertex.parse(fields[0], n).map_err(|e| at(line, e))?;
             let mut values = [0.0; W];
             for (slot, field) in values.iter_mut().zip(&fields[1..]) {
-                *slot = number(field).map_err(|e| at(path, line, format_args!("vertex {vertex}: {e}")))?;
+                *slot = number(field).map_err(|e| at(line, format_args!("vertex {vertex}: {e}")))?;
             }
             add(vertex, line, values)?;
         }
     }
     if out.is_empty() {
-        bail!("{}: no {} given: the file lists no vertex", path.display(), format.what);
+        return Err(ParamFileError::new(format_args!("no {} given: the file lists no vertex", format.what)));
     }
     Ok(out)
 }
@@ -510,111 +656,184 @@ fn json_values<const W: usize>(node: &Node, expected: &str) -> Result<[f64; W], 
     Ok(values)
 }
 
-/// Per-vertex normals (`i nx ny nz` or JSON `{"i": [nx, ny, nz]}`), unit
-/// length; zero vectors are rejected.
-pub fn normals(path: &Path, n: usize) -> Result<Vec<Option<DVec3>>> {
-    parse_normals(path, &read(path)?, n)
+/// Per-vertex normals in the file at `path`: lines `i nx ny nz` or JSON
+/// `{"i": [nx, ny, nz]}`, for a mesh of `n` vertices; each normal is scaled
+/// to unit length, zero vectors are refused, unlisted vertices are `None`.
+/// For Zheng-Cai's and Deng-Wang's `normals`.
+///
+/// ```
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// use subdiv_interp::params;
+/// use subdiv_mesh::DVec3;
+/// let path = std::env::temp_dir().join(format!("subdiv-doc-normals-{}.txt", std::process::id()));
+/// std::fs::write(&path, "# vertex, normal\n0 0 0 2\n3 -1 0 0\n")?;
+/// let normals = params::normals(&path, 4)?;
+/// assert_eq!(normals, [Some(DVec3::Z), None, None, Some(DVec3::NEG_X)]);
+/// # std::fs::remove_file(&path)?;
+/// # Ok(())
+/// # }
+/// ```
+pub fn normals(path: impl AsRef<Path>, n: usize) -> Result<Vec<Option<DVec3>>, ParamFileError> {
+    read_and(path.as_ref(), |text| normals_from(text, n))
 }
 
-fn parse_normals(path: &Path, text: &str, n: usize) -> Result<Vec<Option<DVec3>>> {
+/// Per-vertex normals in `text`, the contents of a [`normals`] file.
+///
+/// ```
+/// use subdiv_interp::params;
+/// use subdiv_mesh::DVec3;
+/// let normals = params::parse_normals(r#"{"1": [0, 1e200, 0]}"#, 3).unwrap();
+/// assert_eq!(normals, [None, Some(DVec3::Y), None]);
+/// assert_eq!(params::parse_normals("1 0 0 0", 3).unwrap_err().message(), "vertex 1: the normal is zero");
+/// ```
+pub fn parse_normals(text: &str, n: usize) -> Result<Vec<Option<DVec3>>, ParamFileError> {
+    normals_from(without_bom(text), n)
+}
+
+fn normals_from(text: &str, n: usize) -> Result<Vec<Option<DVec3>>, ParamFileError> {
     let format = PerVertexFormat { what: "normals", text: "i nx ny nz", json: "an array [nx, ny, nz]" };
     let mut out = vec![None; n];
-    for VertexValues { vertex, line, values } in per_vertex::<3>(path, text, n, &format)? {
+    for VertexValues { vertex, line, values } in per_vertex::<3>(text, n, &format)? {
         let normal = DVec3::from_array(values);
         // Scaled by the largest component first, so that neither 1e200 (whose
         // length overflows) nor 1e-170 (whose squares underflow) becomes zero.
         let scale = normal.abs().max_element();
         if scale == 0.0 {
-            return Err(at(path, line, format_args!("vertex {vertex}: the normal is zero")));
+            return Err(at(line, format_args!("vertex {vertex}: the normal is zero")));
         }
         out[vertex as usize] = Some((normal / scale).normalize());
     }
     Ok(out)
 }
 
-/// Per-vertex shape handles (`i S` or JSON `{"i": S}`), default 1; S must be
-/// positive (and finite).
-pub fn handles(path: &Path, n: usize) -> Result<Vec<f64>> {
-    parse_handles(path, &read(path)?, n)
+/// Per-vertex Brunet shape handles in the file at `path`: lines `i S` or
+/// JSON `{"i": S}`, for a mesh of `n` vertices; S must be positive (and
+/// finite), unlisted vertices keep 1. For Zheng-Cai's `handles`.
+///
+/// ```
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// use subdiv_interp::params;
+/// let path = std::env::temp_dir().join(format!("subdiv-doc-handles-{}.json", std::process::id()));
+/// std::fs::write(&path, r#"{"2": 0.5}"#)?;
+/// assert_eq!(params::handles(&path, 4)?, [1.0, 1.0, 0.5, 1.0]);
+/// # std::fs::remove_file(&path)?;
+/// # Ok(())
+/// # }
+/// ```
+pub fn handles(path: impl AsRef<Path>, n: usize) -> Result<Vec<f64>, ParamFileError> {
+    read_and(path.as_ref(), |text| handles_from(text, n))
 }
 
-fn parse_handles(path: &Path, text: &str, n: usize) -> Result<Vec<f64>> {
+/// Per-vertex shape handles in `text`, the contents of a [`handles`] file.
+///
+/// ```
+/// use subdiv_interp::params;
+/// assert_eq!(params::parse_handles("2 0.5\n3 4", 4).unwrap(), [1.0, 1.0, 0.5, 4.0]);
+/// assert_eq!(
+///     params::parse_handles(r#"{"2": "0.5"}"#, 4).unwrap_err().to_string(),
+///     r#"line 1: vertex 2: "0.5" is a string, expected a number (write it without quotes)"#
+/// );
+/// ```
+pub fn parse_handles(text: &str, n: usize) -> Result<Vec<f64>, ParamFileError> {
+    handles_from(without_bom(text), n)
+}
+
+fn handles_from(text: &str, n: usize) -> Result<Vec<f64>, ParamFileError> {
     let format = PerVertexFormat { what: "shape handles", text: "i S", json: "a number S" };
     let mut out = vec![1.0; n];
-    for VertexValues { vertex, line, values: [s] } in per_vertex::<1>(path, text, n, &format)? {
+    for VertexValues { vertex, line, values: [s] } in per_vertex::<1>(text, n, &format)? {
         if s <= 0.0 {
-            return Err(at(path, line, format_args!("vertex {vertex}: shape handle {s} must be positive")));
+            return Err(at(line, format_args!("vertex {vertex}: shape handle {s} must be positive")));
         }
         out[vertex as usize] = s;
     }
     Ok(out)
 }
 
-/// Per-face λ from `{"default": λ, "faces": {"f": λ}, "groups": {"name": λ}}`
-/// (groups are the mesh file's OBJ `g`/`o` names; faces override groups;
-/// default ½). Every λ in (0, 1); at least one key must set something.
-pub fn shape_file(path: &Path, mesh: &Mesh) -> Result<Vec<f64>> {
-    parse_shape(path, &read(path)?, mesh)
+/// Fan-Cheng-Lai's per-face shape parameters λ in the shape file at
+/// `path`, JSON `{"default": λ, "faces": {"f": λ}, "groups": {"name": λ}}`:
+/// groups are the mesh's face groups ([`Mesh::groups`], OBJ `g`/`o` names),
+/// faces override groups, groups the default (½ when not given). Every λ in
+/// (0, 1); at least one key must set something. For
+/// [`Shape::PerFace`](crate::Shape::PerFace).
+///
+/// ```
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// use subdiv_interp::params;
+/// use subdiv_mesh::shapes;
+/// let path = std::env::temp_dir().join(format!("subdiv-doc-shape-{}.json", std::process::id()));
+/// std::fs::write(&path, r#"{"default": 0.3, "faces": {"2": 0.9}}"#)?;
+/// assert_eq!(params::shape_file(&path, &shapes::cube())?, [0.3, 0.3, 0.9, 0.3, 0.3, 0.3]);
+/// # std::fs::remove_file(&path)?;
+/// # Ok(())
+/// # }
+/// ```
+pub fn shape_file(path: impl AsRef<Path>, mesh: &Mesh) -> Result<Vec<f64>, ParamFileError> {
+    read_and(path.as_ref(), |text| shape_from(text, mesh))
+}
+
+/// Per-face λ in `text`, the contents of a [`shape_file`].
+///
+/// ```
+/// use subdiv_interp::params;
+/// use subdiv_mesh::shapes;
+/// assert_eq!(params::parse_shape_file(r#"{"default": 0.25}"#, &shapes::cube()).unwrap(), [0.25; 6]);
+/// assert_eq!(
+///     params::parse_shape_file("{\"default\": 0.5,\n \"facez\": {}}", &shapes::cube()).unwrap_err().to_string(),
+///     r#"line 2: unknown key "facez" (allowed: default, faces, groups)"#
+/// );
+/// ```
+pub fn parse_shape_file(text: &str, mesh: &Mesh) -> Result<Vec<f64>, ParamFileError> {
+    shape_from(without_bom(text), mesh)
 }
 
 /// λ of one shape entry, checked against the open interval the two-phase scheme needs.
-fn lambda(path: &Path, node: &Node, label: impl fmt::Display) -> Result<f64> {
-    let l = node.number().map_err(|e| at(path, node.line, format_args!("{label}: {e}")))?;
+fn lambda(node: &Node, label: impl fmt::Display) -> Result<f64, ParamFileError> {
+    let l = node.number().map_err(|e| at(node.line, format_args!("{label}: {e}")))?;
     if !(l > 0.0 && l < 1.0) {
-        return Err(at(path, node.line, format_args!("{label}: λ = {l} is outside (0, 1)")));
+        return Err(at(node.line, format_args!("{label}: λ = {l} is outside (0, 1)")));
     }
     Ok(l)
 }
 
 /// The members of the object under `key`, or an error naming the key and the expected shape.
-fn members<'a>(path: &Path, key: &str, node: &'a Node, shape: &str) -> Result<&'a [Member]> {
+fn members<'a>(key: &str, node: &'a Node, shape: &str) -> Result<&'a [Member], ParamFileError> {
     match &node.json {
         Json::Object(members) => Ok(members),
-        other => Err(at(path, node.line, format_args!("\"{key}\" must be an object {shape}, not {}", other.kind()))),
+        other => Err(at(node.line, format_args!("\"{key}\" must be an object {shape}, not {}", other.kind()))),
     }
 }
 
-fn parse_shape(path: &Path, text: &str, mesh: &Mesh) -> Result<Vec<f64>> {
-    let sets_nothing =
-        |line| at(path, line, "shape file sets nothing: expected at least one of default, faces, groups");
+fn shape_from(text: &str, mesh: &Mesh) -> Result<Vec<f64>, ParamFileError> {
+    let sets_nothing = |line| at(line, "shape file sets nothing: expected at least one of default, faces, groups");
     if text.trim().is_empty() {
-        bail!("{}: the file is empty; expected JSON {SHAPE_FORMAT}", path.display());
+        return Err(ParamFileError::new(format_args!("the file is empty; expected JSON {SHAPE_FORMAT}")));
     }
-    let root = parse_json(path, text)?;
+    let root = parse_json(text)?;
     let top = match &root.json {
         Json::Object(members) => members,
         Json::Null => return Err(sets_nothing(root.line)),
         other => {
-            return Err(at(
-                path,
-                root.line,
-                format_args!("expected a JSON object {SHAPE_FORMAT}, found {}", other.kind()),
-            ))
+            return Err(at(root.line, format_args!("expected a JSON object {SHAPE_FORMAT}, found {}", other.kind())))
         }
     };
     let (mut default, mut faces, mut groups): (Option<&Node>, &[Member], &[Member]) = (None, &[], &[]);
     let mut keys = HashMap::new();
     for Member { key, line, value } in top {
         if let Some(first) = repeated(&mut keys, key.as_str(), *line) {
-            return Err(at(path, *line, format_args!("key {} is given twice (first on line {first})", quoted(key))));
+            return Err(at(*line, format_args!("key {} is given twice (first on line {first})", quoted(key))));
         }
         match key.as_str() {
             "default" => default = Some(value),
-            "faces" => faces = members(path, key, value, r#"{"face index": λ}"#)?,
-            "groups" => groups = members(path, key, value, r#"{"group name": λ}"#)?,
-            _ => {
-                return Err(at(
-                    path,
-                    *line,
-                    format_args!("unknown key {} (allowed: default, faces, groups)", quoted(key)),
-                ))
-            }
+            "faces" => faces = members(key, value, r#"{"face index": λ}"#)?,
+            "groups" => groups = members(key, value, r#"{"group name": λ}"#)?,
+            _ => return Err(at(*line, format_args!("unknown key {} (allowed: default, faces, groups)", quoted(key)))),
         }
     }
     if default.is_none() && faces.is_empty() && groups.is_empty() {
         return Err(sets_nothing(root.line));
     }
-    let default = default.map(|node| lambda(path, node, "\"default\"")).transpose()?.unwrap_or(0.5);
+    let default = default.map(|node| lambda(node, "\"default\"")).transpose()?.unwrap_or(0.5);
     let nf = mesh.topology().face_count();
     let mut lambdas = vec![default; nf];
     if !groups.is_empty() {
@@ -624,20 +843,15 @@ fn parse_shape(path: &Path, text: &str, mesh: &Mesh) -> Result<Vec<f64>> {
         let mut seen = HashMap::new();
         for Member { key: name, line, value } in groups {
             if let Some(first) = repeated(&mut seen, name.as_str(), *line) {
-                return Err(at(
-                    path,
-                    *line,
-                    format_args!("group {} is listed twice (first on line {first})", quoted(name)),
-                ));
+                return Err(at(*line, format_args!("group {} is listed twice (first on line {first})", quoted(name))));
             }
             let Some(&id) = id_of.get(name.as_str()) else {
                 return Err(at(
-                    path,
                     *line,
                     format_args!("group {} is not in the mesh ({})", quoted(name), group_list(&mesh_groups.names)),
                 ));
             };
-            group_lambda[id] = Some(lambda(path, value, format_args!("group {}", quoted(name)))?);
+            group_lambda[id] = Some(lambda(value, format_args!("group {}", quoted(name)))?);
         }
         // One pass over the faces, however many groups.
         for (l, &id) in lambdas.iter_mut().zip(&mesh_groups.face_group) {
@@ -648,11 +862,11 @@ fn parse_shape(path: &Path, text: &str, mesh: &Mesh) -> Result<Vec<f64>> {
     }
     let mut seen = HashMap::new();
     for Member { key, line, value } in faces {
-        let f = Kind::Face.parse(key, nf).map_err(|e| at(path, *line, e))?;
+        let f = Kind::Face.parse(key, nf).map_err(|e| at(*line, e))?;
         if let Some(first) = repeated(&mut seen, f, *line) {
-            return Err(at(path, *line, format_args!("face {f} is listed twice (first on line {first})")));
+            return Err(at(*line, format_args!("face {f} is listed twice (first on line {first})")));
         }
-        lambdas[f as usize] = lambda(path, value, format_args!("face {f}"))?;
+        lambdas[f as usize] = lambda(value, format_args!("face {f}"))?;
     }
     Ok(lambdas)
 }
@@ -674,14 +888,19 @@ mod tests {
     use subdiv_mesh::{shapes, FaceGroups};
 
     /// The message of a parse that must fail.
-    fn error<T: fmt::Debug>(result: Result<T>) -> String {
-        let message = format!("{:#}", result.expect_err("must fail"));
+    fn error<T: fmt::Debug>(result: Result<T, ParamFileError>) -> String {
+        let message = result.expect_err("must fail").to_string();
         assert!(!message.contains('\n'), "one line: {message}");
         message
     }
 
-    fn subset_of(text: &str, n: usize) -> Result<Vec<u32>> {
-        parse_subset(Path::new("s.txt"), text, n)
+    /// The result of parsing the text of the file `name`.
+    fn in_file<T>(name: &str, result: Result<T, ParamFileError>) -> Result<T, ParamFileError> {
+        result.map_err(|e| e.with_path(name))
+    }
+
+    fn subset_of(text: &str, n: usize) -> Result<Vec<u32>, ParamFileError> {
+        in_file("s.txt", subset_from(text, n))
     }
 
     fn temp_dir() -> PathBuf {
@@ -697,8 +916,8 @@ mod tests {
         Mesh::from_soup(soup).unwrap().0
     }
 
-    fn shape_of(text: &str) -> Result<Vec<f64>> {
-        parse_shape(Path::new("shape.json"), text, &grouped_cube())
+    fn shape_of(text: &str) -> Result<Vec<f64>, ParamFileError> {
+        in_file("shape.json", shape_from(text, &grouped_cube()))
     }
 
     #[test]
@@ -773,8 +992,8 @@ mod tests {
         assert_eq!(error(subset_of("[99999999999999999999]", 8)), out_of_range("1e20"));
     }
 
-    fn normals_of(text: &str) -> Result<Vec<Option<DVec3>>> {
-        parse_normals(Path::new("normals.txt"), text, 20)
+    fn normals_of(text: &str) -> Result<Vec<Option<DVec3>>, ParamFileError> {
+        in_file("normals.txt", normals_from(text, 20))
     }
 
     #[test]
@@ -786,7 +1005,7 @@ mod tests {
             assert!(n[v].unwrap().abs_diff_eq(expected, 1e-15), "vertex {v}: {:?}", n[v]);
         }
         assert_eq!(n[4], None);
-        let json = parse_normals(Path::new("n.json"), "{\"3\": [0, -1e300, 0]}", 20).unwrap();
+        let json = in_file("n.json", normals_from("{\"3\": [0, -1e300, 0]}", 20)).unwrap();
         assert_eq!(json[3], Some(DVec3::NEG_Y));
     }
 
@@ -838,8 +1057,8 @@ mod tests {
         }
     }
 
-    fn handles_of(text: &str) -> Result<Vec<f64>> {
-        parse_handles(Path::new("h.txt"), text, 10)
+    fn handles_of(text: &str) -> Result<Vec<f64>, ParamFileError> {
+        in_file("h.txt", handles_from(text, 10))
     }
 
     #[test]
@@ -971,7 +1190,7 @@ mod tests {
         ] {
             assert_eq!(error(shape_of(text)), message, "{text}");
         }
-        let plain = parse_shape(Path::new("shape.json"), r#"{"groups": {"top": 0.5}}"#, &shapes::cube());
+        let plain = in_file("shape.json", shape_from(r#"{"groups": {"top": 0.5}}"#, &shapes::cube()));
         assert_eq!(error(plain), r#"shape.json:1: group "top" is not in the mesh (the mesh has no groups)"#);
     }
 
@@ -999,7 +1218,7 @@ mod tests {
         let mesh = Mesh::from_soup(soup).unwrap().0;
         let entries: Vec<String> = (0..nf).map(|f| format!("\"g{f}\": {}", 0.1 + 0.8 * (f % 2) as f64)).collect();
         let text = format!("{{\"groups\": {{{}}}}}", entries.join(",\n"));
-        let lambdas = parse_shape(Path::new("shape.json"), &text, &mesh).unwrap();
+        let lambdas = in_file("shape.json", shape_from(&text, &mesh)).unwrap();
         assert_eq!(lambdas.len(), nf);
         assert!(lambdas.iter().enumerate().all(|(f, &l)| l == 0.1 + 0.8 * (f % 2) as f64));
     }
@@ -1017,17 +1236,14 @@ mod tests {
 
     #[test]
     fn text_that_is_not_utf8_is_refused_clearly() {
-        let p = Path::new("p.txt");
-        assert_eq!(
-            error(decode(p, b"0 1\n2 \xFF\n".to_vec())),
-            "p.txt:2: not UTF-8 text (byte 0xFF); save the file as UTF-8"
-        );
+        let decode = |bytes: &[u8]| in_file("p.txt", decode(bytes.to_vec()));
+        assert_eq!(error(decode(b"0 1\n2 \xFF\n")), "p.txt:2: not UTF-8 text (byte 0xFF); save the file as UTF-8");
         for bom in [&b"\xFF\xFE"[..], b"\xFE\xFF"] {
             let utf16 = [bom, b"0\x00 \x001\x00"].concat();
-            assert_eq!(error(decode(p, utf16)), "p.txt: UTF-16 is not supported; save the file as UTF-8");
+            assert_eq!(error(decode(&utf16)), "p.txt: UTF-16 is not supported; save the file as UTF-8");
         }
         assert_eq!(
-            error(decode(p, b"0\x00 \x001\x00".to_vec())),
+            error(decode(b"0\x00 \x001\x00")),
             "p.txt:1: NUL byte: binary data or UTF-16, not a text or JSON parameter file (save it as UTF-8)"
         );
     }
@@ -1038,6 +1254,37 @@ mod tests {
         let message = error(subset(&missing, 8));
         assert_eq!(message.matches("No such file").count(), 1, "{message}");
         assert!(message.starts_with(&format!("{}: cannot read: ", missing.display())), "{message}");
+        // The OS error is quoted in the message, so it is no source() (printed twice by error chains).
+        let e = subset(&missing, 8).unwrap_err();
+        assert_eq!(e.io_error().map(std::io::Error::kind), Some(std::io::ErrorKind::NotFound));
+        assert!(std::error::Error::source(&e).is_none());
+        assert_eq!((e.path(), e.line()), (Some(missing.as_path()), None));
+    }
+
+    /// Text parsed in memory: the same messages, with the line but no path
+    /// until the caller names one.
+    #[test]
+    fn text_errors_have_the_line_and_no_path() {
+        let e = parse_subset("0 1\n\n2 1\n", 8).unwrap_err();
+        assert_eq!((e.path(), e.line(), e.message()), (None, Some(3), "vertex 1 is listed twice (first on line 1)"));
+        assert_eq!(e.to_string(), "line 3: vertex 1 is listed twice (first on line 1)");
+        assert_eq!(e.with_path("s.txt").to_string(), "s.txt:3: vertex 1 is listed twice (first on line 1)");
+        let e = parse_normals("# none", 8).unwrap_err();
+        assert_eq!((e.line(), e.to_string().as_str()), (None, "no normals given: the file lists no vertex"));
+        assert_eq!(
+            parse_shape_file(" ", &shapes::cube()).unwrap_err().to_string(),
+            format!("the file is empty; expected JSON {SHAPE_FORMAT}")
+        );
+        assert_eq!(parse_handles("1 2", 3).unwrap(), [1.0, 2.0, 1.0]);
+    }
+
+    /// Text read by the caller (`read_to_string` keeps a BOM) parses as the file does.
+    #[test]
+    fn text_functions_skip_a_bom() {
+        assert_eq!(parse_subset("\u{FEFF}0 1\n", 8).unwrap(), [0, 1]);
+        assert_eq!(parse_normals("\u{FEFF}{\"1\": [0, 0, 3]}", 2).unwrap(), [None, Some(DVec3::Z)]);
+        assert_eq!(parse_handles("\u{FEFF}1 2", 2).unwrap(), [1.0, 2.0]);
+        assert_eq!(parse_shape_file("\u{FEFF}{\"default\": 0.25}", &shapes::cube()).unwrap(), [0.25; 6]);
     }
 
     #[test]
