@@ -77,6 +77,7 @@ pub use interpolant::{ControlScheme, ErrorStats, Interpolant, LimitAssociation, 
 pub use method::{interpolate, Method, MethodOptions, UnknownMethod};
 pub use nasri::NasriOptions;
 pub use options::{CommonOptions, SolverChoice, SurfaceOptions, DEFAULT_MAX_ITER, DEFAULT_TOL};
+pub use params::ParamFileError;
 pub use preconditions::accepting_methods;
 pub use report::{Parameters, Report, TagCounts};
 pub use zheng_cai::ZhengCaiOptions;

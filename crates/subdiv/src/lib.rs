@@ -96,6 +96,9 @@ pub enum Error {
     /// An interpolation method.
     #[error(transparent)]
     Interp(#[from] InterpError),
+    /// A parameter file (normals, handles, subset, shape).
+    #[error(transparent)]
+    Params(#[from] subdiv_interp::ParamFileError),
 }
 
 impl Error {
