@@ -44,11 +44,11 @@
 //!    the surface interpolates either way.
 //!
 //! # Deviations from the paper
-//! - Eq. 17 is used in its final form with D ≡ I (ERRATA Z1-Z3: its second
+//! - Eq. 17 is used in its final form with D ≡ I ([corrections Z1-Z3]: its second
 //!   line has a sign error, D is never defined, and §3.4 prints V for I),
 //!   rearranged as W_k + ε_k = I + P_n(W_k − W_c) (P_n the projection onto
 //!   the plane ⟂ n) so that round-off stays relative to the face size.
-//!   Eq. 10 is Newell's normal with cyclic indices (ERRATA Z5); a V-face with
+//!   Eq. 10 is Newell's normal with cyclic indices ([correction Z5]); a V-face with
 //!   zero vector area gets only the translation I − W_c (Eq. 9's solution).
 //! - Stopping rule: the paper's (every update ≤ EPS·d, or ITE_MAX sweeps),
 //!   coded here as a small sweep over the rows of Z, since the solve crate
@@ -105,6 +105,9 @@
 //! // The control mesh is the first refined mesh: one vertex per corner.
 //! assert_eq!(result.control.topology().vertex_count(), mesh.topology().half_edge_count());
 //! ```
+//!
+//! [corrections Z1-Z3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z1
+//! [correction Z5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z5
 
 use crate::numeric::{max_nan, unit_direction};
 use crate::{
@@ -525,7 +528,7 @@ pub(crate) fn interpolate_prepared(
         ring.extend(t.vertex_fan(v).iter().map(|&h| centroids[t.he_face(h).index()]));
         let W_c = EQ4_LAMBDA * V[i] + (1.0 - EQ4_LAMBDA) * (ring.iter().sum::<DVec3>() / ring.len() as f64);
         let given = opts.normals.as_ref().and_then(|n| n[i]);
-        // §4.1: the required normal replaces Eq. (10)'s Newell normal (cyclic, ERRATA Z5).
+        // §4.1: the required normal replaces Eq. (10)'s Newell normal (cyclic, correction Z5, docs/REFERENCES.md).
         // Normalised by a power of two first: a given normal of 1e-200 keeps its direction.
         let n = unit_direction(given.unwrap_or_else(|| newell_normal(ring.iter().copied()))).unwrap_or(DVec3::ZERO);
         frame[i] = Some((W_c, n));
@@ -534,7 +537,7 @@ pub(crate) fn interpolate_prepared(
     for (k, &v) in t.faces().indices().iter().enumerate() {
         if let Some((W_c, n)) = frame[v as usize] {
             let w = W[k] - W_c;
-            // Eq. (17), final line with D ≡ I (ERRATA Z1-Z3):
+            // Eq. (17), final line with D ≡ I (corrections Z1-Z3, docs/REFERENCES.md):
             // W_k + ε_k = W_k + [(W_c − W_k)·n]n + (I − W_c) = I + (w − (w·n)n), w = W_k − W_c.
             W[k] = I[v as usize] + (w - w.dot(n) * n);
         }

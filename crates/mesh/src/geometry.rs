@@ -220,7 +220,7 @@ pub fn distance(a: DVec3, b: DVec3) -> f64 {
 }
 
 /// Newell's vector of a polygon: twice its vector area, exact for planar polygons
-/// and translation-invariant (Zheng-Cai Eq. 10 with cyclic indices, ERRATA Z5).
+/// and translation-invariant (Zheng-Cai Eq. 10 with cyclic indices, [correction Z5]).
 ///
 /// Formed in exact power-of-two scalings of the corners (see
 /// [`scaled_newell`]), so no intermediate overflows or underflows: the result
@@ -228,6 +228,8 @@ pub fn distance(a: DVec3, b: DVec3) -> f64 {
 /// overflows nor underflows, and a component is ±∞ only where the true
 /// vector's exceeds `f64::MAX` (areas beyond about 1e308: coordinates beyond
 /// about ±1e154). For a direction use [`unit_newell_normal`], finite always.
+///
+/// [correction Z5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z5
 pub fn newell_normal(corners: impl Iterator<Item = DVec3> + Clone) -> DVec3 {
     let (n, s) = scaled_newell(corners);
     s.inverse().apply_point(n)

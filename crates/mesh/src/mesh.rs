@@ -200,9 +200,11 @@ impl Mesh {
         self.topology.face_ids().map(|f| self.face_normal(f)).collect()
     }
     /// Angle-weighted unit vertex normals: nᵢ = Σⱼ θⱼ nⱼ / ‖Σⱼ θⱼ nⱼ‖ with θⱼ the
-    /// angle of face j at vertex i (Deng-Wang Eq. 8, ERRATA W5). Zero for
+    /// angle of face j at vertex i (Deng-Wang Eq. 8, [correction W5]). Zero for
     /// isolated vertices and where the sum vanishes. Scale-free: the face
     /// normals and angles are ([`Self::face_normal`], [`crate::corner_angle`]).
+    ///
+    /// [correction W5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w5
     pub fn vertex_normals(&self) -> Vec<DVec3> {
         let t = &self.topology;
         let mut normals = vec![DVec3::ZERO; t.vertex_count()];

@@ -3,7 +3,7 @@
 //! limit stencil.
 //!
 //! Source: `seeds/cheng-catmull-clark-progressive-interpolation.txt`,
-//! Appendix Eq. 4 (the step) and Eq. 5 (the limit stencil), with ERRATA C1
+//! Appendix Eq. 4 (the step) and Eq. 5 (the limit stencil), with [correction C1]
 //! (the factor 4/(n(n+5)) multiplies all three groups of Eq. 5) and C2 (the
 //! edge point of edge VEᵢ uses faces fᵢ₋₁ and fᵢ). Limit masks: SPEC §1.
 //!
@@ -23,6 +23,8 @@
 //! mesh (Eq. 5). The boundary limit mask holds at every level because the
 //! boundary rules only involve boundary vertices: the boundary is the cubic
 //! B-spline of the boundary polygon.
+//!
+//! [correction C1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 
 use crate::mask::{EdgeMask, VertexKind, VertexMask};
 
@@ -47,7 +49,7 @@ pub fn face_point_weight(m: usize) -> f64 {
 /// with the face points expanded: for an interior edge between faces of sizes
 /// `m_left` and `m_right`, (A + B + f_left + f_right)/4 gives each endpoint
 /// ¼ + 1/(4m_left) + 1/(4m_right) and every other corner of a face 1/(4m) of
-/// that face (Appendix Eq. 4 as corrected by ERRATA C2). A boundary edge
+/// that face (Appendix Eq. 4 as corrected by [correction C2]). A boundary edge
 /// (`m_right = None`) gets the midpoint.
 ///
 /// ```
@@ -59,13 +61,16 @@ pub fn face_point_weight(m: usize) -> f64 {
 ///
 /// # Panics
 /// If a face size is below 3.
+///
+/// [correction C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c2
 #[inline]
 pub fn edge_point_mask(m_left: usize, m_right: Option<usize>) -> EdgeMask {
     let Some(m_right) = m_right else {
         return EdgeMask::MIDPOINT;
     };
     let (fl, fr) = (face_point_weight(m_left), face_point_weight(m_right));
-    // ERRATA C2: e_i = (V + E_i + f_{i−1} + f_i)/4, each face point expanded over its corners.
+    // Correction C2 (docs/REFERENCES.md): e_i = (V + E_i + f_{i−1} + f_i)/4, each face point expanded over
+    // its corners.
     EdgeMask { end: 0.25 * (1.0 + fl + fr), left: 0.25 * fl, right: 0.25 * fr }
 }
 
@@ -126,7 +131,7 @@ pub fn limit_mask(kind: VertexKind, valence: usize) -> VertexMask {
 }
 
 /// Cheng's limit stencil of an interior vertex on an arbitrary polygon mesh
-/// (Appendix Eq. 5 with ERRATA C1/C2): one Catmull-Clark step followed by the
+/// (Appendix Eq. 5 with [corrections C1/C2]): one Catmull-Clark step followed by the
 /// quad limit mask, expressed on the unrefined mesh. With D = 4/(n(n+5)):
 ///
 /// v∞ = D [ (n(n−1)/4 + Σ1/mᵢ) V + Σ(½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ + Σᵢ (F₁ⁱ + … + F_{mᵢ−3}ⁱ)/mᵢ ]
@@ -148,13 +153,15 @@ pub fn limit_mask(kind: VertexKind, valence: usize) -> VertexMask {
 /// # Panics
 /// If `face_sizes` has fewer than 2 entries, a size is below 3, or a buffer
 /// length differs from `face_sizes.len()`.
+///
+/// [corrections C1/C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 pub fn limit_stencil(face_sizes: &[usize], edge_weights: &mut [f64], far_corner_weights: &mut [f64]) -> f64 {
     let n = face_sizes.len();
     assert!(n >= 2, "interior vertex of valence {n}");
     assert_eq!(edge_weights.len(), n, "one edge weight per neighbour");
     assert_eq!(far_corner_weights.len(), n, "one far-corner weight per face");
     let nf = n as f64;
-    let d = 4.0 / (nf * (nf + 5.0)); // ERRATA C1: D = 4/(n(n+5)) multiplies every group
+    let d = 4.0 / (nf * (nf + 5.0)); // Correction C1 (docs/REFERENCES.md): D = 4/(n(n+5)) multiplies every group
     let mut inv_sum = 0.0;
     for i in 0..n {
         let inv = face_point_weight(face_sizes[i]);

@@ -6,12 +6,12 @@
 //! In a face V₀…V_{m−1} the new vertex of corner i is V'ᵢ = Σⱼ αᵢⱼVⱼ with
 //! αᵢᵢ = (m+5)/(4m) and αᵢⱼ = (3 + 2cos(2π(i−j)/m))/(4m)
 //! (`seeds/zheng-cai-2005-doo-sabin-interpolation.txt`, §2, Eq. 1; the same
-//! weights are Fan-Cheng-Lai §2 and Deng-Ma §3.2 step 1, ERRATA D3). The
+//! weights are Fan-Cheng-Lai §2 and Deng-Ma §3.2 step 1, [correction D3]). The
 //! weights depend only on the offset k = (j − i) mod m, so one row
 //! `w[k]` describes the whole face: the image of corner i is
 //! `Σₖ w[k]·V_{(i+k) mod m}` ([`doo_sabin_weights`]). The face matrix is the
 //! circulant `Circ(w)`; its eigenvalues are 1, ½ (the first harmonic pair) and
-//! ¼ (all others), ERRATA Z8 ([`doo_sabin_eigenvalue`]).
+//! ¼ (all others), [correction Z8] ([`doo_sabin_eigenvalue`]).
 //!
 //! # First-step variants
 //!
@@ -19,7 +19,7 @@
 //! Eq. 1, V'ᵢ = λVᵢ + (1−λ)A with one λ ∈ (0, 1) per face
 //! (`seeds/fan-cheng-lai-two-phase-doo-sabin.txt` §2). Eq. 4 is λ = ½
 //! ([`two_phase_weights`], [`zheng_cai_weights`]). Their face matrix
-//! λI + (1−λ)J/m has eigenvalues 1 and λ (ERRATA F6).
+//! λI + (1−λ)J/m has eigenvalues 1 and λ ([correction F6]).
 //!
 //! # Boundary rule
 //!
@@ -88,6 +88,10 @@
 //! repeated-boundary-row end condition of tensor-product B-splines carried to
 //! arbitrary topology through the degenerate quad, and its Chaikin property is
 //! proved by the tests of this module rather than by citation.
+//!
+//! [correction D3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d3
+//! [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
+//! [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
 
 use std::f64::consts::PI;
 use std::sync::OnceLock;
@@ -166,10 +170,12 @@ fn doo_sabin_weights_computed(m: usize, out: &mut [f64]) {
 
 /// Eigenvalue k (k = 0…m−1) of the Doo-Sabin face circulant, in closed form:
 /// 1 for k = 0, ½ for the first harmonic pair k = 1, m−1, ¼ otherwise
-/// (ERRATA Z8).
+/// ([correction Z8]).
 ///
 /// # Panics
 /// If `m < 3` or `k >= m`.
+///
+/// [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
 pub fn doo_sabin_eigenvalue(m: usize, k: usize) -> f64 {
     assert!(m >= 3 && k < m, "need m >= 3 and k < m, got m = {m}, k = {k}");
     if k == 0 {

@@ -4,7 +4,7 @@
 //! # What
 //! Cheng's Catmull-Clark matrix A = D·S is indefinite as soon as the mesh
 //! has an interior vertex of valence 2 (Cheng et al., appendix proof,
-//! corrected in ERRATA C3: the quadratic form's term n(n − 3)/4·x² is
+//! corrected in [correction C3]: the quadratic form's term n(n − 3)/4·x² is
 //! negative for n = 2). CG then meets pᵀSp < 0 and PIA diverges; MINRES only
 //! needs S symmetric. Each iteration extends the Krylov space by one product
 //! and picks the iterate that **minimises the residual norm** over it, so the
@@ -95,6 +95,8 @@
 //! let sol = minres(&a, &p, &opts).unwrap();
 //! assert!(sol.iterations <= 4 && a.max_residual(&sol.x, &p) <= 1e-10);
 //! ```
+//!
+//! [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 
 use std::time::Instant;
 

@@ -91,7 +91,7 @@ fn cheng_torus(nu: usize, nv: usize, singles: &[u32], doubles: &[u32]) -> (Facto
 #[test]
 fn cheng_matrices_with_valence_two_vertices_match_ldl() {
     // Measured (dense eigenvalues): one valence-2 vertex between two quads leaves
-    // A positive definite (λ_min ≈ 0.098, the proof of ERRATA C3 fails but not
+    // A positive definite (λ_min ≈ 0.098, the proof of correction C3 (docs/REFERENCES.md) fails but not
     // the property); two adjacent ones make it indefinite, one negative
     // eigenvalue per pair. MINRES does not care; CG refuses the second kind.
     for (singles, doubles) in [(&[0u32][..], &[][..]), (&[], &[0]), (&[0, 1], &[200]), (&[77, 301], &[0, 500])] {
