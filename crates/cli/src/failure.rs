@@ -1,4 +1,6 @@
-//! Failures with their exit codes (SPEC §6, README "Exit codes and guarantees").
+//! Failures with their exit codes ([error behaviour], README "Exit codes and guarantees").
+//!
+//! [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 
 use std::process::ExitCode;
 

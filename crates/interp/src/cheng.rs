@@ -1,5 +1,5 @@
 //! Cheng et al.: interpolation by Catmull-Clark surfaces through progressive
-//! iteration (`seeds/cheng-catmull-clark-progressive-interpolation.txt`).
+//! iteration (Cheng et al., *Interpolating meshes of arbitrary topology*, CFL in [references]).
 //!
 //! Finds M̂ with A·M̂ = P, where A maps control points to Catmull-Clark limit
 //! points (appendix Eq. 5, corrected by [corrections C1/C2]; A = D·S with
@@ -30,7 +30,7 @@
 //!    `system.rs`).
 //!
 //! # Deviations from the paper
-//! - Stopping rule: max over vertices of |P − A·M| / d ≤ tol (SPEC §4).
+//! - Stopping rule: max over vertices of |P − A·M| / d ≤ tol ([the stopping rule]).
 //! - Open meshes (beyond the paper): boundary vertices follow the crease
 //!   rule, limit (p₋ + 4p + p₊)/6, corners stay; the boundary block is solved
 //!   first, then the interior (`system.rs`).
@@ -57,6 +57,8 @@
 //! [corrections C1/C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 //! [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 //! [correction C6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c6
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
+//! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use crate::system::{interpolate_on_input_topology, AutoSolver};
 use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method, SolverChoice};

@@ -1,5 +1,5 @@
 //! Deng & Wang 2010: explicit, local interpolation by Loop surfaces
-//! (`seeds/deng-wang-2010-loop-interpolation.txt`, Eq. 1-9; the text is
+//! (Deng & Wang 2010, Eq. 1-9, DW10 in [references]; the text is
 //! garbled and cut off after Eq. 9, reconstructed in [corrections W1-W9]).
 //!
 //! Only the **first** Loop step is modified (Eq. 7: 1Ḡ 1T 2G 2T …,
@@ -35,7 +35,7 @@
 //! on a triangle mesh M⁰ is the input itself.
 //!
 //! # Deviations from the paper and choices it leaves open
-//! - μ: the admissible range is cut off in the seed. [Correction W6] proposes
+//! - μ: the admissible range is cut off in the text. [Correction W6] proposes
 //!   μ = ¼, which puts the edge points of points sampled from a sphere (with
 //!   radial normals) **on** the sphere to O(h⁴). That is not what makes the
 //!   *limit surface* close to the sphere: Loop's limit of points on a
@@ -216,7 +216,6 @@
 //! ```
 //!
 //! [`triangle_split`]: subdiv_mesh::refine::triangle_split
-//!
 //! [corrections W1-W9]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w1
 //! [correction W9]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w9
 //! [correction W8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w8
@@ -224,6 +223,7 @@
 //! [correction W6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w6
 //! [correction W7]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w7
 //! [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::numeric::unit_direction;
 use crate::{

@@ -1,6 +1,6 @@
 //! Fan, Cheng & Lai: progressive interpolation with a two-phase Doo-Sabin
 //! scheme and one shape parameter per face
-//! (`seeds/fan-cheng-lai-two-phase-doo-sabin.txt`).
+//! (Fan, Cheng & Lai, *Subdivision based interpolation with shape control*, FCL in [references]).
 //!
 //! The two-phase scheme refines M̂ once with Eq. 1, V'ᵢ = λ_f Vᵢ + (1 − λ_f)A
 //! (one λ_f ∈ (0, 1) per face), then with standard Doo-Sabin. The limit point
@@ -46,6 +46,7 @@
 //!
 //! [correction F1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f1
 //! [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::system::solve_limit_system;
 use crate::{

@@ -1,5 +1,5 @@
 //! Nasri 1987: Doo-Sabin interpolation by a global linear system, as
-//! described in `seeds/zheng-cai-2005-doo-sabin-interpolation.txt` §2.
+//! described in Zheng & Cai 2005 §2 (N87 and ZC05 in [references]).
 //!
 //! Finds the auxiliary mesh M⁰ (input topology) such that the centroid of the
 //! V-face of every interpolated vertex after one **standard** Doo-Sabin step
@@ -38,6 +38,7 @@
 //!   Doo-Sabin meaning and are refused.
 //!
 //! [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::system::interpolate_on_input_topology;
 use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method};

@@ -1,12 +1,11 @@
 //! Zheng & Cai 2005: Doo-Sabin interpolation that always works, by a few
 //! sweeps of a diagonally dominant iteration and a local perturbation of the
-//! first refined mesh (`seeds/zheng-cai-2005-doo-sabin-interpolation.txt`,
-//! §3-§4).
+//! first refined mesh (Zheng & Cai 2005, §3-§4, ZC05 in [references]).
 //!
 //! The output control mesh is the **perturbed first refined mesh M¹**; its
 //! plain Doo-Sabin limit surface passes through every interpolated vertex I:
 //! interior I is the centroid of its V-face in M¹ (a Doo-Sabin limit point at
-//! every level, SPEC §1), boundary I the midpoint of its two Chaikin points
+//! every level, [how the error is measured]), boundary I the midpoint of its two Chaikin points
 //! (the quadratic B-spline boundary's point). The error is round-off whatever
 //! the iteration count, even with no iteration at all: the perturbation
 //! (step 4) makes it exact, the iteration only keeps the perturbation small.
@@ -52,7 +51,7 @@
 //!   zero vector area gets only the translation I − W_c (Eq. 9's solution).
 //! - Stopping rule: the paper's (every update ≤ EPS·d, or ITE_MAX sweeps),
 //!   coded here as a small sweep over the rows of Z, since the solve crate
-//!   stops on the residual (SPEC §4). Reaching ITE_MAX is the paper's design,
+//!   stops on the residual ([the stopping rule]). Reaching ITE_MAX is the paper's design,
 //!   not an error. Any other solver of [`SolverChoice::Use`] (CG, LDLᵀ, …)
 //!   is run on the restricted system Z·M⁰ = I with its own residual rule,
 //!   tol = EPS and at most ITE_MAX iterations, keeping its last iterate; on
@@ -61,7 +60,7 @@
 //!   stop the iteration: EPS and ITE_MAX are this method's names for them;
 //!   `tol` bounds the error measured at the end (the numeric rule, [`crate`]
 //!   docs), which is round-off unless shape handles are extreme.
-//! - Open meshes (beyond the paper, which treats closed meshes, §5; SPEC §5):
+//! - Open meshes (beyond the paper, which treats closed meshes, §5):
 //!   Z's boundary rows are the quadratic B-spline point (B₋ + 6V + B₊)/8,
 //!   which is the midpoint of V's two Chaikin points in M¹; step 4 moves
 //!   both Chaikin points by ε = I − midpoint (each Chaikin point belongs to
@@ -108,6 +107,9 @@
 //!
 //! [corrections Z1-Z3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z1
 //! [correction Z5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z5
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
+//! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use crate::numeric::{max_nan, unit_direction};
 use crate::{

@@ -100,9 +100,11 @@ fn max_nearest_distance(points: &[DVec3], cloud: &[DVec3], reach: f64) -> f64 {
     worst
 }
 
-/// The independent check of SPEC §6: apply the plain Loop limit stencil to
+/// The independent check of [how the error is measured]: apply the plain Loop limit stencil to
 /// the control mesh and find, for every input vertex, the nearest limit point
 /// among all control vertices. Returns max distance / d.
+///
+/// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 fn independent_error(mesh: &Mesh, result: &Interpolant, beta: LoopBeta, interpolated: &[bool]) -> f64 {
     let control = &result.control;
     let limit = apply(&loop_subdivision::limit_stencil(control.topology(), beta).unwrap(), control.positions());

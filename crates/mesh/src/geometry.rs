@@ -26,7 +26,7 @@ impl Aabb {
         Some(Self { min, max })
     }
 
-    /// Length of the diagonal: the scale *d* every relative tolerance refers to (SPEC §1).
+    /// Length of the diagonal: the scale *d* every relative tolerance refers to ([how the error is measured]).
     ///
     /// Computed without overflow or underflow (a scaled hypot): the corners
     /// are scaled by the power of two that brings their largest |coordinate|
@@ -41,6 +41,8 @@ impl Aabb {
     /// 1.8e308 on one), which callers must refuse (or first normalise the
     /// data with [`PowerOfTwoScale`]). It is 0 exactly when `min == max`, and
     /// NaN or ∞ when a corner is not finite.
+    ///
+    /// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
     pub fn diagonal(&self) -> f64 {
         self.diagonal_magnitude().value()
     }

@@ -156,12 +156,14 @@ impl Mesh {
         Aabb::of(t.vertices().filter(|&v| !t.is_isolated(v)).map(|v| self.position(v)))
             .expect("a valid mesh has at least one face")
     }
-    /// The scale *d* of SPEC §1: length of the bounding-box diagonal, without
+    /// The scale *d* ([how the error is measured]): length of the bounding-box diagonal, without
     /// overflow or underflow ([`Aabb::diagonal`]): finite and exact to
     /// rounding for every mesh whose diagonal is at most `f64::MAX`, +∞ only
     /// beyond (coordinates spanning more than about ±0.5e308 on every axis),
     /// which callers must refuse or normalise away ([`crate::PowerOfTwoScale`]).
     /// Never 0 for a mesh [`Self::from_soup`] accepted.
+    ///
+    /// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
     pub fn bbox_diagonal(&self) -> f64 {
         self.bbox().diagonal()
     }
@@ -169,7 +171,9 @@ impl Mesh {
     fn face_points(&self, f: FaceId) -> impl ExactSizeIterator<Item = DVec3> + Clone + '_ {
         self.topology.face(f).iter().map(|&v| self.positions[v as usize])
     }
-    /// Centroid (vertex average) of face `f`: a Doo-Sabin limit point (SPEC §1).
+    /// Centroid (vertex average) of face `f`: a Doo-Sabin limit point ([how the error is measured]).
+    ///
+    /// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
     pub fn face_centroid(&self, f: FaceId) -> DVec3 {
         centroid(self.face_points(f))
     }

@@ -2,10 +2,10 @@
 //! `EDGE_AND_CORNER` boundary rules, the limit masks, and Cheng's general-mesh
 //! limit stencil.
 //!
-//! Source: `seeds/cheng-catmull-clark-progressive-interpolation.txt`,
+//! Source: Cheng et al., *Interpolating meshes of arbitrary topology* (CFL in [references]),
 //! Appendix Eq. 4 (the step) and Eq. 5 (the limit stencil), with [correction C1]
-//! (the factor 4/(n(n+5)) multiplies all three groups of Eq. 5) and C2 (the
-//! edge point of edge VEᵢ uses faces fᵢ₋₁ and fᵢ). Limit masks: SPEC §1.
+//! (the factor 4/(n(n+5)) multiplies all three groups of Eq. 5) and [correction C2] (the
+//! edge point of edge VEᵢ uses faces fᵢ₋₁ and fᵢ). Limit masks: [how the error is measured].
 //!
 //! Neighbourhood convention (as for [`VertexMask`]): vertex V of valence n has
 //! neighbours E₁…Eₙ and faces fᵢ = (V, Eᵢ, F₁ⁱ, …, F_{mᵢ−3}ⁱ, Eᵢ₊₁) of sizes
@@ -25,6 +25,9 @@
 //! B-spline of the boundary polygon.
 //!
 //! [correction C1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
+//! [correction C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c2
 
 use crate::mask::{EdgeMask, VertexKind, VertexMask};
 
@@ -105,11 +108,13 @@ pub fn vertex_point_mask(kind: VertexKind, valence: usize) -> VertexMask {
 /// Limit-point mask. Interior vertex of valence n **whose faces are all
 /// quads** (any mesh after one step): (n²V + 4ΣEᵢ + ΣFᵢ)/(n(n+5)), the face
 /// term being the corner of each quad diagonal to V. Boundary vertex:
-/// (E₋ + 4V + E₊)/6. Corner: V. (SPEC §1; Cheng Appendix, the line before
+/// (E₋ + 4V + E₊)/6. Corner: V. ([how the error is measured]; Cheng Appendix, the line before
 /// Eq. 5.)
 ///
 /// # Panics
 /// If an interior vertex has valence below 2.
+///
+/// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 pub fn limit_mask(kind: VertexKind, valence: usize) -> VertexMask {
     match kind {
         VertexKind::Interior => {

@@ -2,7 +2,7 @@
 //! the 4-point scheme (uniform and variable tension) and the Deng-Ma
 //! derivation of the 4-point scheme from Chaikin's points.
 //!
-//! Source: `seeds/deng-ma-interpolatory-doo-sabin-report.txt` §3.1 (Eq. 1,
+//! Source: Deng & Ma 2011 as reproduced in Mahalingam & Koneru's report (DM11 in [references]) §3.1 (Eq. 1,
 //! the averaging steps 2-4) and §3.1.1, with the sign of Q_{2i+1} corrected
 //! ([correction D1]). These curve rules are the 1-D pictures of the surface schemes:
 //! Chaikin ↔ Doo-Sabin, cubic B-spline ↔ Catmull-Clark, 4-point ↔ Deng-Ma
@@ -39,6 +39,7 @@
 //!
 //! [correction D1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d1
 //! [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::constants::DEFAULT_FOUR_POINT_TENSION;
 use crate::vec3::{add, lin2, scale, sub, Point3};

@@ -2,7 +2,7 @@
 //! and the tension ω_P (global or displacement-safe variable), on closed and
 //! open meshes, with infinitely sharp creases and corners.
 //!
-//! Source: `seeds/deng-ma-interpolatory-doo-sabin-report.txt` §3.3 (moved
+//! Source: Deng & Ma 2011 as reproduced in Mahalingam & Koneru's report (DM11 in [references]) §3.3 (moved
 //! vertices) and §3.4 (variable tension), with [correction D2] (Q̄ᵢ = **P** + …) and
 //! [correction D5] (the missing constant C and the cyclic index).
 //!
@@ -212,6 +212,7 @@
 //! [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
 //! [correction D5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d5
 //! [correction D1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d1
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::constants::DEFAULT_DENG_MA_OMEGA;
 use crate::doo_sabin::BOUNDARY_EDGE_POINT;

@@ -2,7 +2,7 @@
 //! `EDGE_AND_CORNER` boundary rules, and the limit masks, for Warren's or
 //! Loop's own β.
 //!
-//! Source: `seeds/deng-wang-2010-loop-interpolation.txt` Eq. 1-2 (vertex rule
+//! Source: Deng & Wang 2010 (DW10 in [references]) Eq. 1-2 (vertex rule
 //! and Warren's β, reconstructed in [corrections W1, W2]), the Remark after Eq. 2
 //! (Loop's β, [correction W3]) and Eq. 5-6 (limit point, [correction W4]). The module is
 //! called `loop_scheme` because `loop` is a Rust keyword.
@@ -20,6 +20,7 @@
 //! [corrections W1, W2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w1
 //! [correction W3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w3
 //! [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use std::f64::consts::PI;
 

@@ -7,7 +7,7 @@
 //!
 //! # Reference
 //! Zheng & Cai 2005, §3.2 and Eq. 7 (the Jacobi form of their iteration;
-//! `seeds/zheng-cai-2005-doo-sabin-interpolation.txt`); Saad, *Iterative
+//! ZC05 in [references]); Saad, *Iterative
 //! Methods for Sparse Linear Systems*, §4.1.
 //!
 //! # Algorithm
@@ -43,6 +43,7 @@
 //! ```
 //!
 //! [correction Z7]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z7
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use std::time::Instant;
 

@@ -58,7 +58,7 @@
 //! # Deviations from the textbook
 //! - **Stopping on the true max-row A-residual.** MINRES's estimate φ̄ is a
 //!   2-norm; the project's rule is max_i ‖P_i − (A·X)_i‖ ≤ tol·scale
-//!   (SPEC §4), which no scalar recurrence gives. The residual *vector* is
+//!   ([the stopping rule]), which no scalar recurrence gives. The residual *vector* is
 //!   carried instead, by the recurrence r_k = s_k²·r_{k−1} − (φ̄_{k−1}·c_k/γ_k)·y
 //!   (the MINRES residual is φ̄_k·V_{k+1}Q_kᵀe_{k+1}, and Q_kᵀe_{k+1} =
 //!   s_k·Q_{k−1}ᵀe_k − c_k·e_{k+1}): one fused stream in pass 3, no product.
@@ -97,6 +97,7 @@
 //! ```
 //!
 //! [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
+//! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use std::time::Instant;
 

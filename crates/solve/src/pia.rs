@@ -8,7 +8,8 @@
 //! # Reference
 //! F. Cheng, F. Fan, S. Lai, C. Huang, J. Wang, J. Yong, *Loop subdivision
 //! surface based progressive interpolation* / the Catmull-Clark variant
-//! (`seeds/cheng-catmull-clark-progressive-interpolation.txt`, §2, Eq. 1-3).
+//! (Cheng et al., *Interpolating meshes of arbitrary topology*, §2, Eq. 1-3;
+//! CFL in [references]).
 //! Their "M_{i+1} = M_i − L(M_i), control mesh = Σ M_i" is this iteration
 //! ([correction C6]). Fan-Cheng-Lai use the same iteration for Doo-Sabin (Eq. 3).
 //!
@@ -45,6 +46,7 @@
 //! [correction C6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c6
 //! [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
 //! [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use std::time::Instant;
 

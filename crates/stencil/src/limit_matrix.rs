@@ -1,4 +1,4 @@
-//! Limit-point matrices in the factored form **A = D·S** (SPEC §3).
+//! Limit-point matrices in the factored form **A = D·S** ([limit matrices]).
 //!
 //! Row v of A maps the control points X to the limit point that the method
 //! associates with vertex v; interpolation solves A·X = P. Every matrix is
@@ -163,6 +163,7 @@
 //! [corrections C1, C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 //! [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
 //! [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
+//! [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use crate::doo_sabin::CornerRule;
 use crate::sharpness::LevelSharpness;
@@ -1135,9 +1136,10 @@ pub fn limit_rows_loop_sharp(
     Ok(LimitRows { vertices: vertices.to_vec(), kinds, d, s: rows.build(t.vertex_count()) })
 }
 
-/// Why Cheng's A cannot be inverted safely on a mesh (SPEC §3, [correction C3]).
+/// Why Cheng's A cannot be inverted safely on a mesh ([limit matrices], [correction C3]).
 ///
 /// [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
+/// [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Degeneracy {
     /// A closed component whose vertices all have valence 3 and whose vertex

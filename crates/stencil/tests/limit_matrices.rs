@@ -1,6 +1,8 @@
-//! The limit matrices A = D·S (SPEC §3): theorems of the papers (row sums,
+//! The limit matrices A = D·S ([limit matrices]): theorems of the papers (row sums,
 //! exact symmetry, diagonal dominance, spectra) and brute force (subdivide
 //! 8 levels and watch the tracked points converge to A·P).
+//!
+//! [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 mod common;
 use common::fixture;

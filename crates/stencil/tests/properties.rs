@@ -927,8 +927,10 @@ fn doo_sabin_limit_stencil_agrees_with_brute_force() {
 
 // ---------------------------------------------------------------- isolated vertices, valence 2
 
-/// An isolated vertex (a repaired-input warning, SPEC §7) is carried through
+/// An isolated vertex (a repaired-input warning, [error behaviour]) is carried through
 /// primal splits unchanged and dropped by the dual split.
+///
+/// [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 #[test]
 fn isolated_vertices_are_kept_by_primal_schemes_and_dropped_by_doo_sabin() {
     let extra = DVec3::new(5.0, -3.0, 2.0);

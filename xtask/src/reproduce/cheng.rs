@@ -107,7 +107,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     );
     table.setup = format!(
         "A·M̂ = P with Cheng's limit matrix (appendix Eq. 5, [corrections C1/C2](../REFERENCES.md#c1)), all vertices \
-         interpolated, tolerance {TOL:e}·d on the max row residual; errors measured from the output control mesh by the Catmull-Clark \
+         interpolated, tolerance \
+         {TOL:e}·d on the max row residual; errors measured from the output control mesh by the Catmull-Clark \
          limit masks. λ_min, λ_max: Lanczos estimates on D^½SD^½ (Ritz values). PIA is the paper's iteration; \
          weighted PIA uses ω = 2/(λ_min + λ_max); B(½) is Fan-Cheng-Lai's two-phase matrix with λ = ½ on every face \
          (equal to Zheng-Cai's Z), solved through `fan_cheng_lai::interpolate`; CG runs on S·M̂ = D⁻¹P with a Jacobi \
@@ -125,7 +126,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
          {DEFAULT_OFFSET} edge lengths; `shapes::pillow` is two quads glued (every vertex of valence 2). A lone \
          valence-2 vertex leaves A positive definite (λ_min > 0; LDLᵀ finds no negative pivot); each pair, and \
          the pillow, gives A one negative eigenvalue ([correction C3](../REFERENCES.md#c3)), where PIA diverges and CG \
-         breaks down (`cheng` refuses them: n/a) and MINRES, GMRES and LDLᵀ are compared. LDLᵀ is skipped above {LDL_MAX_LABEL} vertices. The paper gives no timing table."
+         breaks down (`cheng` \
+         refuses them: n/a) and MINRES, GMRES and LDLᵀ are compared. LDLᵀ is skipped above {LDL_MAX_LABEL} vertices. The paper gives no timing table."
     );
     let mut models = Vec::new();
     let files: &[&str] = if ctx.quick {

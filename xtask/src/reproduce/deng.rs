@@ -46,7 +46,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         the output by the plain rules (Loop limit masks; for Deng-Ma the input vertices are vertices of the \
         refined surface). Sphere deviation: max | |p| − 1 | over the level-3 limit surface of \
         `canonical/icosphere_2.obj` (points on the unit sphere). Bending energy: length-weighted mean squared \
-        dihedral angle of the level-3 surface (lower = fairer). The seed papers give no tables."
+        dihedral angle of the level-3 surface (lower = fairer). The papers give no tables."
         .into();
     let sphere = ctx.fixture("canonical/icosphere_2.obj")?;
     let models = [("canonical/icosphere_2.obj", sphere.clone()), ("tri/eight.off", ctx.fixture("tri/eight.off")?)];
