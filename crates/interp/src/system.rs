@@ -325,7 +325,7 @@ mod tests {
         )
         .err()
         .expect("CG refuses the nonsymmetric block");
-        assert!(err.to_string().contains("gmres"), "{err}");
+        assert!(err.to_string().contains("Solver::Gmres"), "{err}");
     }
 
     #[test]
