@@ -10,8 +10,8 @@
 //! 1. Build C = D·S (D = diag(1/n), S = Σ_faces Circ(α)).
 //! 2. Solve the system restricted to the interpolated vertices: by default
 //!    conjugate gradients (spec(C) ⊂ [¼, 1] on closed manifold meshes,
-//!    [correction Z8], so κ ≤ 4); `--solver ldl` is the paper's direct baseline and
-//!    `--solver dense` the 2005 Gaussian elimination.
+//!    [correction Z8], so κ ≤ 4); [`Solver::Ldl`] is the paper's direct baseline and
+//!    [`Solver::Dense`] the 2005 Gaussian elimination.
 //!
 //! # Deviations from the paper
 //! - The paper worries that C may be singular; it is not on closed manifold
