@@ -20,7 +20,9 @@
 //! makes it indefinite: x = e_{v₁} − e_{v₂} zeroes every face and the middle
 //! edge term, leaving ½ + ½ from the outer edges against −½ − ½ from the two
 //! vertex terms, i.e. 0, and moving x_a, x_b off zero makes it negative (one
-//! negative eigenvalue per chain, as the pillow, ERRATA C3).
+//! negative eigenvalue per chain, as the pillow, [correction C3]).
+//!
+//! [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 
 use anyhow::{bail, Context, Result};
 use std::path::PathBuf;
@@ -221,7 +223,7 @@ mod tests {
             assert_eq!(negative_eigenvalues(&split), 3, "chains of {chain}");
         }
         let pillow = shapes::pillow();
-        assert_eq!(negative_eigenvalues(&pillow), 1, "the pillow: λ = −1/7 (ERRATA C3)");
+        assert_eq!(negative_eigenvalues(&pillow), 1, "the pillow: λ = −1/7 (correction C3, docs/REFERENCES.md)");
     }
 
     #[test]

@@ -1,6 +1,9 @@
-//! Failures with their exit codes (SPEC §6, README "Exit codes and guarantees").
+//! Failures with their exit codes ([error behaviour], README "Exit codes and guarantees").
+//!
+//! [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 
 use std::process::ExitCode;
+use subdiv_solve::{Solver, SweepOrder};
 
 /// Exit code of a command killed by a signal it handled (128 + the signal),
 /// after its temporary files were removed.
@@ -39,7 +42,7 @@ impl Failure {
     pub fn report(self) -> ExitCode {
         let code = self.code();
         let (Failure::BadInput(e) | Failure::NotConverged(e) | Failure::WriteFailed(e) | Failure::Other(e)) = self;
-        eprintln!("subdiv: error: {}", one_line(&e));
+        eprintln!("subdiv: error: {}", in_cli_terms(&one_line(&e)));
         ExitCode::from(code)
     }
 }
@@ -59,6 +62,30 @@ pub fn one_line(error: &anyhow::Error) -> String {
         }
     }
     line.replace(['\n', '\r'], " ")
+}
+
+/// The library's remedies in the command line's terms: the library names a
+/// solver by its type (`Solver::Minres`), the command line by its flag
+/// (`--solver minres`, the value [`Solver::name`] parses from). Applied to
+/// every error line the CLI prints.
+pub fn in_cli_terms(message: &str) -> String {
+    let solvers = [
+        ("Solver::WeightedPia", Solver::WeightedPia),
+        ("Solver::GaussSeidel", Solver::GaussSeidel(SweepOrder::Storage)),
+        ("Solver::Chebyshev", Solver::Chebyshev),
+        ("Solver::Jacobi", Solver::Jacobi),
+        ("Solver::Minres", Solver::Minres),
+        ("Solver::Gmres", Solver::Gmres),
+        ("Solver::Dense", Solver::Dense),
+        ("Solver::Pia", Solver::Pia),
+        ("Solver::Ldl", Solver::Ldl),
+        ("Solver::Cg", Solver::Cg { jacobi: false }),
+    ];
+    let mut line = message.replace("the automatic solver choice", "the automatic solver choice (--solver auto)");
+    for (library, solver) in solvers {
+        line = line.replace(library, &format!("--solver {}", solver.name()));
+    }
+    line
 }
 
 /// Marks an error as bad input (exit 2).
@@ -84,5 +111,33 @@ mod tests {
         let chained = anyhow::Error::msg("inner cause").context("outer");
         assert_eq!(one_line(&chained), "outer: inner cause");
         assert_eq!(one_line(&anyhow::Error::msg("two\nlines")), "two lines");
+    }
+
+    #[test]
+    fn library_remedies_become_flags() {
+        let indefinite = subdiv_solve::SolveError::Indefinite { solver: "cg", detail: "p·Ap = -1".into() };
+        let line = in_cli_terms(&indefinite.to_string());
+        assert_eq!(
+            line,
+            "cg: the matrix is indefinite: p·Ap = -1; use --solver minres, --solver ldl or --solver dense"
+        );
+        let not_symmetric = subdiv_solve::SolveError::NotSymmetric { solver: "cg", detail: "s_01 ≠ s_10".into() };
+        let line = in_cli_terms(&not_symmetric.to_string());
+        assert!(line
+            .ends_with("use --solver gmres, --solver pia, --solver jacobi, --solver gauss-seidel or --solver dense"));
+        assert!(!line.contains("Solver::"), "{line}");
+        let cheng = "the automatic solver choice, which takes MINRES here (Solver::Minres solves symmetric indefinite \
+                     systems), a direct solver (Solver::Ldl or Solver::Dense)";
+        assert_eq!(
+            in_cli_terms(cheng),
+            "the automatic solver choice (--solver auto), which takes MINRES here (--solver minres solves symmetric \
+             indefinite systems), a direct solver (--solver ldl or --solver dense)"
+        );
+        // Every solver name the translation writes is one `--solver` parses.
+        for name in
+            ["weighted-pia", "gauss-seidel", "chebyshev", "jacobi", "minres", "gmres", "dense", "pia", "ldl", "cg"]
+        {
+            assert!(name.parse::<Solver>().is_ok(), "{name}");
+        }
     }
 }

@@ -21,7 +21,9 @@ pub struct InfoArgs {
     strict: bool,
 }
 
-/// The summary printed by `info` (SPEC §6 keys, plus a few more).
+/// The summary printed by `info` (the keys of [report JSON], plus a few more).
+///
+/// [report JSON]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-report-json
 #[derive(Serialize, Debug)]
 struct Summary {
     file: String,

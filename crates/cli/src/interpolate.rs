@@ -1,4 +1,6 @@
-//! `subdiv interpolate MESH --method M [...]` (SPEC §6).
+//! `subdiv interpolate MESH --method M [...]` (its report: [report JSON]).
+//!
+//! [report JSON]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-report-json
 
 use crate::budget::{Budget, MemoryArgs};
 use crate::failure::{bad_input, Failure};
@@ -91,7 +93,7 @@ pub struct InterpolateArgs {
     /// Levels for --surface (and deng-ma's -o).
     #[arg(long, default_value_t = 3)]
     levels: usize,
-    /// Write the JSON report (SPEC §6).
+    /// Write the JSON report (keys: docs/ARCHITECTURE.md, "Contract: report JSON").
     #[arg(long)]
     report: Option<PathBuf>,
     /// Memory budget of --surface and deng-ma's -o.
@@ -266,7 +268,8 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     };
 
     // The error, measured on the control positions exactly as they will be
-    // written (f32 formats round them), by the plain scheme's rules (SPEC §1, §6).
+    // written (f32 formats round them), by the plain scheme's rules (docs/ARCHITECTURE.md,
+    // "Contract: how the error is measured").
     let mut measured = result.clone();
     if let (Some(path), Some(format), false) = (&args.output, control_format, is_deng_ma) {
         let written = crate::outputs::as_written("--output", path, format, result.control.positions())?;

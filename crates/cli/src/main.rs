@@ -1,11 +1,13 @@
 //! `subdiv`: glue between the command line and the subdiv library crates.
 //!
 //! `main` turns every failure into one line on stderr and an exit code
-//! (SPEC §6, README "Exit codes and guarantees"): 0 success, 2 bad input or
+//! ([error behaviour], README "Exit codes and guarantees"): 0 success, 2 bad input or
 //! usage, 3 no acceptable result (tolerance not reached, result not finite),
 //! 4 an output could not be written, 1 anything else; a handled signal
 //! removes the temporaries and exits with 128 + its number. Nothing here
 //! panics on user data.
+//!
+//! [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 
 mod budget;
 mod failure;

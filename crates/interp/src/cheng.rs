@@ -1,13 +1,13 @@
 //! Cheng et al.: interpolation by Catmull-Clark surfaces through progressive
-//! iteration (`seeds/cheng-catmull-clark-progressive-interpolation.txt`).
+//! iteration (Cheng et al., *Interpolating meshes of arbitrary topology*, CFL in [references]).
 //!
 //! Finds M̂ with A·M̂ = P, where A maps control points to Catmull-Clark limit
-//! points (appendix Eq. 5, corrected by ERRATA C1/C2; A = D·S with
+//! points (appendix Eq. 5, corrected by [corrections C1/C2]; A = D·S with
 //! D = diag(4/(n(n+5))) and S symmetric, `subdiv_stencil::limit_matrix_catmull_clark`).
 //!
 //! # Algorithm
 //! 1. Build A = D·S from the topology.
-//! 2. Check the two structural degeneracies (ERRATA C3):
+//! 2. Check the two structural degeneracies ([correction C3]):
 //!    - an interior vertex of valence 2 voids the appendix's proof that
 //!      spec(A) ⊂ (0, 1] (the term n(n − 3)/4·x² of the quadratic form is
 //!      negative for n = 2), and A may be indefinite. Measured (dense
@@ -24,13 +24,13 @@
 //!      A's range end with the residual reached.
 //! 3. Solve A·M̂ = P: the paper's progressive iteration M ← M + (P − A·M)
 //!    (`Solver::Pia`, Eq. 1-3; its M_{i+1} = M_i − L(M_i) form is the same
-//!    iteration, ERRATA C6) or, by default, conjugate gradients on
+//!    iteration, [correction C6]) or, by default, conjugate gradients on
 //!    S·M̂ = D⁻¹P (MINRES when step 2 found a valence-2 vertex; the boundary
 //!    and interior blocks of an open mesh each get their own choice,
 //!    `system.rs`).
 //!
 //! # Deviations from the paper
-//! - Stopping rule: max over vertices of |P − A·M| / d ≤ tol (SPEC §4).
+//! - Stopping rule: max over vertices of |P − A·M| / d ≤ tol ([the stopping rule]).
 //! - Open meshes (beyond the paper): boundary vertices follow the crease
 //!   rule, limit (p₋ + 4p + p₊)/6, corners stay; the boundary block is solved
 //!   first, then the interior (`system.rs`).
@@ -53,6 +53,12 @@
 //!   hundreds. With valence-2 vertices MINRES, whose matvecs stay within
 //!   2× CG's on the same mesh without them (`subdiv-solve`'s `indefinite`
 //!   bench: 19 against 12 at 524k vertices).
+//!
+//! [corrections C1/C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
+//! [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
+//! [correction C6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c6
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
+//! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use crate::system::{interpolate_on_input_topology, AutoSolver};
 use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method, SolverChoice};
@@ -83,12 +89,14 @@ pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, Inte
     })
 }
 
-/// The structural degeneracies of Cheng's A ([`Degeneracy`], ERRATA C3) with
+/// The structural degeneracies of Cheng's A ([`Degeneracy`], [correction C3]) with
 /// the mesh's tags: an interior valence-2 vertex whose row is the smooth
 /// quadratic form (on a crease its row is the curve's (1, 4, 1)/6, which is
 /// harmless), and a checkerboard kernel that A still annihilates
 /// ([`crate::preconditions::cheng_kernel`]: gone with a crease vertex or a
 /// corner on the component, kept with a dart).
+///
+/// [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 fn degeneracy(mesh: &Mesh, a: &LimitMatrix) -> Option<Degeneracy> {
     let t = mesh.topology();
     let smooth_valence_two = t.vertices().find(|&v| {
@@ -120,7 +128,8 @@ pub(crate) fn interpolate_prepared(
                     method: "cheng",
                     reason: format!(
                         "vertex {vertex} has valence 2, which can make the Catmull-Clark limit matrix indefinite \
-                         (two adjacent valence-2 vertices do; ERRATA C3), and {solver} needs it positive definite"
+                         (two adjacent valence-2 vertices do; correction C3 in subdiv's docs/REFERENCES.md), and \
+                         {solver} needs it positive definite"
                     ),
                     suggestion: format!(
                         "the automatic solver choice, which takes MINRES here (Solver::Minres solves symmetric \

@@ -1,5 +1,5 @@
 //! Deng & Ma 2011: an interpolatory subdivision scheme derived from
-//! Doo-Sabin (report §3.3-3.4, with ERRATA D2, D4, D5), on closed and open
+//! Doo-Sabin (report §3.3-3.4, with [corrections D2, D4, D5]), on closed and open
 //! meshes.
 //!
 //! Nothing is solved: the scheme itself keeps every old vertex, so its limit
@@ -10,14 +10,14 @@
 //!
 //! # Algorithm (one step, §3.3)
 //! 1. At every old vertex P: its Doo-Sabin images Qᵢ (one per face), their
-//!    centroid G, and the moved images Q̄ᵢ = P + ω_P(Qᵢ − G) (ERRATA D2: the
+//!    centroid G, and the moved images Q̄ᵢ = P + ω_P(Qᵢ − G) ([correction D2]: the
 //!    printed "Pᵢ +" is P). Their centroid is P.
 //! 2. New face point: mean of the moved images of the face's corners; new
 //!    edge point: mean of the four moved images of the edge's E-face; old
 //!    vertices stay. Connectivity as Catmull-Clark.
 //! 3. Tension: one global ω ∈ (0, 1] (ω = 1 is the surface analogue of the
-//!    classical 4-point scheme, ERRATA D4) or the displacement-safe variable
-//!    ω_P of §3.4 with its shape parameter λ ∈ (0, 1] (ERRATA D5).
+//!    classical 4-point scheme, [correction D4]) or the displacement-safe variable
+//!    ω_P of §3.4 with its shape parameter λ ∈ (0, 1] ([correction D5]).
 //!
 //! # Deviations from the report
 //! - **Open meshes** (the report has closed meshes only; our construction,
@@ -57,6 +57,11 @@
 //! assert_eq!(&surface.positions()[..20], grid.positions());
 //! assert!(surface.positions().iter().all(|p| p.z == 0.0));
 //! ```
+//!
+//! [corrections D2, D4, D5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d2
+//! [correction D2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d2
+//! [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
+//! [correction D5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d5
 
 use crate::{ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter};
 use subdiv_mesh::Mesh;

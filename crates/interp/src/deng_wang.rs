@@ -1,27 +1,27 @@
 //! Deng & Wang 2010: explicit, local interpolation by Loop surfaces
-//! (`seeds/deng-wang-2010-loop-interpolation.txt`, Eq. 1-9; the text is
-//! garbled and cut off after Eq. 9, reconstructed in ERRATA W1-W9).
+//! (Deng & Wang 2010, Eq. 1-9, DW10 in [references]; the text is
+//! garbled and cut off after Eq. 9, reconstructed in [corrections W1-W9]).
 //!
-//! Only the **first** Loop step is modified (Eq. 7: 1Ḡ 1T 2G 2T …, ERRATA
-//! W9): its edge points are chosen freely (one degree of freedom per edge,
-//! ERRATA W8) and its vertex points are then solved so that the plain Loop
+//! Only the **first** Loop step is modified (Eq. 7: 1Ḡ 1T 2G 2T …,
+//! [correction W9]): its edge points are chosen freely (one degree of freedom per edge,
+//! [correction W8]) and its vertex points are then solved so that the plain Loop
 //! limit point of every old vertex of M¹ is the data point (Eq. 5). Nothing
 //! global is solved: every new point is an explicit formula over a 1-ring,
 //! so moving one data point changes the surface only near it.
 //!
 //! # Algorithm
-//! 1. Normals n_i (Eq. 8, ERRATA W5): the angle-weighted unit normal
+//! 1. Normals n_i (Eq. 8, [correction W5]): the angle-weighted unit normal
 //!    Σⱼ θⱼ nⱼ / ‖Σⱼ θⱼ nⱼ‖ ([`Mesh::vertex_normals`]), or the user's normal
 //!    where [`DengWangOptions::normals`] gives one.
-//! 2. Edge points (Eq. 9, ERRATA W6), for an interior edge (i, j) with
+//! 2. Edge points (Eq. 9, [correction W6]), for an interior edge (i, j) with
 //!    midpoint m = (p_i + p_j)/2:
 //!    p_e = m + μ(d_i n_i + d_j n_j), d_i = (p_i − m)·n_i, d_j = (p_j − m)·n_j.
-//! 3. Vertex points (ERRATA W7): in M¹ the neighbours of old vertex i are
+//! 3. Vertex points ([correction W7]): in M¹ the neighbours of old vertex i are
 //!    exactly the edge points of its edges, so its plain Loop limit mask
 //!    w·p_i¹ + Σ wⱼ p_{e(ij)} can be solved for the centre:
 //!    p_i¹ = (p_i⁰ − Σⱼ wⱼ p_{e(ij)}) / w. Interior vertex of valence k:
 //!    p_i¹ = (p_i⁰ − γ Σⱼ p_{e(ij)}) / (1 − kγ), γ = 1/(k + 3/(8β)) (Eq. 5-6,
-//!    ERRATA W4).
+//!    [correction W4]).
 //! 4. Output M¹: the [`triangle_split`] connectivity of the input (old
 //!    vertices keep their indices, then one edge point per edge in edge
 //!    order), scheme Loop(β), with the input's tags decayed by one level and
@@ -35,7 +35,7 @@
 //! on a triangle mesh M⁰ is the input itself.
 //!
 //! # Deviations from the paper and choices it leaves open
-//! - μ: the admissible range is cut off in the seed. ERRATA W6 proposes
+//! - μ: the admissible range is cut off in the text. [Correction W6] proposes
 //!   μ = ¼, which puts the edge points of points sampled from a sphere (with
 //!   radial normals) **on** the sphere to O(h⁴). That is not what makes the
 //!   *limit surface* close to the sphere: Loop's limit of points on a
@@ -216,6 +216,14 @@
 //! ```
 //!
 //! [`triangle_split`]: subdiv_mesh::refine::triangle_split
+//! [corrections W1-W9]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w1
+//! [correction W9]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w9
+//! [correction W8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w8
+//! [correction W5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w5
+//! [correction W6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w6
+//! [correction W7]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w7
+//! [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::numeric::unit_direction;
 use crate::report::RowCounts;
@@ -232,8 +240,10 @@ use subdiv_stencil::{
 };
 
 /// Default edge parameter μ of Eq. 9: ⅜, the value at which the first step
-/// cancels Loop's shrinkage on a regular lattice (module docs; ERRATA W6's
+/// cancels Loop's shrinkage on a regular lattice (module docs; [correction W6]'s
 /// ¼ puts the edge points, not the limit surface, on a sphere).
+///
+/// [correction W6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w6
 pub const DEFAULT_MU: f64 = 0.375;
 
 /// Boundary and crease edges use BOUNDARY_MU_SCALE·μ: the cubic B-spline
@@ -343,7 +353,8 @@ fn crease_tangent(p: &[DVec3], v: VertexId, (a, b): (VertexId, VertexId)) -> DVe
 
 /// The normals of step 1: Eq. 8, replaced by the user's where given.
 fn normals(mesh: &Mesh, user: Option<&[Option<DVec3>]>) -> Result<Vec<DVec3>, InterpError> {
-    let mut n = mesh.vertex_normals(); // Eq. (8): nᵢ = Σⱼ θⱼ nⱼ / ‖Σⱼ θⱼ nⱼ‖ (ERRATA W5)
+    // Eq. (8), correction W5 (docs/REFERENCES.md): nᵢ = Σⱼ θⱼ nⱼ / ‖Σⱼ θⱼ nⱼ‖.
+    let mut n = mesh.vertex_normals();
     let Some(user) = user else { return Ok(n) };
     if user.len() != n.len() {
         return Err(InterpError::invalid(
@@ -549,8 +560,10 @@ fn touched_vertices(t: &Topology, sharp: &LevelSharpness) -> Vec<bool> {
 
 /// M¹'s vertex points (the first V points of M¹), given M¹'s edge points:
 /// solved so that the Loop limit of each interpolated vertex is its data
-/// point (ERRATA W7, with M¹'s tags: module docs), the plain tagged Loop
+/// point ([correction W7], with M¹'s tags: module docs), the plain tagged Loop
 /// vertex point elsewhere; with the kinds of the rows used.
+///
+/// [correction W7]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w7
 fn vertex_points(
     level: &Level0<'_>,
     p: &[DVec3],

@@ -98,9 +98,11 @@ pub enum InterpError {
         method: &'static str,
     },
     /// The error measured from the result ([`crate::Interpolant::error`],
-    /// SPEC §1) exceeds the tolerance or is NaN, although the method itself
+    /// [how the error is measured]) exceeds the tolerance or is NaN, although the method itself
     /// finished (round-off of extreme parameters, exact-by-construction
     /// methods included). Exit 3 on the command line.
+    ///
+    /// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
     #[error("{method}: {}", tolerance_message(*max_rel, *tol))]
     ToleranceNotMet {
         /// Method id.

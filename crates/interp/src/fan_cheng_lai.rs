@@ -1,18 +1,18 @@
 //! Fan, Cheng & Lai: progressive interpolation with a two-phase Doo-Sabin
 //! scheme and one shape parameter per face
-//! (`seeds/fan-cheng-lai-two-phase-doo-sabin.txt`).
+//! (Fan, Cheng & Lai, *Subdivision based interpolation with shape control*, FCL in [references]).
 //!
 //! The two-phase scheme refines M̂ once with Eq. 1, V'ᵢ = λ_f Vᵢ + (1 − λ_f)A
 //! (one λ_f ∈ (0, 1) per face), then with standard Doo-Sabin. The limit point
-//! of vertex V is the centroid of its V-face after phase one (Eq. 2, ERRATA
-//! F1), so the limit points are B(λ)·M̂ with B = Σ·S (Eq. 5, Prop. 1;
+//! of vertex V is the centroid of its V-face after phase one (Eq. 2,
+//! [correction F1]), so the limit points are B(λ)·M̂ with B = Σ·S (Eq. 5, Prop. 1;
 //! `subdiv_stencil::limit_matrix_two_phase`).
 //!
 //! # Algorithm
 //! 1. Build B(λ) = Σ·S.
 //! 2. Progressive iteration (§3, Eq. 3-4): M^{k+1} = M^k + (P − B·M^k) from
 //!    M⁰ = P until max |P − B·M^k| / d ≤ tol. It converges for every λ ∈ (0, 1)
-//!    because spec(B) ⊂ [min λ, 1] (Prop. 2, sharpened in ERRATA F6), so it
+//!    because spec(B) ⊂ [min λ, 1] (Prop. 2, sharpened in [correction F6]), so it
 //!    needs at most log(tol/e₀)/log(1 − λ_min) iterations. Accelerated solvers
 //!    (CG, Chebyshev, …) on request.
 //! 3. Output phase-one(M̂, λ): the first refined mesh M¹, a plain Doo-Sabin
@@ -43,6 +43,10 @@
 //!   the input's texture coordinates refined by one Doo-Sabin step
 //!   (`subdiv_stencil::fvar`; refused — with a warning — for UVs with seams or
 //!   with tags). Semi-sharp values are refused.
+//!
+//! [correction F1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f1
+//! [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::system::solve_limit_system;
 use crate::{

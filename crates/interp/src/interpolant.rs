@@ -1,4 +1,6 @@
-//! What every method returns, and the independent error measure (SPEC §1).
+//! What every method returns, and the independent error measure ([how the error is measured]).
+//!
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 
 use crate::numeric::max_nan;
 use crate::{InterpError, Method, SurfaceOptions};
@@ -131,10 +133,12 @@ pub struct SolveSummary {
     pub negative_pivots: Option<usize>,
 }
 
-/// Interpolation error relative to d (SPEC §1). A NaN distance makes the
+/// Interpolation error relative to d ([how the error is measured]). A NaN distance makes the
 /// maxima and means NaN: a point that is not a number is never skipped.
 ///
 /// `#[non_exhaustive]`: read its fields; [`Interpolant::error`] builds it.
+///
+/// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[non_exhaustive]
 pub struct ErrorStats {
@@ -194,9 +198,11 @@ impl Interpolant {
     }
 
     /// The limit point associated with every input vertex, computed from the
-    /// control mesh by the plain scheme's rules (SPEC §1), on the control
+    /// control mesh by the plain scheme's rules ([how the error is measured]), on the control
     /// positions scaled by a power of two (exact) so that no sum overflows.
     /// NaN for a vertex without a limit point (isolated).
+    ///
+    /// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
     pub fn limit_points(&self, input_vertices: usize) -> Vec<DVec3> {
         let scale = PowerOfTwoScale::normalizing(self.control.positions().iter().copied());
         let mut limits = self.scaled_limit_points(scale, input_vertices);

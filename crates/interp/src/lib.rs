@@ -1,4 +1,4 @@
-//! The interpolating subdivision methods of the seed papers.
+//! The interpolating subdivision methods of the papers in [docs/REFERENCES.md].
 //!
 //! Each method takes a mesh whose vertices are the data P, the set of
 //! vertices to interpolate (default all) and its options, and returns an
@@ -49,6 +49,8 @@
 //! let err = result.error(torus.positions(), &result.interpolated, torus.bbox_diagonal());
 //! assert!(err.max_rel <= 1e-6);
 //! ```
+//!
+//! [docs/REFERENCES.md]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 #![warn(missing_docs)]
 
 pub mod cheng;

@@ -1,5 +1,5 @@
 //! Nasri 1987: Doo-Sabin interpolation by a global linear system, as
-//! described in `seeds/zheng-cai-2005-doo-sabin-interpolation.txt` §2.
+//! described in Zheng & Cai 2005 §2 (N87 and ZC05 in [references]).
 //!
 //! Finds the auxiliary mesh M⁰ (input topology) such that the centroid of the
 //! V-face of every interpolated vertex after one **standard** Doo-Sabin step
@@ -10,12 +10,12 @@
 //! 1. Build C = D·S (D = diag(1/n), S = Σ_faces Circ(α)).
 //! 2. Solve the system restricted to the interpolated vertices: by default
 //!    conjugate gradients (spec(C) ⊂ [¼, 1] on closed manifold meshes,
-//!    ERRATA Z8, so κ ≤ 4); `--solver ldl` is the paper's direct baseline and
-//!    `--solver dense` the 2005 Gaussian elimination.
+//!    [correction Z8], so κ ≤ 4); [`Solver::Ldl`] is the paper's direct baseline and
+//!    [`Solver::Dense`] the 2005 Gaussian elimination.
 //!
 //! # Deviations from the paper
 //! - The paper worries that C may be singular; it is not on closed manifold
-//!   meshes (ERRATA Z8), which the tests check on every fixture.
+//!   meshes ([correction Z8]), which the tests check on every fixture.
 //! - Open meshes (beyond the paper): boundary vertices' limit points lie on
 //!   the quadratic B-spline boundary, (B₋ + 6V + B₊)/8; that block is solved first.
 //! - Interior vertices of valence 2 (beyond the paper): their V-face would
@@ -36,6 +36,9 @@
 //!   vertices add general rows: GMRES then). The control mesh M⁰ keeps the
 //!   input's tags and texture coordinates. Semi-sharp values have no
 //!   Doo-Sabin meaning and are refused.
+//!
+//! [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::system::interpolate_on_input_topology;
 use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method};

@@ -1,7 +1,7 @@
 //! The numeric rule every method goes through (issue #14): a result is
 //! returned only if every coordinate of it is a finite f64 and its error,
 //! measured independently from the control mesh ([`Interpolant::error`],
-//! SPEC §1), is within the tolerance; NaN never disappears from a maximum.
+//! [how the error is measured]), is within the tolerance; NaN never disappears from a maximum.
 //!
 //! Every method's `interpolate` is [`run`] around its own computation:
 //! 1. **Check the scale.** The data are scaled by the power of two that
@@ -13,7 +13,7 @@
 //! 2. **The interpolated set.** The subset (default: every vertex) without
 //!    the isolated vertices, which lie on no face and so have no limit
 //!    point: they are left out with a warning that says how many (the
-//!    documented repair of SPEC §7), for every method alike.
+//!    documented repair of [error behaviour]), for every method alike.
 //!    [`Interpolant::interpolated`] says which vertices were interpolated.
 //! 3. **Compute on the scaled data.** The method sees the scaled mesh. The
 //!    scale is exact, so on ordinary meshes every number is the scaled
@@ -30,6 +30,9 @@
 //!    [`InterpError::ToleranceNotMet`] (exit 3), also for the methods that
 //!    are exact by construction: round-off of extreme parameters (shape
 //!    handles of 1e12, μ = 1e300) is caught here.
+//!
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
+//! [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 
 use crate::{CommonOptions, InterpError, Interpolant, Method, Parameter};
 use glam::DVec3;

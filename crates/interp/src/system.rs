@@ -18,13 +18,15 @@
 //! | restricted block | solver |
 //! |---|---|
 //! | S not symmetric ([`FactoredMatrix::symmetric`] false) | GMRES (`Solver::Gmres`) |
-//! | S symmetric, the method flags possible indefiniteness (Cheng with interior valence-2 vertices, ERRATA C3) | MINRES (`Solver::Minres`) |
+//! | S symmetric, the method flags possible indefiniteness (Cheng with interior valence-2 vertices, [correction C3]) | MINRES (`Solver::Minres`) |
 //! | S symmetric otherwise (positive definite by the method's theory) | the method's default (CG) |
 //!
 //! An explicitly requested solver is used as asked; one that needs symmetry
 //! then reports `NotSymmetric` with the remedy (`subdiv_solve::SolveError`).
 //! The summary names the solvers actually used, stage by stage
 //! ("cg-jacobi+gmres" when the boundary block took CG and the interior GMRES).
+//!
+//! [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 
 use crate::numeric::max_nan;
 use crate::{InterpError, SolveSummary, SolverChoice};
@@ -322,7 +324,7 @@ mod tests {
         )
         .err()
         .expect("CG refuses the nonsymmetric block");
-        assert!(err.to_string().contains("gmres"), "{err}");
+        assert!(err.to_string().contains("Solver::Gmres"), "{err}");
     }
 
     #[test]

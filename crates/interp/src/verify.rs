@@ -1,9 +1,11 @@
-//! Checking an interpolant from its control mesh alone (SPEC §6: "anyone can
-//! check it independently"): the candidate limit points a scheme exposes on
+//! Checking an interpolant from its control mesh alone ("anyone can check it
+//! independently", [how the error is measured]): the candidate limit points a scheme exposes on
 //! a control mesh with its tags (as a file's `t` lines give them), and the
 //! distance from every data point to the nearest of them. Nothing here knows
 //! which method produced the mesh or which limit point belongs to which
 //! vertex.
+//!
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 
 use crate::numeric::max_nan;
 use glam::DVec3;

@@ -1,12 +1,11 @@
 //! Zheng & Cai 2005: Doo-Sabin interpolation that always works, by a few
 //! sweeps of a diagonally dominant iteration and a local perturbation of the
-//! first refined mesh (`seeds/zheng-cai-2005-doo-sabin-interpolation.txt`,
-//! §3-§4).
+//! first refined mesh (Zheng & Cai 2005, §3-§4, ZC05 in [references]).
 //!
 //! The output control mesh is the **perturbed first refined mesh M¹**; its
 //! plain Doo-Sabin limit surface passes through every interpolated vertex I:
 //! interior I is the centroid of its V-face in M¹ (a Doo-Sabin limit point at
-//! every level, SPEC §1), boundary I the midpoint of its two Chaikin points
+//! every level, [how the error is measured]), boundary I the midpoint of its two Chaikin points
 //! (the quadratic B-spline boundary's point). The error is round-off whatever
 //! the iteration count, even with no iteration at all: the perturbation
 //! (step 4) makes it exact, the iteration only keeps the perturbation small.
@@ -44,15 +43,15 @@
 //!    the surface interpolates either way.
 //!
 //! # Deviations from the paper
-//! - Eq. 17 is used in its final form with D ≡ I (ERRATA Z1-Z3: its second
+//! - Eq. 17 is used in its final form with D ≡ I ([corrections Z1-Z3]: its second
 //!   line has a sign error, D is never defined, and §3.4 prints V for I),
 //!   rearranged as W_k + ε_k = I + P_n(W_k − W_c) (P_n the projection onto
 //!   the plane ⟂ n) so that round-off stays relative to the face size.
-//!   Eq. 10 is Newell's normal with cyclic indices (ERRATA Z5); a V-face with
+//!   Eq. 10 is Newell's normal with cyclic indices ([correction Z5]); a V-face with
 //!   zero vector area gets only the translation I − W_c (Eq. 9's solution).
 //! - Stopping rule: the paper's (every update ≤ EPS·d, or ITE_MAX sweeps),
 //!   coded here as a small sweep over the rows of Z, since the solve crate
-//!   stops on the residual (SPEC §4). Reaching ITE_MAX is the paper's design,
+//!   stops on the residual ([the stopping rule]). Reaching ITE_MAX is the paper's design,
 //!   not an error. Any other solver of [`SolverChoice::Use`] (CG, LDLᵀ, …)
 //!   is run on the restricted system Z·M⁰ = I with its own residual rule,
 //!   tol = EPS and at most ITE_MAX iterations, keeping its last iterate; on
@@ -61,7 +60,7 @@
 //!   stop the iteration: EPS and ITE_MAX are this method's names for them;
 //!   `tol` bounds the error measured at the end (the numeric rule, [`crate`]
 //!   docs), which is round-off unless shape handles are extreme.
-//! - Open meshes (beyond the paper, which treats closed meshes, §5; SPEC §5):
+//! - Open meshes (beyond the paper, which treats closed meshes, §5):
 //!   Z's boundary rows are the quadratic B-spline point (B₋ + 6V + B₊)/8,
 //!   which is the midpoint of V's two Chaikin points in M¹; step 4 moves
 //!   both Chaikin points by ε = I − midpoint (each Chaikin point belongs to
@@ -105,6 +104,12 @@
 //! // The control mesh is the first refined mesh: one vertex per corner.
 //! assert_eq!(result.control.topology().vertex_count(), mesh.topology().half_edge_count());
 //! ```
+//!
+//! [corrections Z1-Z3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z1
+//! [correction Z5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z5
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
+//! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use crate::numeric::{max_nan, unit_direction};
 use crate::{
@@ -554,7 +559,7 @@ pub(crate) fn interpolate_prepared(
         ring.extend(t.vertex_fan(v).iter().map(|&h| centroids[t.he_face(h).index()]));
         let W_c = EQ4_LAMBDA * V[i] + (1.0 - EQ4_LAMBDA) * (ring.iter().sum::<DVec3>() / ring.len() as f64);
         let given = opts.normals.as_ref().and_then(|n| n[i]);
-        // §4.1: the required normal replaces Eq. (10)'s Newell normal (cyclic, ERRATA Z5).
+        // §4.1: the required normal replaces Eq. (10)'s Newell normal (cyclic, correction Z5, docs/REFERENCES.md).
         // Normalised by a power of two first: a given normal of 1e-200 keeps its direction.
         let n = unit_direction(given.unwrap_or_else(|| newell_normal(ring.iter().copied()))).unwrap_or(DVec3::ZERO);
         frame[i] = Some((W_c, n));
@@ -563,7 +568,7 @@ pub(crate) fn interpolate_prepared(
     for (k, &v) in t.faces().indices().iter().enumerate() {
         if let Some((W_c, n)) = frame[v as usize] {
             let w = W[k] - W_c;
-            // Eq. (17), final line with D ≡ I (ERRATA Z1-Z3):
+            // Eq. (17), final line with D ≡ I (corrections Z1-Z3, docs/REFERENCES.md):
             // W_k + ε_k = W_k + [(W_c − W_k)·n]n + (I − W_c) = I + (w − (w·n)n), w = W_k − W_c.
             W[k] = I[v as usize] + (w - w.dot(n) * n);
         }

@@ -356,8 +356,10 @@ fn arrays(x: &[DVec3], vs: &[VertexId]) -> Vec<[f64; 3]> {
 
 /// The curve tensions of a polyline by the report's §3.4 formula
 /// (`variable_omega`) on the polyline as a 1-D mesh — Chaikin points as the
-/// images, phantoms 2P₀ − P₁ at open ends — over 16 (ERRATA D4). Computed
+/// images, phantoms 2P₀ − P₁ at open ends — over 16 ([correction D4]). Computed
 /// independently of `rules::curve_omega`.
+///
+/// [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
 fn curve_tensions(points: &[[f64; 3]], closed: bool, lambda: f64) -> Vec<f64> {
     let n = points.len();
     let p = |i: isize| -> DVec3 {

@@ -4,9 +4,11 @@
 //! subdivision); every quad and polygon fixture, triangulated inside the
 //! method, with the control mesh also re-read from a file and measured by
 //! `subdiv_interp::verify`; subsets, locality, bad input; the μ experiment of
-//! ERRATA W6; a property test on random triangle meshes.
+//! [correction W6]; a property test on random triangle meshes.
 //!
 //! Run with `--nocapture` to see the tables.
+//!
+//! [correction W6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w6
 
 mod support;
 use glam::DVec3;
@@ -96,9 +98,11 @@ fn max_nearest_distance(points: &[DVec3], cloud: &[DVec3], reach: f64) -> f64 {
     worst
 }
 
-/// The independent check of SPEC §6: apply the plain Loop limit stencil to
+/// The independent check of [how the error is measured]: apply the plain Loop limit stencil to
 /// the control mesh and find, for every input vertex, the nearest limit point
 /// among all control vertices. Returns max distance / d.
+///
+/// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 fn independent_error(mesh: &Mesh, result: &Interpolant, beta: LoopBeta, interpolated: &[bool]) -> f64 {
     let control = &result.control;
     let limit = apply(&loop_subdivision::limit_stencil(control.topology(), beta).unwrap(), control.positions());
@@ -450,8 +454,10 @@ fn moving_one_vertex_changes_the_control_mesh_locally() {
 /// Boundary edges use the boundary curve's normal plane: a fan disc whose
 /// rim samples the unit circle gets a boundary limit curve (the cubic
 /// B-spline of M¹'s rim) on the circle to O(h⁴) at the default μ, and to
-/// O(h²) only at μ = ¼ (the ERRATA W6 value); planar data give a planar
+/// O(h²) only at μ = ¼ (the [correction W6] value); planar data give a planar
 /// control mesh.
+///
+/// [correction W6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w6
 #[test]
 fn boundary_limit_curve_reproduces_circles() {
     let mut previous: Option<(f64, f64)> = None;
@@ -555,7 +561,7 @@ fn user_normals_replace_eq_8() {
     assert!(b.error(mesh.positions(), &all(&mesh), mesh.bbox_diagonal()).max_rel <= 1e-12);
 }
 
-// ---- the μ experiment (ERRATA W6) ---------------------------------------------
+// ---- the μ experiment (correction W6, docs/REFERENCES.md) ---------------------------------------------
 
 /// The icosahedron split `times` times, new vertices projected on the unit sphere.
 fn icosphere(times: usize) -> Mesh {
@@ -579,10 +585,12 @@ fn radial_normals(mesh: &Mesh) -> Vec<Option<DVec3>> {
 /// Points on the unit sphere (icosphere_2) with radial normals: for each μ
 /// the level-4 Loop limit surface of M¹ is measured against the sphere, with
 /// two fairness proxies (limit normals vs radial; mean-curvature
-/// variation); then μ = ¼ (ERRATA W6) against μ = ⅜ (our default) under
+/// variation); then μ = ¼ ([correction W6]) against μ = ⅜ (our default) under
 /// refinement of the data; then the curvature variation on the bunny and
 /// the eight. μ = ⅜ must be best of the five on the sphere, and the ¼ error
 /// must fall only like h².
+///
+/// [correction W6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w6
 #[test]
 fn mu_experiment_sphere_and_fairness() {
     let mus = [0.0, 0.125, 0.25, 0.375, 0.5];

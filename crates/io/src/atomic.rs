@@ -5,7 +5,7 @@
 //! step), flushed and synced. A [`StagedFile`] is then *committed* by renaming
 //! it over the target; dropped uncommitted, its temporary is removed. So a
 //! failure at any point (full disk, permission, an encoder error) leaves the
-//! targets as they were and no partial output (SPEC §7).
+//! targets as they were and no partial output ([error behaviour]).
 //!
 //! [`commit_all`] commits several staged files together: if one rename
 //! fails, the targets already replaced get their old contents back (kept
@@ -16,6 +16,8 @@
 //! handler can delete them with [`remove_staged_files`] before the process
 //! exits (a SIGKILL cannot be handled: it may leave a `.tmp` file, never a
 //! partial target).
+//!
+//! [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 
 use std::ffi::OsString;
 use std::fs::{self, File, OpenOptions};

@@ -26,7 +26,7 @@ impl Aabb {
         Some(Self { min, max })
     }
 
-    /// Length of the diagonal: the scale *d* every relative tolerance refers to (SPEC §1).
+    /// Length of the diagonal: the scale *d* every relative tolerance refers to ([how the error is measured]).
     ///
     /// Computed without overflow or underflow (a scaled hypot): the corners
     /// are scaled by the power of two that brings their largest |coordinate|
@@ -41,6 +41,8 @@ impl Aabb {
     /// 1.8e308 on one), which callers must refuse (or first normalise the
     /// data with [`PowerOfTwoScale`]). It is 0 exactly when `min == max`, and
     /// NaN or ∞ when a corner is not finite.
+    ///
+    /// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
     pub fn diagonal(&self) -> f64 {
         self.diagonal_magnitude().value()
     }
@@ -220,7 +222,7 @@ pub fn distance(a: DVec3, b: DVec3) -> f64 {
 }
 
 /// Newell's vector of a polygon: twice its vector area, exact for planar polygons
-/// and translation-invariant (Zheng-Cai Eq. 10 with cyclic indices, ERRATA Z5).
+/// and translation-invariant (Zheng-Cai Eq. 10 with cyclic indices, [correction Z5]).
 ///
 /// Formed in exact power-of-two scalings of the corners, so no intermediate
 /// overflows or underflows: the result
@@ -228,6 +230,8 @@ pub fn distance(a: DVec3, b: DVec3) -> f64 {
 /// overflows nor underflows, and a component is ±∞ only where the true
 /// vector's exceeds `f64::MAX` (areas beyond about 1e308: coordinates beyond
 /// about ±1e154). For a direction use [`unit_newell_normal`], finite always.
+///
+/// [correction Z5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z5
 pub fn newell_normal(corners: impl Iterator<Item = DVec3> + Clone) -> DVec3 {
     let (n, s) = scaled_newell(corners);
     s.inverse().apply_point(n)

@@ -156,12 +156,14 @@ impl Mesh {
         Aabb::of(t.vertices().filter(|&v| !t.is_isolated(v)).map(|v| self.position(v)))
             .expect("a valid mesh has at least one face")
     }
-    /// The scale *d* of SPEC §1: length of the bounding-box diagonal, without
+    /// The scale *d* ([how the error is measured]): length of the bounding-box diagonal, without
     /// overflow or underflow ([`Aabb::diagonal`]): finite and exact to
     /// rounding for every mesh whose diagonal is at most `f64::MAX`, +∞ only
     /// beyond (coordinates spanning more than about ±0.5e308 on every axis),
     /// which callers must refuse or normalise away ([`crate::PowerOfTwoScale`]).
     /// Never 0 for a mesh [`Self::from_soup`] accepted.
+    ///
+    /// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
     pub fn bbox_diagonal(&self) -> f64 {
         self.bbox().diagonal()
     }
@@ -169,7 +171,9 @@ impl Mesh {
     fn face_points(&self, f: FaceId) -> impl ExactSizeIterator<Item = DVec3> + Clone + '_ {
         self.topology.face(f).iter().map(|&v| self.positions[v as usize])
     }
-    /// Centroid (vertex average) of face `f`: a Doo-Sabin limit point (SPEC §1).
+    /// Centroid (vertex average) of face `f`: a Doo-Sabin limit point ([how the error is measured]).
+    ///
+    /// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
     pub fn face_centroid(&self, f: FaceId) -> DVec3 {
         centroid(self.face_points(f))
     }
@@ -200,9 +204,11 @@ impl Mesh {
         self.topology.face_ids().map(|f| self.face_normal(f)).collect()
     }
     /// Angle-weighted unit vertex normals: nᵢ = Σⱼ θⱼ nⱼ / ‖Σⱼ θⱼ nⱼ‖ with θⱼ the
-    /// angle of face j at vertex i (Deng-Wang Eq. 8, ERRATA W5). Zero for
+    /// angle of face j at vertex i (Deng-Wang Eq. 8, [correction W5]). Zero for
     /// isolated vertices and where the sum vanishes. Scale-free: the face
     /// normals and angles are ([`Self::face_normal`], [`crate::corner_angle`]).
+    ///
+    /// [correction W5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w5
     pub fn vertex_normals(&self) -> Vec<DVec3> {
         let t = &self.topology;
         let mut normals = vec![DVec3::ZERO; t.vertex_count()];

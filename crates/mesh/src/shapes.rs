@@ -174,7 +174,9 @@ pub fn pyramid(n: usize) -> Mesh {
 }
 
 /// Two quads glued along their boundary: every vertex has valence 2
-/// (Catmull-Clark's limit matrix is indefinite on it, ERRATA C3).
+/// (Catmull-Clark's limit matrix is indefinite on it, [correction C3]).
+///
+/// [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 pub fn pillow() -> Mesh {
     let p = vec![v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.2), v(0., 1., 0.)];
     build(p, FaceList::from_faces([[0u32, 1, 2, 3], [3, 2, 1, 0]]))

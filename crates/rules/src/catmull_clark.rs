@@ -2,10 +2,10 @@
 //! `EDGE_AND_CORNER` boundary rules, the limit masks, and Cheng's general-mesh
 //! limit stencil.
 //!
-//! Source: `seeds/cheng-catmull-clark-progressive-interpolation.txt`,
-//! Appendix Eq. 4 (the step) and Eq. 5 (the limit stencil), with ERRATA C1
-//! (the factor 4/(n(n+5)) multiplies all three groups of Eq. 5) and C2 (the
-//! edge point of edge VEᵢ uses faces fᵢ₋₁ and fᵢ). Limit masks: SPEC §1.
+//! Source: Cheng et al., *Interpolating meshes of arbitrary topology* (CFL in [references]),
+//! Appendix Eq. 4 (the step) and Eq. 5 (the limit stencil), with [correction C1]
+//! (the factor 4/(n(n+5)) multiplies all three groups of Eq. 5) and [correction C2] (the
+//! edge point of edge VEᵢ uses faces fᵢ₋₁ and fᵢ). Limit masks: [how the error is measured].
 //!
 //! Neighbourhood convention (as for [`VertexMask`]): vertex V of valence n has
 //! neighbours E₁…Eₙ and faces fᵢ = (V, Eᵢ, F₁ⁱ, …, F_{mᵢ−3}ⁱ, Eᵢ₊₁) of sizes
@@ -23,6 +23,11 @@
 //! mesh (Eq. 5). The boundary limit mask holds at every level because the
 //! boundary rules only involve boundary vertices: the boundary is the cubic
 //! B-spline of the boundary polygon.
+//!
+//! [correction C1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
+//! [correction C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c2
 
 use crate::mask::{EdgeMask, VertexKind, VertexMask};
 
@@ -47,7 +52,7 @@ pub fn face_point_weight(m: usize) -> f64 {
 /// with the face points expanded: for an interior edge between faces of sizes
 /// `m_left` and `m_right`, (A + B + f_left + f_right)/4 gives each endpoint
 /// ¼ + 1/(4m_left) + 1/(4m_right) and every other corner of a face 1/(4m) of
-/// that face (Appendix Eq. 4 as corrected by ERRATA C2). A boundary edge
+/// that face (Appendix Eq. 4 as corrected by [correction C2]). A boundary edge
 /// (`m_right = None`) gets the midpoint.
 ///
 /// ```
@@ -59,13 +64,16 @@ pub fn face_point_weight(m: usize) -> f64 {
 ///
 /// # Panics
 /// If a face size is below 3.
+///
+/// [correction C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c2
 #[inline]
 pub fn edge_point_mask(m_left: usize, m_right: Option<usize>) -> EdgeMask {
     let Some(m_right) = m_right else {
         return EdgeMask::MIDPOINT;
     };
     let (fl, fr) = (face_point_weight(m_left), face_point_weight(m_right));
-    // ERRATA C2: e_i = (V + E_i + f_{i−1} + f_i)/4, each face point expanded over its corners.
+    // Correction C2 (docs/REFERENCES.md): e_i = (V + E_i + f_{i−1} + f_i)/4, each face point expanded over
+    // its corners.
     EdgeMask { end: 0.25 * (1.0 + fl + fr), left: 0.25 * fl, right: 0.25 * fr }
 }
 
@@ -100,11 +108,13 @@ pub fn vertex_point_mask(kind: VertexKind, valence: usize) -> VertexMask {
 /// Limit-point mask. Interior vertex of valence n **whose faces are all
 /// quads** (any mesh after one step): (n²V + 4ΣEᵢ + ΣFᵢ)/(n(n+5)), the face
 /// term being the corner of each quad diagonal to V. Boundary vertex:
-/// (E₋ + 4V + E₊)/6. Corner: V. (SPEC §1; Cheng Appendix, the line before
+/// (E₋ + 4V + E₊)/6. Corner: V. ([how the error is measured]; Cheng Appendix, the line before
 /// Eq. 5.)
 ///
 /// # Panics
 /// If an interior vertex has valence below 2.
+///
+/// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 pub fn limit_mask(kind: VertexKind, valence: usize) -> VertexMask {
     match kind {
         VertexKind::Interior => {
@@ -126,7 +136,7 @@ pub fn limit_mask(kind: VertexKind, valence: usize) -> VertexMask {
 }
 
 /// Cheng's limit stencil of an interior vertex on an arbitrary polygon mesh
-/// (Appendix Eq. 5 with ERRATA C1/C2): one Catmull-Clark step followed by the
+/// (Appendix Eq. 5 with [corrections C1/C2]): one Catmull-Clark step followed by the
 /// quad limit mask, expressed on the unrefined mesh. With D = 4/(n(n+5)):
 ///
 /// v∞ = D [ (n(n−1)/4 + Σ1/mᵢ) V + Σ(½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ + Σᵢ (F₁ⁱ + … + F_{mᵢ−3}ⁱ)/mᵢ ]
@@ -148,13 +158,15 @@ pub fn limit_mask(kind: VertexKind, valence: usize) -> VertexMask {
 /// # Panics
 /// If `face_sizes` has fewer than 2 entries, a size is below 3, or a buffer
 /// length differs from `face_sizes.len()`.
+///
+/// [corrections C1/C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 pub fn limit_stencil(face_sizes: &[usize], edge_weights: &mut [f64], far_corner_weights: &mut [f64]) -> f64 {
     let n = face_sizes.len();
     assert!(n >= 2, "interior vertex of valence {n}");
     assert_eq!(edge_weights.len(), n, "one edge weight per neighbour");
     assert_eq!(far_corner_weights.len(), n, "one far-corner weight per face");
     let nf = n as f64;
-    let d = 4.0 / (nf * (nf + 5.0)); // ERRATA C1: D = 4/(n(n+5)) multiplies every group
+    let d = 4.0 / (nf * (nf + 5.0)); // Correction C1 (docs/REFERENCES.md): D = 4/(n(n+5)) multiplies every group
     let mut inv_sum = 0.0;
     for i in 0..n {
         let inv = face_point_weight(face_sizes[i]);

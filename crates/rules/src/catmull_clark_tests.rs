@@ -96,7 +96,7 @@ fn step_then_limit(star: &Star, sizes: &[usize]) -> Point3 {
         (0..n).map(|i| scale(add(add(star.v, star.e[i]), sum(&star.others_after(i))), 1.0 / sizes[i] as f64)).collect();
     let e: Vec<Point3> = (0..n)
         .map(|i| {
-            // ERRATA C2: edge VE_i lies in faces i−1 and i.
+            // Correction C2 (docs/REFERENCES.md): edge VE_i lies in faces i−1 and i.
             scale(add(add(star.v, star.e[i]), add(f[(i + n - 1) % n], f[i])), 0.25)
         })
         .collect();
@@ -107,7 +107,7 @@ fn step_then_limit(star: &Star, sizes: &[usize]) -> Point3 {
 
 #[test]
 fn eq5_equals_one_step_then_the_limit_mask() {
-    // The independent check of Eq. 5 (with ERRATA C1/C2).
+    // The independent check of Eq. 5 (with corrections C1/C2, docs/REFERENCES.md).
     let mut rng = Rng::new(2);
     for n in 2..=12 {
         for _ in 0..20 {

@@ -9,7 +9,9 @@ pub const DEFAULT_FOUR_POINT_TENSION: f64 = 1.0 / 16.0;
 pub const FOUR_POINT_TENSION_MAX: f64 = 1.0 / 8.0;
 
 /// Default global tension ω of the Deng-Ma surface scheme (§3.3; ω_P = 1 is the
-/// surface analogue of the 4-point ω = 1/16, ERRATA D4).
+/// surface analogue of the 4-point ω = 1/16, [correction D4]).
+///
+/// [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
 pub const DEFAULT_DENG_MA_OMEGA: f64 = 1.0;
 
 /// Inclusive upper bound of the Deng-Ma tension ω_P and of λ (§3.3, §3.4:

@@ -2,11 +2,11 @@
 //! the 4-point scheme (uniform and variable tension) and the Deng-Ma
 //! derivation of the 4-point scheme from Chaikin's points.
 //!
-//! Source: `seeds/deng-ma-interpolatory-doo-sabin-report.txt` §3.1 (Eq. 1,
+//! Source: Deng & Ma 2011 as reproduced in Mahalingam & Koneru's report (DM11 in [references]) §3.1 (Eq. 1,
 //! the averaging steps 2-4) and §3.1.1, with the sign of Q_{2i+1} corrected
-//! (ERRATA D1). These curve rules are the 1-D pictures of the surface schemes:
+//! ([correction D1]). These curve rules are the 1-D pictures of the surface schemes:
 //! Chaikin ↔ Doo-Sabin, cubic B-spline ↔ Catmull-Clark, 4-point ↔ Deng-Ma
-//! (surface tension ω_P = 16ω, ERRATA D4).
+//! (surface tension ω_P = 16ω, [correction D4]).
 //!
 //! Every function refines once: a closed polygon of n points becomes 2n
 //! points, an open polyline of n ≥ 2 points becomes 2n − 1 (Chaikin: 2n − 2,
@@ -36,6 +36,10 @@
 //!   P₋₁ = 2P₀ − P₁, Pₙ = 2P_{n−1} − P_{n−2}. Linear data is reproduced up to
 //!   the ends; cubic reproduction holds only three coarse intervals away from
 //!   them.
+//!
+//! [correction D1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d1
+//! [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::constants::DEFAULT_FOUR_POINT_TENSION;
 use crate::vec3::{add, lin2, scale, sub, Point3};
@@ -182,13 +186,15 @@ pub fn four_point(points: &[Point3], closed: bool, tension: f64) -> Vec<Point3> 
 }
 
 /// One level of the variable-tension 4-point scheme (Deng-Ma §3.1.1, with the
-/// sign of ERRATA D1): tension ωᵢ is attached to point Pᵢ and the edge point is
+/// sign of [correction D1]): tension ωᵢ is attached to point Pᵢ and the edge point is
 /// ½(Pᵢ + Pᵢ₊₁) + ωᵢ(Pᵢ₊₁ − Pᵢ₋₁) + ωᵢ₊₁(Pᵢ − Pᵢ₊₂). With all ωᵢ = ω it is
 /// [`four_point`]. The report does not say which tensions the new points get,
 /// so there is no multi-level variant.
 ///
 /// # Panics
 /// If `tensions.len() != points.len()`.
+///
+/// [correction D1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d1
 pub fn four_point_variable(points: &[Point3], closed: bool, tensions: &[f64]) -> Vec<Point3> {
     assert_eq!(tensions.len(), points.len(), "one tension per point");
     interleave(points, closed, |i| {
@@ -205,7 +211,7 @@ pub fn four_point_variable(points: &[Point3], closed: bool, tensions: &[f64]) ->
 /// 3, 4 and §3.1.1), kept as an executable derivation: Chaikin points
 /// P^{k+1}, the moved points
 /// Q_{2i} = Pᵢ + 8ωᵢ(P^{k+1}_{2i} − P^{k+1}_{2i−1}) and
-/// Q_{2i+1} = Pᵢ₊₁ **+** 8ωᵢ₊₁(P^{k+1}_{2i+1} − P^{k+1}_{2i+2}) (ERRATA D1: the
+/// Q_{2i+1} = Pᵢ₊₁ **+** 8ωᵢ₊₁(P^{k+1}_{2i+1} − P^{k+1}_{2i+2}) ([correction D1]: the
 /// report prints −), then the averages Q̄_{2i} = ½(Q_{2i−1} + Q_{2i}) and
 /// Q̄_{2i+1} = ½(Q_{2i} + Q_{2i+1}). The result equals
 /// [`four_point_variable`] (and [`four_point`] for constant tension) up to
@@ -214,6 +220,8 @@ pub fn four_point_variable(points: &[Point3], closed: bool, tensions: &[f64]) ->
 ///
 /// # Panics
 /// If `tensions.len() != points.len()`.
+///
+/// [correction D1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d1
 pub fn four_point_via_chaikin(points: &[Point3], closed: bool, tensions: &[f64]) -> Vec<Point3> {
     assert_eq!(tensions.len(), points.len(), "one tension per point");
     let n = points.len();

@@ -214,7 +214,7 @@ fn deng_ma_derivation_equals_the_four_point_rule() {
 
 #[test]
 fn printed_sign_of_q_odd_breaks_the_derivation() {
-    // ERRATA D1: with the printed "−" the averages are not the 4-point points.
+    // Correction D1 (docs/REFERENCES.md): with the printed "−" the averages are not the 4-point points.
     let polygon = [[0.0, 0.0, 0.0], [1.0, 0.2, 0.0], [2.0, 1.0, 0.0], [2.5, 2.0, 0.5], [2.0, 3.0, 1.0]];
     let w = 1.0 / 16.0;
     let (p, i) = (&polygon, 1);

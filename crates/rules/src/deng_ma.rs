@@ -2,9 +2,9 @@
 //! and the tension ω_P (global or displacement-safe variable), on closed and
 //! open meshes, with infinitely sharp creases and corners.
 //!
-//! Source: `seeds/deng-ma-interpolatory-doo-sabin-report.txt` §3.3 (moved
-//! vertices) and §3.4 (variable tension), with ERRATA D2 (Q̄ᵢ = **P** + …) and
-//! D5 (the missing constant C and the cyclic index).
+//! Source: Deng & Ma 2011 as reproduced in Mahalingam & Koneru's report (DM11 in [references]) §3.3 (moved
+//! vertices) and §3.4 (variable tension), with [correction D2] (Q̄ᵢ = **P** + …) and
+//! [correction D5] (the missing constant C and the cyclic index).
 //!
 //! # The rule at one old vertex P (§3.3)
 //! 1. Qᵢ, i = 1…m: the Doo-Sabin images of P in its m faces, in fan order
@@ -18,14 +18,14 @@
 //!    ([`crate::centroid`]).
 //!
 //! ω_P = 1 is the surface analogue of the 4-point curve scheme with ω = 1/16
-//! (ERRATA D4: in the curve picture Q − G = (P_{2i} − P_{2i−1})/2, so
+//! ([correction D4]: in the curve picture Q − G = (P_{2i} − P_{2i−1})/2, so
 //! ω_P = 16ω); the test `regular_grid_reproduces_four_point` checks it.
 //!
 //! # Variable tension (§3.4)
 //! Number P's neighbours P₁…P_m so that face i contains the edges PPᵢ and
 //! PPᵢ₊₁ (the report does not define Pᵢ; this is the reading under which its
 //! formula bounds the moved vertices by the face's own edges). Then, with
-//! indices mod m (ERRATA D5: the printed `(i+1)%4` / `%m` with 1-based
+//! indices mod m ([correction D5]: the printed `(i+1)%4` / `%m` with 1-based
 //! indices means the cyclic successor) and the inner minimum over i = 1…m,
 //!
 //! ω_P = min{ 1, λ/max(m, 4) · minᵢ [ min(‖Pᵢ − P‖, ‖Pᵢ₊₁ − P‖) / ‖Qᵢ − G‖ ] },  0 < λ ≤ 1
@@ -37,7 +37,7 @@
 //! The report calls the scheme displacement-safe if, for a constant
 //! 0 < C < 1, every new edge point E and face point F satisfy
 //! d_E = ‖E − (P₁+P₂)/2‖ ≤ C‖P₁ − P₂‖ and d_F = ‖F − centroid‖ ≤ C·min (edge
-//! lengths of the face). The printed face condition lacks C (ERRATA D5); here
+//! lengths of the face). The printed face condition lacks C ([correction D5]); here
 //! C is explicit ([`DisplacementBound`]). From the bound above, the variable
 //! ω_P gives d_E ≤ (λ/4)‖P₁ − P₂‖, so the edge condition holds with C = λ/4;
 //! for faces it gives d_F ≤ (λ/4)·(longest edge of the face), which implies
@@ -54,10 +54,10 @@
 //!    (valence 2) is a corner. Each boundary loop is cut at its corners into
 //!    open pieces (a loop without corners stays a closed polygon).
 //! 2. **Boundary edge points: the 4-point rule along the piece** (Dyn, Levin &
-//!    Gregory 1987; Deng & Ma §3.1 step 4 and §3.1.1 with the sign of ERRATA
-//!    D1): the new point of a boundary edge PᵢPᵢ₊₁ is
+//!    Gregory 1987; Deng & Ma §3.1 step 4 and §3.1.1 with the sign of
+//!    [correction D1]): the new point of a boundary edge PᵢPᵢ₊₁ is
 //!    ½(Pᵢ + Pᵢ₊₁) + ωᵢ(Pᵢ₊₁ − Pᵢ₋₁) + ωᵢ₊₁(Pᵢ − Pᵢ₊₂), the curve tension
-//!    ωᵢ = ω_P/16 (ERRATA D4). At a piece end P₀ (a corner) the missing
+//!    ωᵢ = ω_P/16 ([correction D4]). At a piece end P₀ (a corner) the missing
 //!    neighbour is the linear phantom P₋₁ = 2P₀ − P₁, the open end rule of
 //!    [`crate::curves::four_point`]. The point depends on the piece's
 //!    vertices only, so the boundary of the level-k surface is the boundary
@@ -207,13 +207,21 @@
 //! centroid), a centre between the curve's and the centroid), but neither
 //! the report nor a peer has it to check against, so the stencil crate
 //! refuses such tags rather than give them a meaning of its own.
+//!
+//! [correction D2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d2
+//! [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
+//! [correction D5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d5
+//! [correction D1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d1
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::constants::DEFAULT_DENG_MA_OMEGA;
 use crate::doo_sabin::BOUNDARY_EDGE_POINT;
 use crate::vec3::{add, centroid, dist, lin2, scale, sub, Point3};
 
 /// The 4-point tension ω that corresponds to the surface tension ω_P = 1:
-/// ω = ω_P/16 (ERRATA D4).
+/// ω = ω_P/16 ([correction D4]).
+///
+/// [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
 pub const CURVE_TENSION_PER_OMEGA: f64 = 1.0 / 16.0;
 
 /// Weights `[P₋, P, P₊]` of the centre G of a boundary vertex P in two or
@@ -253,9 +261,11 @@ impl Tension {
 
     /// The 4-point tension of boundary (or crease) vertex P on its curve
     /// (module docs, "Open meshes", "Creases and corners"): ω/16 with the
-    /// global ω, [`curve_omega`]/16 with the variable one (ERRATA D4).
+    /// global ω, [`curve_omega`]/16 with the variable one ([correction D4]).
     /// `neighbours` as in [`boundary_centre`] (`None` at a piece end: a
     /// corner or a dart).
+    ///
+    /// [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
     pub fn curve_tension(&self, p: Point3, neighbours: Option<(Point3, Point3)>) -> f64 {
         CURVE_TENSION_PER_OMEGA
             * match *self {
@@ -330,7 +340,7 @@ pub fn curve_omega(p: Point3, neighbours: Option<(Point3, Point3)>, lambda: f64)
 }
 
 /// The variable tension ω_P of §3.4 (formula in the module docs, indices as
-/// corrected by ERRATA D5).
+/// corrected by [correction D5]).
 ///
 /// `images[i]` is Qᵢ, the Doo-Sabin image of P in face i, and face i contains
 /// the edges P–`ring[i]` and P–`ring[i+1]`. For an interior vertex
@@ -341,6 +351,8 @@ pub fn curve_omega(p: Point3, neighbours: Option<(Point3, Point3)>, lambda: f64)
 ///
 /// # Panics
 /// If `images` is empty or `ring` has neither length.
+///
+/// [correction D5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d5
 pub fn variable_omega(p: Point3, ring: &[Point3], images: &[Point3], lambda: f64) -> f64 {
     assert!(!images.is_empty(), "a vertex with no faces");
     variable_omega_about(p, ring, images, centroid(images), lambda)
@@ -373,7 +385,7 @@ pub fn variable_omega_about(p: Point3, ring: &[Point3], images: &[Point3], g: Po
 }
 
 /// Writes the moved vertices Q̄ᵢ = P + ω(Qᵢ − G), G the centroid of `images`
-/// (§3.3 with ERRATA D2: the printed "Pᵢ +" is P).
+/// (§3.3 with [correction D2]: the printed "Pᵢ +" is P).
 ///
 /// ```
 /// use subdiv_rules::deng_ma::moved_images;
@@ -387,6 +399,8 @@ pub fn variable_omega_about(p: Point3, ring: &[Point3], images: &[Point3], g: Po
 ///
 /// # Panics
 /// If `images` is empty or `out.len() != images.len()`.
+///
+/// [correction D2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d2
 pub fn moved_images(p: Point3, images: &[Point3], omega: f64, out: &mut [Point3]) {
     moved_images_about(p, images, centroid(images), omega, out); // §3.3: G = (Q_1 + … + Q_m)/m
 }
@@ -425,7 +439,9 @@ pub fn face_displacement_ratio(face_point: Point3, corners: &[Point3]) -> f64 {
 }
 
 /// The displacement-safety conditions of §3.4 with the constant C made
-/// explicit (ERRATA D5).
+/// explicit ([correction D5]).
+///
+/// [correction D5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d5
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DisplacementBound {
     /// The constant C, 0 < C < 1.

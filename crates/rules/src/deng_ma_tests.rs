@@ -6,7 +6,7 @@ use crate::vec3::lin2;
 
 #[test]
 fn moved_vertices_have_centroid_p() {
-    // ERRATA D2: with "P +" the old vertex is the centroid of its moved
+    // Correction D2 (docs/REFERENCES.md): with "P +" the old vertex is the centroid of its moved
     // vertices, which is why the scheme keeps old vertices.
     let mut rng = Rng::new(41);
     for m in 3..=12 {
@@ -77,7 +77,7 @@ impl Grid {
 
 #[test]
 fn regular_grid_reproduces_four_point() {
-    // ERRATA D4: ω_P = 1 is the 4-point scheme with ω = 1/16. On a regular
+    // Correction D4 (docs/REFERENCES.md): ω_P = 1 is the 4-point scheme with ω = 1/16. On a regular
     // grid with additive data P(i, j) = G_i + H_j the new edge point of edge
     // (0,0)–(1,0) is the 4-point point of its row.
     let mut rng = Rng::new(43);
@@ -254,7 +254,7 @@ fn curve_omega_is_section_3_4_on_the_boundary_polygon() {
         let at_end = variable_omega(p, &[phantom, next], &chaikin_images(phantom, p, next), lambda);
         // (The phantom loses digits when P₊ is close to P: 1e-3 apart here.)
         assert!((curve_omega(p, None, lambda) - at_end).abs() <= 1e-11 * lambda, "corner: {at_end} vs λ = {lambda}");
-        // The 4-point tension is ω_P/16 (ERRATA D4), global or variable.
+        // The 4-point tension is ω_P/16 (correction D4, docs/REFERENCES.md), global or variable.
         let variable = Tension::Variable { lambda };
         assert_eq!(variable.curve_tension(p, Some((prev, next))), got / 16.0);
         assert_eq!(Tension::Global(lambda).curve_tension(p, None), lambda / 16.0);

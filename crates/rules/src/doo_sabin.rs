@@ -5,26 +5,27 @@
 //!
 //! In a face V₀…V_{m−1} the new vertex of corner i is V'ᵢ = Σⱼ αᵢⱼVⱼ with
 //! αᵢᵢ = (m+5)/(4m) and αᵢⱼ = (3 + 2cos(2π(i−j)/m))/(4m)
-//! (`seeds/zheng-cai-2005-doo-sabin-interpolation.txt`, §2, Eq. 1; the same
-//! weights are Fan-Cheng-Lai §2 and Deng-Ma §3.2 step 1, ERRATA D3). The
+//! (Zheng & Cai 2005 §2, Eq. 1, ZC05 in [references]; the same
+//! weights are Fan-Cheng-Lai §2 and Deng-Ma §3.2 step 1, [correction D3]). The
 //! weights depend only on the offset k = (j − i) mod m, so one row
 //! `w[k]` describes the whole face: the image of corner i is
 //! `Σₖ w[k]·V_{(i+k) mod m}` ([`doo_sabin_weights`]). The face matrix is the
 //! circulant `Circ(w)`; its eigenvalues are 1, ½ (the first harmonic pair) and
-//! ¼ (all others), ERRATA Z8 ([`doo_sabin_eigenvalue`]).
+//! ¼ (all others), [correction Z8] ([`doo_sabin_eigenvalue`]).
 //!
 //! # First-step variants
 //!
 //! Zheng-Cai Eq. 4, V'ᵢ = (Vᵢ + A)/2 with A the face centroid, and Fan-Cheng-Lai
 //! Eq. 1, V'ᵢ = λVᵢ + (1−λ)A with one λ ∈ (0, 1) per face
-//! (`seeds/fan-cheng-lai-two-phase-doo-sabin.txt` §2). Eq. 4 is λ = ½
+//! (Fan, Cheng & Lai §2). Eq. 4 is λ = ½
 //! ([`two_phase_weights`], [`zheng_cai_weights`]). Their face matrix
-//! λI + (1−λ)J/m has eigenvalues 1 and λ (ERRATA F6).
+//! λI + (1−λ)J/m has eigenvalues 1 and λ ([correction F6]).
 //!
 //! # Boundary rule
 //!
 //! Open meshes need a rule under which the boundary converges to the quadratic
-//! B-spline (Chaikin curve) of each boundary loop (SPEC §2). We use:
+//! B-spline (Chaikin curve) of each boundary loop (our requirement: the papers treat closed
+//! meshes). We use:
 //!
 //! 1. **Face corners: unchanged.** Every corner of every face, boundary faces
 //!    included, gets the face-corner rule above (Eq. 1).
@@ -46,7 +47,7 @@
 //!   (B₋ + 6V + B₊)/8 ([`BOUNDARY_CURVE_POINT`]).
 //! - No face-corner image is modified, so every face, boundary faces included,
 //!   keeps its centroid: face centroids are limit points at every level, on
-//!   open meshes too (SPEC §1).
+//!   open meshes too ([how the error is measured]).
 //! - On a regular quad mesh the rule is the tensor-product biquadratic
 //!   B-spline with the boundary row of control points repeated: attaching the
 //!   degenerate quad (A, B, B, A) to each boundary edge, Eq. 1 with m = 4 gives
@@ -82,12 +83,18 @@
 //! **Source.** The requirement — boundary curve = quadratic B-spline of the
 //! boundary polygon — is the property Nasri established for his Doo-Sabin
 //! boundary rules (A. H. Nasri, *Polyhedral subdivision methods for free-form
-//! surfaces*, ACM TOG 6(1):29–73, 1987, reference \[8\] of the Zheng-Cai seed).
-//! Nasri's text is not among the seeds and we could not consult it, so we do
+//! surfaces*, ACM TOG 6(1):29–73, 1987, reference \[8\] of Zheng & Cai 2005).
+//! Nasri's text was not available to us, so we do
 //! not claim these are his exact masks; the rule above is the classical
 //! repeated-boundary-row end condition of tensor-product B-splines carried to
 //! arbitrary topology through the degenerate quad, and its Chaikin property is
 //! proved by the tests of this module rather than by citation.
+//!
+//! [correction D3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d3
+//! [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
+//! [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 
 use std::f64::consts::PI;
 use std::sync::OnceLock;
@@ -166,10 +173,12 @@ fn doo_sabin_weights_computed(m: usize, out: &mut [f64]) {
 
 /// Eigenvalue k (k = 0…m−1) of the Doo-Sabin face circulant, in closed form:
 /// 1 for k = 0, ½ for the first harmonic pair k = 1, m−1, ¼ otherwise
-/// (ERRATA Z8).
+/// ([correction Z8]).
 ///
 /// # Panics
 /// If `m < 3` or `k >= m`.
+///
+/// [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
 pub fn doo_sabin_eigenvalue(m: usize, k: usize) -> f64 {
     assert!(m >= 3 && k < m, "need m >= 3 and k < m, got m = {m}, k = {k}");
     if k == 0 {

@@ -48,7 +48,7 @@ fn quad_row_is_the_biquadratic_tensor_product() {
 
 #[test]
 fn circulant_eigenvalues_are_one_half_quarter() {
-    // ERRATA Z8: spectrum of the Doo-Sabin face circulant.
+    // Correction Z8 (docs/REFERENCES.md): spectrum of the Doo-Sabin face circulant.
     for m in 3..=10 {
         let w = row(m, doo_sabin_weights);
         for k in 0..m {
@@ -79,7 +79,7 @@ fn circulant_eigenvalue_matches_a_real_eigenvector() {
 
 #[test]
 fn two_phase_eigenvalues_are_one_and_lambda() {
-    // ERRATA F6: λI + (1−λ)J/m has eigenvalues 1 (constant vector) and λ.
+    // Correction F6 (docs/REFERENCES.md): λI + (1−λ)J/m has eigenvalues 1 (constant vector) and λ.
     for m in 3..=12 {
         for lambda in [0.2, 0.5, 0.85] {
             let w = row(m, |m, w| two_phase_weights(m, lambda, w));

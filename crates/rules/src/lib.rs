@@ -10,7 +10,7 @@
 //! curve schemes ([`curves`]) and the Deng-Ma tension ([`deng_ma`]), which take
 //! `[f64; 3]` points.
 //!
-//! | module | scheme | source (in `seeds/`) |
+//! | module | scheme | source ([references]) |
 //! |---|---|---|
 //! | [`doo_sabin`] | Doo-Sabin, the first-step variants, the boundary rule | Zheng-Cai Eq. 1, 4; Fan-Cheng-Lai Eq. 1 |
 //! | [`catmull_clark`] | Catmull-Clark, limit masks, Cheng's limit stencil | Cheng Appendix Eq. 4-5 |
@@ -24,8 +24,12 @@
 //! rules of [`crease`] (OpenSubdiv's `Sdc::Crease`: decay, Chaikin, vertex
 //! rules, semi-sharp transitions), the option enums [`BoundaryInterpolation`],
 //! [`CreaseMethod`], [`FVarInterpolation`], [`CurveScheme`]. Default parameters live
-//! in [`constants`]. Corrections to the papers follow `shared/ERRATA.md` and are
-//! cited by item (C1, D1, W4, …) on the line that applies them.
+//! in [`constants`]. Corrections to the papers follow [the corrections to the
+//! papers] and are cited by id ("correction C1", D1, W4, …) on the line that
+//! applies them.
+//!
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
+//! [the corrections to the papers]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#corrections-to-the-papers
 //!
 //! Contract violations (a face with fewer than 3 corners, a buffer of the
 //! wrong length) panic; parameter ranges that come from users are checked by

@@ -2,9 +2,9 @@
 //! `EDGE_AND_CORNER` boundary rules, and the limit masks, for Warren's or
 //! Loop's own β.
 //!
-//! Source: `seeds/deng-wang-2010-loop-interpolation.txt` Eq. 1-2 (vertex rule
-//! and Warren's β, reconstructed in ERRATA W1, W2), the Remark after Eq. 2
-//! (Loop's β, ERRATA W3) and Eq. 5-6 (limit point, ERRATA W4). The module is
+//! Source: Deng & Wang 2010 (DW10 in [references]) Eq. 1-2 (vertex rule
+//! and Warren's β, reconstructed in [corrections W1, W2]), the Remark after Eq. 2
+//! (Loop's β, [correction W3]) and Eq. 5-6 (limit point, [correction W4]). The module is
 //! called `loop_scheme` because `loop` is a Rust keyword.
 //!
 //! | new point | interior (valence k) | boundary | corner (1 face) |
@@ -16,6 +16,11 @@
 //! All masks act on the unrefined mesh directly (Loop's rules are 1-ring
 //! closed). The formulas are the published ones for k ≥ 3; for smaller k they
 //! are evaluated as written, with no convergence claim.
+//!
+//! [corrections W1, W2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w1
+//! [correction W3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w3
+//! [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use std::f64::consts::PI;
 
@@ -24,12 +29,16 @@ use crate::mask::{EdgeMask, VertexKind, VertexMask};
 /// Which β the Loop vertex rule uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum LoopBeta {
-    /// Warren's β: 3/16 for k = 3, 3/(8k) for k > 3 (Deng-Wang Eq. 2, ERRATA
-    /// W2). The default, as in libigl.
+    /// Warren's β: 3/16 for k = 3, 3/(8k) for k > 3 (Deng-Wang Eq. 2,
+    /// [correction W2]). The default, as in libigl.
+    ///
+    /// [correction W2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w2
     #[default]
     Warren,
     /// Loop's original β = (1/k)[5/8 − (3/8 + ¼cos(2π/k))²] (Deng-Wang Remark,
-    /// ERRATA W3), as in OpenSubdiv.
+    /// [correction W3]), as in OpenSubdiv.
+    ///
+    /// [correction W3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w3
     Loop,
 }
 
@@ -59,22 +68,26 @@ impl LoopBeta {
     }
 
     /// γ of the limit mask for an interior vertex of valence k:
-    /// γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, ERRATA W4); for Warren's β this
+    /// γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, [correction W4]); for Warren's β this
     /// is 1/5 at k = 3 and 1/(2k) for k > 3.
     ///
     /// # Panics
     /// If `k == 0`.
+    ///
+    /// [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
     pub fn gamma(self, k: usize) -> f64 {
         1.0 / (k as f64 + 3.0 / (8.0 * self.beta(k))) // W4: γ = 1/(k + 3/(8β))
     }
 }
 
 /// Vertex-point mask. Interior vertex of valence k: (1 − kβ)p + βΣpⱼ
-/// (Deng-Wang Eq. 1, ERRATA W1). Boundary: (p₋ + 6p + p₊)/8 over the two
+/// (Deng-Wang Eq. 1, [correction W1]). Boundary: (p₋ + 6p + p₊)/8 over the two
 /// boundary neighbours. Corner (one triangle): p. The mask has no face term.
 ///
 /// # Panics
 /// If an interior vertex has valence 0.
+///
+/// [correction W1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w1
 pub fn vertex_point_mask(kind: VertexKind, valence: usize, beta: LoopBeta) -> VertexMask {
     match kind {
         VertexKind::Interior => {

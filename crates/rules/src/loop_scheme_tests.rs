@@ -23,7 +23,7 @@ fn masks_sum_to_one() {
 
 #[test]
 fn betas_and_gammas_in_closed_form() {
-    // ERRATA W2-W4.
+    // Corrections W2-W4 (docs/REFERENCES.md).
     assert_eq!(LoopBeta::Warren.beta(3), 3.0 / 16.0);
     assert!((LoopBeta::Warren.gamma(3) - 0.2).abs() < 1e-16);
     for k in 4..=12 {

@@ -31,7 +31,7 @@
 //!   compute the **true** residual r_k = P − A X_k instead, in the same fused
 //!   pass that updates d and writes X_{k+1} into a second buffer: the same
 //!   one product per iteration, no drift between the stopping quantity and
-//!   the real error, and the max-norm test sees exactly what SPEC §4 asks.
+//!   the real error, and the max-norm test sees exactly what [the stopping rule] asks.
 //! - When δ ≈ 0 (all eigenvalues equal) the recurrence degenerates to
 //!   Richardson with ω = 1/θ; δ is floored at 1e-12·θ.
 //! - Robustness to a wrong interval: an eigenvalue λ below a but > 0 is
@@ -47,6 +47,8 @@
 //! assert!(sol.iterations < 40);
 //! assert!(a.max_residual(&sol.x, &p) <= 1e-6);
 //! ```
+//!
+//! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use std::time::Instant;
 

@@ -7,7 +7,7 @@
 //! answer of the tests, not for production sizes.
 //!
 //! # Reference
-//! Zheng & Cai 2005, §3.5 (`seeds/zheng-cai-2005-doo-sabin-interpolation.txt`);
+//! Zheng & Cai 2005, §3.5 (ZC05 in [references]);
 //! G. H. Golub, C. F. Van Loan, *Matrix Computations*, 4th ed., §3.4
 //! (Gaussian elimination with partial pivoting); nalgebra's `LU`.
 //!
@@ -30,6 +30,8 @@
 //! let sol = dense_lu(&a, &p, &SolveOptions::default()).unwrap();
 //! assert!(a.max_residual(&sol.x, &p) <= 1e-12);
 //! ```
+//!
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use std::time::Instant;
 

@@ -79,7 +79,8 @@ pub enum SolveError {
     /// an indefinite A, e.g. Catmull-Clark with valence-2 vertices).
     #[error(
         "{solver} diverged after {iterations} iterations (residual {residual:.3e}); \
-         the matrix is probably indefinite or has eigenvalues ≥ 2 — use minres, ldl or dense"
+         the matrix is probably indefinite or has eigenvalues ≥ 2 — use Solver::Minres, Solver::Ldl or \
+         Solver::Dense"
     )]
     Diverged {
         /// Solver name.
@@ -101,7 +102,7 @@ pub enum SolveError {
     },
     /// The matrix has a negative eigenvalue (or a non-positive diagonal), so
     /// a method that needs a positive definite S cannot be used.
-    #[error("{solver}: the matrix is indefinite: {detail}; use minres, ldl or dense")]
+    #[error("{solver}: the matrix is indefinite: {detail}; use Solver::Minres, Solver::Ldl or Solver::Dense")]
     Indefinite {
         /// Solver name.
         solver: &'static str,
@@ -111,7 +112,7 @@ pub enum SolveError {
     /// A solver that needs a symmetric S got a matrix without that structure.
     #[error(
         "{solver} needs A = D·S with S symmetric: {detail}; \
-         use gmres, pia, jacobi, gauss-seidel or dense"
+         use Solver::Gmres, Solver::Pia, Solver::Jacobi, Solver::GaussSeidel or Solver::Dense"
     )]
     NotSymmetric {
         /// Solver name.
@@ -120,7 +121,10 @@ pub enum SolveError {
         detail: String,
     },
     /// The dense solver refuses systems above its size cap.
-    #[error("dense: n = {n} exceeds the cap of {cap} rows (n² doubles of memory, n³ work); use ldl or cg")]
+    #[error(
+        "dense: n = {n} exceeds the cap of {cap} rows (n² doubles of memory, n³ work); use Solver::Ldl or \
+         Solver::Cg"
+    )]
     TooLarge {
         /// Rows of the system.
         n: usize,

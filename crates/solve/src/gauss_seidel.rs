@@ -9,7 +9,7 @@
 //!
 //! # Reference
 //! Zheng & Cai 2005, §3.2 and Eq. 7 (they solve their diagonally dominant
-//! system by Gauss-Seidel, `seeds/zheng-cai-2005-doo-sabin-interpolation.txt`);
+//! system by Gauss-Seidel; ZC05 in [references]);
 //! Saad, *Iterative Methods for Sparse Linear Systems*, §4.1 (SOR/SSOR) and
 //! §12.4 (multicolouring).
 //!
@@ -77,6 +77,8 @@
 //!     assert!(a.max_residual(&sol.x, &p) <= 1e-6);
 //! }
 //! ```
+//!
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use std::time::Instant;
 

@@ -45,7 +45,7 @@
 //! # Deviations from the textbook
 //! - **Stopping on the true max-row A-residual.** Right preconditioning keeps
 //!   the Arnoldi residual equal to P − A·X; GMRES's |g_{j+1}| is its 2-norm,
-//!   but the project's rule is the max row norm (SPEC §4). The residual
+//!   but the project's rule is the max row norm ([the stopping rule]). The residual
 //!   *vector* is carried by r_j = s_j²·r_{j−1} − (g_j·c_j/ρ_j)·w (the GMRES
 //!   residual is g_{j+1}·V_{j+1}Q_jᵀe_{j+1}, and Q_jᵀe_{j+1} =
 //!   −s_j·Q_{j−1}ᵀe_j + c_j·e_{j+1}; w is the unnormalised v_{j+1}) in the
@@ -79,6 +79,8 @@
 //! let sol = gmres(&a, &p, &SolveOptions { tol: 1e-10, ..Default::default() }).unwrap();
 //! assert!(sol.iterations < 30 && a.max_residual(&sol.x, &p) <= 1e-10);
 //! ```
+//!
+//! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use std::time::Instant;
 

@@ -7,7 +7,7 @@
 //!
 //! # Reference
 //! Zheng & Cai 2005, §3.2 and Eq. 7 (the Jacobi form of their iteration;
-//! `seeds/zheng-cai-2005-doo-sabin-interpolation.txt`); Saad, *Iterative
+//! ZC05 in [references]); Saad, *Iterative
 //! Methods for Sparse Linear Systems*, §4.1.
 //!
 //! # Algorithm
@@ -17,7 +17,7 @@
 //!
 //! # Convergence
 //! Converges when A is strictly diagonally dominant — Zheng-Cai's matrix is
-//! (ERRATA Z7: diagonal m + Σ1/m_i against off-diagonal sum m − Σ1/m_i) —
+//! ([correction Z7]: diagonal m + Σ1/m_i against off-diagonal sum m − Σ1/m_i) —
 //! or, for symmetric positive definite S, iff 2·diag(S) − S is positive
 //! definite. Many limit matrices are **not** in that class: the regular
 //! bicubic mask (S = 16 | 4 | 1) has λ_max(S) = 36 > 2·16, so Jacobi
@@ -41,6 +41,9 @@
 //! let sol = jacobi(&a, &p, &SolveOptions::default()).unwrap();
 //! assert!(a.max_residual(&sol.x, &p) <= 1e-6);
 //! ```
+//!
+//! [correction Z7]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z7
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use std::time::Instant;
 

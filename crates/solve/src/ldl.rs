@@ -10,7 +10,7 @@
 //!
 //! # Reference
 //! Nasri 1987 solves the interpolation system directly (the baseline of
-//! Zheng & Cai 2005 §3.5, `seeds/zheng-cai-2005-doo-sabin-interpolation.txt`);
+//! Zheng & Cai 2005 §3.5; ZC05 in [references]);
 //! T. A. Davis, *Algorithm 849: A concise sparse Cholesky factorization
 //! package* (LDL), ACM TOMS 31 (2005), as ported by `sprs-ldl`;
 //! A. George (1973) and George-Liu (1981) for nested dissection
@@ -67,6 +67,8 @@
 //! assert_eq!(sol.negative_pivots, Some(1));
 //! assert!(a.max_residual(&sol.x, &p) <= 1e-12);
 //! ```
+//!
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use std::time::Instant;
 

@@ -4,7 +4,7 @@
 //! whose matrix maps control points X to limit points A·X, with data points
 //! P as right-hand side (n × 3: x, y, z solved together). Every limit matrix
 //! has the factored form **A = D·S**, D diagonal positive, S symmetric
-//! (SPEC §3), carried by [`FactoredMatrix`]. This crate solves such systems;
+//! ([limit matrices]), carried by [`FactoredMatrix`]. This crate solves such systems;
 //! it never sees a mesh.
 //!
 //! | solver | file | needs | cost per iteration |
@@ -25,10 +25,10 @@
 //!
 //! **What it does not do**: build matrices from meshes (`subdiv-stencil`),
 //! print, or guess a scale: every tolerance is relative to the caller's
-//! `scale` (the data's bounding-box diagonal, SPEC §1).
+//! `scale` (the data's bounding-box diagonal, [how the error is measured]).
 //!
 //! **Stopping rule** (all solvers): max_i ‖P_i − (A·X)_i‖₂ / scale ≤ tol, the
-//! quantity the papers use (SPEC §4), always evaluated on the true
+//! quantity the papers use ([the stopping rule]), always evaluated on the true
 //! A-residual before `Ok` is returned. A solve that does not get there is an
 //! error carrying its diagnostics ([`SolveError::NotConverged`] with the
 //! iterations, residual history and last iterate), never a silent wrong
@@ -68,6 +68,10 @@
 //!     assert!(pillow.max_residual(&s.solve(&pillow, &q, &opts).unwrap().x, &q) / opts.scale <= 1e-8);
 //! }
 //! ```
+//!
+//! [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
+//! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 #![warn(missing_docs)]
 
 pub mod cg;

@@ -1,9 +1,11 @@
 //! The input type: a limit matrix in factored form A = D·S.
 //!
 //! Every limit matrix of the project is A = D·S with D diagonal positive and
-//! S symmetric (SPEC §3; Cheng's appendix, Fan-Cheng-Lai §4). The symmetric
+//! S symmetric ([limit matrices]; Cheng's appendix, Fan-Cheng-Lai §4). The symmetric
 //! form is what makes CG, LDLᵀ and Lanczos applicable: A·x = p ⇔ S·x = D⁻¹p,
 //! and D^{1/2}·S·D^{1/2} is a symmetric matrix similar to A.
+//!
+//! [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use crate::error::SolveError;
 use crate::kernels::{self, Csr, Row};

@@ -11,10 +11,12 @@
 //! | [`cube_checkerboard`] | Cheng's A on the cube (all valence 3, bipartite) | {1, ½ (×3), ⅙ (×3), 0}: singular, kernel = checkerboard |
 //! | [`pillow`] | Cheng's A on two quads glued along their boundary (valence 2) | {1, 1/7, 1/7, −1/7}: indefinite |
 //!
-//! The regular masks follow SPEC §1: a regular Catmull-Clark vertex has
+//! The regular masks follow [how the error is measured]: a regular Catmull-Clark vertex has
 //! limit (n²v + 4Σe + Σf)/(n(n+5)) after one step, which composed with the
 //! step gives 4/9 centre, 1/9 per edge neighbour, 1/36 per diagonal
 //! neighbour; Loop's regular limit is ½ centre + 1/12 per neighbour.
+//!
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 
 use sprs::TriMatI;
 
@@ -180,10 +182,13 @@ pub fn random_nonsymmetric(n: usize, neighbours: usize, seed: u64) -> FactoredMa
 }
 
 /// Cheng's Catmull-Clark limit matrix of the cube (8 vertices of valence 3,
-/// 6 quads; appendix Eq. 5 with ERRATA C1): D = 1/6, S = 9/4 on the
+/// 6 quads; appendix Eq. 5 with [correction C1]): D = 1/6, S = 9/4 on the
 /// diagonal, 1 for the 3 edge neighbours, ¼ for the 3 face-diagonal
 /// neighbours. Vertex i has coordinates (i & 1, i >> 1 & 1, i >> 2 & 1).
-/// Singular: the checkerboard (−1)^{popcount(i)} is in its kernel (ERRATA C3).
+/// Singular: the checkerboard (−1)^{popcount(i)} is in its kernel ([correction C3]).
+///
+/// [correction C1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
+/// [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 pub fn cube_checkerboard() -> FactoredMatrix {
     let entries = (0..8usize).flat_map(|i| {
         (0..8usize).filter_map(move |j| match (i ^ j).count_ones() {
@@ -204,7 +209,9 @@ pub fn cube_kernel() -> Vec<f64> {
 /// Cheng's Catmull-Clark limit matrix of the pillow: two quads (0,1,2,3) and
 /// (3,2,1,0), every vertex of valence 2. D = 4/(n(n+5)) = 2/7; S is the
 /// circulant (1, 1, ½, 1). Spectrum {1, 1/7, 1/7, −1/7}: indefinite and
-/// nonsingular (ERRATA C3); plain PIA diverges.
+/// nonsingular ([correction C3]); plain PIA diverges.
+///
+/// [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 pub fn pillow() -> FactoredMatrix {
     let c = [1.0, 1.0, 0.5, 1.0];
     let entries = (0..4usize).flat_map(move |i| (0..4usize).map(move |j| (i, j, c[(j + 4 - i) % 4])));

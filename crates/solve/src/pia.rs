@@ -8,9 +8,10 @@
 //! # Reference
 //! F. Cheng, F. Fan, S. Lai, C. Huang, J. Wang, J. Yong, *Loop subdivision
 //! surface based progressive interpolation* / the Catmull-Clark variant
-//! (`seeds/cheng-catmull-clark-progressive-interpolation.txt`, §2, Eq. 1-3).
+//! (Cheng et al., *Interpolating meshes of arbitrary topology*, §2, Eq. 1-3;
+//! CFL in [references]).
 //! Their "M_{i+1} = M_i − L(M_i), control mesh = Σ M_i" is this iteration
-//! (ERRATA C6). Fan-Cheng-Lai use the same iteration for Doo-Sabin (Eq. 3).
+//! ([correction C6]). Fan-Cheng-Lai use the same iteration for Doo-Sabin (Eq. 3).
 //!
 //! # Algorithm
 //! 1. X₀ = P (or the caller's start).
@@ -21,7 +22,7 @@
 //! # Convergence
 //! The error contracts by ρ(I − A) = max |1 − λ| per iteration: PIA
 //! converges iff spec(A) ⊂ (0, 2). Every limit matrix with spectrum in
-//! (0, 1] qualifies (ERRATA F6: ρ ≤ 1 − λ_min for Fan's B(λ); Z8: λ_min ≥ ¼
+//! (0, 1] qualifies ([correction F6]: ρ ≤ 1 − λ_min for Fan's B(λ); [correction Z8]: λ_min ≥ ¼
 //! for Nasri's C). Catmull-Clark with a valence-2 vertex has λ_min < 0 and
 //! PIA diverges ([`SolveError::Diverged`]); the all-valence-3 bipartite case
 //! has λ = 0 and PIA stalls ([`SolveError::NotConverged`], reason
@@ -41,6 +42,11 @@
 //! assert!(sol.iterations < 70 && sol.residual <= 1e-6);
 //! assert!(a.max_residual(&sol.x, &p) <= 1e-6);
 //! ```
+//!
+//! [correction C6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c6
+//! [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
+//! [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
+//! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use std::time::Instant;
 

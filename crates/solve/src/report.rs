@@ -9,9 +9,11 @@ use crate::tolerances::{DEFAULT_MAX_ITER, DEFAULT_TOL, DIVERGENCE_FACTOR, STAGNA
 
 /// Stopping rule and start of a solve.
 ///
-/// A solve stops when max_i ‖P_i − (A·X)_i‖₂ / `scale` ≤ `tol` (SPEC §4:
+/// A solve stops when max_i ‖P_i − (A·X)_i‖₂ / `scale` ≤ `tol` ([the stopping rule]:
 /// the quantity the papers use; `scale` is the caller's bounding-box
 /// diagonal d), or after `max_iter` iterations.
+///
+/// [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolveOptions {
     /// Relative tolerance on the max row residual.

@@ -4,7 +4,7 @@
 //! Weighted PIA needs ω = 2/(λ_min + λ_max) and Chebyshev needs an interval
 //! [λ_min, λ_max] containing spec(A). Both come from a few Lanczos steps.
 //! Tests and reports use the same estimates to state the eigenvalue range
-//! of a limit matrix (SPEC §8.3).
+//! of a limit matrix (the Cheng table of [paper reproduction]).
 //!
 //! # Reference
 //! C. Lanczos (1950); G. H. Golub, C. F. Van Loan, *Matrix Computations*,
@@ -45,6 +45,8 @@
 //! - The bracket's margin is heuristic, not a rigorous bound; the solvers
 //!   that use it tolerate moderate errors (see `chebyshev.rs`).
 //! - Every dot product is a fixed-chunk reduction: same bits for any thread count.
+//!
+//! [paper reproduction]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-paper-reproduction
 
 use nalgebra::{DMatrix, SymmetricEigen};
 

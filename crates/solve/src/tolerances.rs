@@ -5,7 +5,9 @@
 //! says what it guards and why it has its value.
 
 /// Default relative stopping tolerance: max over rows of |P − AX| / scale.
-/// SPEC §4 (the papers stop on the same max-norm quantity).
+/// [The stopping rule] (the papers stop on the same max-norm quantity).
+///
+/// [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 pub const DEFAULT_TOL: f64 = 1e-6;
 
 /// Default iteration cap of the iterative solvers.

@@ -91,7 +91,7 @@ fn cheng_torus(nu: usize, nv: usize, singles: &[u32], doubles: &[u32]) -> (Facto
 #[test]
 fn cheng_matrices_with_valence_two_vertices_match_ldl() {
     // Measured (dense eigenvalues): one valence-2 vertex between two quads leaves
-    // A positive definite (λ_min ≈ 0.098, the proof of ERRATA C3 fails but not
+    // A positive definite (λ_min ≈ 0.098, the proof of correction C3 (docs/REFERENCES.md) fails but not
     // the property); two adjacent ones make it indefinite, one negative
     // eigenvalue per pair. MINRES does not care; CG refuses the second kind.
     for (singles, doubles) in [(&[0u32][..], &[][..]), (&[], &[0]), (&[0, 1], &[200]), (&[77, 301], &[0, 500])] {
@@ -291,7 +291,7 @@ fn non_symmetric_matrices_are_refused() {
     let a = model_problems::random_nonsymmetric(30, 4, 1);
     let e = minres(&a, &common::data(30, 1), &SolveOptions::default()).unwrap_err();
     assert!(matches!(e, SolveError::NotSymmetric { solver: "minres", .. }), "{e:?}");
-    assert!(e.to_string().contains("gmres"), "{e}");
+    assert!(e.to_string().contains("Solver::Gmres"), "{e}");
 }
 
 proptest! {

@@ -1,12 +1,15 @@
 //! Catmull-Clark operators: the refinement stencil R and the limit stencil.
 //!
 //! Rules: `subdiv_rules::catmull_clark` (Cheng et al., Appendix Eq. 4 as
-//! corrected by ERRATA C2; limit Eq. 5 with ERRATA C1). Boundaries follow
+//! corrected by [correction C2]; limit Eq. 5 with [correction C1]). Boundaries follow
 //! OpenSubdiv's `EDGE_AND_CORNER`: boundary edges are cubic B-spline creases,
 //! vertices in a single face are corners and stay.
 //!
 //! Row order of R is the [`subdiv_mesh::refine::quad_split`] numbering: old
 //! vertices, then face points, then edge points.
+//!
+//! [correction C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c2
+//! [correction C1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 
 use crate::scheme::{SchemeRules, Split};
 use crate::sharpness::{EdgeStep, LevelSharpness};
@@ -175,9 +178,11 @@ fn smooth_vertex_row(t: &Topology, v: VertexId, scale: f64, rows: &mut RowBuilde
     rows.add(v.0, scale * centre);
 }
 
-/// Row of the new edge point of `e`: ERRATA C2, e = (V + Eᵢ + fᵢ₋₁ + fᵢ)/4 with
+/// Row of the new edge point of `e`: [correction C2], e = (V + Eᵢ + fᵢ₋₁ + fᵢ)/4 with
 /// the face points expanded (the corners of each face other than the ends);
 /// the midpoint on the boundary; times `scale`.
+///
+/// [correction C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c2
 fn edge_point_row(t: &Topology, e: EdgeId, scale: f64, rows: &mut RowBuilder) {
     let h = t.edge_half_edge(e);
     let twin = t.he_twin(h);
@@ -204,11 +209,13 @@ type LimitScratch = (Vec<usize>, Vec<f64>, Vec<f64>);
 
 /// Row v of the limit stencil on any polygon mesh, by the vertex's rule at
 /// this level ([`LevelSharpness::limit_rule`]). Smooth: Cheng's Eq. 5 (one
-/// step composed with the quad limit mask, ERRATA C1/C2); dart: the smooth
+/// step composed with the quad limit mask, [corrections C1/C2]); dart: the smooth
 /// quad limit mask on an all-quad fan, as OpenSubdiv's `Limit` (Eq. 5 on
 /// other fans); crease: (E₋ + 4V + E₊)/6 along its sharp edges (the cubic
 /// B-spline of the crease polygon); corner: V. Exact where no semi-sharp
 /// value is left around v (refine until the tags have decayed first).
+///
+/// [corrections C1/C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 fn limit_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, rows: &mut RowBuilder, scratch: &mut LimitScratch) {
     if t.is_isolated(v) {
         rows.add(v.0, 1.0);

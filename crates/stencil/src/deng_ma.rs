@@ -1,4 +1,4 @@
-//! The Deng-Ma interpolatory step (Deng & Ma 2011 §3.3-3.4, ERRATA D2, D5),
+//! The Deng-Ma interpolatory step (Deng & Ma 2011 §3.3-3.4, [corrections D2, D5]),
 //! on closed and open meshes, with infinitely sharp creases and corners.
 //!
 //! At every old vertex P with Doo-Sabin images Qᵢ (one per face) and their
@@ -75,6 +75,8 @@
 //! of §3.4 depends on the positions (edge lengths, image spread), so
 //! [`step`] evaluates it geometrically, level by level; it cannot be
 //! precomputed from topology and re-applied to other data.
+//!
+//! [corrections D2, D5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d2
 
 use crate::apply::fill_in_chunks;
 use crate::doo_sabin::{first_step, refinement_stencil as doo_sabin_stencil, CornerRule};
@@ -303,7 +305,8 @@ pub fn step_positions_tagged(
             } else {
                 c.omega
             };
-            *m = positions[v.index()] + omega * (images[h.index()] - c.g); // §3.3 (ERRATA D2): Q̄ = P + ω(Q − G)
+            // §3.3 with correction D2 (docs/REFERENCES.md): Q̄ = P + ω(Q − G).
+            *m = positions[v.index()] + omega * (images[h.index()] - c.g);
         }
     });
     // §3.3 step 3: old vertices, face points, edge points (Catmull-Clark numbering).
@@ -462,8 +465,10 @@ fn sector_omega(
 }
 
 /// The new point of sharp half-edge `h`: the 4-point rule along its piece of
-/// the sharp polygon (Deng-Ma §3.1 step 4, §3.1.1 with ERRATA D1), with the
+/// the sharp polygon (Deng-Ma §3.1 step 4, §3.1.1 with [correction D1]), with the
 /// phantom beyond a corner or a dart.
+///
+/// [correction D1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d1
 fn sharp_edge_point(
     t: &Topology,
     sharp: &LevelSharpness,

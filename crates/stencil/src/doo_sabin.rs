@@ -464,7 +464,7 @@ pub fn edge_limit_point(t: &Topology, h: HalfEdgeId, x: &[DVec3]) -> DVec3 {
     (one_side + other_side) / 4.0
 }
 
-/// Row v of the standard scheme's limit stencil (SPEC §1; module docs,
+/// Row v of the standard scheme's limit stencil ([how the error is measured]; module docs,
 /// "Limit points"): the centroid of v's V-face after one step, (1/n)Σ over
 /// v's faces of that face's Eq. 1 row; for a boundary or crease vertex, the
 /// point of the sharp quadratic B-spline at v (`sharp_curve_point`, without
@@ -473,6 +473,8 @@ pub fn edge_limit_point(t: &Topology, h: HalfEdgeId, x: &[DVec3]) -> DVec3 {
 /// (no V-face), the valence-2 mask on the first step's images
 /// ([`valence_two_corners`]). A corner, and an isolated vertex, map to
 /// themselves.
+///
+/// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 fn limit_row(t: &Topology, features: &DualFeatures, v: VertexId, rows: &mut RowBuilder, w: &mut Vec<f64>) {
     if t.is_isolated(v) || features.is_corner(v) {
         rows.add(v.0, 1.0);

@@ -622,7 +622,8 @@ impl Step<'_> {
         let t = self.t;
         match self.scheme {
             Primal::CatmullClark => {
-                // ERRATA C2: (V + E + f_left + f_right)/4, the face points expanded over their corners.
+                // Correction C2 (docs/REFERENCES.md): (V + E + f_left + f_right)/4, the face points expanded
+                // over their corners.
                 let size = |x: HalfEdgeId| t.face_size(t.he_face(x));
                 let mask = catmull_clark::edge_point_mask(size(h), Some(size(g)));
                 sum.add(scale * mask.end, self.value(h));

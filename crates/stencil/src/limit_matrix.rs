@@ -1,4 +1,4 @@
-//! Limit-point matrices in the factored form **A = D·S** (SPEC §3).
+//! Limit-point matrices in the factored form **A = D·S** ([limit matrices]).
 //!
 //! Row v of A maps the control points X to the limit point that the method
 //! associates with vertex v; interpolation solves A·X = P. Every matrix is
@@ -10,11 +10,11 @@
 //!
 //! | builder | method, first step | D | S (interior vertex v, valence n, faces fᵢ of size mᵢ) |
 //! |---|---|---|---|
-//! | [`limit_matrix_nasri`] | Nasri, standard Doo-Sabin | 1/n | Σ_f Circ(α_{m_f}) (Zheng-Cai Eq. 1; ERRATA Z8) |
-//! | [`limit_matrix_zheng_cai`] | Zheng-Cai Eq. 4 | 1/n | B(½): Eq. 6 divided by 2n (ERRATA Z7) |
-//! | [`limit_matrix_two_phase`] | Fan-Cheng-Lai Eq. 1, λ per face | 1/n | Σ_f [λ_f I + (1 − λ_f) J/m_f] (Eq. 2 with ERRATA F1, Eq. 5) |
-//! | [`limit_matrix_catmull_clark`] | Cheng, Catmull-Clark | 4/(n(n+5)) | appendix Eq. 5 bracket (ERRATA C1, C2) |
-//! | [`limit_matrix_loop`] | Loop | γ = 1/(k + 3/(8β)) | 3/(8β) on the diagonal, 1 per neighbour (Deng-Wang Eq. 5-6, ERRATA W4) |
+//! | [`limit_matrix_nasri`] | Nasri, standard Doo-Sabin | 1/n | Σ_f Circ(α_{m_f}) (Zheng-Cai Eq. 1; [correction Z8]) |
+//! | [`limit_matrix_zheng_cai`] | Zheng-Cai Eq. 4 | 1/n | B(½): Eq. 6 divided by 2n ([correction Z7]) |
+//! | [`limit_matrix_two_phase`] | Fan-Cheng-Lai Eq. 1, λ per face | 1/n | Σ_f [λ_f I + (1 − λ_f) J/m_f] (Eq. 2 with [correction F1], Eq. 5) |
+//! | [`limit_matrix_catmull_clark`] | Cheng, Catmull-Clark | 4/(n(n+5)) | appendix Eq. 5 bracket ([corrections C1, C2]) |
+//! | [`limit_matrix_loop`] | Loop | γ = 1/(k + 3/(8β)) | 3/(8β) on the diagonal, 1 per neighbour (Deng-Wang Eq. 5-6, [correction W4]) |
 //!
 //! Cheng's A and Loop's L also come with creases and corners
 //! ([`limit_matrix_catmull_clark_sharp`], [`limit_matrix_loop_sharp`], on a
@@ -145,8 +145,8 @@
 //! ½ exactly (the alternating vector) up to < 1. Every crease block lies in
 //! [½, 1]: never singular, condition number ≤ 2. *Smooth block:* for x on
 //! the smooth vertices xᵀSx = Σ_f x_fᵀ W_f x_f, W_f the face's symmetric
-//! block — Circ(α_m), eigenvalues 1, ½, ¼ (ERRATA Z8), or λ_f I + (1 − λ_f)J/m,
-//! eigenvalues 1, λ_f (ERRATA F6) — and Σ_f |x_f|² = xᵀD⁻¹x; so the smooth
+//! block — Circ(α_m), eigenvalues 1, ½, ¼ ([correction Z8]), or λ_f I + (1 − λ_f)J/m,
+//! eigenvalues 1, λ_f ([correction F6]) — and Σ_f |x_f|² = xᵀD⁻¹x; so the smooth
 //! block's D^½SD^½ lies in [¼, 1] (C), [½, 1] (Z), [min λ, 1] (B(λ)), on
 //! open meshes too. Hence without darts and interior valence-2 vertices
 //! spec(A) ⊂ [¼, 1] (C), [½, 1] (Z), [min(½, min λ), 1] (B(λ)): A is never
@@ -156,6 +156,14 @@
 //! 1.62·min λ (B(λ)) with darts, 0.207, 0.383, 1.16·min λ with interior
 //! valence-2 vertices too; every eigenvalue had a positive real part, no
 //! block was singular, but nothing proves that one cannot be.
+//!
+//! [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
+//! [correction Z7]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z7
+//! [correction F1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f1
+//! [corrections C1, C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
+//! [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
+//! [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
+//! [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use crate::doo_sabin::CornerRule;
 use crate::sharpness::LevelSharpness;
@@ -947,27 +955,36 @@ fn add_fan_row(
 }
 
 /// Nasri's C: standard Doo-Sabin, limit of vertex v = centroid of its V-face
-/// after one step. Spectrum ⊂ [¼, 1] on closed manifold meshes (ERRATA Z8).
+/// after one step. Spectrum ⊂ [¼, 1] on closed manifold meshes ([correction Z8]).
+///
+/// [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
 pub fn limit_matrix_nasri(t: &Topology) -> LimitMatrix {
     limit_matrix_doo_sabin(t, CornerRule::Standard).expect("the standard rule has no parameters")
 }
 
 /// Zheng-Cai's Z: first step Eq. 4, V' = (V + A)/2; Eq. 6 divided by 2n,
-/// equal to B(½). Strictly diagonally dominant, spectrum ⊂ [½, 1] (ERRATA Z7).
+/// equal to B(½). Strictly diagonally dominant, spectrum ⊂ [½, 1] ([correction Z7]).
+///
+/// [correction Z7]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z7
 pub fn limit_matrix_zheng_cai(t: &Topology) -> LimitMatrix {
     limit_matrix_doo_sabin(t, CornerRule::Uniform(0.5)).expect("λ = ½ is valid")
 }
 
 /// Fan-Cheng-Lai's B(λ): two-phase first step with λ per face (Eq. 2, Eq. 5).
-/// Spectrum ⊂ [min λ, 1] (ERRATA F6).
+/// Spectrum ⊂ [min λ, 1] ([correction F6]).
+///
+/// [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
 pub fn limit_matrix_two_phase(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMatrix, StencilError> {
     limit_matrix_doo_sabin(t, rule)
 }
 
-/// Cheng's Catmull-Clark A: D = 4/(n(n+5)), S from appendix Eq. 5 (ERRATA C1,
-/// C2), assembled as the quadratic form Σ_faces (Σx)²/m + Σ_edges
-/// (xᵢ + xⱼ)²/2 + Σ_v n(n−3)/4 x_v² (ERRATA, "correct as printed").
+/// Cheng's Catmull-Clark A: D = 4/(n(n+5)), S from appendix Eq. 5 ([corrections C1,
+/// C2]), assembled as the quadratic form Σ_faces (Σx)²/m + Σ_edges
+/// (xᵢ + xⱼ)²/2 + Σ_v n(n−3)/4 x_v² (correct as printed: [Cheng's corrections]).
 /// Spectrum ⊂ [0, 1] only when every valence is ≥ 3 ([`catmull_clark_degeneracy`]).
+///
+/// [corrections C1, C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
+/// [Cheng's corrections]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#cheng-et-al-cfl
 pub fn limit_matrix_catmull_clark(t: &Topology) -> LimitMatrix {
     limit_matrix_catmull_clark_sharp(t, &LevelSharpness::plain()).expect("an untagged level has no composed rows")
 }
@@ -1012,11 +1029,13 @@ pub fn limit_matrix_catmull_clark_sharp(t: &Topology, sharp: &LevelSharpness) ->
 }
 
 /// The Loop limit matrix L: (1 − kγ) on the diagonal, γ per neighbour, with
-/// γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, ERRATA W4): D = γ, S = 3/(8β) on the
+/// γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, [correction W4]): D = γ, S = 3/(8β) on the
 /// diagonal and 1 per edge.
 ///
 /// # Errors
 /// [`StencilError::NotTriangles`] on a mesh with a non-triangle.
+///
+/// [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
 pub fn limit_matrix_loop(t: &Topology, beta: LoopBeta) -> Result<LimitMatrix, StencilError> {
     limit_matrix_loop_sharp(t, &LevelSharpness::plain(), beta)
 }
@@ -1117,7 +1136,10 @@ pub fn limit_rows_loop_sharp(
     Ok(LimitRows { vertices: vertices.to_vec(), kinds, d, s: rows.build(t.vertex_count()) })
 }
 
-/// Why Cheng's A cannot be inverted safely on a mesh (SPEC §3, ERRATA C3).
+/// Why Cheng's A cannot be inverted safely on a mesh ([limit matrices], [correction C3]).
+///
+/// [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
+/// [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Degeneracy {
     /// A closed component whose vertices all have valence 3 and whose vertex
@@ -1152,10 +1174,12 @@ pub fn catmull_clark_degeneracy(t: &Topology) -> Option<Degeneracy> {
 
 /// A basis of the kernel of Cheng's A that the structure gives: one ±1
 /// checkerboard vector per closed component whose vertices all have valence
-/// 3 and whose vertex graph is bipartite (ERRATA C3: A·c = 0 exactly), as
+/// 3 and whose vertex graph is bipartite ([correction C3]: A·c = 0 exactly), as
 /// (vertex, ±1) over that component's vertices. The range of A is then
 /// orthogonal to D⁻¹c (S is symmetric): data P are interpolable only if
 /// Σ_v c_v P_v / d_v = 0 for every such c.
+///
+/// [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 pub fn catmull_clark_kernel(t: &Topology) -> Vec<Vec<(VertexId, f64)>> {
     // Per component: closed, all valence 3, 2-colourable. One pass marks the
     // components with a boundary or a valence other than 3 (almost all); only

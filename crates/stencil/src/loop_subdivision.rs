@@ -1,11 +1,13 @@
 //! Loop operators: the refinement stencil R and the limit stencil.
 //!
-//! Rules: `subdiv_rules::loop_scheme` (Deng-Wang Eq. 1-2 and 5-6 with ERRATA
-//! W1-W4), Warren's β by default, Loop's original β as an option; boundaries
+//! Rules: `subdiv_rules::loop_scheme` (Deng-Wang Eq. 1-2 and 5-6 with
+//! [corrections W1-W4]), Warren's β by default, Loop's original β as an option; boundaries
 //! as Catmull-Clark (creases, corners stay).
 //!
 //! Row order of R is the [`subdiv_mesh::refine::triangle_split`] numbering:
 //! old vertices, then edge points.
+//!
+//! [corrections W1-W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w1
 
 use crate::scheme::{SchemeRules, Split};
 use crate::sharpness::{EdgeStep, LevelSharpness};
@@ -158,9 +160,11 @@ pub fn refine(t: &Topology, beta: LoopBeta) -> Result<(Topology, SparseMatrix), 
 }
 
 /// Row v of the limit stencil by the vertex's rule at this level: smooth and
-/// dart (1 − kγ)p + γΣpⱼ with γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, ERRATA
-/// W4); crease (p₋ + 4p + p₊)/6 along its sharp edges; corner p. Exact where
+/// dart (1 − kγ)p + γΣpⱼ with γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6,
+/// [correction W4]); crease (p₋ + 4p + p₊)/6 along its sharp edges; corner p. Exact where
 /// no semi-sharp value is left around v.
+///
+/// [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
 fn limit_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, beta: LoopBeta, rows: &mut RowBuilder) {
     if t.is_isolated(v) {
         rows.add(v.0, 1.0);

@@ -196,8 +196,10 @@ fn refined_piece(mesh: &Mesh, piece: &[u32], closed: bool, n0: usize) -> Vec<Ver
 }
 
 /// The input piece refined `levels` times by the 4-point rule with the
-/// curve tension of `tension` (ω/16, ERRATA D4; variable: ω_P of §3.4 on the
+/// curve tension of `tension` (ω/16, [correction D4]; variable: ω_P of §3.4 on the
 /// polygon, the piece ends as corners) and linear phantoms at open ends.
+///
+/// [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
 fn four_point_levels(points: &[DVec3], closed: bool, tension: Tension, levels: usize) -> Vec<DVec3> {
     let mut p: Vec<[f64; 3]> = points.iter().map(|q| q.to_array()).collect();
     for _ in 0..levels {

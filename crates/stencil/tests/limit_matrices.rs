@@ -1,6 +1,8 @@
-//! The limit matrices A = D·S (SPEC §3): theorems of the papers (row sums,
+//! The limit matrices A = D·S ([limit matrices]): theorems of the papers (row sums,
 //! exact symmetry, diagonal dominance, spectra) and brute force (subdivide
 //! 8 levels and watch the tracked points converge to A·P).
+//!
+//! [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 mod common;
 use common::fixture;
@@ -226,7 +228,7 @@ fn cube_is_singular_and_pillow_indefinite_and_both_are_detected() {
     assert_eq!(catmull_clark_degeneracy(prism5.topology()), None);
     let pillow = shapes::pillow();
     let ev = eigenvalues(&limit_matrix_catmull_clark(pillow.topology()));
-    assert!((ev[0] + 1.0 / 7.0).abs() < 1e-12, "pillow: λ_min = {} (ERRATA C3: −1/7)", ev[0]);
+    assert!((ev[0] + 1.0 / 7.0).abs() < 1e-12, "pillow: λ_min = {} (correction C3 in docs/REFERENCES.md: −1/7)", ev[0]);
     assert!(matches!(catmull_clark_degeneracy(pillow.topology()), Some(Degeneracy::Indefinite { .. })));
     // Per component: a cube beside an icosahedron is still singular (whichever comes first).
     let union = |a: &Mesh, b: &Mesh| {

@@ -603,7 +603,9 @@ fn deng_ma_keeps_old_vertices_and_converges() {
 
 /// On a regular quad torus with data that varies along one direction only,
 /// the Deng-Ma step is the 4-point curve scheme along that direction with
-/// tension ω/16 (ERRATA D4), and constant across it.
+/// tension ω/16 ([correction D4]), and constant across it.
+///
+/// [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
 #[test]
 fn deng_ma_on_one_dimensional_data_is_the_four_point_scheme() {
     let (nu, nv) = (11, 6);
@@ -890,7 +892,7 @@ fn doo_sabin_limit_stencil_agrees_with_brute_force() {
                 "{name} vertex {v}: tracked centroid off the prediction by {centroid_err:e}·d"
             );
             // The tracked polygon shrinks by ½ per level (the face circulant's
-            // subdominant eigenvalue, ERRATA Z8; Chaikin on an edge), so the
+            // subdominant eigenvalue, correction Z8 (docs/REFERENCES.md); Chaikin on an edge), so the
             // whole-mesh run gives ~2⁻⁸ of the first size. Its descendants
             // depend on its own corners only (Eq. 1 within an F-face; Chaikin
             // on a boundary edge): check that locality on the last whole-mesh
@@ -925,8 +927,10 @@ fn doo_sabin_limit_stencil_agrees_with_brute_force() {
 
 // ---------------------------------------------------------------- isolated vertices, valence 2
 
-/// An isolated vertex (a repaired-input warning, SPEC §7) is carried through
+/// An isolated vertex (a repaired-input warning, [error behaviour]) is carried through
 /// primal splits unchanged and dropped by the dual split.
+///
+/// [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 #[test]
 fn isolated_vertices_are_kept_by_primal_schemes_and_dropped_by_doo_sabin() {
     let extra = DVec3::new(5.0, -3.0, 2.0);

@@ -1,7 +1,9 @@
 //! Table 3: Cheng's Catmull-Clark interpolation — PIA, weighted PIA,
 //! Chebyshev, CG, MINRES, GMRES and LDLᵀ; eigenvalue range of A per mesh;
-//! meshes with interior valence-2 vertices, where A is indefinite (ERRATA C3)
+//! meshes with interior valence-2 vertices, where A is indefinite ([correction C3])
 //! and only MINRES, GMRES and LDLᵀ apply.
+//!
+//! [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 
 use super::common::{ms, sci, timed, Ctx, Kind, Table};
 use super::meshes::{closed_mix, dual, label};
@@ -104,7 +106,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         ],
     );
     table.setup = format!(
-        "A·M̂ = P with Cheng's limit matrix (appendix Eq. 5, ERRATA C1/C2), all vertices interpolated, tolerance \
+        "A·M̂ = P with Cheng's limit matrix (appendix Eq. 5, [corrections C1/C2](../REFERENCES.md#c1)), all vertices \
+         interpolated, tolerance \
          {TOL:e}·d on the max row residual; errors measured from the output control mesh by the Catmull-Clark \
          limit masks. λ_min, λ_max: Lanczos estimates on D^½SD^½ (Ritz values). PIA is the paper's iteration; \
          weighted PIA uses ω = 2/(λ_min + λ_max); B(½) is Fan-Cheng-Lai's two-phase matrix with λ = ½ on every face \
@@ -122,7 +125,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
          edge (`--chain 2`: two hexagons sharing three edges), each new vertex moved off the surface by \
          {DEFAULT_OFFSET} edge lengths; `shapes::pillow` is two quads glued (every vertex of valence 2). A lone \
          valence-2 vertex leaves A positive definite (λ_min > 0; LDLᵀ finds no negative pivot); each pair, and \
-         the pillow, gives A one negative eigenvalue (ERRATA C3), where PIA diverges and CG breaks down (`cheng` \
+         the pillow, gives A one negative eigenvalue ([correction C3](../REFERENCES.md#c3)), where PIA diverges and CG \
+         breaks down (`cheng` \
          refuses them: n/a) and MINRES, GMRES and LDLᵀ are compared. LDLᵀ is skipped above {LDL_MAX_LABEL} vertices. The paper gives no timing table."
     );
     let mut models = Vec::new();

@@ -56,7 +56,8 @@ pub fn timed<T>(runs: usize, mut f: impl FnMut() -> T) -> (T, f64) {
     (last.expect("at least one run"), times[times.len() / 2])
 }
 
-/// What a regression metric measures, which fixes how it may move (SPEC §8:
+/// What a regression metric measures, which fixes how it may move (docs/ARCHITECTURE.md,
+/// "Contract: paper reproduction":
 /// iteration counts and errors are compared, never times).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {

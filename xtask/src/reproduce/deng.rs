@@ -39,13 +39,14 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         "Table 4 — Deng & Wang 2010 (Loop) and Deng & Ma 2011 (interpolatory): error and fairness",
         &["method", "model", "parameter", "max error / d", "sphere deviation / d", "bending energy (level 3)"],
     );
-    table.setup = "Deng-Wang: modified first Loop step with normal-based edge points (Eq. 8-9, ERRATA W5/W6) and \
-        vertex points solved so that the Loop limit of vertex i is P_i (ERRATA W7); Warren's β. Deng-Ma: the \
+    table.setup = "Deng-Wang: modified first Loop step with normal-based edge points (Eq. 8-9, \
+        [corrections W5/W6](../REFERENCES.md#w5)) and vertex points solved so that the Loop limit of vertex i is \
+        P_i ([correction W7](../REFERENCES.md#w7)); Warren's β. Deng-Ma: the \
         interpolatory Doo-Sabin-derived scheme with global ω or the variable tension of §3.4 (λ). Error: from \
         the output by the plain rules (Loop limit masks; for Deng-Ma the input vertices are vertices of the \
         refined surface). Sphere deviation: max | |p| − 1 | over the level-3 limit surface of \
         `canonical/icosphere_2.obj` (points on the unit sphere). Bending energy: length-weighted mean squared \
-        dihedral angle of the level-3 surface (lower = fairer). The seed papers give no tables."
+        dihedral angle of the level-3 surface (lower = fairer). The papers give no tables."
         .into();
     let sphere = ctx.fixture("canonical/icosphere_2.obj")?;
     let models = [("canonical/icosphere_2.obj", sphere.clone()), ("tri/eight.off", ctx.fixture("tri/eight.off")?)];
@@ -89,7 +90,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     }
     table.notes.push(
         "Both methods interpolate by construction: the errors are round-off (Deng-Ma keeps the input vertices \
-         bit for bit). ERRATA W6 suggests μ = ¼ (edge points on the sphere to O(h⁴)), but the Loop limit then \
+         bit for bit). [Correction W6](../REFERENCES.md#w6) suggests μ = ¼ (edge points on the sphere to O(h⁴)), \
+         but the Loop limit then \
          still sits inside the sphere; the sphere-deviation column is smallest at μ = ⅜, which cancels the \
          shrinkage of the limit at regular vertices to leading order (derivation in `deng_wang.rs`), so ⅜ is our \
          default."

@@ -1,5 +1,6 @@
 //! `cargo xtask reproduce-paper`: the papers' tables and figures, regenerated
-//! into `docs/results/` (SPEC §8), and the CI regression check.
+//! into `docs/results/` (docs/ARCHITECTURE.md, "Contract: paper reproduction"), and the CI
+//! regression check.
 //!
 //! Every table writes `<id>.md` (with a setup paragraph: machine, build
 //! profile, mesh provenance, the paper's own numbers) and `<id>.json`. In
