@@ -131,14 +131,13 @@ pub(crate) fn solve_limit_system_with(
         if used.last() != Some(&solver.name()) {
             used.push(solver.name());
         }
-        let opts = SolveOptions {
-            tol,
-            scale,
-            max_iter,
-            history: true,
-            initial: Some(unknowns.iter().map(|&v| data[v].to_array()).collect()),
-            observer: observer.clone(),
-        };
+        let opts = SolveOptions::default()
+            .with_tol(tol)
+            .with_scale(scale)
+            .with_max_iter(max_iter)
+            .with_history(true)
+            .with_initial(Some(unknowns.iter().map(|&v| data[v].to_array()).collect()))
+            .with_observer(observer.clone());
         let sol = solver
             .solve(&sub, &rhs, &opts)
             .map_err(|source| InterpError::Solve { method, source: Box::new(source) })?;

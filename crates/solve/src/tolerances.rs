@@ -4,8 +4,8 @@
 //! Solvers read these; none hard-codes a number of its own. Each constant
 //! says what it guards and why it has its value.
 
-/// Default relative stopping tolerance: max over rows of |P − AX| / scale.
-/// SPEC §4 (the papers stop on the same max-norm quantity).
+/// Default relative stopping tolerance: max over rows of |P − AX| / scale
+/// (the papers stop on the same max-norm quantity).
 pub const DEFAULT_TOL: f64 = 1e-6;
 
 /// Default iteration cap of the iterative solvers.
@@ -157,6 +157,11 @@ pub const DENSE_PIVOT_RTOL: f64 = 1e-12;
 /// Iterative refinement steps after a direct solve whose residual misses
 /// the tolerance (each costs one product and one pair of triangular solves).
 pub const REFINEMENT_STEPS: usize = 3;
+
+/// Nested dissection ([`nested_dissection`](crate::nested_dissection)):
+/// vertex subsets at most this large are not dissected further (numbered in
+/// breadth-first order).
+pub const ND_LEAF_SIZE: usize = 64;
 
 /// Default size cap of the dense solver: n² · 8 bytes ≤ 2 GiB (n = 16,384).
 /// The LU is O(n³); callers that want bigger systems pass their own cap to
