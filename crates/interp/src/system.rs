@@ -274,7 +274,7 @@ mod tests {
         }
         let d = (0..8).map(|i| if i < 4 { 1.0 / 6.0 } else { 1.0 / 9.0 }).collect();
         let row_kinds = [[RowKind::Crease; 4], [RowKind::General; 4]].concat();
-        LimitMatrix { d, s: t.to_csr(), boundary_rows: vec![0, 1, 2, 3], row_kinds }
+        LimitMatrix::new(d, t.to_csr(), vec![0, 1, 2, 3], row_kinds).unwrap()
     }
 
     #[test]
