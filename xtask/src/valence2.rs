@@ -209,7 +209,7 @@ mod tests {
         let a = subdiv_stencil::limit_matrix_catmull_clark(mesh.topology());
         let fm = FactoredMatrix::new(a.d, a.s).unwrap();
         let p: Vec<[f64; 3]> = mesh.positions().iter().map(|q| q.to_array()).collect();
-        let opts = SolveOptions { tol: 1e-9, scale: mesh.bbox_diagonal(), ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-9).with_scale(mesh.bbox_diagonal());
         Solver::Ldl.solve(&fm, &p, &opts).unwrap().negative_pivots.unwrap()
     }
 

@@ -133,14 +133,13 @@ pub(crate) fn solve_limit_system_with(
         if used.last() != Some(&solver.name()) {
             used.push(solver.name());
         }
-        let opts = SolveOptions {
-            tol,
-            scale,
-            max_iter,
-            history: true,
-            initial: Some(unknowns.iter().map(|&v| data[v].to_array()).collect()),
-            observer: observer.clone(),
-        };
+        let opts = SolveOptions::default()
+            .with_tol(tol)
+            .with_scale(scale)
+            .with_max_iter(max_iter)
+            .with_history(true)
+            .with_initial(Some(unknowns.iter().map(|&v| data[v].to_array()).collect()))
+            .with_observer(observer.clone());
         let sol = solver
             .solve(&sub, &rhs, &opts)
             .map_err(|source| InterpError::Solve { method, source: Box::new(source) })?;
@@ -276,7 +275,7 @@ mod tests {
         }
         let d = (0..8).map(|i| if i < 4 { 1.0 / 6.0 } else { 1.0 / 9.0 }).collect();
         let row_kinds = [[RowKind::Crease; 4], [RowKind::General; 4]].concat();
-        LimitMatrix { d, s: t.to_csr(), boundary_rows: vec![0, 1, 2, 3], row_kinds }
+        LimitMatrix::new(d, t.to_csr(), vec![0, 1, 2, 3], row_kinds).unwrap()
     }
 
     #[test]

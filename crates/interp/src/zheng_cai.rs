@@ -371,14 +371,13 @@ fn solver_iterations(
             break;
         }
         let (sub, rhs) = crate::system::restrict(z, unknowns, &V, I);
-        let solve_opts = SolveOptions {
-            tol: opts.eps,
-            scale: d,
-            max_iter: opts.ite_max,
-            history: true,
-            observer: opts.common.observer.clone(),
-            initial: Some(unknowns.iter().map(|&v| I[v].to_array()).collect()),
-        };
+        let solve_opts = SolveOptions::default()
+            .with_tol(opts.eps)
+            .with_scale(d)
+            .with_max_iter(opts.ite_max)
+            .with_history(true)
+            .with_observer(opts.common.observer.clone())
+            .with_initial(Some(unknowns.iter().map(|&v| I[v].to_array()).collect()));
         let (x, iterations, matvecs, history) = match solver.solve(&sub, &rhs, &solve_opts) {
             Ok(sol) => (sol.x, sol.iterations, sol.matvecs, sol.history),
             // ITE_MAX is the paper's budget, not a failure: keep the last iterate.

@@ -41,7 +41,7 @@ fn bench_dual_split(c: &mut Criterion) {
             b.iter(|| refine::dual_split(t))
         });
         group.bench_with_input(BenchmarkId::new(format!("{name}/by_validation"), t.half_edge_count()), t, |b, t| {
-            b.iter(|| refine::dual_split_by_validation(t))
+            b.iter(|| subdiv_mesh::internals::dual_split_by_validation(t))
         });
     }
     group.finish();

@@ -47,8 +47,10 @@ use crate::tags::{EdgeTag, TagList, SHARPNESS_INFINITE};
 use glam::DVec3;
 
 /// The feature edges of a mesh at one threshold, with every edge's dihedral
-/// turning angle ([`feature_edges`]).
+/// turning angle ([`feature_edges`]). `#[non_exhaustive]`: read through its
+/// public fields (a new field is not a breaking change).
 #[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct FeatureEdges {
     /// The threshold in radians (the `angle_degrees` it was asked for,
     /// converted).

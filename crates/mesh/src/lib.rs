@@ -73,6 +73,8 @@ mod error;
 pub mod features;
 mod geometry;
 mod ids;
+#[cfg(any(test, feature = "internals"))]
+pub mod internals;
 mod mesh;
 pub mod refine;
 pub mod shapes;

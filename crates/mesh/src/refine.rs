@@ -14,38 +14,17 @@
 
 use crate::error::MeshError;
 use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
-use crate::soup::FaceList;
 use crate::topology::Topology;
 
 mod sharp;
-pub use sharp::{dual_split_tagged, dual_split_tagged_by_validation, DualFeatures, SharpDualProvenance, SharpPoint};
+#[cfg(any(test, feature = "internals"))]
+pub(crate) use sharp::general_split;
+pub use sharp::{dual_split_tagged, DualFeatures, SharpDualProvenance, SharpPoint};
 
 /// Catmull-Clark connectivity: every `m`-gon becomes `m` quads
 /// `(vₖ, e(vₖvₖ₊₁), f, e(vₖ₋₁vₖ))`, keeping the orientation.
 pub fn quad_split(t: &Topology) -> Topology {
     t.quad_split()
-}
-
-/// [`quad_split`] the slow way: the quad face list validated by
-/// [`Topology::new`]. Kept to test the direct construction against.
-pub fn quad_split_by_validation(t: &Topology) -> Topology {
-    let nv = t.vertex_count() as u32;
-    let nf = t.face_count() as u32;
-    let face_point = |f: FaceId| nv + f.0;
-    let edge_point = |e: EdgeId| nv + nf + e.0;
-    let mut quads = Vec::with_capacity(4 * t.half_edge_count());
-    for f in t.face_ids() {
-        for h in t.face_half_edges(f) {
-            quads.extend_from_slice(&[
-                t.he_from(h).0,
-                edge_point(t.he_edge(h)),
-                face_point(f),
-                edge_point(t.he_edge(t.he_prev(h))),
-            ]);
-        }
-    }
-    let n_new = (nv + nf) as usize + t.edge_count();
-    Topology::new(FaceList::from_uniform(4, quads), n_new).expect("the quad split of a valid mesh is valid")
 }
 
 /// Loop connectivity: every triangle becomes four. Fails when a face is not a triangle.
@@ -54,29 +33,11 @@ pub fn triangle_split(t: &Topology) -> Result<Topology, MeshError> {
     Ok(t.triangle_split())
 }
 
-fn require_triangles(t: &Topology) -> Result<(), MeshError> {
+pub(crate) fn require_triangles(t: &Topology) -> Result<(), MeshError> {
     match t.face_ids().find(|&f| t.face_size(f) != 3) {
         Some(f) => Err(MeshError::NotTriangles { face: f.0, size: t.face_size(f) }),
         None => Ok(()),
     }
-}
-
-/// [`triangle_split`] the slow way: the triangle list validated by
-/// [`Topology::new`]. Kept to test the direct construction against.
-pub fn triangle_split_by_validation(t: &Topology) -> Result<Topology, MeshError> {
-    require_triangles(t)?;
-    let nv = t.vertex_count() as u32;
-    let edge_point = |h: HalfEdgeId| nv + t.he_edge(h).0;
-    let mut tris = Vec::with_capacity(12 * t.face_count());
-    for f in t.face_ids() {
-        let h: Vec<HalfEdgeId> = t.face_half_edges(f).collect();
-        for k in 0..3 {
-            tris.extend_from_slice(&[t.he_from(h[k]).0, edge_point(h[k]), edge_point(h[(k + 2) % 3])]);
-        }
-        tris.extend_from_slice(&[edge_point(h[0]), edge_point(h[1]), edge_point(h[2])]);
-    }
-    let n_new = nv as usize + t.edge_count();
-    Ok(Topology::new(FaceList::from_uniform(3, tris), n_new).expect("the triangle split of a valid mesh is valid"))
 }
 
 /// Where a vertex of a Doo-Sabin refinement comes from.
@@ -122,7 +83,11 @@ pub enum DualFace {
 /// per old edge, in edge order), V-faces (one per non-isolated old vertex of
 /// valence ≥ 3 or on the boundary, in vertex order). The V-face of an interior vertex lists its corners in fan
 /// order; the boundary rule is described in `subdiv-stencil`'s Doo-Sabin module.
+///
+/// `#[non_exhaustive]`: made by [`dual_split`], read through its public
+/// fields (a new field is not a breaking change).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct DualProvenance {
     /// Provenance of every new vertex.
     pub vertex_origin: Vec<DualVertex>,
@@ -163,7 +128,7 @@ pub fn dual_split(t: &Topology) -> (Topology, DualProvenance) {
 /// The new vertices of a Doo-Sabin split — one per old corner, then two
 /// Chaikin points per boundary half-edge, loop by loop — and, per old
 /// half-edge, its first Chaikin point (`u32::MAX` inside).
-fn dual_vertices(t: &Topology) -> (Vec<DualVertex>, Vec<u32>) {
+pub(crate) fn dual_vertices(t: &Topology) -> (Vec<DualVertex>, Vec<u32>) {
     let nh = t.half_edge_count();
     let mut vertex_origin: Vec<DualVertex> = Vec::with_capacity(nh);
     for f in t.face_ids() {
@@ -178,57 +143,6 @@ fn dual_vertices(t: &Topology) -> (Vec<DualVertex>, Vec<u32>) {
         vertex_origin.push(DualVertex::Boundary { half_edge: h, near_start: false });
     }
     (vertex_origin, boundary_point)
-}
-
-/// [`dual_split`] the slow way: the face list validated by [`Topology::new`].
-/// Kept to test the direct construction against.
-pub fn dual_split_by_validation(t: &Topology) -> (Topology, DualProvenance) {
-    let nh = t.half_edge_count();
-    let (vertex_origin, boundary_point) = dual_vertices(t);
-    let mut faces = FaceList::with_capacity(t.face_count() + t.edge_count() + t.vertex_count(), 4 * nh);
-    let mut face_origin = Vec::with_capacity(faces.len());
-    for f in t.face_ids() {
-        faces.push(&t.face_half_edges(f).map(|h| h.0).collect::<Vec<_>>());
-        face_origin.push(DualFace::F(f));
-    }
-    for e in t.edges() {
-        let h = t.edge_half_edge(e);
-        let quad = match t.he_twin(h) {
-            Some(g) => [t.he_next(h).0, h.0, t.he_next(g).0, g.0],
-            None => {
-                let c = boundary_point[h.index()];
-                [t.he_next(h).0, h.0, c, c + 1]
-            }
-        };
-        faces.push(&quad);
-        face_origin.push(DualFace::E(e));
-    }
-    let mut vertex_face = vec![None; t.vertex_count()];
-    let mut corners = Vec::new();
-    for v in t.vertices() {
-        let fan = t.vertex_fan(v);
-        if fan.is_empty() {
-            continue;
-        }
-        corners.clear();
-        if t.is_boundary_vertex(v) {
-            corners.push(boundary_point[fan[0].index()]);
-            corners.extend(fan.iter().map(|h| h.0));
-            let incoming = t.he_prev(fan[fan.len() - 1]);
-            corners.push(boundary_point[incoming.index()] + 1);
-        } else if fan.len() == 2 {
-            // Valence 2: the V-face would be a digon; its two E-faces already
-            // share the edge between v's two images, so it is left out.
-            continue;
-        } else {
-            corners.extend(fan.iter().map(|h| h.0));
-        }
-        vertex_face[v.index()] = Some(FaceId(faces.len() as u32));
-        faces.push(&corners);
-        face_origin.push(DualFace::V(v));
-    }
-    let topology = Topology::new(faces, vertex_origin.len()).expect("the Doo-Sabin split of a valid mesh is valid");
-    (topology, DualProvenance { vertex_origin, face_origin, vertex_face, boundary_point })
 }
 
 #[cfg(test)]

@@ -71,8 +71,11 @@ const DEGENERATE_REL: f64 = 1e-12;
 /// clipping that ignores geometry.
 const EXHAUSTIVE_MAX_CORNERS: usize = 256;
 
-/// A triangulated mesh and where its triangles come from.
+/// A triangulated mesh and where its triangles come from ([`triangulate`]).
+/// `#[non_exhaustive]`: read through its public fields (a new field is not
+/// a breaking change).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Triangulation {
     /// The triangles, validated: the input's vertices (same order, same
     /// positions, isolated ones kept), each input face replaced by its

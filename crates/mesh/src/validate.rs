@@ -7,8 +7,22 @@ use crate::soup::PolygonSoup;
 use std::collections::BTreeMap;
 
 /// Counts of every defect class in a soup, plus the statistics that do not need
-/// valid connectivity. Produced by [`diagnose`].
+/// valid connectivity. Produced by [`diagnose`]; `#[non_exhaustive]`, read
+/// through its public fields (a new statistic is not a breaking change).
+///
+/// ```
+/// let d = subdiv_mesh::diagnose(&subdiv_mesh::shapes::cube().into_soup());
+/// assert_eq!((d.vertices, d.faces, d.edges, d.components), (8, 6, 12, 1));
+/// ```
+///
+/// A struct literal does not compile outside the crate (results of this
+/// crate are made by it):
+///
+/// ```compile_fail,E0639
+/// let d = subdiv_mesh::Diagnosis { vertices: 8, ..Default::default() };
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct Diagnosis {
     /// Vertices stored.
     pub vertices: usize,

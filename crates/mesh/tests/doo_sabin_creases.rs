@@ -6,7 +6,8 @@
 //! corners to the next level.
 
 use proptest::prelude::*;
-use subdiv_mesh::refine::{dual_split, dual_split_tagged, dual_split_tagged_by_validation, DualFeatures, SharpPoint};
+use subdiv_mesh::internals::dual_split_tagged_by_validation;
+use subdiv_mesh::refine::{dual_split, dual_split_tagged, DualFeatures, SharpPoint};
 use subdiv_mesh::shapes::{self, SplitMix64};
 use subdiv_mesh::{EdgeTag, Mesh, TagList, Tags, Topology, VertexId, VertexTag, SHARPNESS_INFINITE};
 

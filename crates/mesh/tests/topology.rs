@@ -334,7 +334,8 @@ fn assert_same_topology(direct: &Topology, rebuilt: &Topology, how: Match) {
 
 #[test]
 fn direct_quad_split_equals_the_validated_one_on_shapes() {
-    use subdiv_mesh::refine::{quad_split, quad_split_by_validation};
+    use subdiv_mesh::internals::quad_split_by_validation;
+    use subdiv_mesh::refine::quad_split;
     let mut with_isolated = shapes::cube().into_soup();
     with_isolated.positions.push(DVec3::new(3.0, 3.0, 3.0));
     let isolated = Mesh::from_soup(with_isolated).unwrap().0;
@@ -358,7 +359,7 @@ proptest! {
     #[test]
     fn direct_quad_split_equals_the_validated_one(mesh in generated_mesh()) {
         let t = mesh.topology();
-        assert_same_topology(&subdiv_mesh::refine::quad_split(t), &subdiv_mesh::refine::quad_split_by_validation(t), Match::UpToRotation);
+        assert_same_topology(&subdiv_mesh::refine::quad_split(t), &subdiv_mesh::internals::quad_split_by_validation(t), Match::UpToRotation);
     }
 }
 
@@ -368,7 +369,8 @@ fn triangulated(mesh: &Mesh) -> Mesh {
 
 #[test]
 fn direct_triangle_split_equals_the_validated_one_on_shapes() {
-    use subdiv_mesh::refine::{triangle_split, triangle_split_by_validation};
+    use subdiv_mesh::internals::triangle_split_by_validation;
+    use subdiv_mesh::refine::triangle_split;
     for mesh in [
         shapes::tetrahedron(),
         shapes::icosahedron(),
@@ -393,14 +395,15 @@ proptest! {
     fn direct_triangle_split_equals_the_validated_one(mesh in generated_mesh()) {
         let tri = triangulated(&mesh);
         let t = tri.topology();
-        assert_same_topology(&subdiv_mesh::refine::triangle_split(t).unwrap(), &subdiv_mesh::refine::triangle_split_by_validation(t).unwrap(), Match::UpToRotation);
+        assert_same_topology(&subdiv_mesh::refine::triangle_split(t).unwrap(), &subdiv_mesh::internals::triangle_split_by_validation(t).unwrap(), Match::UpToRotation);
     }
 }
 
 /// The direct Doo-Sabin split and its provenance equal the validated ones
 /// exactly; returns the direct split.
 fn assert_dual_split_matches(t: &Topology) -> Topology {
-    use subdiv_mesh::refine::{dual_split, dual_split_by_validation};
+    use subdiv_mesh::internals::dual_split_by_validation;
+    use subdiv_mesh::refine::dual_split;
     let (direct, dp) = dual_split(t);
     let (rebuilt, rp) = dual_split_by_validation(t);
     assert_same_topology(&direct, &rebuilt, Match::Exact);

@@ -45,7 +45,22 @@ use crate::constants::DEFAULT_FOUR_POINT_TENSION;
 use crate::vec3::{add, lin2, scale, sub, Point3};
 
 /// A uniform curve scheme with its parameter.
+///
+/// `#[non_exhaustive]`: more curve schemes may come, so a `match` outside
+/// this crate needs a `_` arm:
+///
+/// ```compile_fail,E0004
+/// use subdiv_rules::CurveScheme;
+/// fn name(s: CurveScheme) -> &'static str {
+///     match s {
+///         CurveScheme::Chaikin => "chaikin",
+///         CurveScheme::CubicBSpline => "cubic-b-spline",
+///         CurveScheme::FourPoint { .. } => "four-point",
+///     }
+/// }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum CurveScheme {
     /// Chaikin's corner cutting (quadratic B-spline), [`chaikin`].
     Chaikin,
@@ -222,7 +237,11 @@ pub fn four_point_variable(points: &[Point3], closed: bool, tensions: &[f64]) ->
 /// If `tensions.len() != points.len()`.
 ///
 /// [correction D1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d1
-pub fn four_point_via_chaikin(points: &[Point3], closed: bool, tensions: &[f64]) -> Vec<Point3> {
+///
+/// A test oracle (the derivation the direct formulas are checked against),
+/// compiled for the crate's unit tests only.
+#[cfg(test)]
+pub(crate) fn four_point_via_chaikin(points: &[Point3], closed: bool, tensions: &[f64]) -> Vec<Point3> {
     assert_eq!(tensions.len(), points.len(), "one tension per point");
     let n = points.len();
     if n < 2 {

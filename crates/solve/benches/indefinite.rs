@@ -114,7 +114,7 @@ fn cases() -> Vec<Case> {
 }
 
 fn opts(c: &Case) -> SolveOptions {
-    SolveOptions { tol: 1e-6, scale: c.scale, history: false, ..Default::default() }
+    SolveOptions::default().with_tol(1e-6).with_scale(c.scale).with_history(false)
 }
 
 fn median(mut v: Vec<f64>) -> f64 {

@@ -21,7 +21,7 @@ use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use rayon::prelude::*;
-use subdiv_solve::{model_problems, FactoredMatrix, SolveOptions, Solver};
+use subdiv_solve::{internals::model_problems, FactoredMatrix, SolveOptions, Solver};
 
 const SOLVERS: [Solver; 6] = [
     Solver::Pia,
@@ -58,7 +58,7 @@ fn data(n: usize) -> Vec<[f64; 3]> {
 }
 
 fn opts() -> SolveOptions {
-    SolveOptions { tol: 1e-6, scale: 1.0, history: false, ..Default::default() }
+    SolveOptions::default().with_tol(1e-6).with_scale(1.0).with_history(false)
 }
 
 fn ldl_allowed(n: usize) -> bool {

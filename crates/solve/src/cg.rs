@@ -35,22 +35,25 @@
 //!   (one extra product) and must confirm it. If it does not (rounding drift
 //!   of the recursive r), r is replaced by the true residual and CG restarts
 //!   from p = z (van der Vorst-Ye), at most
-//!   [`CG_MAX_RESIDUAL_REPLACEMENTS`] times. The reported `residual` is always the
+//!   8 times (`CG_MAX_RESIDUAL_REPLACEMENTS`). The reported `residual` is always the
 //!   true one; `history` holds the per-iteration estimates.
 //! - **Indefiniteness.** pᵀSp < 0 for a search direction proves S (hence A)
 //!   indefinite: [`SolveError::Indefinite`] with the Rayleigh quotient. With
 //!   a generic right-hand side the Krylov space eventually contains the
 //!   negative direction, so CG detects the pillow (λ_min = −1/7).
 //!   A non-positive diagonal of S also proves it (when preconditioning).
-//! - **Breakdown.** |pᵀSp| ≤ [`CG_BREAKDOWN_RTOL`]·|p|²·‖S‖_∞: the direction lies in
+//! - **Breakdown.** |pᵀSp| ≤ 10⁻¹³·|p|²·‖S‖_∞ (`CG_BREAKDOWN_RTOL`): the direction lies in
 //!   the numerical null space (the checkerboard kernel): [`SolveError::Singular`].
 //! - **Stagnation** (no 0.1 % progress in 200 iterations, typical of a
 //!   singular inconsistent system) and `max_iter` give
 //!   [`SolveError::NotConverged`] with the true residual.
 //!
 //! ```
-//! use subdiv_solve::{cg, model_problems, SolveOptions};
-//! let a = model_problems::bicubic_torus(32, 32);
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{cg, FactoredMatrix, SolveOptions};
+//! // Cheng's A of a 32 × 32 quad torus (the bicubic limit mask): spec(A) = [1/9, 1].
+//! let m = subdiv_stencil::limit_matrix_catmull_clark(shapes::torus(32, 32).topology());
+//! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [(i % 32) as f64, (i / 32) as f64, 0.5]).collect();
 //! let sol = cg(&a, &p, &SolveOptions::default(), true).unwrap();
 //! assert!(sol.iterations < 40);

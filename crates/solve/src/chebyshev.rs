@@ -40,8 +40,11 @@
 //!   the Lanczos bracket is safe on both sides.
 //!
 //! ```
-//! use subdiv_solve::{chebyshev, model_problems, SolveOptions};
-//! let a = model_problems::bicubic_torus(20, 20);
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{chebyshev, FactoredMatrix, SolveOptions};
+//! // Cheng's A of a 20 × 20 quad torus (the bicubic limit mask): spec(A) = [1/9, 1].
+//! let m = subdiv_stencil::limit_matrix_catmull_clark(shapes::torus(20, 20).topology());
+//! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [(i % 11) as f64, 0.0, (i / 20) as f64]).collect();
 //! let sol = chebyshev(&a, &p, &SolveOptions::default()).unwrap();
 //! assert!(sol.iterations < 40);

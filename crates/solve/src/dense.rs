@@ -15,7 +15,7 @@
 //! 1. Refuse n > cap ([`SolveError::TooLarge`]; default [`DENSE_MAX_N`],
 //!    2 GiB of matrix).
 //! 2. Materialise A = D·S densely; P A = L U by nalgebra's partial-pivoting LU.
-//! 3. |u_kk| ≤ [`DENSE_PIVOT_RTOL`]·max|u_jj| → [`SolveError::Singular`].
+//! 3. |u_kk| ≤ 10⁻¹²·max|u_jj| (`DENSE_PIVOT_RTOL`) → [`SolveError::Singular`].
 //! 4. Solve the three columns at once; check the true residual; iterative
 //!    refinement as in `ldl.rs`.
 //!
@@ -24,8 +24,12 @@
 //! too); the size cap is the caller's to raise.
 //!
 //! ```
-//! use subdiv_solve::{dense_lu, model_problems, SolveOptions};
-//! let a = model_problems::loop_regular(6, 6);
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{dense_lu, FactoredMatrix, SolveOptions};
+//! use subdiv_stencil::{limit_matrix_loop, LoopBeta};
+//! // Loop's limit matrix of the icosahedron (12 vertices of valence 5).
+//! let m = limit_matrix_loop(shapes::icosahedron().topology(), LoopBeta::Warren).unwrap();
+//! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [i as f64, 1.0, 2.0]).collect();
 //! let sol = dense_lu(&a, &p, &SolveOptions::default()).unwrap();
 //! assert!(a.max_residual(&sol.x, &p) <= 1e-12);

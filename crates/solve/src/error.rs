@@ -3,13 +3,14 @@
 use std::fmt;
 
 /// Why an iterative solver stopped without reaching the tolerance.
+/// `#[non_exhaustive]`: a new solver may stop for a new reason.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum StopReason {
     /// `max_iter` iterations were spent.
     MaxIterations,
-    /// The best residual did not improve by 0.1 % within
-    /// [`STAGNATION_WINDOW`](crate::tolerances::STAGNATION_WINDOW) iterations
-    /// (typical of a singular, inconsistent system).
+    /// The best residual did not improve by 0.1 % within a window of 200
+    /// iterations (typical of a singular, inconsistent system).
     Stagnated,
     /// CG's, MINRES's or GMRES's recursive residual kept claiming convergence
     /// that the true A-residual did not confirm (accuracy limit of the
@@ -73,8 +74,7 @@ pub enum SolveError {
         /// The last finite iterate.
         x: LastIterate,
     },
-    /// The residual grew by more than
-    /// [`DIVERGENCE_FACTOR`](crate::tolerances::DIVERGENCE_FACTOR) or became
+    /// The residual grew to more than 10⁶ times the initial one, or became
     /// non-finite: the iteration matrix has spectral radius > 1 (plain PIA on
     /// an indefinite A, e.g. Catmull-Clark with valence-2 vertices).
     #[error(

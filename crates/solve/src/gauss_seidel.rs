@@ -69,8 +69,11 @@
 //!   iterate from [`SolveError::NotConverged`].
 //!
 //! ```
-//! use subdiv_solve::{gauss_seidel, model_problems, SolveOptions, SweepOrder};
-//! let a = model_problems::bicubic_torus(12, 12);
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{gauss_seidel, FactoredMatrix, SolveOptions, SweepOrder};
+//! // Cheng's A of a 12 × 12 quad torus (the bicubic limit mask).
+//! let m = subdiv_stencil::limit_matrix_catmull_clark(shapes::torus(12, 12).topology());
+//! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [i as f64, 0.0, 1.0]).collect();
 //! for order in [SweepOrder::Storage, SweepOrder::Symmetric, SweepOrder::Multicolor] {
 //!     let sol = gauss_seidel(&a, &p, &SolveOptions::default(), order).unwrap();
@@ -88,8 +91,10 @@ use crate::matrix::{validate, FactoredMatrix};
 use crate::report::{initial_guess, Monitor, Verdict};
 use crate::{Solution, SolveOptions};
 
-/// The row order of a Gauss-Seidel sweep.
+/// The row order of a Gauss-Seidel sweep. `#[non_exhaustive]`: more orders
+/// may come (each with its [`Solver`](crate::Solver) name).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum SweepOrder {
     /// Rows in storage order 0..n (Zheng-Cai Eq. 7).
     Storage,
@@ -314,7 +319,7 @@ fn permute(s: Csr<'_>, perm: &[u32], inv: &[u32]) -> (Vec<u32>, Vec<u32>, Vec<f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model_problems;
+    use crate::internals::model_problems;
 
     #[test]
     fn coloring_is_proper() {

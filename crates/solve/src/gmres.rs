@@ -22,8 +22,8 @@
 //! iterative methods*, SIAM J. Sci. Comput. 22(3), 2000.
 //!
 //! # Algorithm (Saad Alg. 6.10 + 9.5, per column)
-//! 1. M = diag(A) (right Jacobi; see
-//!    [`JACOBI_FALLBACK_RTOL`](crate::tolerances::JACOBI_FALLBACK_RTOL)); r₀ = P − A·X₀,
+//! 1. M = diag(A) (right Jacobi; a row whose |a_ii| ≤ 10⁻⁶·Σ_j |a_ij| is
+//!    scaled by its 1-norm instead); r₀ = P − A·X₀,
 //!    β = ‖r₀‖₂, v₁ = r₀/β, g = β·e₁.
 //! 2. For j = 1 … m: w = A·M⁻¹v_j; modified Gram-Schmidt: for i ≤ j,
 //!    h_ij = wᵀv_i, w −= h_ij·v_i; h_{j+1,j} = ‖w‖, v_{j+1} = w/h_{j+1,j}.
@@ -40,7 +40,7 @@
 //! of n × 3 (all three columns interleaved, 24 bytes per row each),
 //! allocated as a cycle grows and reused by the next, so a solve that
 //! converges in k < m steps stores k + 1; plus X, the residual and M⁻¹v.
-//! With the default m = [`GMRES_RESTART`] that is at most 31·24·n bytes.
+//! With the default m = 30 (`GMRES_RESTART`) that is at most 31·24·n bytes.
 //!
 //! # Deviations from the textbook
 //! - **Stopping on the true max-row A-residual.** Right preconditioning keeps
@@ -52,13 +52,13 @@
 //!   pass that normalises v_{j+1}: no extra product. When its max-row norm
 //!   reaches tol·scale, X is formed and the true residual must confirm it;
 //!   otherwise GMRES restarts from the true residual (at most
-//!   [`KRYLOV_MAX_RESIDUAL_REPLACEMENTS`] times). The reported `residual` and
+//!   8 times, `KRYLOV_MAX_RESIDUAL_REPLACEMENTS`). The reported `residual` and
 //!   the last `history` entry are the true ones.
-//! - **Lucky breakdown** (h_{j+1,j} ≤ [`GMRES_BREAKDOWN_RTOL`]·‖A·M⁻¹v_j‖):
+//! - **Lucky breakdown** (h_{j+1,j} ≤ 10⁻¹²·‖A·M⁻¹v_j‖, `GMRES_BREAKDOWN_RTOL`):
 //!   the column's Krylov space is invariant, its least-squares problem is
 //!   exact, and the column stops for the cycle.
 //! - **Singular A.** If moreover the rotated diagonal ρ_j vanishes
-//!   ([`GMRES_SINGULAR_RTOL`]), the column is at a least-squares solution of
+//!   (|ρ_j| ≤ 10⁻¹²·max_i |ρ_i|, `GMRES_SINGULAR_RTOL`), the column is at a least-squares solution of
 //!   a singular system; it stops for good, and if its own max-row residual
 //!   (a lower bound of the 3-column one) is above tol·scale the solve ends
 //!   with [`SolveError::NotConverged`], reason [`StopReason::LeastSquares`].
@@ -71,12 +71,16 @@
 //!   tests, residual reported exactly). Never NaN.
 //!
 //! ```
-//! use subdiv_solve::{gmres, model_problems, SolveOptions};
-//! // A random nonsymmetric, diagonally dominant A = D·S (S flagged non-symmetric).
-//! let a = model_problems::random_nonsymmetric(2000, 6, 7);
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{gmres, FactoredMatrix, SolveOptions};
+//! // Nasri's C of an open 40 × 50 quad grid: the boundary rows are the
+//! // boundary curve's (1, 6, 1)/8, which no interior row mirrors, so S is
+//! // not symmetric.
+//! let m = subdiv_stencil::limit_matrix_nasri(shapes::quad_grid(40, 50).topology());
+//! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! assert!(!a.symmetric());
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [(i % 13) as f64, 1.0, (i as f64).cos()]).collect();
-//! let sol = gmres(&a, &p, &SolveOptions { tol: 1e-10, ..Default::default() }).unwrap();
+//! let sol = gmres(&a, &p, &SolveOptions::default().with_tol(1e-10)).unwrap();
 //! assert!(sol.iterations < 30 && a.max_residual(&sol.x, &p) <= 1e-10);
 //! ```
 //!
@@ -93,7 +97,7 @@ use crate::{Solution, SolveOptions};
 
 const NAME: &str = "gmres";
 
-/// Solves A·X = P (A = D·S, S general) by GMRES([`GMRES_RESTART`]) with
+/// Solves A·X = P (A = D·S, S general) by GMRES(30) with
 /// right Jacobi preconditioning.
 ///
 /// A is n × n; P and X are n × 3.
@@ -437,7 +441,7 @@ fn true_residual(s: Csr<'_>, d: &[f64], p: &[Row], x: &[Row], r: &mut [Row], par
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model_problems;
+    use crate::internals::model_problems;
 
     /// The recursive residual tracks the true one (checks the sign and the
     /// coefficients of the recurrence in the module docs), across restarts.

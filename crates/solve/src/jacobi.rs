@@ -34,9 +34,11 @@
 //! [`SolveError::NotConverged`]'s `x`.
 //!
 //! ```
-//! use subdiv_solve::{jacobi, model_problems, SolveOptions};
-//! // Strictly diagonally dominant, like Zheng-Cai's system.
-//! let a = model_problems::random_spd(500, 6, 1);
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{jacobi, FactoredMatrix, SolveOptions};
+//! // Zheng-Cai's Z of a 20 × 25 quad torus: strictly diagonally dominant.
+//! let m = subdiv_stencil::limit_matrix_zheng_cai(shapes::torus(20, 25).topology());
+//! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [i as f64, 1.0, -(i as f64)]).collect();
 //! let sol = jacobi(&a, &p, &SolveOptions::default()).unwrap();
 //! assert!(a.max_residual(&sol.x, &p) <= 1e-6);

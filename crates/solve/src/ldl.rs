@@ -24,14 +24,14 @@
 //! 2. Numeric LDLᵀ of M = S (`sprs_ldl`). **Static pivoting**: LDLᵀ without
 //!    pivoting meets an exact zero pivot on some indefinite but nonsingular
 //!    matrices (the pillow: its leading 2 × 2 minor [[1, 1], [1, 1]] is
-//!    singular). While a pivot k has |δ_k| ≤ [`LDL_PIVOT_RTOL`]·max|s_ii|,
+//!    singular). While a pivot k has |δ_k| ≤ 10⁻¹⁰·max|s_ii| (`LDL_PIVOT_RTOL`),
 //!    add δ = max|s_ii| to the diagonal of its original row in M and
 //!    refactor with the same symbolic pattern (at most
-//!    [`LDL_MAX_PERTURBATIONS`] rows).
+//!    8 rows, `LDL_MAX_PERTURBATIONS`).
 //! 3. **Exact correction** (Sherman-Morrison-Woodbury): S = M − δUUᵀ, so
 //!    S⁻¹ = M⁻¹ + W K⁻¹ Wᵀ with W = M⁻¹U and the r × r capacitance
 //!    K = I/δ − UᵀW. K is singular exactly when S is: an eigenvalue of K
-//!    below [`LDL_PIVOT_RTOL`] × its scale → [`SolveError::Singular`] (the
+//!    below 10⁻¹⁰ × its scale → [`SolveError::Singular`] (the
 //!    checkerboard cube, whose last pivot is ≈ 1e-16).
 //! 4. Inertia: the block matrix [[M, U], [Uᵀ, Δ⁻¹]] has two Schur
 //!    complements, K and S, so In(S) = In(M) + In(K) − In(Δ⁻¹); with Δ > 0
@@ -40,7 +40,7 @@
 //!    [`Solution::negative_pivots`](crate::Solution::negative_pivots).
 //! 5. X_c = S⁻¹(D⁻¹P_c) for c = x, y, z.
 //! 6. Check the true max row residual; if it misses tol·scale, up to
-//!    [`REFINEMENT_STEPS`] steps of iterative refinement X += S⁻¹D⁻¹(P − AX);
+//!    3 steps (`REFINEMENT_STEPS`) of iterative refinement X += S⁻¹D⁻¹(P − AX);
 //!    still missing → [`SolveError::NotConverged`].
 //!
 //! # Deviations from the textbook
@@ -59,8 +59,11 @@
 //!   `LdlSymbolic::new_perm`.
 //!
 //! ```
-//! use subdiv_solve::{ldl, model_problems, SolveOptions};
-//! let a = model_problems::pillow();
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{ldl, FactoredMatrix, SolveOptions};
+//! // Cheng's A of the pillow (two quads, every vertex of valence 2).
+//! let m = subdiv_stencil::limit_matrix_catmull_clark(shapes::pillow().topology());
+//! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p = vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
 //! let sol = ldl(&a, &p, &SolveOptions::default()).unwrap();
 //! // The pillow is indefinite (λ_min = −1/7) but nonsingular: LDLᵀ solves it.

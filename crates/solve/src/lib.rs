@@ -35,16 +35,33 @@
 //! answer; singular and indefinite matrices are named as such.
 //!
 //! **Determinism**: results are bitwise identical for any rayon thread count
-//! (fixed row chunks, in-order reductions; `kernels.rs`). Tolerances live in
-//! [`tolerances`].
+//! (fixed row chunks, in-order reductions; `kernels.rs`). Every tolerance
+//! and tuning constant lives in one file, `tolerances.rs` (the names in code
+//! font next to a value in these docs, such as `LANCZOS_STEPS`); the
+//! defaults of [`SolveOptions`] are [`DEFAULT_TOL`] and [`DEFAULT_MAX_ITER`].
+//!
+//! **Options** ([`SolveOptions`]) are `#[non_exhaustive]`: build them from
+//! `Default` with the `with_*` setters, so that a new option is not a
+//! breaking change; results ([`Solution`], [`Spectrum`]) are
+//! `#[non_exhaustive]` too, read through their public fields.
+//!
+//! The matrices come from `subdiv-stencil` (its limit matrices are A = D·S
+//! with the same D and S):
 //!
 //! ```
-//! use subdiv_solve::{model_problems, FactoredMatrix, SolveOptions, Solver};
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{FactoredMatrix, SolveOptions, Solver};
+//! use subdiv_stencil::limit_matrix_catmull_clark;
 //!
-//! // The regular bicubic limit mask on a 24 × 24 torus: spec(A) = [1/9, 1].
-//! let a: FactoredMatrix = model_problems::bicubic_torus(24, 24);
+//! // Cheng's A of a 24 × 24 quad torus, every vertex regular: the bicubic
+//! // limit mask, spec(A) = [1/9, 1].
+//! let cheng = |mesh: subdiv_mesh::Mesh| {
+//!     let m = limit_matrix_catmull_clark(mesh.topology());
+//!     FactoredMatrix::new(m.d, m.s).unwrap()
+//! };
+//! let a = cheng(shapes::torus(24, 24));
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [(i % 24) as f64, (i / 24) as f64, ((i * 7) % 5) as f64]).collect();
-//! let opts = SolveOptions { tol: 1e-8, scale: 24.0 * 2f64.sqrt(), ..Default::default() };
+//! let opts = SolveOptions::default().with_tol(1e-8).with_scale(24.0 * 2f64.sqrt());
 //!
 //! let by_pia = Solver::Pia.solve(&a, &p, &opts).unwrap();
 //! let by_cg = Solver::Cg { jacobi: true }.solve(&a, &p, &opts).unwrap();
@@ -57,8 +74,9 @@
 //!     assert!(gap < 1e-6);
 //! }
 //!
-//! // Cheng's matrix of the pillow is indefinite: PIA diverges, CG says why, LDLᵀ solves it.
-//! let pillow = model_problems::pillow();
+//! // Cheng's A of the pillow (two quads glued along their boundary, every
+//! // vertex of valence 2) is indefinite: PIA diverges, CG says why, LDLᵀ solves it.
+//! let pillow = cheng(shapes::pillow());
 //! let q = vec![[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0], [1.0, 1.0, 1.0]];
 //! assert!(matches!(Solver::Pia.solve(&pillow, &q, &opts), Err(subdiv_solve::SolveError::Diverged { .. })));
 //! assert!(matches!(Solver::Cg { jacobi: false }.solve(&pillow, &q, &opts), Err(subdiv_solve::SolveError::Indefinite { .. })));
@@ -80,18 +98,19 @@ pub mod dense;
 mod error;
 pub mod gauss_seidel;
 pub mod gmres;
+#[cfg(any(test, feature = "internals"))]
+pub mod internals;
 pub mod jacobi;
 mod kernels;
 pub mod ldl;
 mod matrix;
 pub mod minres;
-pub mod model_problems;
 pub mod ordering;
 pub mod pia;
 mod report;
 mod richardson;
 pub mod spectrum;
-pub mod tolerances;
+mod tolerances;
 pub mod weighted_pia;
 
 use std::fmt;
@@ -111,6 +130,7 @@ pub use ordering::{nested_dissection, Ordering};
 pub use pia::pia;
 pub use report::{IterationObserver, Solution, SolveOptions};
 pub use spectrum::{extreme_eigenvalues, power_iteration, Spectrum};
+pub use tolerances::{DEFAULT_MAX_ITER, DEFAULT_TOL, DENSE_MAX_N};
 pub use weighted_pia::{weighted_pia, weighted_pia_with};
 
 /// A solver, selectable by name (`"pia"`, `"weighted-pia"`, `"jacobi"`,

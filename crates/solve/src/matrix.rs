@@ -37,7 +37,7 @@ impl FactoredMatrix {
     ///
     /// S is converted to CSR if it is stored as CSC. Symmetry of S is checked
     /// entry by entry (relative tolerance
-    /// [`SYMMETRY_RTOL`]); a non-symmetric S is accepted —
+    /// 10⁻¹⁰ of the largest |s_kl|, `SYMMETRY_RTOL`); a non-symmetric S is accepted —
     /// open-mesh limit matrices have non-symmetric boundary rows — but flagged,
     /// and the solvers that need symmetry (CG, LDLᵀ, Lanczos and the ones that
     /// use it: weighted PIA, Chebyshev) then return

@@ -27,8 +27,7 @@
 //! preconditioner M = |diag S| (Jacobi scaling by absolute values: MINRES
 //! needs a positive definite preconditioner, which plain Jacobi on an
 //! indefinite diagonal is not; rows without a usable diagonal fall back to
-//! their 1-norm,
-//! [`JACOBI_FALLBACK_RTOL`](crate::tolerances::JACOBI_FALLBACK_RTOL)).
+//! their 1-norm: |s_ii| ≤ 10⁻⁶·Σ_j |s_ij|).
 //! Preconditioned MINRES on (S, M) is plain MINRES on H = M^{-1/2}·S·M^{-1/2};
 //! its iterates lie in X₀ + K_k(J·A, J·R₀) with J = |diag A|⁻¹ and minimise
 //! ‖b − S·X‖_{M⁻¹} = ‖W·(P − A·X)‖₂, W = diag(1/(d_i·√|s_ii|)): the true
@@ -65,17 +64,17 @@
 //!   When its max-row norm reaches tol·scale the true residual is computed
 //!   (one product) and must confirm it; otherwise the Lanczos process
 //!   restarts from the true residual (residual replacement, van der
-//!   Vorst-Ye), at most [`KRYLOV_MAX_RESIDUAL_REPLACEMENTS`] times. The
+//!   Vorst-Ye), at most 8 times (`KRYLOV_MAX_RESIDUAL_REPLACEMENTS`). The
 //!   reported `residual` and the last `history` entry are the true ones;
 //!   the other `history` entries are the recursive ones.
-//! - **Invariant Krylov spaces** (β_{k+1} ≤ [`MINRES_BREAKDOWN_RTOL`]·‖T_k‖,
+//! - **Invariant Krylov spaces** (β_{k+1} ≤ 10⁻¹²·‖T_k‖ (`MINRES_BREAKDOWN_RTOL`),
 //!   e.g. n ≤ 3, or a right-hand side column that is an eigenvector): that
 //!   column is solved in its space and stops; when every column has stopped
 //!   the true residual decides (converged, or a restart).
 //! - **Singular systems.** On consistent data the residual stays in the range
 //!   of S and MINRES converges (the checkerboard cube with data A·X). On
 //!   inconsistent data it reaches a least-squares solution: the estimate
-//!   ‖S·r‖/(‖T‖·‖r‖) = ‖(γ̄, δ̄)‖/‖T_k‖_F falls below [`MINRES_LSQ_RTOL`]
+//!   ‖S·r‖/(‖T‖·‖r‖) = ‖(γ̄, δ̄)‖/‖T_k‖_F falls below 10⁻⁸ (`MINRES_LSQ_RTOL`)
 //!   *before* the next update would divide by γ ≈ 0. That column stops for
 //!   good; if its own max-row residual (a lower bound of the 3-column one)
 //!   is above tol·scale the solve ends with [`SolveError::NotConverged`],
@@ -86,11 +85,13 @@
 //!   iterate).
 //!
 //! ```
-//! use subdiv_solve::{minres, model_problems, Solver, SolveError, SolveOptions};
-//! // Cheng's matrix of the pillow (two quads, valence 2): spectrum {1, 1/7, 1/7, −1/7}.
-//! let a = model_problems::pillow();
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{minres, FactoredMatrix, Solver, SolveError, SolveOptions};
+//! // Cheng's A of the pillow (two quads, valence 2): spectrum {1, 1/7, 1/7, −1/7}.
+//! let m = subdiv_stencil::limit_matrix_catmull_clark(shapes::pillow().topology());
+//! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p = vec![[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0], [1.0, 1.0, 1.0]];
-//! let opts = SolveOptions { tol: 1e-10, ..Default::default() };
+//! let opts = SolveOptions::default().with_tol(1e-10);
 //! assert!(matches!(Solver::Cg { jacobi: true }.solve(&a, &p, &opts), Err(SolveError::Indefinite { .. })));
 //! let sol = minres(&a, &p, &opts).unwrap();
 //! assert!(sol.iterations <= 4 && a.max_residual(&sol.x, &p) <= 1e-10);
@@ -466,7 +467,7 @@ fn true_residual(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model_problems;
+    use crate::internals::model_problems;
 
     /// The recursive residual tracks the true one (checks the sign and the
     /// coefficients of the recurrence in the module docs).

@@ -19,7 +19,7 @@
 //!
 //! # Algorithm (George-Liu automatic nested dissection)
 //! For a vertex set V of the graph of S (a work-list, no recursion):
-//! 1. |V| ≤ [`ND_LEAF_SIZE`]: number V in breadth-first order and stop.
+//! 1. |V| ≤ 64 (a leaf): number V in breadth-first order and stop.
 //! 2. Find a pseudo-peripheral vertex r of the component of V containing
 //!    V's first vertex (repeat BFS from the farthest vertex while the depth
 //!    of the level structure grows).
@@ -44,12 +44,12 @@ use sprs::PermOwnedI;
 
 use crate::kernels::Csr;
 use crate::matrix::SparseMatrix;
-
-/// Subsets at most this large are not dissected further.
-pub const ND_LEAF_SIZE: usize = 64;
+use crate::tolerances::ND_LEAF_SIZE;
 
 /// A fill-reducing ordering for [`LdlFactor`](crate::LdlFactor).
+/// `#[non_exhaustive]`: more orderings may come.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Ordering {
     /// George-Liu nested dissection (the default; see `ordering.rs`).
     #[default]
@@ -207,7 +207,7 @@ pub fn nested_dissection(s: &SparseMatrix) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model_problems;
+    use crate::internals::model_problems;
 
     #[test]
     fn nested_dissection_is_a_permutation() {

@@ -34,11 +34,14 @@
 //! - The iteration is run on all three coordinates at once.
 //!
 //! ```
-//! use subdiv_solve::{model_problems, pia, SolveOptions};
-//! let a = model_problems::loop_regular(12, 12);
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{pia, FactoredMatrix, SolveOptions};
+//! // Nasri's C (Doo-Sabin) of a 12 × 12 quad torus: spec(C) ⊂ [¼, 1].
+//! let m = subdiv_stencil::limit_matrix_nasri(shapes::torus(12, 12).topology());
+//! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [i as f64, 1.0, (i % 5) as f64]).collect();
 //! let sol = pia(&a, &p, &SolveOptions::default()).unwrap();
-//! // λ_min = ¼, so the error shrinks by ¾ per step: log(1e-6·…)/log(¾) steps.
+//! // λ_min ≥ ¼, so the error shrinks by ¾ per step: log(1e-6·…)/log(¾) steps.
 //! assert!(sol.iterations < 70 && sol.residual <= 1e-6);
 //! assert!(a.max_residual(&sol.x, &p) <= 1e-6);
 //! ```

@@ -13,8 +13,25 @@ use crate::tolerances::{DEFAULT_MAX_ITER, DEFAULT_TOL, DIVERGENCE_FACTOR, STAGNA
 /// the quantity the papers use; `scale` is the caller's bounding-box
 /// diagonal d), or after `max_iter` iterations.
 ///
+/// `#[non_exhaustive]`: build it with [`Default`] and the `with_*` setters
+/// (one per field); the fields stay public for reading. Adding a field is
+/// then not a breaking change.
+///
+/// ```
+/// use subdiv_solve::{SolveOptions, DEFAULT_MAX_ITER};
+/// let opts = SolveOptions::default().with_tol(1e-9).with_scale(2.5).with_history(false);
+/// assert_eq!((opts.tol, opts.scale, opts.max_iter, opts.history), (1e-9, 2.5, DEFAULT_MAX_ITER, false));
+/// ```
+///
+/// A struct literal does not compile outside the crate:
+///
+/// ```compile_fail,E0639
+/// let opts = subdiv_solve::SolveOptions { tol: 1e-9, ..Default::default() };
+/// ```
+///
 /// [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SolveOptions {
     /// Relative tolerance on the max row residual.
     pub tol: f64,
@@ -64,6 +81,9 @@ impl PartialEq for IterationObserver {
 }
 
 impl Default for SolveOptions {
+    /// Tolerance [`DEFAULT_TOL`](crate::DEFAULT_TOL), scale 1, at most
+    /// [`DEFAULT_MAX_ITER`](crate::DEFAULT_MAX_ITER) iterations, history
+    /// recorded, X₀ = P, no observer.
     fn default() -> Self {
         SolveOptions {
             tol: DEFAULT_TOL,
@@ -76,8 +96,42 @@ impl Default for SolveOptions {
     }
 }
 
-/// A converged solve.
+impl SolveOptions {
+    /// With relative tolerance `tol` on the max row residual.
+    pub fn with_tol(self, tol: f64) -> Self {
+        Self { tol, ..self }
+    }
+
+    /// With the length `scale` the residual is measured against.
+    pub fn with_scale(self, scale: f64) -> Self {
+        Self { scale, ..self }
+    }
+
+    /// With the iteration cap `max_iter` of the iterative solvers.
+    pub fn with_max_iter(self, max_iter: usize) -> Self {
+        Self { max_iter, ..self }
+    }
+
+    /// Recording the residual of every iterate (`true`) or not.
+    pub fn with_history(self, history: bool) -> Self {
+        Self { history, ..self }
+    }
+
+    /// With start X₀ = `initial` of the iterative solvers (`None`: X₀ = P).
+    pub fn with_initial(self, initial: Option<Vec<[f64; 3]>>) -> Self {
+        Self { initial, ..self }
+    }
+
+    /// With `observer` told the relative residual of every iterate.
+    pub fn with_observer(self, observer: IterationObserver) -> Self {
+        Self { observer, ..self }
+    }
+}
+
+/// A converged solve. `#[non_exhaustive]`: made by the solvers, read
+/// through its public fields (a new field is not a breaking change).
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Solution {
     /// The unknowns X (n × 3), finite.
     pub x: Vec<[f64; 3]>,

@@ -27,7 +27,7 @@
 //!    interlacing), with residual bounds |β_k·y_k| (an eigenvalue of A lies
 //!    within that distance of θ).
 //! 4. Widen to the bracket [`Spectrum::min`, `Spectrum::max`]: θ_min by
-//!    [`SPECTRUM_MARGIN`] (2 %); θ_max by the larger of 2 % and its residual
+//!    2 % (`SPECTRUM_MARGIN`); θ_max by the larger of 2 % and its residual
 //!    bound, capped at ‖A‖_∞ (a rigorous bound of ρ(A), equal to 1 for
 //!    every limit matrix: rows of non-negative weights summing to 1). The
 //!    upper end matters most: Chebyshev and weighted PIA diverge on an
@@ -36,7 +36,7 @@
 //!
 //! # Deviations from the textbook
 //! - Full reorthogonalisation (in [`extreme_eigenvalues`]) only while
-//!   n·k ≤ [`LANCZOS_REORTH_MAX_STORE`] numbers; above it (the 10⁶-row
+//!   n·k ≤ 8·10⁶ numbers (`LANCZOS_REORTH_MAX_STORE`); above it (the 10⁶-row
 //!   systems) the plain three-term recurrence runs in O(n) memory. The
 //!   solvers (weighted PIA, Chebyshev) always use the plain recurrence: only
 //!   extreme Ritz values are needed, loss of orthogonality duplicates them
@@ -56,7 +56,13 @@ use crate::matrix::FactoredMatrix;
 use crate::tolerances::{LANCZOS_BREAKDOWN_RTOL, LANCZOS_REORTH_MAX_STORE, SPECTRUM_MARGIN};
 
 /// Estimated extreme eigenvalues of A.
+///
+/// `#[non_exhaustive]`: made by [`extreme_eigenvalues`], or from a known
+/// bracket by [`Spectrum::bracket`] (for [`chebyshev_with`](crate::chebyshev_with)
+/// and [`weighted_pia_with`](crate::weighted_pia_with)); read through its
+/// public fields.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Spectrum {
     /// Lower end of the bracket: θ_min − margin (intended ≤ λ_min).
     pub min: f64,
@@ -77,6 +83,26 @@ pub struct Spectrum {
 }
 
 impl Spectrum {
+    /// A known bracket [`min`, `max`] of spec(A), without Lanczos data: the
+    /// Ritz values are the ends, the residual bounds 0, no step or product
+    /// spent. Weighted PIA refuses a bracket that reaches 0; Chebyshev trusts
+    /// it (it converges for moderate errors in either end).
+    ///
+    /// ```
+    /// // The regular bicubic limit mask has spec(A) = [1/9, 1].
+    /// let s = subdiv_solve::Spectrum::bracket(1.0 / 9.0, 1.0);
+    /// assert!((s.condition() - 9.0).abs() < 1e-12 && s.matvecs == 0);
+    /// ```
+    pub fn bracket(min: f64, max: f64) -> Self {
+        Self { min, max, ritz_min: min, ritz_max: max, residual_min: 0.0, residual_max: 0.0, steps: 0, matvecs: 0 }
+    }
+
+    /// This estimate with the bracket [`min`, `max`] instead (e.g. widened by
+    /// a safety margin); the Lanczos data are kept.
+    pub fn with_bracket(self, min: f64, max: f64) -> Self {
+        Self { min, max, ..self }
+    }
+
     /// The step length of weighted PIA, ω = 2/(min + max): it minimises
     /// max |1 − ωλ| over the bracket.
     pub fn optimal_omega(&self) -> f64 {

@@ -160,6 +160,11 @@ pub const DENSE_PIVOT_RTOL: f64 = 1e-12;
 /// the tolerance (each costs one product and one pair of triangular solves).
 pub const REFINEMENT_STEPS: usize = 3;
 
+/// Nested dissection ([`nested_dissection`](crate::nested_dissection)):
+/// vertex subsets at most this large are not dissected further (numbered in
+/// breadth-first order).
+pub const ND_LEAF_SIZE: usize = 64;
+
 /// Default size cap of the dense solver: n² · 8 bytes ≤ 2 GiB (n = 16,384).
 /// The LU is O(n³); callers that want bigger systems pass their own cap to
 /// [`dense_lu_capped`](crate::dense::dense_lu_capped).

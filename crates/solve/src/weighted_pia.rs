@@ -15,7 +15,7 @@
 //! # Algorithm
 //! 1. Estimate [λ_min, λ_max] of A with Lanczos on D^{1/2}SD^{1/2}
 //!    ([`extreme_eigenvalues`](crate::extreme_eigenvalues),
-//!    [`LANCZOS_STEPS`] steps; the products count in `matvecs`).
+//!    16 steps, `LANCZOS_STEPS`; the products count in `matvecs`).
 //! 2. ω = 2/(λ_min + λ_max) ([`Spectrum::optimal_omega`]).
 //! 3. Iterate X_{k+1} = X_k + ω(P − A X_k) from X₀ = P with the fused sweep
 //!    of `richardson.rs`, stopping on the max row residual.
@@ -28,8 +28,11 @@
 //!   [`SolveError::Indefinite`] (or `Singular` when ≈ 0) before iterating.
 //!
 //! ```
-//! use subdiv_solve::{model_problems, weighted_pia, pia, SolveOptions};
-//! let a = model_problems::bicubic_torus(16, 16);
+//! use subdiv_mesh::shapes;
+//! use subdiv_solve::{pia, weighted_pia, FactoredMatrix, SolveOptions};
+//! // Cheng's A of a 16 × 16 quad torus (the bicubic limit mask): spec(A) = [1/9, 1].
+//! let m = subdiv_stencil::limit_matrix_catmull_clark(shapes::torus(16, 16).topology());
+//! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [(i % 7) as f64, (i % 3) as f64, 1.0]).collect();
 //! let fast = weighted_pia(&a, &p, &SolveOptions::default()).unwrap();
 //! let slow = pia(&a, &p, &SolveOptions::default()).unwrap();

@@ -6,8 +6,8 @@ mod common;
 
 use common::{dense_a, max_row_gap, max_row_residual, nonsingular_cases, reference};
 use subdiv_solve::{
-    cg, chebyshev, chebyshev_with, extreme_eigenvalues, model_problems, weighted_pia_with, FactoredMatrix, SolveError,
-    SolveOptions, Solver,
+    cg, chebyshev, chebyshev_with, extreme_eigenvalues, internals::model_problems, weighted_pia_with, FactoredMatrix,
+    SolveError, SolveOptions, Solver,
 };
 
 #[test]
@@ -17,7 +17,7 @@ fn every_solver_reaches_the_dense_solution() {
         let p = common::data(a.n(), 3);
         let (x_ref, inv_norm) = reference(&dense, &p);
         let scale = 2.5;
-        let opts = SolveOptions { tol: 1e-8, scale, ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-8).with_scale(scale);
         for solver in Solver::ALL {
             if solver == Solver::Jacobi && name.starts_with("(b)") {
                 // Not diagonally dominant: λ_max(S) = 36 > 2·16, so Jacobi's
@@ -55,7 +55,7 @@ fn accelerated_solvers_beat_pia_as_theory_predicts() {
     // (b): κ = 9 → PIA contracts by 8/9, weighted PIA by 0.8, Chebyshev/CG by ≈ ½.
     let a = model_problems::bicubic_torus(30, 30);
     let p = common::data(a.n(), 5);
-    let opts = SolveOptions { tol: 1e-6, ..Default::default() };
+    let opts = SolveOptions::default().with_tol(1e-6);
     let it = |s: Solver| s.solve(&a, &p, &opts).unwrap().iterations;
     let (pia, wpia, cheb, cgj) =
         (it(Solver::Pia), it(Solver::WeightedPia), it(Solver::Chebyshev), it(Solver::Cg { jacobi: true }));
@@ -71,12 +71,12 @@ fn stopping_rule_uses_scale_and_max_iter() {
     let p = common::data(a.n(), 9);
     let dense = dense_a(&a);
     // A larger scale makes the relative test looser: fewer iterations.
-    let tight = subdiv_solve::pia(&a, &p, &SolveOptions { tol: 1e-6, scale: 1.0, ..Default::default() }).unwrap();
-    let loose = subdiv_solve::pia(&a, &p, &SolveOptions { tol: 1e-6, scale: 100.0, ..Default::default() }).unwrap();
+    let tight = subdiv_solve::pia(&a, &p, &SolveOptions::default().with_tol(1e-6).with_scale(1.0)).unwrap();
+    let loose = subdiv_solve::pia(&a, &p, &SolveOptions::default().with_tol(1e-6).with_scale(100.0)).unwrap();
     assert!(loose.iterations < tight.iterations);
     assert!(max_row_residual(&dense, &loose.x, &p) <= 1e-4);
     // Exactly max_iter updates, then NotConverged with the iterate and its history.
-    let e = subdiv_solve::pia(&a, &p, &SolveOptions { tol: 1e-12, max_iter: 5, ..Default::default() }).unwrap_err();
+    let e = subdiv_solve::pia(&a, &p, &SolveOptions::default().with_tol(1e-12).with_max_iter(5)).unwrap_err();
     match e {
         SolveError::NotConverged { iterations, residual, history, x, reason, .. } => {
             assert_eq!(iterations, 5);
@@ -88,13 +88,12 @@ fn stopping_rule_uses_scale_and_max_iter() {
         other => panic!("{other:?}"),
     }
     // history: false records nothing.
-    let quiet = subdiv_solve::pia(&a, &p, &SolveOptions { history: false, ..Default::default() }).unwrap();
+    let quiet = subdiv_solve::pia(&a, &p, &SolveOptions::default().with_history(false)).unwrap();
     assert!(quiet.history.is_empty());
     // A start that already satisfies the tolerance costs zero iterations.
     let exact = tight.x.clone();
     for s in Solver::ALL {
-        let sol =
-            s.solve(&a, &p, &SolveOptions { tol: 1e-6, initial: Some(exact.clone()), ..Default::default() }).unwrap();
+        let sol = s.solve(&a, &p, &SolveOptions::default().with_tol(1e-6).with_initial(Some(exact.clone()))).unwrap();
         if !matches!(s, Solver::Ldl | Solver::Dense) {
             assert_eq!(sol.iterations, 0, "{s}");
         }
@@ -130,7 +129,7 @@ fn general_matrices_work_with_the_non_symmetric_solvers_only() {
     assert!(matches!(extreme_eigenvalues(&a, 20), Err(SolveError::NotSymmetric { .. })));
     // With a known interval, Chebyshev and weighted PIA need no symmetry.
     let spec = extreme_eigenvalues(&model_problems::loop_regular(9, 9), 40).unwrap();
-    let wide = subdiv_solve::Spectrum { min: spec.min * 0.8, max: spec.max * 1.1, ..spec };
+    let wide = spec.with_bracket(spec.min * 0.8, spec.max * 1.1);
     assert!(chebyshev_with(&a, &p, &SolveOptions::default(), &wide).is_ok());
     assert!(weighted_pia_with(&a, &p, &SolveOptions::default(), &wide).is_ok());
     assert!(matches!(cg(&a, &p, &SolveOptions::default(), false), Err(SolveError::NotSymmetric { .. })));
@@ -150,9 +149,8 @@ fn empty_and_tiny_systems() {
         let p = common::data(n, 2);
         let (x_ref, _) = reference(&dense_a(&a), &p);
         for s in Solver::ALL {
-            let sol = s
-                .solve(&a, &p, &SolveOptions { tol: 1e-10, ..Default::default() })
-                .unwrap_or_else(|e| panic!("n {n}, {s}: {e}"));
+            let sol =
+                s.solve(&a, &p, &SolveOptions::default().with_tol(1e-10)).unwrap_or_else(|e| panic!("n {n}, {s}: {e}"));
             assert!(max_row_gap(&sol.x, &x_ref) < 1e-8, "n {n}, {s}");
         }
     }

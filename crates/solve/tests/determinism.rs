@@ -2,7 +2,9 @@
 //! 200,000-row system (above the parallel threshold, so the chunked
 //! parallel kernels and reductions really run on several threads).
 
-use subdiv_solve::{model_problems, tolerances::PARALLEL_MIN_ROWS, Solution, SolveOptions, Solver, SweepOrder};
+use subdiv_solve::{
+    internals::model_problems, internals::tolerances::PARALLEL_MIN_ROWS, Solution, SolveOptions, Solver, SweepOrder,
+};
 
 fn bits(sol: &Solution) -> Vec<u64> {
     sol.x.iter().flat_map(|r| r.iter().map(|v| v.to_bits())).chain(sol.history.iter().map(|v| v.to_bits())).collect()
@@ -22,7 +24,7 @@ fn solvers_give_identical_bits_on_one_and_two_threads() {
             [x.sin() + 0.01 * y, (0.1 * y).cos() * x / 500.0, ((i * 7919) % 1000) as f64 / 1000.0]
         })
         .collect();
-    let opts = SolveOptions { tol: 1e-9, ..Default::default() };
+    let opts = SolveOptions::default().with_tol(1e-9);
     for solver in [
         Solver::Cg { jacobi: true },
         Solver::Cg { jacobi: false },

@@ -1,6 +1,8 @@
 //! Bad user data gives typed errors naming the problem; caller bugs panic.
 
-use subdiv_solve::{dense_lu_capped, model_problems, FactoredMatrix, SolveError, SolveOptions, Solver, SparseMatrix};
+use subdiv_solve::{
+    dense_lu_capped, internals::model_problems, FactoredMatrix, SolveError, SolveOptions, Solver, SparseMatrix,
+};
 
 #[test]
 fn invalid_input_is_reported_by_every_solver() {
@@ -12,18 +14,10 @@ fn invalid_input_is_reported_by_every_solver() {
     let cases: Vec<(&str, Vec<[f64; 3]>, SolveOptions)> = vec![
         ("row 7", nan, SolveOptions::default()),
         ("35 rows", short, SolveOptions::default()),
-        ("tol", good.clone(), SolveOptions { tol: 0.0, ..Default::default() }),
-        ("scale", good.clone(), SolveOptions { scale: f64::INFINITY, ..Default::default() }),
-        (
-            "initial guess has 2 rows",
-            good.clone(),
-            SolveOptions { initial: Some(vec![[0.0; 3]; 2]), ..Default::default() },
-        ),
-        (
-            "initial guess row 0",
-            good.clone(),
-            SolveOptions { initial: Some(vec![[f64::NAN; 3]; 36]), ..Default::default() },
-        ),
+        ("tol", good.clone(), SolveOptions::default().with_tol(0.0)),
+        ("scale", good.clone(), SolveOptions::default().with_scale(f64::INFINITY)),
+        ("initial guess has 2 rows", good.clone(), SolveOptions::default().with_initial(Some(vec![[0.0; 3]; 2]))),
+        ("initial guess row 0", good.clone(), SolveOptions::default().with_initial(Some(vec![[f64::NAN; 3]; 36]))),
     ];
     for (needle, p, opts) in &cases {
         for s in Solver::ALL {
@@ -62,7 +56,7 @@ fn not_converged_error_is_small_and_readable() {
     // The last iterate travels in the error but is not dumped by Debug.
     let a = model_problems::bicubic_torus(40, 40);
     let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [i as f64, 0.0, 0.0]).collect();
-    let e = Solver::Pia.solve(&a, &p, &SolveOptions { max_iter: 3, ..Default::default() }).unwrap_err();
+    let e = Solver::Pia.solve(&a, &p, &SolveOptions::default().with_max_iter(3)).unwrap_err();
     let debug = format!("{e:?}");
     assert!(debug.contains("LastIterate(<1600 rows>)") && debug.len() < 400, "{debug}");
     assert!(e.to_string().contains("iteration limit") && e.to_string().contains("3 iterations"), "{e}");

@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use subdiv_solve::{gauss_seidel, model_problems, SolveOptions, SweepOrder};
+use subdiv_solve::{gauss_seidel, internals::model_problems, SolveOptions, SweepOrder};
 
 #[test]
 fn multicolour_order_needs_no_more_sweeps_than_storage_order() {
@@ -19,7 +19,7 @@ fn multicolour_order_needs_no_more_sweeps_than_storage_order() {
     println!("|---|---|---|---|---|");
     for (name, a) in &cases {
         let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [((i * 37) % 101) as f64 / 101.0, (i % 7) as f64, 1.0]).collect();
-        let opts = SolveOptions { tol: 1e-6, ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-6);
         let mut sweeps = Vec::new();
         for order in [SweepOrder::Storage, SweepOrder::Symmetric, SweepOrder::Multicolor] {
             let t = Instant::now();

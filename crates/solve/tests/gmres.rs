@@ -8,7 +8,8 @@ mod common;
 use common::{dense_a, max_row_gap, max_row_residual, reference};
 use proptest::prelude::*;
 use subdiv_solve::{
-    dense_lu, gmres, gmres_restarted, model_problems, FactoredMatrix, SolveError, SolveOptions, Solver, StopReason,
+    dense_lu, gmres, gmres_restarted, internals::model_problems, FactoredMatrix, SolveError, SolveOptions, Solver,
+    StopReason,
 };
 
 /// A nonsymmetric A with the structure of an open-mesh limit matrix: the
@@ -36,7 +37,7 @@ fn gmres_equals_the_dense_lu_solution() {
     ];
     for (name, a) in cases {
         let p = common::data(a.n(), 11);
-        let opts = SolveOptions { tol: 1e-13, ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-13);
         let sol = gmres(&a, &p, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
         let lu = dense_lu(&a, &p, &opts).unwrap();
         let gap = max_row_gap(&sol.x, &lu.x);
@@ -59,14 +60,14 @@ fn full_gmres_terminates_within_n_steps_and_never_increases_the_residual() {
     let a = model_problems::random_nonsymmetric(24, 6, 5);
     let dense = dense_a(&a);
     let p = common::data(24, 3);
-    let sol = gmres_restarted(&a, &p, &SolveOptions { tol: 1e-12, ..Default::default() }, 30).unwrap();
+    let sol = gmres_restarted(&a, &p, &SolveOptions::default().with_tol(1e-12), 30).unwrap();
     assert!(sol.iterations <= 24, "{} iterations for n = 24", sol.iterations);
     let norm = |x: &[[f64; 3]], c: usize| -> f64 {
         (0..24).map(|i| (p[i][c] - (0..24).map(|j| dense[(i, j)] * x[j][c]).sum::<f64>()).powi(2)).sum::<f64>().sqrt()
     };
     let mut previous = [f64::INFINITY; 3];
     for k in 1..sol.iterations {
-        let x = match gmres_restarted(&a, &p, &SolveOptions { tol: 1e-15, max_iter: k, ..Default::default() }, 30) {
+        let x = match gmres_restarted(&a, &p, &SolveOptions::default().with_tol(1e-15).with_max_iter(k), 30) {
             Err(SolveError::NotConverged { x, iterations, .. }) => {
                 assert_eq!(iterations, k);
                 x.0
@@ -86,7 +87,7 @@ fn every_restart_length_converges() {
     let a = model_problems::random_nonsymmetric(1500, 6, 9);
     let dense = dense_a(&a);
     let p = common::data(1500, 4);
-    let opts = SolveOptions { tol: 1e-10, ..Default::default() };
+    let opts = SolveOptions::default().with_tol(1e-10);
     for m in [1, 2, 5, 10, 30, 60] {
         let sol = gmres_restarted(&a, &p, &opts, m).unwrap_or_else(|e| panic!("m = {m}: {e}"));
         assert!(max_row_residual(&dense, &sol.x, &p) <= 1e-10, "m = {m}");
@@ -104,7 +105,7 @@ fn singular_systems_are_solved_when_consistent_and_never_return_garbage_otherwis
     ] {
         let dense = dense_a(&a);
         let (p, q) = common::consistent_and_inconsistent(&a, &kernel, 4);
-        let opts = SolveOptions { tol: 1e-9, ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-9);
         // Consistent: the range D·k^⊥ of A and its kernel k meet only in 0 (kᵀD⁻¹k > 0),
         // so GMRES converges.
         let sol = gmres(&a, &p, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -133,7 +134,7 @@ fn not_converged_carries_the_iterate_and_the_history_across_restarts() {
     let dense = dense_a(&a);
     let p = common::data(600, 2);
     let scale = 2.0;
-    let opts = SolveOptions { tol: 1e-15, max_iter: 7, scale, ..Default::default() };
+    let opts = SolveOptions::default().with_tol(1e-15).with_max_iter(7).with_scale(scale);
     match gmres_restarted(&a, &p, &opts, 3).unwrap_err() {
         SolveError::NotConverged { solver, iterations, residual, history, x, reason } => {
             assert_eq!((solver, iterations, reason), ("gmres", 7, StopReason::MaxIterations));
@@ -143,7 +144,7 @@ fn not_converged_carries_the_iterate_and_the_history_across_restarts() {
         }
         other => panic!("{other:?}"),
     }
-    let e = gmres(&a, &p, &SolveOptions { max_iter: 2, ..Default::default() }).unwrap_err();
+    let e = gmres(&a, &p, &SolveOptions::default().with_max_iter(2)).unwrap_err();
     assert!(e.to_string().contains("gmres did not converge") && e.to_string().contains("2 iterations"), "{e}");
 }
 
@@ -173,7 +174,7 @@ proptest! {
     ) {
         let a = model_problems::random_nonsymmetric(n, neighbours, seed);
         let p: Vec<[f64; 3]> = common::data(n, seed ^ 0x99).iter().map(|r| [r[0] * scale, r[1] * scale, r[2] * scale]).collect();
-        let opts = SolveOptions { tol: 1e-10, scale, ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-10).with_scale(scale);
         let dense = dense_a(&a);
         let sol = gmres_restarted(&a, &p, &opts, restart).map_err(|e| TestCaseError::fail(format!("n {n}, m {restart}: {e}")))?;
         let res = max_row_residual(&dense, &sol.x, &p);
@@ -187,9 +188,9 @@ proptest! {
 #[test]
 fn gmres_gives_identical_bits_on_one_and_two_threads() {
     let a = model_problems::random_nonsymmetric(200_000, 6, 42);
-    assert!(a.n() >= 2 * subdiv_solve::tolerances::PARALLEL_MIN_ROWS);
+    assert!(a.n() >= 2 * subdiv_solve::internals::tolerances::PARALLEL_MIN_ROWS);
     let p = common::data(a.n(), 8);
-    let opts = SolveOptions { tol: 1e-10, ..Default::default() };
+    let opts = SolveOptions::default().with_tol(1e-10);
     let run = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

@@ -9,7 +9,9 @@ mod common;
 use common::{dense_a, max_row_gap, max_row_residual, reference};
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
-use subdiv_solve::{ldl, minres, model_problems, FactoredMatrix, SolveError, SolveOptions, Solver, StopReason};
+use subdiv_solve::{
+    internals::model_problems, ldl, minres, FactoredMatrix, SolveError, SolveOptions, Solver, StopReason,
+};
 
 /// Checks an `Ok` MINRES solution independently: true residual ≤ tol·scale,
 /// the reported residual is the true one, and the forward error is within
@@ -39,7 +41,7 @@ fn assert_solves(name: &str, a: &FactoredMatrix, p: &[[f64; 3]], opts: &SolveOpt
 
 #[test]
 fn pillow_and_indefinite_model_problems_are_solved() {
-    let opts = SolveOptions { tol: 1e-10, ..Default::default() };
+    let opts = SolveOptions::default().with_tol(1e-10);
     let pillow = model_problems::pillow();
     let ev = common::eigenvalues(&pillow);
     assert!((ev[0] + 1.0 / 7.0).abs() < 1e-12, "{ev:?}");
@@ -57,7 +59,7 @@ fn pillow_and_indefinite_model_problems_are_solved() {
     }
     // A wide indefinite spectrum [−1/36, 31/36] with eigenvalues near 0: slower, still exact.
     let a = common::shifted_torus(12, 14);
-    assert_solves("shifted torus", &a, &common::data(a.n(), 3), &SolveOptions { tol: 1e-8, ..Default::default() });
+    assert_solves("shifted torus", &a, &common::data(a.n(), 3), &SolveOptions::default().with_tol(1e-8));
     // CG refuses the same systems.
     assert!(matches!(
         Solver::Cg { jacobi: true }.solve(&pillow, &common::data(4, 1), &opts),
@@ -71,7 +73,7 @@ fn spd_systems_take_about_as_many_iterations_as_cg() {
     // counts are close (CG minimises the energy norm, MINRES the residual).
     for (name, a) in common::nonsingular_cases() {
         let p = common::data(a.n(), 5);
-        let opts = SolveOptions { tol: 1e-8, ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-8);
         let by_minres = assert_solves(name, &a, &p, &opts);
         let by_cg = subdiv_solve::cg(&a, &p, &opts, false).unwrap();
         assert!(
@@ -101,7 +103,7 @@ fn cheng_matrices_with_valence_two_vertices_match_ldl() {
         let negatives = ev.iter().filter(|v| **v < 0.0).count();
         assert_eq!(negatives, doubles.len(), "{singles:?} {doubles:?}: {:?}", &ev[..3]);
         let name = format!("cheng torus, single {singles:?}, double {doubles:?}");
-        let opts = SolveOptions { tol: 1e-10, scale, ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-10).with_scale(scale);
         let sol = assert_solves(&name, &a, &p, &opts);
         let direct = ldl(&a, &p, &opts).unwrap();
         assert_eq!(direct.negative_pivots, Some(negatives));
@@ -185,7 +187,7 @@ fn iterates_minimise_the_residual_over_the_krylov_space() {
             .collect();
         let mut previous = [f64::INFINITY; 3];
         for k in 1..=12 {
-            let opts = SolveOptions { tol: 1e-15, max_iter: k, ..Default::default() };
+            let opts = SolveOptions::default().with_tol(1e-15).with_max_iter(k);
             let x = match minres(&a, &p, &opts) {
                 Err(SolveError::NotConverged { x, iterations, reason, .. }) => {
                     assert_eq!((iterations, reason), (k, StopReason::MaxIterations));
@@ -218,7 +220,7 @@ fn singular_consistent_systems_converge_and_inconsistent_ones_stop_at_least_squa
     ] {
         let dense = dense_a(&a);
         let (p, q) = common::consistent_and_inconsistent(&a, &kernel, 4);
-        let opts = SolveOptions { tol: 1e-9, ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-9);
         let sol = minres(&a, &p, &opts).unwrap_or_else(|e| panic!("{name} consistent: {e}"));
         assert!(max_row_residual(&dense, &sol.x, &p) <= 1e-9, "{name}");
         match minres(&a, &q, &opts) {
@@ -268,7 +270,7 @@ fn not_converged_carries_the_iterate_and_the_history() {
     let dense = dense_a(&a);
     let p = common::data(500, 2);
     let scale = 3.0;
-    let opts = SolveOptions { tol: 1e-14, max_iter: 4, scale, ..Default::default() };
+    let opts = SolveOptions::default().with_tol(1e-14).with_max_iter(4).with_scale(scale);
     match minres(&a, &p, &opts).unwrap_err() {
         SolveError::NotConverged { solver, iterations, residual, history, x, reason } => {
             assert_eq!((solver, iterations, reason), ("minres", 4, StopReason::MaxIterations));
@@ -280,9 +282,9 @@ fn not_converged_carries_the_iterate_and_the_history() {
         other => panic!("{other:?}"),
     }
     // history: false records nothing; an exact start costs no iteration.
-    let sol = minres(&a, &p, &SolveOptions { history: false, ..Default::default() }).unwrap();
+    let sol = minres(&a, &p, &SolveOptions::default().with_history(false)).unwrap();
     assert!(sol.history.is_empty());
-    let again = minres(&a, &p, &SolveOptions { initial: Some(sol.x.clone()), ..Default::default() }).unwrap();
+    let again = minres(&a, &p, &SolveOptions::default().with_initial(Some(sol.x.clone()))).unwrap();
     assert_eq!(again.iterations, 0);
 }
 
@@ -310,7 +312,7 @@ proptest! {
         let negatives = ((n as f64) * negative_fraction) as usize;
         let a = model_problems::random_indefinite(n, neighbours, negatives, seed);
         let p: Vec<[f64; 3]> = common::data(n, seed ^ 0x77).iter().map(|r| [r[0] * scale, r[1] * scale, r[2] * scale]).collect();
-        let opts = SolveOptions { tol: 1e-9, scale, ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-9).with_scale(scale);
         let dense = dense_a(&a);
         let sol = minres(&a, &p, &opts).map_err(|e| TestCaseError::fail(format!("n {n}, {negatives} negative: {e}")))?;
         let res = max_row_residual(&dense, &sol.x, &p);
@@ -326,8 +328,8 @@ fn minres_gives_identical_bits_on_one_and_two_threads() {
     // 200,000 rows (above the parallel threshold): Cheng's matrix of a torus with
     // two single and two adjacent valence-2 vertices, indefinite.
     let (a, p, scale) = cheng_torus(500, 400, &[70_001, 150_000], &[0]);
-    assert!(a.n() >= 2 * subdiv_solve::tolerances::PARALLEL_MIN_ROWS);
-    let opts = SolveOptions { tol: 1e-9, scale, ..Default::default() };
+    assert!(a.n() >= 2 * subdiv_solve::internals::tolerances::PARALLEL_MIN_ROWS);
+    let opts = SolveOptions::default().with_tol(1e-9).with_scale(scale);
     let run = |threads: usize| {
         rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| minres(&a, &p, &opts).unwrap())
     };

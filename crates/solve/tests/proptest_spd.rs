@@ -5,7 +5,7 @@
 mod common;
 
 use proptest::prelude::*;
-use subdiv_solve::{model_problems, SolveOptions, Solver};
+use subdiv_solve::{internals::model_problems, SolveOptions, Solver};
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(40))]
@@ -17,7 +17,7 @@ proptest! {
         let p: Vec<[f64; 3]> = common::data(n, seed ^ 0x55).iter().map(|r| [r[0] * scale, r[1] * scale, r[2] * scale]).collect();
         let (x_ref, inv_norm) = common::reference(&dense, &p);
         let ref_res = common::max_row_residual(&dense, &x_ref, &p);
-        let opts = SolveOptions { tol: 1e-9, scale, ..Default::default() };
+        let opts = SolveOptions::default().with_tol(1e-9).with_scale(scale);
         let mut xs = Vec::new();
         for s in [Solver::Cg { jacobi: false }, Solver::Cg { jacobi: true }, Solver::Chebyshev, Solver::Ldl] {
             let sol = s.solve(&a, &p, &opts).map_err(|e| TestCaseError::fail(format!("{s}: {e}")))?;

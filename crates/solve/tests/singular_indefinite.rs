@@ -7,8 +7,8 @@ mod common;
 
 use common::{dense_a, max_row_residual};
 use subdiv_solve::{
-    cg, chebyshev, dense_lu, extreme_eigenvalues, gauss_seidel, ldl, model_problems, pia, weighted_pia, SolveError,
-    SolveOptions, Solver, StopReason, SweepOrder,
+    cg, chebyshev, dense_lu, extreme_eigenvalues, gauss_seidel, internals::model_problems, ldl, pia, weighted_pia,
+    SolveError, SolveOptions, Solver, StopReason, SweepOrder,
 };
 
 fn cube_rhs_consistent() -> Vec<[f64; 3]> {
@@ -50,7 +50,7 @@ fn checkerboard_cube_consistent_rhs() {
     let a = model_problems::cube_checkerboard();
     let dense = dense_a(&a);
     let p = cube_rhs_consistent();
-    let opts = SolveOptions { tol: 1e-9, ..Default::default() };
+    let opts = SolveOptions::default().with_tol(1e-9);
     // Krylov and stationary methods converge on a consistent singular system.
     for s in [
         Solver::Cg { jacobi: false },
@@ -76,7 +76,7 @@ fn checkerboard_cube_inconsistent_rhs() {
     let a = model_problems::cube_checkerboard();
     let dense = dense_a(&a);
     let p = cube_rhs_inconsistent();
-    let opts = SolveOptions { tol: 1e-6, ..Default::default() };
+    let opts = SolveOptions::default().with_tol(1e-6);
     for s in Solver::ALL {
         let r = s.solve(&a, &p, &opts);
         assert_honest(s.name(), &r, &dense, &p, 1e-6);

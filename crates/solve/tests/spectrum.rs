@@ -4,7 +4,9 @@
 
 mod common;
 
-use subdiv_solve::{extreme_eigenvalues, model_problems, power_iteration, tolerances::SPECTRUM_MARGIN};
+use subdiv_solve::{
+    extreme_eigenvalues, internals::model_problems, internals::tolerances::SPECTRUM_MARGIN, power_iteration,
+};
 
 fn check_bracket(name: &str, a: &subdiv_solve::FactoredMatrix, steps: usize) {
     let ev = common::eigenvalues(a);
@@ -61,7 +63,7 @@ fn known_spectra_of_the_regular_masks() {
 fn plain_lanczos_without_reorthogonalisation_still_finds_the_extremes() {
     // 300 × 300 = 90,000 rows × 100 steps is above the reorthogonalisation budget.
     let a = model_problems::bicubic_torus(300, 300);
-    assert!(a.n() * 100 > subdiv_solve::tolerances::LANCZOS_REORTH_MAX_STORE);
+    assert!(a.n() * 100 > subdiv_solve::internals::tolerances::LANCZOS_REORTH_MAX_STORE);
     let s = extreme_eigenvalues(&a, 100).unwrap();
     assert!(s.ritz_min >= 1.0 / 9.0 - 1e-9 && s.ritz_max <= 1.0 + 1e-9, "{s:?}");
     assert!(s.min <= 1.0 / 9.0 && s.max >= 1.0, "{s:?}");

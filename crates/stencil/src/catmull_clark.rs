@@ -28,7 +28,7 @@ use subdiv_rules::{Rule, VertexKind};
 /// Each row is written with its weights already merged per neighbour (an
 /// edge neighbour collects its edge term and the two face points it lies in),
 /// so a row holds its distinct columns once unless the mesh makes two of them
-/// coincide, which [`RowBuilder`] still sums. Rows are built in parallel.
+/// coincide, which the row builder still sums. Rows are built in parallel.
 pub fn refinement_stencil(t: &Topology) -> SparseMatrix {
     refinement_stencil_sharp(t, &LevelSharpness::plain())
 }

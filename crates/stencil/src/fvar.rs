@@ -108,7 +108,7 @@
 //!
 //! Linear in the corners: per edge a seam test, per vertex one pass over its
 //! fan (a sort instead of a scan for vertices of more than
-//! [`LINEAR_SEARCH_MAX`] faces, so no vertex costs valence × values), all in
+//! 32 faces, `LINEAR_SEARCH_MAX`, so no vertex costs valence × values), all in
 //! parallel chunks of fixed size (the result does not depend on the thread
 //! count); no hash map.
 //!
@@ -157,7 +157,7 @@ use thiserror::Error;
 /// Vertices with at most this many faces number their values by a scan of
 /// the values seen so far; larger fans sort (value, face) pairs instead, so
 /// a vertex of k faces and k values costs k log k, not k².
-pub const LINEAR_SEARCH_MAX: usize = 32;
+const LINEAR_SEARCH_MAX: usize = 32;
 
 /// Elements per parallel task: fixed, so nothing depends on the thread count.
 const CHUNK: usize = 4096;
@@ -435,7 +435,7 @@ struct Step<'a> {
 }
 
 /// A sum of weighted values in the order they are added (as
-/// [`crate::RowBuilder::evaluate_parallel_with_scratch`] sums a row).
+/// `RowBuilder::evaluate_parallel_with_scratch` sums a row).
 #[derive(Default)]
 struct Sum(DVec2);
 

@@ -52,7 +52,7 @@ pub use limit_matrix::{
     DualLimitSite, LimitMatrix, LimitRows, RowKind, SolveBlocks,
 };
 pub use options::{Options, Scheme};
-pub use rows::{RowBuilder, Summation};
+pub(crate) use rows::{RowBuilder, Summation};
 pub use scheme::{SchemeRules, Split};
 pub use sharpness::{EdgeStep, LevelSharpness, VertexStep};
 pub use subdiv_rules::deng_ma::Tension;

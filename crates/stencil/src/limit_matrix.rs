@@ -194,7 +194,12 @@ pub enum RowKind {
 }
 
 /// A limit matrix A = D·S with its rows' kinds and its sharp block marked.
+///
+/// `#[non_exhaustive]`: made by the `limit_matrix_*` functions, or from its
+/// parts by [`LimitMatrix::new`]; read through its public fields (a new
+/// field is not a breaking change).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct LimitMatrix {
     /// The positive diagonal D, one entry per vertex.
     pub d: Vec<f64>,
@@ -211,7 +216,11 @@ pub struct LimitMatrix {
 
 /// The order a solve can take ([`LimitMatrix::solve_blocks`]): each set
 /// depends only on itself and the sets before it.
+///
+/// `#[non_exhaustive]`: read through its public fields (a new block is not a
+/// breaking change).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct SolveBlocks {
     /// Identity rows: X = P.
     pub corners: Vec<u32>,
@@ -226,6 +235,56 @@ pub struct SolveBlocks {
 }
 
 impl LimitMatrix {
+    /// A limit matrix from its parts (a method that assembles its own A =
+    /// D·S, a test): `d` and `row_kinds` one per row of the square `s`,
+    /// `boundary_rows` as the field says.
+    ///
+    /// # Errors
+    /// [`StencilError::InvalidParameter`] naming the first violated
+    /// condition: lengths that differ, a non-square S, a D entry that is not
+    /// positive and finite, `boundary_rows` not strictly ascending or out of
+    /// range, a boundary row that is not [`RowKind::Crease`] or
+    /// [`RowKind::Corner`] or has a column outside `boundary_rows`.
+    pub fn new(
+        d: Vec<f64>,
+        s: SparseMatrix,
+        boundary_rows: Vec<u32>,
+        row_kinds: Vec<RowKind>,
+    ) -> Result<Self, StencilError> {
+        let invalid = |what: String| Err(StencilError::InvalidParameter(format!("limit matrix: {what}")));
+        let n = d.len();
+        if s.rows() != n || s.cols() != n || row_kinds.len() != n || !s.is_csr() {
+            return invalid(format!(
+                "{n} D entries, {} row kinds and a {} × {} {} S",
+                row_kinds.len(),
+                s.rows(),
+                s.cols(),
+                if s.is_csr() { "CSR" } else { "CSC" }
+            ));
+        }
+        if let Some(i) = d.iter().position(|&x| !(x > 0.0 && x.is_finite())) {
+            return invalid(format!("D[{i}] = {} is not positive and finite", d[i]));
+        }
+        let mut sharp = vec![false; n];
+        for (k, &v) in boundary_rows.iter().enumerate() {
+            if v as usize >= n || (k > 0 && boundary_rows[k - 1] >= v) {
+                return invalid(format!("boundary row {v} (entry {k}) out of range or not ascending"));
+            }
+            sharp[v as usize] = true;
+        }
+        for &v in &boundary_rows {
+            let kind = row_kinds[v as usize];
+            if !matches!(kind, RowKind::Crease | RowKind::Corner) {
+                return invalid(format!("boundary row {v} is of kind {kind:?}"));
+            }
+            let row = s.outer_view(v as usize).expect("a row per vertex");
+            if let Some((j, _)) = row.iter().find(|&(j, _)| !sharp[j]) {
+                return invalid(format!("boundary row {v} has column {j} outside the boundary rows"));
+            }
+        }
+        Ok(Self { d, s, boundary_rows, row_kinds })
+    }
+
     /// Number of rows (= vertices).
     pub fn size(&self) -> usize {
         self.d.len()
@@ -1067,7 +1126,11 @@ pub fn limit_matrix_loop_sharp(
 /// vertices only (Deng-Wang reads those of the tagged old vertices of M¹):
 /// row i is vertex `vertices[i]`, with its kind, its D entry and its S row
 /// (`vertices.len()` × V), equal to those rows of the whole matrix.
+///
+/// `#[non_exhaustive]`: made by [`limit_rows_loop_sharp`], read through its
+/// public fields (a new field is not a breaking change).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct LimitRows {
     /// The vertices, in the order asked for.
     pub vertices: Vec<u32>,

@@ -22,7 +22,11 @@ pub fn normalize(points: &[DVec3]) -> (PowerOfTwoScale, Vec<DVec3>) {
 }
 
 /// A point that is not a finite f64 once mapped back.
+///
+/// `#[non_exhaustive]`: made by [`map_back`], read through its public
+/// fields (a new field is not a breaking change).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct OutOfRange {
     /// Index of the point (the first one out of range).
     pub index: usize,

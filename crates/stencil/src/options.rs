@@ -41,8 +41,13 @@ impl Scheme {
 }
 
 /// Everything that changes the limit surface (and the face-varying data on
-/// it). Defaults as OpenSubdiv's Far tools use them: `edge-and-corner`
-/// boundaries, uniform creasing, `linear-all` face-varying data.
+/// it). Defaults as OpenSubdiv's Far tools use them: Catmull-Clark,
+/// `edge-and-corner` boundaries, uniform creasing, `linear-all` face-varying
+/// data.
+///
+/// `#[non_exhaustive]`: build it with [`Options::new`] (or [`Default`]) and
+/// the `with_*` setters (one per field); the fields stay public for
+/// reading. Adding a field is then not a breaking change.
 ///
 /// ```
 /// use subdiv_stencil::{Options, Scheme};
@@ -52,6 +57,14 @@ impl Scheme {
 ///     .with_crease_method(CreaseMethod::Chaikin);
 /// assert!(options.validate().is_ok());
 /// assert_eq!(Options::from(Scheme::DooSabin).boundary, BoundaryInterpolation::EdgeAndCorner);
+/// assert_eq!(Options::default().with_scheme(Scheme::DooSabin), Options::new(Scheme::DooSabin));
+/// ```
+///
+/// A struct literal does not compile outside the crate:
+///
+/// ```compile_fail,E0639
+/// use subdiv_stencil::{Options, Scheme};
+/// let options = Options { scheme: Scheme::DooSabin, ..Options::default() };
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
@@ -72,6 +85,13 @@ impl From<Scheme> for Options {
     }
 }
 
+impl Default for Options {
+    /// Catmull-Clark with the default options (OpenSubdiv's default scheme).
+    fn default() -> Self {
+        Self::new(Scheme::CatmullClark)
+    }
+}
+
 impl Options {
     /// The scheme with the default options.
     pub fn new(scheme: Scheme) -> Self {
@@ -81,6 +101,11 @@ impl Options {
             crease_method: CreaseMethod::default(),
             fvar: FVarInterpolation::default(),
         }
+    }
+
+    /// With another scheme (and its parameters); the other options are kept.
+    pub fn with_scheme(self, scheme: Scheme) -> Self {
+        Self { scheme, ..self }
     }
 
     /// With another boundary interpolation.

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 /// How the contributions to one column of a row are summed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Summation {
+pub(crate) enum Summation {
     /// In the order they were added.
     #[default]
     InOrder,
@@ -27,7 +27,7 @@ const ROWS_PER_TASK: usize = 4096;
 /// merged on its own, with no global sort: a short row by sorting it in place,
 /// a long one by grouping its columns in a small hash table.
 #[derive(Debug, Default)]
-pub struct RowBuilder {
+pub(crate) struct RowBuilder {
     indptr: Vec<u32>,
     indices: Vec<u32>,
     data: Vec<f64>,

@@ -11,7 +11,11 @@ use subdiv_mesh::Topology;
 
 /// One level refined: the new connectivity, the sharpness of the new level,
 /// and (Doo-Sabin) the provenance of its faces and vertices.
+///
+/// `#[non_exhaustive]`: made by [`SchemeRules::split`], read through its
+/// public fields (a new field is not a breaking change).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Split {
     /// The refined connectivity.
     pub topology: Topology,

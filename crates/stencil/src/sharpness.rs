@@ -55,7 +55,11 @@ impl PartialEq for LevelSharpness {
 /// The new vertex point of an old vertex: the rule before the step
 /// (`parent`), after it (`child`), and the weight of the parent mask where they
 /// differ (OpenSubdiv's fractional transition).
+///
+/// `#[non_exhaustive]`: made by [`LevelSharpness::vertex_step`], read through
+/// its public fields (a new field is not a breaking change).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct VertexStep {
     /// Rule from the sharpness before the step.
     pub parent: Rule,

@@ -31,7 +31,11 @@ use subdiv_mesh::Topology;
 
 /// Element counts of one level (saturating at `u64::MAX`: a count that
 /// large only ever serves to refuse).
+///
+/// `#[non_exhaustive]`: made by [`LevelSize::of`] and [`refined_sizes`], read
+/// through its public fields (a new count is not a breaking change).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct LevelSize {
     /// Vertices.
     pub vertices: u64,

@@ -18,7 +18,11 @@ use subdiv_mesh::{Mesh, PowerOfTwoScale, Tags, Topology};
 
 /// One level of a plan: the refined connectivity, the operator producing
 /// its positions from the previous level's, and its tags.
+///
+/// `#[non_exhaustive]`: made by [`SubdivisionPlan`], read through its
+/// public fields (a new field is not a breaking change).
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Refinement {
     /// Connectivity after this level.
     pub topology: Topology,

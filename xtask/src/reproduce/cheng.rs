@@ -342,7 +342,7 @@ fn matrix_products(ctx: &Ctx, table: &mut Table) -> Result<()> {
             matrices.insert(0, ("A (Cheng)", limit_matrix_catmull_clark(t)));
         }
         let p: Vec<[f64; 3]> = mesh.positions().iter().map(|q| q.to_array()).collect();
-        let opts = SolveOptions { tol: TOL, scale: mesh.bbox_diagonal(), ..Default::default() };
+        let opts = SolveOptions::default().with_tol(TOL).with_scale(mesh.bbox_diagonal());
         for (name, a) in matrices {
             let fm = FactoredMatrix::new(a.d.clone(), a.s.clone())?;
             let [pia, cg, minres, gmres] = [Solver::Pia, Solver::Cg { jacobi: true }, Solver::Minres, Solver::Gmres]

@@ -18,7 +18,6 @@
 
 use super::{dual_split, DualFace, DualVertex};
 use crate::ids::{EdgeId, HalfEdgeId, VertexId};
-use crate::soup::FaceList;
 use crate::tags::{Tags, SHARPNESS_INFINITE};
 use crate::topology::{SharpDualSplit, SharpPointIds, Topology};
 
@@ -177,7 +176,7 @@ impl DualFeatures {
 }
 
 /// [`DualFeatures::layout`]'s result.
-struct SharpLayout {
+pub(crate) struct SharpLayout {
     points: Vec<SharpPoint>,
     edge_points: Vec<[u32; 3]>,
     corner_point: Vec<u32>,
@@ -218,7 +217,11 @@ pub enum SharpPoint {
 ///
 /// New vertex `x < H` is the image of old corner `x`, as in
 /// [`super::DualProvenance`]; vertex `H + i` is `sharp_points[i]`.
+///
+/// `#[non_exhaustive]`: made by [`dual_split_tagged`], read through its
+/// public fields (a new field is not a breaking change).
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SharpDualProvenance {
     /// The points of the refined sharp polygon ([`DualFeatures::sharp_points`]).
     pub sharp_points: Vec<SharpPoint>,
@@ -279,7 +282,7 @@ pub fn dual_split_tagged(t: &Topology, tags: &Tags) -> (Topology, SharpDualProve
 
 /// The general construction of the split ([`Topology::dual_split_sharp`])
 /// and the sharp points' tables it used.
-fn general_split(t: &Topology, features: &DualFeatures) -> (SharpDualSplit, SharpLayout) {
+pub(crate) fn general_split(t: &Topology, features: &DualFeatures) -> (SharpDualSplit, SharpLayout) {
     let sharp: Vec<bool> = t.edges().map(|e| features.is_sharp(t, e)).collect();
     let layout = features.layout(t, true);
     let touches_sharp = |v: usize| features.sharp_edge_count(t, VertexId(v as u32)) > 0;
@@ -315,27 +318,6 @@ fn untagged_split(t: &Topology) -> (Topology, SharpDualProvenance, Tags) {
     let provenance =
         SharpDualProvenance { sharp_points, face_origin: provenance.face_origin, edge_points, corner_point };
     (topology, provenance, Tags::none())
-}
-
-/// [`dual_split_tagged`] the slow way: the face list of the construction
-/// validated by [`Topology::new`] (which also checks that it is a manifold).
-/// Kept to test the direct construction against; its provenance and tags
-/// are the direct split's.
-///
-/// # Errors
-/// The validation error, if the construction were not a valid mesh (a bug).
-pub fn dual_split_tagged_by_validation(
-    t: &Topology,
-    tags: &Tags,
-) -> Result<(Topology, SharpDualProvenance, Tags), crate::MeshError> {
-    let features = DualFeatures::new(t, tags);
-    // The direct construction of the general case (also without features)
-    // gives the face list; `new` re-derives everything from it.
-    let (split, _) = general_split(t, &features);
-    let faces: FaceList = split.topology.faces().clone();
-    let topology = Topology::new(faces, split.topology.vertex_count())?;
-    let (_, provenance, new_tags) = dual_split_tagged(t, tags);
-    Ok((topology, provenance, new_tags))
 }
 
 #[cfg(test)]

@@ -211,7 +211,7 @@ impl Topology {
 
     /// The Doo-Sabin dual split of `self`, built directly instead of
     /// re-deriving connectivity from the face list: equal, field by field, to
-    /// [`Topology::new`] on the face list of `crate::refine::dual_split_by_validation`.
+    /// [`Topology::new`] on the face list of `crate::internals::dual_split_by_validation`.
     ///
     /// `boundary_point[h]` is c(h), the first of the two Chaikin points of
     /// boundary half-edge `h` (`crate::refine::DualProvenance::boundary_point`:
@@ -488,7 +488,7 @@ impl Topology {
     /// The Doo-Sabin dual split with sharp edges and corners, built directly:
     /// faces and twins by construction, then fans, loops and edges from the
     /// twins (equal, field by field, to [`Topology::new`] on the same face
-    /// list; `crate::refine::dual_split_tagged_by_validation` checks it).
+    /// list; `crate::internals::dual_split_tagged_by_validation` checks it).
     ///
     /// Faces, in order (x an old half-edge, its corner image is vertex x):
     /// - F-face f: the corners of old face f (half-edge x runs x → next x);
@@ -843,7 +843,8 @@ impl Topology {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::refine::{dual_split, dual_split_by_validation};
+    use crate::internals::dual_split_by_validation;
+    use crate::refine::dual_split;
     use crate::shapes;
 
     /// The constructors all list boundary loops from their smallest half-edge

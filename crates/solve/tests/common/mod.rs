@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use nalgebra::{DMatrix, SymmetricEigen};
-use subdiv_solve::{model_problems, FactoredMatrix};
+use subdiv_solve::{internals::model_problems, FactoredMatrix};
 
 /// Dense A = D·S, built entry by entry from the public parts.
 pub fn dense_a(a: &FactoredMatrix) -> DMatrix<f64> {

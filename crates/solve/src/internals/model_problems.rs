@@ -1,5 +1,6 @@
 //! Model limit matrices with known spectra, built without meshes: the shared
-//! corpus of this crate's tests, doc-tests and benches.
+//! corpus of this crate's tests and benches (feature `internals`, not
+//! covered by semver).
 //!
 //! | constructor | what | spectrum of A |
 //! |---|---|---|
@@ -11,7 +12,7 @@
 //! | [`cube_checkerboard`] | Cheng's A on the cube (all valence 3, bipartite) | {1, ½ (×3), ⅙ (×3), 0}: singular, kernel = checkerboard |
 //! | [`pillow`] | Cheng's A on two quads glued along their boundary (valence 2) | {1, 1/7, 1/7, −1/7}: indefinite |
 //!
-//! The regular masks follow [how the error is measured]: a regular Catmull-Clark vertex has
+//! The regular masks: a regular Catmull-Clark vertex has
 //! limit (n²v + 4Σe + Σf)/(n(n+5)) after one step, which composed with the
 //! step gives 4/9 centre, 1/9 per edge neighbour, 1/36 per diagonal
 //! neighbour; Loop's regular limit is ½ centre + 1/12 per neighbour.
