@@ -14,7 +14,7 @@
 //! | [`mesh`] | `subdiv-mesh` | [`Mesh`] (validated topology + positions, tags, UVs), procedural shapes, triangulation |
 //! | [`io`] | `subdiv-io` | OBJ, OFF, PLY, STL, glTF/GLB reading and atomic writing |
 //! | [`rules`] | `subdiv-rules` | the schemes' masks from local neighbourhoods |
-//! | [`stencil`] | `subdiv-stencil` | [`subdivide`], refinement and limit stencils, limit matrices |
+//! | [`stencil`] | `subdiv-stencil` | [`subdivide()`], refinement and limit stencils, limit matrices |
 //! | [`solve`] | `subdiv-solve` | the solvers of the limit systems |
 //! | [`interp`] | `subdiv-interp` | the methods, [`interpolate`], the [`Report`] |
 //!

@@ -16,8 +16,6 @@
 //! limit (n²v + 4Σe + Σf)/(n(n+5)) after one step, which composed with the
 //! step gives 4/9 centre, 1/9 per edge neighbour, 1/36 per diagonal
 //! neighbour; Loop's regular limit is ½ centre + 1/12 per neighbour.
-//!
-//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 
 use sprs::TriMatI;
 
