@@ -36,6 +36,26 @@
 //! # }
 //! ```
 //!
+//! Files and arrays (the repository README's example, compiled here):
+//!
+//! ```no_run
+//! use subdiv::prelude::*;
+//!
+//! fn main() -> Result<(), Error> {
+//!     let mesh = load_mesh("fixtures/quad/spot_control_mesh.obj")?;
+//!     let result = interpolate(&mesh, &MethodOptions::new(Method::Cheng).with_tol(1e-9))?;
+//!     println!("{}", result.error_all(&mesh)); // measured by the scheme's limit rules, not the solver
+//!     write_mesh("spot-surface.ply", &result.surface(3)?, &WriteOptions::default().with_normals(true))?;
+//!     let report = Report::new(&mesh, &result, result.error_all(&mesh)); // what --report writes (serde)
+//!     # let _ = report;
+//!     let tetra = Mesh::from_arrays(&[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]],
+//!                                   &[[0u32, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]])?;
+//!     let control: Vec<[f64; 3]> = interpolate(&tetra, &Method::DengWang.into())?.control.positions_to_arrays();
+//!     # let _ = control;
+//!     Ok(())
+//! }
+//! ```
+//!
 //! The complete consumer program — file → Cheng and Zheng-Cai → measured
 //! error → two-level surface → PLY, then arrays → Deng-Wang → arrays — is
 //! `examples/pipeline.rs`.
