@@ -182,7 +182,20 @@ proptest! {
             }
         }
         let mesh = with_valence_two(&base, &singles, &doubles);
-        let r = cheng::interpolate(&mesh, &ChengOptions::default()).map_err(|e| TestCaseError::fail(e.to_string()))?;
+        let r = match cheng::interpolate(&mesh, &ChengOptions::default()) {
+            Ok(r) => r,
+            // Some placements make Cheng's A exactly singular (two doubly split
+            // edges at one grid vertex): then the dense LU, which does not share
+            // MINRES's stopping rule, must find it singular too, and the
+            // refusal is the right answer.
+            Err(e) => {
+                let dense = cheng::interpolate(&mesh, &ChengOptions::default().with_solver(SolverChoice::Use(Solver::Dense)));
+                let singular = matches!(&dense, Err(d) if d.to_string().contains("singular"));
+                prop_assert!(singular, "auto failed ({e}) on a matrix the dense LU solves");
+                prop_assert!(e.is_not_converged(), "{e}");
+                return Ok(());
+            }
+        };
         check("random", &mesh, &r, TOL);
         prop_assert_eq!(r.solve.as_ref().unwrap().solver.as_str(), "minres");
     }
