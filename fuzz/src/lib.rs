@@ -19,8 +19,8 @@
 
 use std::collections::HashSet;
 use subdiv_interp::{
-    cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, CommonOptions, DengMaOptions,
-    DengWangOptions, FanChengLaiOptions, Interpolant, NasriOptions, Shape, SolverChoice, ZhengCaiOptions,
+    deng_wang, zheng_cai, CommonOptions, DengMaOptions, DengWangOptions, FanChengLaiOptions, Interpolant, Method,
+    MethodOptions, Shape, SolverChoice, ZhengCaiOptions,
 };
 use subdiv_io::{read_mesh_from_bytes, write_mesh_to_vec, Format, IoError, MeshView};
 use subdiv_mesh::{diagnose, shapes, DVec3, EdgeId, FaceList, HalfEdgeId, Mesh, MeshError, PolygonSoup, Warning};
@@ -334,27 +334,25 @@ fn check_mesh(mesh: &Mesh) {
 
 // ---- end to end ------------------------------------------------------------
 
-/// What [`end_to_end`] runs.
+/// What [`end_to_end`] runs: a method (in [`Method::ALL`]'s order), or `subdivide`.
 #[derive(Clone, Copy, Debug)]
 enum Operation {
-    Nasri,
-    ZhengCai,
-    Cheng,
-    FanChengLai,
-    DengWang,
-    DengMa,
+    Interpolate(Method),
     Subdivide,
 }
 
-const OPERATIONS: [Operation; 7] = [
-    Operation::Nasri,
-    Operation::ZhengCai,
-    Operation::Cheng,
-    Operation::FanChengLai,
-    Operation::DengWang,
-    Operation::DengMa,
-    Operation::Subdivide,
-];
+const OPERATIONS: [Operation; 7] = {
+    let m = Method::ALL;
+    [
+        Operation::Interpolate(m[0]),
+        Operation::Interpolate(m[1]),
+        Operation::Interpolate(m[2]),
+        Operation::Interpolate(m[3]),
+        Operation::Interpolate(m[4]),
+        Operation::Interpolate(m[5]),
+        Operation::Subdivide,
+    ]
+};
 
 /// A method or `subdivide` on a small procedural mesh with coordinates from
 /// the bytes, asserting the numeric rule of issue #14: a typed error, or every
@@ -385,7 +383,7 @@ pub fn end_to_end(data: &[u8]) {
     let Some(mesh) = coordinates(&base, isolated, scale, &mut tail) else { return };
     match operation {
         Operation::Subdivide => subdivide(&mesh, levels, &mut head),
-        method => interpolate(&mesh, method, levels, &mut head, &mut tail),
+        Operation::Interpolate(method) => interpolate(&mesh, method, levels, &mut head, &mut tail),
     }
 }
 
@@ -506,7 +504,7 @@ fn subdivide(mesh: &Mesh, levels: usize, bytes: &mut Bytes) {
 
 /// A method with options from the bytes: a typed error, or a finite control
 /// mesh (and surface) interpolating the data within tol.
-fn interpolate(mesh: &Mesh, method: Operation, levels: usize, head: &mut Bytes, tail: &mut Bytes) {
+fn interpolate(mesh: &Mesh, method: Method, levels: usize, head: &mut Bytes, tail: &mut Bytes) {
     let n = mesh.topology().vertex_count();
     let nf = mesh.topology().face_count();
     let tol = head.pick(&[subdiv_interp::DEFAULT_TOL, subdiv_interp::DEFAULT_TOL, 1e-3, 1e-10]);
@@ -520,59 +518,49 @@ fn interpolate(mesh: &Mesh, method: Operation, levels: usize, head: &mut Bytes, 
         count => Some((0..count % 8).map(|_| u32::from(tail.u8()) % (n as u32 + 1)).collect()),
     };
     let common = CommonOptions::default().with_subset(subset).with_tol(tol).with_max_iter(max_iter).with_solver(solver);
-    let result = match method {
-        Operation::Nasri => nasri::interpolate(mesh, &NasriOptions::default().with_common(common.clone())),
-        Operation::Cheng => cheng::interpolate(mesh, &ChengOptions::default().with_common(common.clone())),
-        Operation::ZhengCai => {
+    let mut options: MethodOptions = match method {
+        Method::ZhengCai => {
             let ite_max = head.pick(&[zheng_cai::DEFAULT_ITE_MAX, 0, 1, 50]);
             let eps = head.pick(&[zheng_cai::DEFAULT_EPS, 0.0, 1e-12, 0.5, 1e300, -1.0, f64::NAN]);
             let normals = normals(n, head, tail);
             let handles = (head.u8() >= 192).then(|| (0..n).map(|_| tail.pick(&HANDLES)).collect());
-            zheng_cai::interpolate(
-                mesh,
-                &ZhengCaiOptions::default()
-                    .with_common(common.clone())
-                    .with_ite_max(ite_max)
-                    .with_eps(eps)
-                    .with_normals(normals)
-                    .with_handles(handles),
-            )
+            ZhengCaiOptions::default()
+                .with_ite_max(ite_max)
+                .with_eps(eps)
+                .with_normals(normals)
+                .with_handles(handles)
+                .into()
         }
-        Operation::FanChengLai => {
+        Method::FanChengLai => {
             let shape = match head.u8() {
                 0..=191 => Shape::Uniform(head.pick(&LAMBDAS)),
                 k => Shape::PerFace((0..nf + usize::from(k % 3) - 1).map(|_| tail.pick(&LAMBDAS)).collect()),
             };
-            fan_cheng_lai::interpolate(
-                mesh,
-                &FanChengLaiOptions::default().with_common(common.clone()).with_shape(shape),
-            )
+            FanChengLaiOptions::default().with_shape(shape).into()
         }
-        Operation::DengWang => {
+        Method::DengWang => {
             let mu = head.pick(&[deng_wang::DEFAULT_MU, 0.25, 0.0, 0.5, 1.0, -1.0, 1e300, 1e-300, f64::NAN]);
             let beta = head.pick(&[LoopBeta::Warren, LoopBeta::Loop]);
             let normals = normals(n, head, tail);
-            deng_wang::interpolate(
-                mesh,
-                &DengWangOptions::default()
-                    .with_common(common.clone())
-                    .with_mu(mu)
-                    .with_beta(beta)
-                    .with_normals(normals),
-            )
+            DengWangOptions::default().with_mu(mu).with_beta(beta).with_normals(normals).into()
         }
-        Operation::DengMa => deng_ma::interpolate(mesh, &DengMaOptions::default().with_tension(tension(head))),
-        Operation::Subdivide => unreachable!("subdivide is not a method"),
+        Method::DengMa => DengMaOptions::default().with_tension(tension(head)).into(),
+        other => MethodOptions::new(other),
     };
+    // Deng-Ma has no shared options: it interpolates every vertex exactly.
+    if let Some(shared) = options.common_mut() {
+        *shared = common;
+    }
+    let result = subdiv_interp::interpolate(mesh, &options);
     let name = format!("{method:?}");
     let result = match result {
         Ok(result) => result,
         Err(e) => return assert_one_line(&e.to_string()),
     };
     // The subset less the isolated vertices (no limit point), which every method leaves out with a warning.
-    let mut interpolated = match method {
-        Operation::DengMa => vec![true; n],
-        _ => common.interpolated(n).expect("the method accepted the subset"),
+    let mut interpolated = match options.common() {
+        None => vec![true; n],
+        Some(shared) => shared.interpolated(n).expect("the method accepted the subset"),
     };
     let t = mesh.topology();
     for v in t.vertices().filter(|&v| t.is_isolated(v)) {
