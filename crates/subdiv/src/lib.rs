@@ -67,6 +67,8 @@
 //! or a field is not a breaking change (struct literals of these types do
 //! not compile outside their crate; build them with the setters).
 
+pub mod info;
+
 pub use subdiv_interp as interp;
 pub use subdiv_io as io;
 pub use subdiv_mesh as mesh;
