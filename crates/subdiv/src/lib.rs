@@ -18,6 +18,11 @@
 //! | [`solve`] | `subdiv-solve` | the solvers of the limit systems |
 //! | [`interp`] | `subdiv-interp` | the methods, [`interpolate`], the [`Report`] |
 //!
+//! Its own modules: [`info`], a mesh's statistics (`subdiv info`'s
+//! [`info::Summary`]), and [`batch`], one command over many meshes in
+//! parallel, resumable, one serde [`batch::Record`] per mesh (`subdiv
+//! batch`, and what the Python package's `batch` and `dask.map_files` run).
+//!
 //! # Example
 //!
 //! A torus interpolated by Catmull-Clark (Cheng et al.), the error measured
@@ -67,6 +72,7 @@
 //! or a field is not a breaking change (struct literals of these types do
 //! not compile outside their crate; build them with the setters).
 
+pub mod batch;
 pub mod info;
 
 pub use subdiv_interp as interp;
@@ -121,6 +127,9 @@ pub enum Error {
     /// A parameter file (normals, handles, subset, shape).
     #[error(transparent)]
     Params(#[from] subdiv_interp::ParamFileError),
+    /// A batch that could not start ([`batch::run`]).
+    #[error(transparent)]
+    Batch(#[from] batch::BatchError),
 }
 
 impl Error {

@@ -1,0 +1,169 @@
+//! The batch on procedural meshes written to a temporary directory.
+
+use super::*;
+use crate::prelude::*;
+use std::fs;
+use std::time::SystemTime;
+
+/// A fresh directory for one test.
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("subdiv-batch-{test}-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write(path: &Path, mesh: &Mesh) -> PathBuf {
+    fs::create_dir_all(path.parent().unwrap()).unwrap();
+    write_mesh(path, mesh, &WriteOptions::default()).unwrap();
+    path.to_path_buf()
+}
+
+fn mtimes(dir: &Path) -> BTreeMap<PathBuf, SystemTime> {
+    fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .map(|p| (p.clone(), p.metadata().unwrap().modified().unwrap()))
+        .collect()
+}
+
+#[test]
+fn failures_are_isolated_and_outputs_match_the_library() {
+    let dir = scratch("isolated");
+    let torus = crate::mesh::shapes::torus(8, 6);
+    let good = write(&dir.join("in/torus.obj"), &torus);
+    // Three faces on edge (0, 1): read, but no manifold mesh.
+    let fin = dir.join("in/fin.obj");
+    fs::write(&fin, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n").unwrap();
+    let missing = dir.join("in/missing.obj");
+    let out = dir.join("out");
+    let command = Command::Interpolate(InterpolateOptions::new(Method::Cheng).with_levels(1));
+    let mut seen = Vec::new();
+    let records =
+        run(&[fin.clone(), good.clone(), missing], &out, &command, &BatchOptions::default().with_jobs(2), |r| {
+            seen.push(r.index)
+        })
+        .unwrap();
+    assert_eq!(seen, [0, 1, 2], "in input order");
+    assert_eq!(records.len(), 3);
+    let e = records[0].error.as_ref().unwrap();
+    assert_eq!((e.kind, e.exit_code), (ErrorKind::BadInput, 2));
+    assert!(e.message.starts_with(&format!("{}: ", fin.display())) && e.message.contains("3 faces"), "{e:?}");
+    assert!(records[2].error.as_ref().unwrap().message.contains("missing.obj"));
+    assert!(records[1].succeeded(), "{:?}", records[1].error);
+
+    // The files are the library's own results, written the usual way.
+    let result = interpolate(&torus, &MethodOptions::new(Method::Cheng)).unwrap();
+    let expected = dir.join("expected");
+    fs::create_dir_all(&expected).unwrap();
+    write_mesh(expected.join("c.obj"), &result.control, &WriteOptions::default()).unwrap();
+    write_mesh(expected.join("s.obj"), &result.surface(1).unwrap(), &WriteOptions::default().with_normals(true))
+        .unwrap();
+    assert_eq!(
+        records[1].outputs,
+        [out.join("torus.control.obj").display().to_string(), out.join("torus.surface.obj").display().to_string()]
+    );
+    assert_eq!(fs::read(out.join("torus.control.obj")).unwrap(), fs::read(expected.join("c.obj")).unwrap());
+    assert_eq!(fs::read(out.join("torus.surface.obj")).unwrap(), fs::read(expected.join("s.obj")).unwrap());
+    // The record file is the record.
+    let stored: Record = serde_json::from_str(&fs::read_to_string(out.join("torus.record.json")).unwrap()).unwrap();
+    assert_eq!(stored, records[1]);
+    assert!(stored.report.unwrap()["error"]["max_rel"].as_f64().unwrap() <= subdiv_interp::DEFAULT_TOL);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_second_run_skips_and_a_touched_input_reruns() {
+    let dir = scratch("resume");
+    let a = write(&dir.join("a.obj"), &crate::mesh::shapes::cube());
+    let b = write(&dir.join("b.obj"), &crate::mesh::shapes::octahedron());
+    let out = dir.join("out");
+    let command =
+        Command::from_json("subdivide", &serde_json::json!({"scheme": "catmull-clark", "levels": 1})).unwrap();
+    let options = BatchOptions::default();
+    let first = run(&[dir.clone()], &out, &command, &options, |_| {}).unwrap();
+    assert_eq!(first.iter().map(|r| r.name.as_str()).collect::<Vec<_>>(), ["a", "b"], "the directory, sorted");
+    assert!(first.iter().all(|r| r.succeeded() && !r.skipped));
+    let before = mtimes(&out);
+    std::thread::sleep(std::time::Duration::from_millis(20));
+
+    let second = run(&[dir.clone()], &out, &command, &options, |_| {}).unwrap();
+    assert!(second.iter().all(|r| r.skipped));
+    for (s, f) in second.iter().zip(&first) {
+        assert_eq!(Record { skipped: false, ..s.clone() }, *f);
+    }
+    assert_eq!(mtimes(&out), before, "nothing rewritten");
+
+    // Another command is another job; so is a changed input.
+    let other = Command::from_json("subdivide", &serde_json::json!({"scheme": "catmull-clark", "levels": 2})).unwrap();
+    assert!(run(&[a.clone()], &out, &other, &options, |_| {}).unwrap().iter().all(|r| !r.skipped));
+    let _ = run(&[dir.clone()], &out, &command, &options, |_| {}).unwrap();
+    write(&b, &crate::mesh::shapes::octahedron());
+    let third = run(&[dir.clone()], &out, &command, &options, |_| {}).unwrap();
+    assert_eq!(third.iter().map(|r| r.skipped).collect::<Vec<_>>(), [true, false]);
+    // Without resuming, everything runs.
+    let fourth = run(&[dir.clone()], &out, &command, &options.with_resume(false), |_| {}).unwrap();
+    assert!(fourth.iter().all(|r| !r.skipped));
+    // A deleted output makes its input run again.
+    fs::remove_file(out.join("a.subdivided.obj")).unwrap();
+    let fifth = run(&[dir.clone()], &out, &command, &options, |_| {}).unwrap();
+    assert_eq!(fifth.iter().map(|r| r.skipped).collect::<Vec<_>>(), [false, true]);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn shared_stems_write_distinct_files() {
+    let dir = scratch("stems");
+    let a = write(&dir.join("a/mesh.obj"), &crate::mesh::shapes::cube());
+    let b = write(&dir.join("b/mesh.obj"), &crate::mesh::shapes::octahedron());
+    let out = dir.join("out");
+    let command = Command::from_json("subdivide", &serde_json::json!({"scheme": "doo-sabin", "levels": 1})).unwrap();
+    let records = run(&[a, b], &out, &command, &BatchOptions::default(), |_| {}).unwrap();
+    assert_ne!(records[0].name, records[1].name);
+    for r in &records {
+        assert!(r.name.starts_with("mesh-"), "{}", r.name);
+        assert!(r.succeeded());
+    }
+    // Cube: 6 faces → Doo-Sabin gives 6 + 12 + 8 faces; octahedron 8 + 12 + 6.
+    let faces = |r: &Record| r.report.as_ref().unwrap()["output"]["faces"].as_u64().unwrap();
+    assert_eq!((faces(&records[0]), faces(&records[1])), (26, 26));
+    assert_ne!(fs::read(&records[0].outputs[0]).unwrap(), fs::read(&records[1].outputs[0]).unwrap());
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn globs_expand_and_empty_patterns_are_errors() {
+    let dir = scratch("glob");
+    write(&dir.join("x/one.obj"), &crate::mesh::shapes::cube());
+    write(&dir.join("x/y/two.off"), &crate::mesh::shapes::cube());
+    fs::write(dir.join("x/notes.txt"), "not a mesh").unwrap();
+    let all = expand_inputs(&[dir.join("x/**/*")]).unwrap();
+    assert_eq!(all, [dir.join("x/one.obj"), dir.join("x/y/two.off")]);
+    let e = expand_inputs(&[dir.join("x/*.stl")]).unwrap_err();
+    assert!(matches!(e, BatchError::NoMatch { .. }), "{e}");
+    // The same file twice is run once.
+    assert_eq!(expand_inputs(&[dir.join("x/one.obj"), dir.join("x/../x/one.obj")]).unwrap().len(), 1);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn info_records_the_summary_and_fails_invalid_meshes_with_it() {
+    let dir = scratch("info");
+    let cube = write(&dir.join("cube.obj"), &crate::mesh::shapes::cube());
+    let fin = dir.join("fin.obj");
+    fs::write(&fin, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n").unwrap();
+    let command = Command::from_json("info", &serde_json::json!({})).unwrap();
+    let records = run(&[cube.clone(), fin], &dir.join("out"), &command, &BatchOptions::default(), |_| {}).unwrap();
+    let summary = crate::info::summarize(&load_mesh(&cube).unwrap(), Some(&cube.display().to_string()));
+    assert_eq!(records[0].report.as_ref().unwrap(), &serde_json::to_value(&summary).unwrap());
+    assert!(records[0].outputs.is_empty());
+    assert_eq!(records[1].report.as_ref().unwrap()["manifold"], false);
+    assert_eq!(records[1].error.as_ref().unwrap().kind, ErrorKind::BadInput);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn solver_names_become_options() {
+    assert_eq!(in_option_terms("use Solver::Minres or Solver::Dense"), "use --solver minres or --solver dense");
+    assert_eq!(in_option_terms("nothing to change"), "nothing to change");
+}
