@@ -3,7 +3,6 @@
 //! [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 
 use std::process::ExitCode;
-use subdiv_solve::{Solver, SweepOrder};
 
 /// Exit code of a command killed by a signal it handled (128 + the signal),
 /// after its temporary files were removed.
@@ -69,23 +68,8 @@ pub fn one_line(error: &anyhow::Error) -> String {
 /// (`--solver minres`, the value [`Solver::name`] parses from). Applied to
 /// every error line the CLI prints.
 pub fn in_cli_terms(message: &str) -> String {
-    let solvers = [
-        ("Solver::WeightedPia", Solver::WeightedPia),
-        ("Solver::GaussSeidel", Solver::GaussSeidel(SweepOrder::Storage)),
-        ("Solver::Chebyshev", Solver::Chebyshev),
-        ("Solver::Jacobi", Solver::Jacobi),
-        ("Solver::Minres", Solver::Minres),
-        ("Solver::Gmres", Solver::Gmres),
-        ("Solver::Dense", Solver::Dense),
-        ("Solver::Pia", Solver::Pia),
-        ("Solver::Ldl", Solver::Ldl),
-        ("Solver::Cg", Solver::Cg { jacobi: false }),
-    ];
-    let mut line = message.replace("the automatic solver choice", "the automatic solver choice (--solver auto)");
-    for (library, solver) in solvers {
-        line = line.replace(library, &format!("--solver {}", solver.name()));
-    }
-    line
+    // One translation for the command line and the batch records.
+    subdiv::batch::in_option_terms(message)
 }
 
 /// Marks an error as bad input (exit 2).

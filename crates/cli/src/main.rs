@@ -3,12 +3,14 @@
 //! `main` turns every failure into one line on stderr and an exit code
 //! ([error behaviour], README "Exit codes and guarantees"): 0 success, 2 bad input or
 //! usage, 3 no acceptable result (tolerance not reached, result not finite),
-//! 4 an output could not be written, 1 anything else; a handled signal
+//! 4 an output could not be written, 5 some inputs of a batch failed (their
+//! records say why), 1 anything else; a handled signal
 //! removes the temporaries and exits with 128 + its number. Nothing here
 //! panics on user data.
 //!
 //! [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 
+mod batch;
 mod budget;
 mod failure;
 mod info;
@@ -36,7 +38,7 @@ struct Cli {
 /// The exit codes, in `--help`.
 const EXIT_CODES: &str = "Exit codes: 0 success; 2 bad input or usage (nothing written); \
 3 no acceptable result: the tolerance was not reached or a result is not finite (nothing written); \
-4 an output could not be written (no output changed); 1 anything else; 128+N killed by signal N \
+4 an output could not be written (no output changed); 5 batch: some inputs failed (see their records); 1 anything else; 128+N killed by signal N \
 (temporary files removed). Outputs are all-or-nothing: every requested file is complete, or none changed.";
 
 /// Removes the temporaries of outputs being written when SIGINT, SIGTERM or
@@ -60,6 +62,9 @@ enum Command {
     Subdivide(subdivide::SubdivideArgs),
     /// Find a control mesh whose subdivision surface passes through the mesh's vertices.
     Interpolate(Box<interpolate::InterpolateArgs>),
+    /// Run info, interpolate or subdivide over many meshes (files, directories, globs) in
+    /// parallel: one JSON record per input on stdout, resumable; exit 5 when some failed.
+    Batch(Box<batch::BatchArgs>),
 }
 
 fn main() -> ExitCode {
@@ -70,6 +75,10 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(&args),
         Command::Subdivide(args) => subdivide::run(&args),
         Command::Interpolate(args) => interpolate::run(&args),
+        Command::Batch(args) => match batch::run(&args) {
+            Ok(code) => return code,
+            Err(failure) => Err(failure),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
