@@ -65,7 +65,7 @@ pub fn one_line(error: &anyhow::Error) -> String {
 
 /// The library's remedies in the command line's terms: the library names a
 /// solver by its type (`Solver::Minres`), the command line by its flag
-/// (`--solver minres`, the value [`Solver::name`] parses from). Applied to
+/// (`--solver minres`, the value [`subdiv_solve::Solver::name`] parses from). Applied to
 /// every error line the CLI prints.
 pub fn in_cli_terms(message: &str) -> String {
     // One translation for the command line and the batch records.
@@ -121,7 +121,7 @@ mod tests {
         for name in
             ["weighted-pia", "gauss-seidel", "chebyshev", "jacobi", "minres", "gmres", "dense", "pia", "ldl", "cg"]
         {
-            assert!(name.parse::<Solver>().is_ok(), "{name}");
+            assert!(name.parse::<subdiv_solve::Solver>().is_ok(), "{name}");
         }
     }
 }

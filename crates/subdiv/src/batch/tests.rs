@@ -81,13 +81,14 @@ fn a_second_run_skips_and_a_touched_input_reruns() {
     let command =
         Command::from_json("subdivide", &serde_json::json!({"scheme": "catmull-clark", "levels": 1})).unwrap();
     let options = BatchOptions::default();
-    let first = run(&[dir.clone()], &out, &command, &options, |_| {}).unwrap();
+    let inputs = [dir.clone()];
+    let first = run(&inputs, &out, &command, &options, |_| {}).unwrap();
     assert_eq!(first.iter().map(|r| r.name.as_str()).collect::<Vec<_>>(), ["a", "b"], "the directory, sorted");
     assert!(first.iter().all(|r| r.succeeded() && !r.skipped));
     let before = mtimes(&out);
     std::thread::sleep(std::time::Duration::from_millis(20));
 
-    let second = run(&[dir.clone()], &out, &command, &options, |_| {}).unwrap();
+    let second = run(&inputs, &out, &command, &options, |_| {}).unwrap();
     assert!(second.iter().all(|r| r.skipped));
     for (s, f) in second.iter().zip(&first) {
         assert_eq!(Record { skipped: false, ..s.clone() }, *f);
@@ -96,17 +97,17 @@ fn a_second_run_skips_and_a_touched_input_reruns() {
 
     // Another command is another job; so is a changed input.
     let other = Command::from_json("subdivide", &serde_json::json!({"scheme": "catmull-clark", "levels": 2})).unwrap();
-    assert!(run(&[a.clone()], &out, &other, &options, |_| {}).unwrap().iter().all(|r| !r.skipped));
-    let _ = run(&[dir.clone()], &out, &command, &options, |_| {}).unwrap();
+    assert!(run(std::slice::from_ref(&a), &out, &other, &options, |_| {}).unwrap().iter().all(|r| !r.skipped));
+    let _ = run(&inputs, &out, &command, &options, |_| {}).unwrap();
     write(&b, &crate::mesh::shapes::octahedron());
-    let third = run(&[dir.clone()], &out, &command, &options, |_| {}).unwrap();
+    let third = run(&inputs, &out, &command, &options, |_| {}).unwrap();
     assert_eq!(third.iter().map(|r| r.skipped).collect::<Vec<_>>(), [true, false]);
     // Without resuming, everything runs.
-    let fourth = run(&[dir.clone()], &out, &command, &options.with_resume(false), |_| {}).unwrap();
+    let fourth = run(&inputs, &out, &command, &options.with_resume(false), |_| {}).unwrap();
     assert!(fourth.iter().all(|r| !r.skipped));
     // A deleted output makes its input run again.
     fs::remove_file(out.join("a.subdivided.obj")).unwrap();
-    let fifth = run(&[dir.clone()], &out, &command, &options, |_| {}).unwrap();
+    let fifth = run(&inputs, &out, &command, &options, |_| {}).unwrap();
     assert_eq!(fifth.iter().map(|r| r.skipped).collect::<Vec<_>>(), [false, true]);
     fs::remove_dir_all(&dir).unwrap();
 }
