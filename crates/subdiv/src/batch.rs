@@ -342,7 +342,7 @@ pub fn run_one_as(
         }
     }
     let mut warnings = Vec::new();
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
+    let (outputs, report, error) = guarded(input, || {
         command.validate().map_err(|e| jobs::Failed::from(RecordError::new(ErrorKind::BadInput, e.to_string())))?;
         std::fs::create_dir_all(out_dir).map_err(|e| {
             jobs::Failed::from(RecordError::new(ErrorKind::WriteFailed, format!("{}: {e}", out_dir.display())))
@@ -355,20 +355,7 @@ pub fn run_one_as(
         };
         warnings = std::mem::take(&mut job.warnings);
         result
-    }));
-    let (outputs, report, error) = match outcome {
-        Ok(Ok(done)) => (done.outputs, Some(done.report), None),
-        Ok(Err(failed)) => (Vec::new(), failed.report, Some(failed.error)),
-        Err(payload) => {
-            let what = payload
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "a panic".into());
-            let message = format!("{}: internal error (please report it): {what}", input.display());
-            (Vec::new(), None, Some(RecordError::new(ErrorKind::Panic, message)))
-        }
-    };
+    });
     let mut record = Record {
         input: input.display().to_string(),
         outputs: outputs.iter().map(|p| p.display().to_string()).collect(),
@@ -387,6 +374,28 @@ pub fn run_one_as(
         }
     }
     record
+}
+
+/// A job's outputs, report and error; a panic (a bug) becomes an error of
+/// kind [`ErrorKind::Panic`] naming the input, so one mesh cannot stop the
+/// batch.
+fn guarded(
+    input: &Path,
+    job: impl FnOnce() -> Result<jobs::Done, jobs::Failed>,
+) -> (Vec<PathBuf>, Option<serde_json::Value>, Option<RecordError>) {
+    match catch_unwind(AssertUnwindSafe(job)) {
+        Ok(Ok(done)) => (done.outputs, Some(done.report), None),
+        Ok(Err(failed)) => (Vec::new(), failed.report, Some(failed.error)),
+        Err(payload) => {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic".into());
+            let message = format!("{}: internal error (please report it): {what}", input.display());
+            (Vec::new(), None, Some(RecordError::new(ErrorKind::Panic, message)))
+        }
+    }
 }
 
 /// Writes the record atomically.

@@ -168,3 +168,13 @@ fn solver_names_become_options() {
     assert_eq!(in_option_terms("use Solver::Minres or Solver::Dense"), "use --solver minres or --solver dense");
     assert_eq!(in_option_terms("nothing to change"), "nothing to change");
 }
+
+#[test]
+fn a_panicking_job_is_an_error_record() {
+    let (outputs, report, error) = guarded(Path::new("m.obj"), || panic!("index out of bounds"));
+    assert!(outputs.is_empty() && report.is_none());
+    let error = error.unwrap();
+    assert_eq!((error.kind, error.exit_code), (ErrorKind::Panic, 1));
+    assert_eq!(error.message, "m.obj: internal error (please report it): index out of bounds");
+    assert!(!error.kind.is_deterministic(), "a resumed batch retries it");
+}
