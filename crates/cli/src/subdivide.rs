@@ -183,37 +183,18 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
     outputs.commit()
 }
 
-/// `levels` steps with `options`, one at a time with a progress bar (the
-/// topology of each level is built once either way; each level's mesh
-/// carries its decayed tags to the next), then limit positions.
-///
-/// Texture coordinates the scheme cannot refine (Doo-Sabin with
-/// seams or tags) are dropped with a warning: the positions are what was
-/// asked for (the refusal comes at the first level, so little is redone).
+/// `levels` steps with `options` ([`subdiv_stencil::subdivide_for_output`]:
+/// each level's mesh carries its decayed tags to the next, then limit
+/// positions) with a progress bar; texture coordinates the scheme cannot
+/// refine (Doo-Sabin with seams or tags) are dropped with a warning.
 pub fn refine(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
     let options = options.into();
-    match refine_levels(mesh, options, levels, limit) {
-        Err(StencilError::FaceVarying(reason)) => {
-            progress::warn(format!("texture coordinates not written: {reason}"));
-            let positions_only = mesh.clone().with_uvs(None).expect("no channel is always valid");
-            refine_levels(&positions_only, options, levels, limit)
-        }
-        other => other,
-    }
-}
-
-/// [`refine`] on the mesh as it is.
-fn refine_levels(mesh: &Mesh, options: Options, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
     let bar = progress::steps(format!("{} subdivision", options.scheme.name()), levels as u64);
-    let mut current = std::borrow::Cow::Borrowed(mesh);
-    for level in 0..levels {
-        let last = level + 1 == levels;
-        current = std::borrow::Cow::Owned(subdiv_stencil::subdivide(&current, options, 1, limit && last)?);
-        bar.inc(1);
-    }
+    let refined = subdiv_stencil::subdivide_for_output(mesh, options, levels, limit, |_| bar.inc(1));
     bar.finish_and_clear();
-    if levels == 0 {
-        return subdiv_stencil::subdivide(mesh, options, 0, limit);
+    let refined = refined?;
+    if let Some(reason) = refined.uvs_dropped {
+        progress::warn(format!("texture coordinates not written: {reason}"));
     }
-    Ok(current.into_owned())
+    Ok(refined.mesh)
 }

@@ -353,7 +353,58 @@ fn copies_input(scheme: Scheme, levels: usize, limit: bool) -> bool {
 /// [`StencilError::FaceVarying`] when the scheme cannot refine the mesh's
 /// texture coordinates (Doo-Sabin with seams or tags).
 pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
+    subdivide_observed(mesh, options.into(), levels, limit, &mut |_| {})
+}
+
+/// A mesh subdivided for output, and what had to be left out of it.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct Subdivided {
+    /// The refined mesh (limit positions when asked for).
+    pub mesh: Mesh,
+    /// Why the input's texture coordinates are not in [`Subdivided::mesh`]
+    /// (the scheme cannot refine them: Doo-Sabin with seams or tags);
+    /// `None` when they are, or the input had none.
+    pub uvs_dropped: Option<String>,
+}
+
+/// [`subdivide`] as every writer of a refined surface wants it (the command
+/// line's `subdivide` and `--surface`, [`Interpolant::surface`], the batch,
+/// the Python bindings): texture coordinates the scheme cannot refine are
+/// dropped, the reason returned, and the positions computed anyway (the
+/// refusal comes at the first level, so little is redone); `on_level(k)` is
+/// called after level `k` (1-based) is done, for progress.
+///
+/// [`Interpolant::surface`]: https://docs.rs/subdiv-interp/latest/subdiv_interp/struct.Interpolant.html#method.surface
+///
+/// # Errors
+/// As [`subdivide`], but never [`StencilError::FaceVarying`].
+pub fn subdivide_for_output(
+    mesh: &Mesh,
+    options: impl Into<Options>,
+    levels: usize,
+    limit: bool,
+    mut on_level: impl FnMut(usize),
+) -> Result<Subdivided, StencilError> {
     let options = options.into();
+    match subdivide_observed(mesh, options, levels, limit, &mut on_level) {
+        Err(StencilError::FaceVarying(reason)) => {
+            let positions_only = mesh.clone().with_uvs(None).expect("no channel is always valid");
+            let mesh = subdivide_observed(&positions_only, options, levels, limit, &mut on_level)?;
+            Ok(Subdivided { mesh, uvs_dropped: Some(reason) })
+        }
+        other => other.map(|mesh| Subdivided { mesh, uvs_dropped: None }),
+    }
+}
+
+/// [`subdivide`], calling `on_level(k)` after level `k`.
+fn subdivide_observed(
+    mesh: &Mesh,
+    options: Options,
+    levels: usize,
+    limit: bool,
+    on_level: &mut dyn FnMut(usize),
+) -> Result<Mesh, StencilError> {
     options.validate()?;
     let scheme = options.scheme;
     let rules = scheme.rules();
@@ -363,7 +414,7 @@ pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit:
     let mut fine: Option<Topology> = None; // None: still the input's connectivity
     let (scale, mut positions) = normalize(mesh.positions());
     let mut uvs = mesh.uvs().map(Cow::Borrowed);
-    for _ in 0..levels {
+    for level in 0..levels {
         let coarse = fine.as_ref().unwrap_or(mesh.topology());
         check_size(coarse, scheme)?;
         // The refined connectivity on one core, the points on the other.
@@ -377,6 +428,7 @@ pub fn subdivide(mesh: &Mesh, options: impl Into<Options>, levels: usize, limit:
         }
         sharp = split.sharpness;
         fine = Some(split.topology);
+        on_level(level + 1);
     }
     let t = fine.as_ref().unwrap_or(mesh.topology());
     let limits = if limit {

@@ -334,10 +334,8 @@ fn classify(input: &str, e: InterpError) -> RecordError {
     failure(kind, format!("{subject}: {e}"))
 }
 
-/// `levels` steps, one at a time (each level's mesh carries its decayed
-/// tags to the next), then limit positions: `subdiv subdivide`'s
-/// refinement. Texture coordinates the scheme cannot refine are dropped
-/// with a warning.
+/// `subdiv subdivide`'s refinement ([`subdiv_stencil::subdivide_for_output`]):
+/// texture coordinates the scheme cannot refine are dropped with a warning.
 fn refine(
     warnings: &mut Vec<String>,
     mesh: &Mesh,
@@ -345,26 +343,11 @@ fn refine(
     levels: usize,
     limit: bool,
 ) -> Result<Mesh, StencilError> {
-    match refine_levels(mesh, options, levels, limit) {
-        Err(StencilError::FaceVarying(reason)) => {
-            warnings.push(format!("texture coordinates not written: {reason}"));
-            let positions_only = mesh.clone().with_uvs(None).expect("no channel is always valid");
-            refine_levels(&positions_only, options, levels, limit)
-        }
-        other => other,
+    let refined = subdiv_stencil::subdivide_for_output(mesh, options, levels, limit, |_| {})?;
+    if let Some(reason) = refined.uvs_dropped {
+        warnings.push(format!("texture coordinates not written: {reason}"));
     }
-}
-
-fn refine_levels(mesh: &Mesh, options: Options, levels: usize, limit: bool) -> Result<Mesh, StencilError> {
-    if levels == 0 {
-        return subdiv_stencil::subdivide(mesh, options, 0, limit);
-    }
-    let mut current = std::borrow::Cow::Borrowed(mesh);
-    for level in 0..levels {
-        let last = level + 1 == levels;
-        current = std::borrow::Cow::Owned(subdiv_stencil::subdivide(&current, options, 1, limit && last)?);
-    }
-    Ok(current.into_owned())
+    Ok(refined.mesh)
 }
 
 /// The positions as `format` stores them (f32 formats round them); bad
