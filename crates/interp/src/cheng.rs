@@ -102,9 +102,9 @@ pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, Inte
 /// an untagged mesh needs only the row kinds.
 fn degeneracy(mesh: &Mesh, row_kinds: &[RowKind], a: Option<&LimitMatrix>) -> Option<Degeneracy> {
     let t = mesh.topology();
-    let smooth_valence_two = t.vertices().find(|&v| {
-        row_kinds[v.index()] == RowKind::Smooth && !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2
-    });
+    let smooth_valence_two = t
+        .vertices()
+        .find(|&v| row_kinds[v.index()] == RowKind::Smooth && !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2);
     if let Some(vertex) = smooth_valence_two {
         return Some(Degeneracy::Indefinite { vertex });
     }
