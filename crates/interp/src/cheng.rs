@@ -6,7 +6,11 @@
 //! D = diag(4/(n(n+5))) and S symmetric, `subdiv_stencil::limit_matrix_catmull_clark`).
 //!
 //! # Algorithm
-//! 1. Build A = D·S from the topology.
+//! 1. Build A = D·S from the topology (`subdiv_stencil::limit_operator_catmull_clark_sharp`).
+//!    Untagged, S is stored only if the solver must iterate: when the data
+//!    already meet the tolerance as control points (a finely subdivided
+//!    mesh), CG's first test runs on streamed rows (`system.rs`) and returns
+//!    X = P, the same result bit for bit.
 //! 2. Check the two structural degeneracies ([correction C3]):
 //!    - an interior vertex of valence 2 voids the appendix's proof that
 //!      spec(A) ⊂ (0, 1] (the term n(n − 3)/4·x² of the quadratic form is

@@ -11,6 +11,12 @@
 //! valence-2 vertices). Identity rows (corners, isolated vertices) are solved
 //! exactly by X_v = P_v.
 //!
+//! **Memory.** An owned A whose one stage takes every row (a closed mesh,
+//! every vertex interpolated) moves its S into the solver; an unassembled A
+//! ([`Limit::Lazy`]) whose X = P already meets the tolerance is never stored
+//! ([`subdiv_solve::cg_start`]). Either way the result is the one the
+//! restricted copy gives, bit for bit.
+//!
 //! **Automatic choice** ([`SolverChoice::Auto`](crate::SolverChoice::Auto)),
 //! per stage, from the restricted matrix and what the method knows
 //! ([`AutoSolver`]):
