@@ -60,7 +60,7 @@ impl RowSource for Streamed<'_, '_> {
     fn rows(&self) -> usize {
         self.0.size()
     }
-    fn for_each_row(&self, range: std::ops::Range<usize>, f: &mut dyn FnMut(usize, &[u32], &[f64])) {
+    fn for_each_row(&self, range: std::ops::Range<usize>, f: &mut subdiv_solve::RowVisitor<'_>) {
         self.0.for_each_row(range, f)
     }
 }

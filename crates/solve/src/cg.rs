@@ -264,8 +264,11 @@ pub trait RowSource: Sync {
     fn rows(&self) -> usize;
     /// Calls `f(i, columns, values)` for every row i of `range`, in order,
     /// the columns ascending and distinct (as a CSR row stores them).
-    fn for_each_row(&self, range: std::ops::Range<usize>, f: &mut dyn FnMut(usize, &[u32], &[f64]));
+    fn for_each_row(&self, range: std::ops::Range<usize>, f: &mut RowVisitor<'_>);
 }
+
+/// What [`RowSource::for_each_row`] calls with each row: (row, columns, values).
+pub type RowVisitor<'f> = dyn FnMut(usize, &[u32], &[f64]) + 'f;
 
 /// CG's first test without S stored: when the initial guess X₀ already
 /// meets the stopping rule, the [`Solution`] [`cg`] returns for
@@ -354,7 +357,7 @@ mod tests {
         fn rows(&self) -> usize {
             self.0.rows()
         }
-        fn for_each_row(&self, range: std::ops::Range<usize>, f: &mut dyn FnMut(usize, &[u32], &[f64])) {
+        fn for_each_row(&self, range: std::ops::Range<usize>, f: &mut RowVisitor<'_>) {
             for i in range {
                 let row = self.0.outer_view(i).unwrap();
                 f(i, row.indices(), row.data());

@@ -481,8 +481,14 @@ pub struct LimitOperator<'a> {
     /// when there are no special rows.
     special_of: Vec<u32>,
     row_kinds: Vec<RowKind>,
-    row: Box<dyn Fn(VertexId, &mut RowBuilder) + Sync + 'a>,
+    row: Box<RowRuleFn<'a>>,
 }
+
+/// The assembly rule of a row: adds vertex v's contributions.
+type RowRuleFn<'a> = dyn Fn(VertexId, &mut RowBuilder) + Sync + 'a;
+
+/// What [`LimitOperator::for_each_row`] calls with each row: (row, columns, values).
+pub type RowVisitor<'f> = dyn FnMut(usize, &[u32], &[f64]) + 'f;
 
 impl std::fmt::Debug for LimitOperator<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -564,7 +570,7 @@ impl<'a> LimitOperator<'a> {
     ///
     /// # Panics
     /// If `rows` reaches beyond [`Self::size`] (a caller bug).
-    pub fn for_each_row(&self, rows: std::ops::Range<usize>, f: &mut dyn FnMut(usize, &[u32], &[f64])) {
+    pub fn for_each_row(&self, rows: std::ops::Range<usize>, f: &mut RowVisitor<'_>) {
         assert!(rows.end <= self.size(), "rows {rows:?} of a {0} × {0} limit matrix", self.size());
         let mut builder = RowBuilder::default();
         let (mut columns, mut values) = (Vec::new(), Vec::new());
