@@ -582,8 +582,8 @@ impl<'a> LimitOperator<'a> {
     }
 
     /// The limit matrix: S stored row by row (in parallel, deterministically,
-    /// [`RowBuilder::build_parallel_bounded`]), each row's contributions
-    /// summed in ascending order of their bits ([`Summation::Canonical`]), so
+    /// `RowBuilder::build_parallel_bounded`), each row's contributions
+    /// summed in ascending order of their bits (`Summation::Canonical`), so
     /// an entry's value depends only on the multiset of its contributions:
     /// S\[i\]\[j\] and S\[j\]\[i\], which receive the same contributions (a
     /// face or an edge containing both), are equal bit for bit.
