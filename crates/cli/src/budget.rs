@@ -91,7 +91,8 @@ impl Budget {
     /// Refuses (exit 2) `levels` steps of `scheme` on `t` when the result
     /// cannot have 32-bit ids or its estimated memory — plus `vertex_arrays`
     /// further arrays of one point per final vertex (normals, limit
-    /// positions) and what writing it as `format` holds in memory — exceeds
+    /// positions) and what writing it as `format` holds in memory (an f32
+    /// format's rounded copy of the positions, glTF's buffers, triangles) — exceeds
     /// the budget. `what` names the refinement in the message.
     pub fn check(
         &self,
@@ -104,7 +105,10 @@ impl Budget {
     ) -> Result<(), Failure> {
         // glTF is encoded in memory (positions and normals as f32); triangulating formats hold the triangles.
         let gltf = if matches!(format, Format::Gltf | Format::Glb) { 24 } else { 0 };
-        let extra_per_vertex = 24 * vertex_arrays + gltf;
+        // An f32 format's positions are rounded into a copy (`outputs::as_written`); f64 formats write
+        // the positions as they are.
+        let rounded = if format.keeps_f64() { 0 } else { 24 };
+        let extra_per_vertex = 24 * vertex_arrays + gltf + rounded;
         let extra_per_face = if format.triangulates() { 24 } else { 0 };
         let sizes = refined_sizes(t, scheme, levels);
         let Some(last) = sizes.last() else { return Ok(()) };
@@ -216,6 +220,29 @@ mod tests {
         assert_eq!(soft_limit(limits, "Max address space"), Some(4 << 30));
         assert_eq!(soft_limit(limits, "Max data size"), None);
         assert!(available_memory().is_some_and(|b| b > 0), "readable on Linux");
+    }
+
+    /// Writing f64 positions takes no copy of them, an f32 format a rounded
+    /// one: 24 bytes per vertex more (`outputs::as_written`).
+    #[test]
+    fn an_f32_format_needs_its_rounded_copy_and_an_f64_format_none() {
+        let cube = subdiv_mesh::shapes::cube();
+        let (levels, scheme) = (6, Scheme::CatmullClark);
+        let sizes = refined_sizes(cube.topology(), scheme, levels);
+        let (vertices, faces) = (sizes.last().unwrap().vertices, sizes.last().unwrap().faces);
+        // Exactly what the f64 write needs (refined mesh, limit positions, normals).
+        let obj = estimated_subdivide_bytes(scheme, &sizes) + 24 * 2 * vertices;
+        let check = |bytes: u64, format: Format| {
+            let budget = Budget { bytes: Some(bytes), source: "test".into() };
+            budget.check("subdivide", cube.topology(), scheme, levels, 2, format).is_ok()
+        };
+        assert!(check(obj, Format::Obj) && check(obj, Format::PlyBinary));
+        // Binary STL: f32 and triangles (24 B per face) — and the rounded copy on top.
+        assert!(Format::StlBinary.triangulates() && !Format::StlBinary.keeps_f64());
+        let stl_triangles = obj + 24 * faces;
+        assert!(!check(stl_triangles, Format::StlBinary), "the rounded copy is counted");
+        assert!(check(stl_triangles + 24 * vertices, Format::StlBinary));
+        assert!(!check(obj - 1, Format::Obj));
     }
 
     #[test]

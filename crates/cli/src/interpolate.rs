@@ -238,8 +238,6 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     bar.finish_and_clear();
     let result = result?;
     let d = mesh.bbox_diagonal();
-    // The subset, less the isolated vertices every method leaves out (with a warning).
-    let interpolated = &result.interpolated;
 
     // The refined meshes to write: sized before they are built.
     let is_deng_ma = args.method == Method::DengMa;
@@ -253,30 +251,34 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
             budget.check(&what, result.control.topology(), plain, args.levels, 2, format)?;
         }
     }
-    let refine_surface = || {
+    let refine_surface = |result: &subdiv_interp::Interpolant| {
         crate::subdivide::refine(&result.control, result.options(), args.levels, true)
             .map_err(|e| classify(args, e.into()))
     };
-    let surface = args.surface.as_ref().map(|_| refine_surface()).transpose()?;
-    let control_out = match (&args.output, is_deng_ma) {
-        (None, _) => None,
-        (Some(_), true) => Some(match &surface {
-            Some(s) => s.clone(),
-            None => refine_surface()?,
-        }),
-        (Some(_), false) => Some(result.control.clone()),
-    };
+    let surface = args.surface.as_ref().map(|_| refine_surface(&result)).transpose()?;
 
     // The error, measured on the control positions exactly as they will be
     // written (f32 formats round them), by the plain scheme's rules (docs/ARCHITECTURE.md,
-    // "Contract: how the error is measured").
-    let mut measured = result.clone();
-    if let (Some(path), Some(format), false) = (&args.output, control_format, is_deng_ma) {
-        let written = crate::outputs::as_written("--output", path, format, result.control.positions())?;
-        measured.control = result.control.with_positions(written);
-    }
-    outputs::require_finite(name, &measured.control, None)?;
-    let error = measured.error(mesh.positions(), interpolated, d);
+    // "Contract: how the error is measured"). The rounded positions are
+    // swapped in and out of the result: no copy of the control mesh.
+    let mut result = result;
+    let mut written = match (&args.output, control_format, is_deng_ma) {
+        (Some(path), Some(format), false) if !format.keeps_f64() => {
+            Some(crate::outputs::as_written("--output", path, format, result.control.positions())?.into_owned())
+        }
+        _ => None,
+    };
+    let swap = |result: &mut subdiv_interp::Interpolant, written: &mut Option<Vec<glam::DVec3>>| {
+        if let Some(w) = written {
+            result.control.positions_mut().swap_with_slice(w);
+        }
+    };
+    swap(&mut result, &mut written);
+    let measured = outputs::require_finite(name, &result.control, None)
+        .map(|()| result.error(mesh.positions(), &result.interpolated, d));
+    swap(&mut result, &mut written);
+    drop(written);
+    let error = measured?;
     // NaN fails too.
     if error.max_rel.is_nan() || error.max_rel > args.tol {
         return Err(Failure::NotConverged(anyhow!(
@@ -287,9 +289,18 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
             error.mean_rel
         )));
     }
+    // Deng-Ma's -o is its refined surface; every other method's the control mesh itself.
+    let control_out: Option<std::borrow::Cow<Mesh>> = match (&args.output, is_deng_ma) {
+        (None, _) => None,
+        (Some(_), true) => Some(std::borrow::Cow::Owned(match &surface {
+            Some(s) => s.clone(),
+            None => refine_surface(&result)?,
+        })),
+        (Some(_), false) => Some(std::borrow::Cow::Borrowed(&result.control)),
+    };
 
     let total_ms = total.elapsed().as_secs_f64() * 1e3;
-    let control_mesh = control_out.as_ref().unwrap_or(&result.control);
+    let control_mesh = control_out.as_deref().unwrap_or(&result.control);
     let report = Report::new(&mesh, &result, error)
         .with_input_file(args.mesh.display().to_string())
         .with_control(control_mesh)

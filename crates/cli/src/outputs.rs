@@ -132,14 +132,14 @@ fn probe_writable(dir: &Path) -> std::io::Result<()> {
 /// The positions as `format` stores them: `f32` formats round every
 /// coordinate (the error must be measured on what is written). Errors
 /// (exit 2) when a coordinate does not fit in `f32`.
-pub fn as_written(
+pub fn as_written<'a>(
     flag: &str,
     path: &Path,
     format: Format,
-    positions: &[glam::DVec3],
-) -> Result<Vec<glam::DVec3>, Failure> {
+    positions: &'a [glam::DVec3],
+) -> Result<std::borrow::Cow<'a, [glam::DVec3]>, Failure> {
     if format.keeps_f64() {
-        return Ok(positions.to_vec());
+        return Ok(std::borrow::Cow::Borrowed(positions));
     }
     let rounded: Vec<glam::DVec3> = positions.iter().map(|p| p.as_vec3().as_dvec3()).collect();
     if let Some(i) = rounded.iter().position(|p| !p.is_finite()) {
@@ -149,7 +149,7 @@ pub fn as_written(
             positions[i]
         )));
     }
-    Ok(rounded)
+    Ok(std::borrow::Cow::Owned(rounded))
 }
 
 /// Refuses (exit 3) a result with a coordinate or normal that is not finite:

@@ -6,7 +6,11 @@
 //! D = diag(4/(n(n+5))) and S symmetric, `subdiv_stencil::limit_matrix_catmull_clark`).
 //!
 //! # Algorithm
-//! 1. Build A = D·S from the topology.
+//! 1. Build A = D·S from the topology (`subdiv_stencil::limit_operator_catmull_clark_sharp`).
+//!    Untagged, S is stored only if the solver must iterate: when the data
+//!    already meet the tolerance as control points (a finely subdivided
+//!    mesh), CG's first test runs on streamed rows (`system.rs`) and returns
+//!    X = P, the same result bit for bit.
 //! 2. Check the two structural degeneracies ([correction C3]):
 //!    - an interior vertex of valence 2 voids the appendix's proof that
 //!      spec(A) ⊂ (0, 1] (the term n(n − 3)/4·x² of the quadratic form is
@@ -60,11 +64,11 @@
 //! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 //! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
-use crate::system::{interpolate_on_input_topology, AutoSolver};
+use crate::system::{interpolate_on_input_topology, AutoSolver, Limit};
 use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method, SolverChoice};
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
-use subdiv_stencil::{limit_matrix_catmull_clark_sharp, Degeneracy, LimitMatrix, RowKind};
+use subdiv_stencil::{limit_operator_catmull_clark_sharp, Degeneracy, LimitMatrix, RowKind};
 
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -97,15 +101,19 @@ pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, Inte
 /// corner on the component, kept with a dart).
 ///
 /// [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
-fn degeneracy(mesh: &Mesh, a: &LimitMatrix) -> Option<Degeneracy> {
+///
+/// `a` is the assembled matrix, which the kernel test of a tagged mesh reads;
+/// an untagged mesh needs only the row kinds.
+fn degeneracy(mesh: &Mesh, row_kinds: &[RowKind], a: Option<&LimitMatrix>) -> Option<Degeneracy> {
     let t = mesh.topology();
-    let smooth_valence_two = t.vertices().find(|&v| {
-        a.row_kinds[v.index()] == RowKind::Smooth && !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2
-    });
+    let smooth_valence_two = t
+        .vertices()
+        .find(|&v| row_kinds[v.index()] == RowKind::Smooth && !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2);
     if let Some(vertex) = smooth_valence_two {
         return Some(Degeneracy::Indefinite { vertex });
     }
-    crate::preconditions::cheng_kernel(mesh, Some(a)).first().map(|c| Degeneracy::Singular { vertex: c[0].0 })
+    debug_assert!(a.is_some() || mesh.tags().is_empty(), "a tagged mesh's kernel test reads A");
+    crate::preconditions::cheng_kernel(mesh, a).first().map(|c| Degeneracy::Singular { vertex: c[0].0 })
 }
 
 /// [`interpolate`] on the prepared (scaled) mesh and interpolated set.
@@ -116,11 +124,21 @@ pub(crate) fn interpolate_prepared(
 ) -> Result<Interpolant, InterpError> {
     let start = std::time::Instant::now();
     let sharpness = opts.common.surface.sharpness(mesh.tags());
-    let a = limit_matrix_catmull_clark_sharp(mesh.topology(), &sharpness)?;
+    let op = limit_operator_catmull_clark_sharp(mesh.topology(), &sharpness)?;
+    // Untagged: A stays unassembled until the solver must iterate (the data
+    // of a fine mesh often meet the tolerance as they are, `system.rs`).
+    // Tagged: the kernel test reads A, assembled here.
+    let (a, degeneracy) = if mesh.tags().is_empty() {
+        let degeneracy = degeneracy(mesh, op.row_kinds(), None);
+        (Limit::Lazy(op), degeneracy)
+    } else {
+        let a = op.assemble();
+        let degeneracy = degeneracy(mesh, &a.row_kinds, Some(&a));
+        (Limit::Owned(a), degeneracy)
+    };
     let setup = seconds_since(start);
     let mut warnings = Vec::new();
     let mut auto = AutoSolver::from(Solver::Cg { jacobi: true });
-    let degeneracy = degeneracy(mesh, &a);
     match degeneracy.clone() {
         Some(Degeneracy::Indefinite { vertex }) => match opts.common.solver {
             SolverChoice::Use(solver) if solver.needs_definite() => {
@@ -150,7 +168,7 @@ pub(crate) fn interpolate_prepared(
         Method::Cheng,
         mesh,
         interpolated,
-        &a,
+        a,
         setup,
         ControlScheme::CatmullClark,
         &opts.common,

@@ -204,6 +204,13 @@ impl Interpolant {
     ///
     /// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
     pub fn limit_points(&self, input_vertices: usize) -> Vec<DVec3> {
+        if let (LimitAssociation::ControlVertex, ControlScheme::CatmullClark | ControlScheme::Loop(_)) =
+            (&self.association, self.scheme)
+        {
+            // `SubdivisionPlan::limit_points` scales by this same power of two
+            // itself (and back): the same bits without a scaled copy of the mesh.
+            return self.scaled_limit_points(PowerOfTwoScale::IDENTITY, input_vertices);
+        }
         let scale = PowerOfTwoScale::normalizing(self.control.positions().iter().copied());
         let mut limits = self.scaled_limit_points(scale, input_vertices);
         scale.inverse().apply_points(&mut limits);

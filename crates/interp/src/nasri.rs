@@ -82,7 +82,7 @@ pub(crate) fn interpolate_prepared(
         Method::Nasri,
         mesh,
         interpolated,
-        &c,
+        crate::system::Limit::Owned(c),
         setup,
         ControlScheme::DooSabin,
         &opts.common,

@@ -163,8 +163,10 @@ impl<'a> Prepared<'a> {
     /// Steps 4-5 of the rule: maps the result's control mesh back, checks
     /// it, measures the error; adds the preparation's warnings (first) and
     /// the number of interpolated vertices to the report's parameters.
-    pub fn finish(self, mut result: Interpolant) -> Result<Interpolant, InterpError> {
+    pub fn finish(mut self, mut result: Interpolant) -> Result<Interpolant, InterpError> {
         debug_assert_eq!(result.interpolated, self.interpolated, "the method interpolates the prepared set");
+        // The scaled copy of the data is done with: freed before the limit points are made.
+        self.mesh = Cow::Borrowed(self.data);
         self.map_back("the control mesh", result.control.positions_mut())?;
         let error = result.error(self.data.positions(), &result.interpolated, self.d);
         if error.max_rel.is_nan() || error.max_rel > self.tol {

@@ -11,6 +11,12 @@
 //! valence-2 vertices). Identity rows (corners, isolated vertices) are solved
 //! exactly by X_v = P_v.
 //!
+//! **Memory.** An owned A whose one stage takes every row (a closed mesh,
+//! every vertex interpolated) moves its S into the solver; an unassembled A
+//! ([`Limit::Lazy`]) whose X = P already meets the tolerance is never stored
+//! ([`subdiv_solve::cg_start`]). Either way the result is the one the
+//! restricted copy gives, bit for bit.
+//!
 //! **Automatic choice** ([`SolverChoice::Auto`](crate::SolverChoice::Auto)),
 //! per stage, from the restricted matrix and what the method knows
 //! ([`AutoSolver`]):
@@ -31,8 +37,33 @@
 use crate::numeric::max_nan;
 use crate::{InterpError, SolveSummary, SolverChoice};
 use glam::DVec3;
-use subdiv_solve::{FactoredMatrix, IterationObserver, SolveOptions, Solver, SparseMatrix};
-use subdiv_stencil::LimitMatrix;
+use subdiv_solve::{FactoredMatrix, IterationObserver, RowSource, Solution, SolveOptions, Solver, SparseMatrix};
+use subdiv_stencil::{LimitMatrix, LimitOperator};
+
+/// The limit matrix a solve reads. Owned, its S moves into the solver when
+/// one stage takes every row (no restricted copy); not yet assembled
+/// ([`LimitOperator`]), the initial guess X = P is checked on streamed rows
+/// first and S is stored only if the solver must iterate.
+pub(crate) enum Limit<'a> {
+    /// The caller keeps the matrix: every stage is a restricted copy.
+    Borrowed(&'a LimitMatrix),
+    /// The solve may consume the matrix.
+    Owned(LimitMatrix),
+    /// Not assembled yet.
+    Lazy(LimitOperator<'a>),
+}
+
+/// A [`LimitOperator`]'s rows as the solver reads them.
+struct Streamed<'o, 'a>(&'o LimitOperator<'a>);
+
+impl RowSource for Streamed<'_, '_> {
+    fn rows(&self) -> usize {
+        self.0.size()
+    }
+    fn for_each_row(&self, range: std::ops::Range<usize>, f: &mut subdiv_solve::RowVisitor<'_>) {
+        self.0.for_each_row(range, f)
+    }
+}
 
 /// What [`SolverChoice::Auto`] does for a method: its default solver for
 /// positive definite symmetric blocks, and whether its symmetric blocks may
@@ -105,6 +136,7 @@ pub(crate) fn solve_limit_system(
     observer: &IterationObserver,
 ) -> Result<SystemSolution, InterpError> {
     let choice = SolverChoice::Use(solver);
+    let a = Limit::Borrowed(a);
     solve_limit_system_with(method, a, data, interpolated, choice, solver.into(), tol, max_iter, scale, observer)
 }
 
@@ -113,7 +145,7 @@ pub(crate) fn solve_limit_system(
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_limit_system_with(
     method: &'static str,
-    a: &LimitMatrix,
+    a: Limit<'_>,
     data: &[DVec3],
     interpolated: &[bool],
     choice: SolverChoice,
@@ -123,34 +155,72 @@ pub(crate) fn solve_limit_system_with(
     scale: f64,
     observer: &IterationObserver,
 ) -> Result<SystemSolution, InterpError> {
-    assert_eq!(data.len(), a.size(), "one data point per row");
-    let mut x = data.to_vec();
-    let mut summary = SolveSummary::default();
-    let mut used: Vec<&'static str> = Vec::new();
-    for unknowns in stages(a, interpolated).iter().filter(|u| !u.is_empty()) {
-        let (sub, rhs) = restrict(a, unknowns, &x, data);
-        let solver = auto.pick(choice, &sub);
-        if used.last() != Some(&solver.name()) {
-            used.push(solver.name());
-        }
-        let opts = SolveOptions::default()
+    let options = |initial: Option<Vec<[f64; 3]>>| {
+        SolveOptions::default()
             .with_tol(tol)
             .with_scale(scale)
             .with_max_iter(max_iter)
             .with_history(true)
-            .with_initial(Some(unknowns.iter().map(|&v| data[v].to_array()).collect()))
-            .with_observer(observer.clone());
-        let sol = solver
-            .solve(&sub, &rhs, &opts)
-            .map_err(|source| InterpError::Solve { method, source: Box::new(source) })?;
-        for (k, &v) in unknowns.iter().enumerate() {
-            x[v] = DVec3::from_array(sol.x[k]);
+            .with_initial(initial)
+            .with_observer(observer.clone())
+    };
+    let mut summary = SolveSummary::default();
+    let mut used: Vec<&'static str> = Vec::new();
+    let a = match a {
+        Limit::Lazy(op) => {
+            assert_eq!(data.len(), op.size(), "one data point per row");
+            if let Some((solver, sol)) = converged_at_start(&op, data, interpolated, choice, auto, &options(None)) {
+                // The data already meet the tolerance as control points: S never stored.
+                record(&mut summary, &mut used, solver, &sol);
+                summary.solver = used.join("+");
+                summary.converged = true;
+                return Ok(SystemSolution { x: sol.x.into_iter().map(DVec3::from_array).collect(), summary });
+            }
+            Limit::Owned(op.assemble())
         }
-        summary.iterations += sol.iterations;
-        summary.matvecs += sol.matvecs;
-        summary.residual = max_nan(summary.residual, sol.residual);
-        summary.history.extend(sol.history);
-        summary.negative_pivots = sol.negative_pivots.or(summary.negative_pivots);
+        a => a,
+    };
+    let m = match &a {
+        Limit::Borrowed(m) => *m,
+        Limit::Owned(m) => m,
+        Limit::Lazy(_) => unreachable!("assembled above"),
+    };
+    assert_eq!(data.len(), m.size(), "one data point per row");
+    let n = m.size();
+    let [boundary, interior] = stages(m, interpolated);
+    let mut x;
+    if boundary.is_empty() && interior.len() == n {
+        // One stage of every row, no known column: A_UU = A and the right-hand
+        // side P itself (what `restrict` would copy, bit for bit).
+        let rhs: Vec<[f64; 3]> = data.iter().map(|p| p.to_array()).collect();
+        let sub = match a {
+            Limit::Owned(m) => FactoredMatrix::new(m.d, m.s),
+            Limit::Borrowed(m) => FactoredMatrix::new(m.d.clone(), m.s.clone()),
+            Limit::Lazy(_) => unreachable!("assembled above"),
+        }
+        .expect("limit matrices have positive D and finite S");
+        let solver = auto.pick(choice, &sub);
+        let sol = solver
+            // X₀ = P: the same start as `Some(P)`, without a copy.
+            .solve(&sub, &rhs, &options(None))
+            .map_err(|source| InterpError::Solve { method, source: Box::new(source) })?;
+        drop((sub, rhs));
+        record(&mut summary, &mut used, solver, &sol);
+        x = sol.x.into_iter().map(DVec3::from_array).collect();
+    } else {
+        x = data.to_vec();
+        for unknowns in [boundary, interior].iter().filter(|u| !u.is_empty()) {
+            let (sub, rhs) = restrict(m, unknowns, &x, data);
+            let solver = auto.pick(choice, &sub);
+            let initial = unknowns.iter().map(|&v| data[v].to_array()).collect();
+            let sol = solver
+                .solve(&sub, &rhs, &options(Some(initial)))
+                .map_err(|source| InterpError::Solve { method, source: Box::new(source) })?;
+            for (k, &v) in unknowns.iter().enumerate() {
+                x[v] = DVec3::from_array(sol.x[k]);
+            }
+            record(&mut summary, &mut used, solver, &sol);
+        }
     }
     // No stage (nothing to solve): the solver that would have run.
     summary.solver = if used.is_empty() {
@@ -163,6 +233,45 @@ pub(crate) fn solve_limit_system_with(
     };
     summary.converged = true;
     Ok(SystemSolution { x, summary })
+}
+
+/// Adds one stage's solve to the summary.
+fn record(summary: &mut SolveSummary, used: &mut Vec<&'static str>, solver: Solver, sol: &Solution) {
+    if used.last() != Some(&solver.name()) {
+        used.push(solver.name());
+    }
+    summary.iterations += sol.iterations;
+    summary.matvecs += sol.matvecs;
+    summary.residual = max_nan(summary.residual, sol.residual);
+    summary.history.extend(&sol.history);
+    summary.negative_pivots = sol.negative_pivots.or(summary.negative_pivots);
+}
+
+/// The solve of an unassembled A when it ends at X = P: every row smooth
+/// (S symmetric bit for bit, no sharp block), every vertex interpolated (one
+/// stage, A_UU = A, right-hand side P), the stage's solver CG (asked for,
+/// or the automatic choice of a definite method), and CG stopping at its
+/// start ([`subdiv_solve::cg_start`]: the same solution bit for bit). `None`
+/// otherwise: the caller assembles A and solves.
+fn converged_at_start(
+    op: &LimitOperator<'_>,
+    data: &[DVec3],
+    interpolated: &[bool],
+    choice: SolverChoice,
+    auto: AutoSolver,
+    opts: &SolveOptions,
+) -> Option<(Solver, Solution)> {
+    let solver = match choice {
+        SolverChoice::Use(solver) => solver,
+        SolverChoice::Auto if !auto.maybe_indefinite => auto.default,
+        SolverChoice::Auto => return None,
+    };
+    let Solver::Cg { jacobi } = solver else { return None };
+    if !op.all_smooth() || !interpolated.iter().all(|&b| b) {
+        return None;
+    }
+    let rhs: Vec<[f64; 3]> = data.iter().map(|p| p.to_array()).collect();
+    subdiv_solve::cg_start(&Streamed(op), op.d(), &rhs, opts, jacobi).map(|sol| (solver, sol))
 }
 
 /// The block A_UU = D_U·S_UU and right-hand side P_U − D_U·S_UK·X_K.
@@ -210,7 +319,7 @@ pub(crate) fn interpolate_on_input_topology(
     method: crate::Method,
     mesh: &subdiv_mesh::Mesh,
     interpolated: Vec<bool>,
-    a: &LimitMatrix,
+    a: Limit<'_>,
     setup_seconds: f64,
     scheme: crate::ControlScheme,
     common: &crate::CommonOptions,
@@ -292,7 +401,7 @@ mod tests {
         ] {
             let solved = solve_limit_system_with(
                 "test",
-                &a,
+                Limit::Borrowed(&a),
                 &data,
                 &all,
                 choice,
@@ -311,7 +420,7 @@ mod tests {
         // A solver that needs symmetry, asked for on the nonsymmetric block: the solver's error.
         let err = solve_limit_system_with(
             "test",
-            &a,
+            Limit::Borrowed(&a),
             &data,
             &all,
             SolverChoice::Use(cg),

@@ -115,8 +115,6 @@ pub fn cg(a: &FactoredMatrix, p: &[[f64; 3]], opts: &SolveOptions, jacobi: bool)
 
     let mut x = initial_guess(p, opts);
     let mut r = vec![[0.0; 3]; n];
-    let mut dir = vec![[0.0; 3]; n];
-    let mut q = vec![[0.0; 3]; n];
 
     let mut res = true_residual(s, d, &b, &x, &mut r, &mut pmax);
     mon.matvecs += 1;
@@ -125,6 +123,9 @@ pub fn cg(a: &FactoredMatrix, p: &[[f64; 3]], opts: &SolveOptions, jacobi: bool)
         Verdict::Continue => {}
         v => return mon.finish(v, x, 0, res),
     }
+    // Allocated once X₀ is known not to do (an interpolated fine mesh stops above).
+    let mut dir = vec![[0.0; 3]; n];
+    let mut q = vec![[0.0; 3]; n];
     let mut rz = restart_direction(&r, &minv, &mut dir, &mut p3);
     let mut replacements = 0;
 
@@ -256,6 +257,77 @@ fn true_residual(s: Csr<'_>, d: &[f64], b: &[Row], x: &[Row], r: &mut [Row], par
     kernels::fold_max(partials).sqrt()
 }
 
+/// The rows of a sparse matrix S made on demand instead of stored (a
+/// matrix-free S), as [`cg_start`] reads them.
+pub trait RowSource: Sync {
+    /// Number of rows (= columns).
+    fn rows(&self) -> usize;
+    /// Calls `f(i, columns, values)` for every row i of `range`, in order,
+    /// the columns ascending and distinct (as a CSR row stores them).
+    fn for_each_row(&self, range: std::ops::Range<usize>, f: &mut RowVisitor<'_>);
+}
+
+/// What [`RowSource::for_each_row`] calls with each row: (row, columns, values).
+pub type RowVisitor<'f> = dyn FnMut(usize, &[u32], &[f64]) + 'f;
+
+/// CG's first test without S stored: when the initial guess X₀ already
+/// meets the stopping rule, the [`Solution`] [`cg`] returns for
+/// `FactoredMatrix::new(d, S)` — the same X₀, residual, history and product
+/// count, bit for bit (the residual is computed row by row with CG's own
+/// arithmetic), the observer told iterate 0 —, else `None` and nothing is
+/// told: CG must iterate (or refuse), and the caller stores S and calls [`cg`].
+///
+/// For a solve of millions of unknowns whose data are already interpolated
+/// to the tolerance (a finely subdivided mesh): one pass over the rows, no
+/// n × n storage, no workspace.
+///
+/// The caller guarantees that S is symmetric (what `FactoredMatrix::new`
+/// would find; [`cg`] refuses a nonsymmetric one). `None` too for anything
+/// [`cg`] would refuse: mismatched sizes, a non-finite entry, d not
+/// positive, a nonpositive diagonal with `jacobi`, invalid options.
+pub fn cg_start(s: &dyn RowSource, d: &[f64], p: &[[f64; 3]], opts: &SolveOptions, jacobi: bool) -> Option<Solution> {
+    let start = Instant::now();
+    let name = if jacobi { "cg-jacobi" } else { "cg" };
+    let n = d.len();
+    let usable = n > 0
+        && s.rows() == n
+        && crate::matrix::validate_parts(n, p, opts).is_ok()
+        && d.iter().all(|v| v.is_finite() && *v > 0.0);
+    if !usable {
+        return None;
+    }
+    let x = initial_guess(p, opts);
+    // Per chunk: max_i d_i² ‖b_i − (S x)_i‖², and whether every row was usable.
+    let mut partials = vec![(0.0f64, true); kernels::n_chunks(n)];
+    kernels::reduce_chunks(n, &mut partials, |rows| {
+        let (mut m, mut ok) = (0.0f64, true);
+        s.for_each_row(rows, &mut |i, columns, values| {
+            let diagonal = columns.binary_search(&(i as u32)).map_or(0.0, |k| values[k]);
+            ok &= values.iter().all(|v| v.is_finite()) && (!jacobi || diagonal > 0.0);
+            // As `true_residual`, with b = D⁻¹P computed in place.
+            let v = kernels::row_dot(columns, values, &x);
+            let (pi, di) = (p[i], d[i]);
+            let b = [pi[0] / di, pi[1] / di, pi[2] / di];
+            let r = [b[0] - v[0], b[1] - v[1], b[2] - v[2]];
+            m = max_nan(m, di * di * norm2(r));
+        });
+        (m, ok)
+    });
+    if !partials.iter().all(|t| t.1) {
+        return None;
+    }
+    let res = partials.iter().fold(0.0, |m, t| max_nan(m, t.0)).sqrt();
+    let mut mon = Monitor::new(name, opts, start);
+    if !(res.is_finite() && res <= mon.threshold) {
+        return None;
+    }
+    mon.matvecs += 1;
+    match mon.observe(0, res) {
+        Verdict::Converged => mon.solution(x, 0, res).ok(),
+        _ => None,
+    }
+}
+
 /// p = M⁻¹ r; returns rᵀM⁻¹r per column.
 fn restart_direction(r: &[Row], minv: &[f64], dir: &mut [Row], partials: &mut [Row]) -> Row {
     map_chunks(dir, partials, |lo, out| {
@@ -270,4 +342,75 @@ fn restart_direction(r: &[Row], minv: &[f64], dir: &mut [Row], partials: &mut [R
         rz
     });
     fold_sum3(partials.iter().copied())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::SparseMatrix;
+    use sprs::TriMatI;
+
+    /// A stored matrix read row by row, as a matrix-free source would give it.
+    struct Stored<'a>(&'a SparseMatrix);
+
+    impl RowSource for Stored<'_> {
+        fn rows(&self) -> usize {
+            self.0.rows()
+        }
+        fn for_each_row(&self, range: std::ops::Range<usize>, f: &mut RowVisitor<'_>) {
+            for i in range {
+                let row = self.0.outer_view(i).unwrap();
+                f(i, row.indices(), row.data());
+            }
+        }
+    }
+
+    /// S = tridiagonal (1, 6, 1) on a cycle of n (symmetric positive
+    /// definite), D = 1/8: A = D·S is close to the identity, so data close to
+    /// A·P meet a loose tolerance at X₀ = P and a tight one does not.
+    fn cycle(n: usize) -> (Vec<f64>, SparseMatrix) {
+        let mut t = TriMatI::<f64, u32>::new((n, n));
+        for i in 0..n {
+            t.add_triplet(i, i, 6.0);
+            t.add_triplet(i, (i + 1) % n, 1.0);
+            t.add_triplet(i, (i + n - 1) % n, 1.0);
+        }
+        (vec![0.125; n], t.to_csr())
+    }
+
+    #[test]
+    fn cg_start_is_cg_when_the_initial_guess_does_and_none_otherwise() {
+        // Enough rows for the parallel chunks.
+        let n = 20_000;
+        let (d, s) = cycle(n);
+        let p: Vec<[f64; 3]> = (0..n)
+            .map(|i| std::f64::consts::TAU * i as f64 / n as f64)
+            .map(|t| [t.sin(), (2.0 * t).cos(), 1.0 + 1e-3 * t.sin()])
+            .collect();
+        let a = FactoredMatrix::new(d.clone(), s.clone()).unwrap();
+        for jacobi in [true, false] {
+            for (tol, converges) in [(1e-2, true), (1e-12, false)] {
+                let opts = SolveOptions::default().with_tol(tol).with_scale(1.0).with_history(true);
+                let started = cg_start(&Stored(&s), &d, &p, &opts, jacobi);
+                let full = cg(&a, &p, &opts, jacobi).unwrap();
+                assert_eq!(full.iterations == 0, converges, "the test's premise (tol {tol})");
+                match started {
+                    Some(sol) => {
+                        assert!(converges);
+                        assert_eq!(sol.x, full.x);
+                        assert_eq!(sol.residual.to_bits(), full.residual.to_bits());
+                        assert_eq!(sol.history, full.history);
+                        assert_eq!((sol.iterations, sol.matvecs, sol.solver), (0, full.matvecs, full.solver));
+                    }
+                    None => assert!(!converges, "tol {tol}: CG stops at X₀ but cg_start did not"),
+                }
+            }
+        }
+        // What CG refuses, cg_start leaves to it.
+        let opts = SolveOptions::default().with_tol(1e-2).with_scale(1.0);
+        assert!(cg_start(&Stored(&s), &d[1..], &p, &opts, true).is_none());
+        let mut bad = p.clone();
+        bad[3][1] = f64::NAN;
+        assert!(cg_start(&Stored(&s), &d, &bad, &opts, true).is_none());
+    }
 }

@@ -48,14 +48,7 @@ impl<'a> Csr<'a> {
     pub fn row_times(&self, i: usize, x: &[Row]) -> Row {
         let lo = self.indptr[i] as usize;
         let hi = self.indptr[i + 1] as usize;
-        let mut acc = [0.0; 3];
-        for (&j, &v) in self.indices[lo..hi].iter().zip(&self.data[lo..hi]) {
-            let xj = x[j as usize];
-            acc[0] += v * xj[0];
-            acc[1] += v * xj[1];
-            acc[2] += v * xj[2];
-        }
-        acc
+        row_dot(&self.indices[lo..hi], &self.data[lo..hi], x)
     }
 
     /// (M x)_i for one column x.
@@ -79,6 +72,21 @@ impl<'a> Csr<'a> {
             Err(_) => 0.0,
         }
     }
+}
+
+/// Σ_k values\[k\]·x\[columns\[k\]\] for 3-column x, in the order given: one
+/// row of a sparse product, stored ([`Csr::row_times`]) or streamed
+/// (`cg::cg_start`), with the same arithmetic.
+#[inline(always)]
+pub(crate) fn row_dot(columns: &[u32], values: &[f64], x: &[Row]) -> Row {
+    let mut acc = [0.0; 3];
+    for (&j, &v) in columns.iter().zip(values) {
+        let xj = x[j as usize];
+        acc[0] += v * xj[0];
+        acc[1] += v * xj[1];
+        acc[2] += v * xj[2];
+    }
+    acc
 }
 
 /// Runs `f(first_row, chunk)` over fixed chunks of `out`, writing each

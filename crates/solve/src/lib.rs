@@ -116,7 +116,7 @@ pub mod weighted_pia;
 use std::fmt;
 use std::str::FromStr;
 
-pub use cg::cg;
+pub use cg::{cg, cg_start, RowSource, RowVisitor};
 pub use chebyshev::{chebyshev, chebyshev_with};
 pub use dense::{dense_lu, dense_lu_capped};
 pub use error::{LastIterate, SolveError, StopReason};

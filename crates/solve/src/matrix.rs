@@ -302,7 +302,11 @@ fn rebase(s: &SparseMatrix) -> SparseMatrix {
 
 /// Checks shared by every solver: right-hand side and options.
 pub(crate) fn validate(a: &FactoredMatrix, p: &[Row], opts: &crate::SolveOptions) -> Result<(), SolveError> {
-    let n = a.n();
+    validate_parts(a.n(), p, opts)
+}
+
+/// [`validate`] for an n × n matrix that is not stored.
+pub(crate) fn validate_parts(n: usize, p: &[Row], opts: &crate::SolveOptions) -> Result<(), SolveError> {
     if p.len() != n {
         return Err(SolveError::InvalidInput(format!("the right-hand side has {} rows, the matrix {n}", p.len())));
     }

@@ -464,42 +464,154 @@ fn special_rows(
     Ok((out, kinds))
 }
 
+/// The rule of every row of a limit matrix before any row is stored: D, the
+/// kinds of the rows, the rows that do not come from the symmetric assembly,
+/// and the assembly rule of the others. [`LimitOperator::assemble`] stores
+/// S as the `limit_matrix_*` functions return it; [`LimitOperator::for_each_row`]
+/// produces the same rows, bit for bit, one at a time without storing them —
+/// for a product with S that is needed once (the check of an initial guess
+/// on a mesh of millions of vertices, where S would be the largest array).
+///
+/// Made by [`limit_operator_catmull_clark_sharp`]; borrows the topology.
+pub struct LimitOperator<'a> {
+    t: &'a Topology,
+    d: Vec<f64>,
+    special: SpecialRows,
+    /// Per vertex, its entry in `special.rows` (`u32::MAX`: assembled); empty
+    /// when there are no special rows.
+    special_of: Vec<u32>,
+    row_kinds: Vec<RowKind>,
+    row: Box<RowRuleFn<'a>>,
+}
+
+/// The assembly rule of a row: adds vertex v's contributions.
+type RowRuleFn<'a> = dyn Fn(VertexId, &mut RowBuilder) + Sync + 'a;
+
+/// What [`LimitOperator::for_each_row`] calls with each row: (row, columns, values).
+pub type RowVisitor<'f> = dyn FnMut(usize, &[u32], &[f64]) + 'f;
+
+impl std::fmt::Debug for LimitOperator<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LimitOperator")
+            .field("size", &self.size())
+            .field("special_rows", &self.special.rows.len())
+            .finish()
+    }
+}
+
+impl<'a> LimitOperator<'a> {
+    fn new(
+        t: &'a Topology,
+        mut d: Vec<f64>,
+        special: SpecialRows,
+        row_kinds: Vec<RowKind>,
+        row: impl Fn(VertexId, &mut RowBuilder) + Sync + 'a,
+    ) -> Self {
+        let mut special_of = Vec::new();
+        if !special.rows.is_empty() {
+            special_of = vec![u32::MAX; t.vertex_count()];
+            for (k, (v, _)) in special.rows.iter().enumerate() {
+                special_of[*v as usize] = k as u32;
+            }
+        }
+        for &(v, dv) in &special.d {
+            d[v as usize] = dv;
+        }
+        Self { t, d, special, special_of, row_kinds, row: Box::new(row) }
+    }
+
+    /// Number of rows (= vertices).
+    pub fn size(&self) -> usize {
+        self.d.len()
+    }
+
+    /// The positive diagonal D, one entry per vertex (as [`LimitMatrix::d`]).
+    pub fn d(&self) -> &[f64] {
+        &self.d
+    }
+
+    /// The kind of every row (as [`LimitMatrix::row_kinds`]).
+    pub fn row_kinds(&self) -> &[RowKind] {
+        &self.row_kinds
+    }
+
+    /// True when every row is [`RowKind::Smooth`]: S is then symmetric bit
+    /// for bit and the sharp block ([`LimitMatrix::boundary_rows`]) is empty.
+    pub fn all_smooth(&self) -> bool {
+        self.row_kinds.iter().all(|&k| k == RowKind::Smooth)
+    }
+
+    fn special_row(&self, v: usize) -> Option<&[(u32, f64)]> {
+        match self.special_of.get(v) {
+            Some(&k) if k != u32::MAX => Some(&self.special.rows[k as usize].1),
+            _ => None,
+        }
+    }
+
+    fn fill(&self, v: usize, rows: &mut RowBuilder) {
+        match self.special_row(v) {
+            None => (self.row)(VertexId(v as u32), rows),
+            Some(row) => row.iter().for_each(|&(c, w)| rows.add(c, w)),
+        }
+    }
+
+    /// Every row's columns lie in its vertex's face ring.
+    fn max_len(&self, v: usize) -> usize {
+        match self.special_row(v) {
+            None => face_ring_size(self.t, VertexId(v as u32)),
+            Some(row) => row.len(),
+        }
+    }
+
+    /// Calls `f(v, columns, values)` for every row v of S in `rows`, in
+    /// order: the columns ascending and the values exactly those
+    /// [`Self::assemble`] stores (the same contributions, merged the same
+    /// way). Nothing is stored between rows.
+    ///
+    /// # Panics
+    /// If `rows` reaches beyond [`Self::size`] (a caller bug).
+    pub fn for_each_row(&self, rows: std::ops::Range<usize>, f: &mut RowVisitor<'_>) {
+        assert!(rows.end <= self.size(), "rows {rows:?} of a {0} × {0} limit matrix", self.size());
+        let mut builder = RowBuilder::default();
+        let (mut columns, mut values) = (Vec::new(), Vec::new());
+        for v in rows {
+            self.fill(v, &mut builder);
+            builder.merge_pending(Summation::Canonical, &mut columns, &mut values);
+            f(v, &columns, &values);
+        }
+    }
+
+    /// The limit matrix: S stored row by row (in parallel, deterministically,
+    /// `RowBuilder::build_parallel_bounded`), each row's contributions
+    /// summed in ascending order of their bits (`Summation::Canonical`), so
+    /// an entry's value depends only on the multiset of its contributions:
+    /// S\[i\]\[j\] and S\[j\]\[i\], which receive the same contributions (a
+    /// face or an edge containing both), are equal bit for bit.
+    pub fn assemble(self) -> LimitMatrix {
+        let n = self.size();
+        let s = RowBuilder::build_parallel_bounded(
+            n,
+            n,
+            Summation::Canonical,
+            |v| self.max_len(v),
+            |v, rows, _: &mut ()| self.fill(v, rows),
+        );
+        let boundary_rows = sharp_block(&s, &self.row_kinds);
+        LimitMatrix { d: self.d, s, boundary_rows, row_kinds: self.row_kinds }
+    }
+}
+
 /// Builds A = D·S row by row (in parallel, deterministically): `row(v, rows)`
 /// adds the contributions of vertex v's row; rows listed in `special` are
-/// taken from there instead. Each row's contributions are summed in ascending
-/// order of their bits ([`Summation::Canonical`]), so an entry's value depends
-/// only on the multiset of its contributions: S\[i\]\[j\] and S\[j\]\[i\],
-/// which receive the same contributions (a face or an edge containing both),
-/// are equal bit for bit.
+/// taken from there instead ([`LimitOperator::assemble`]).
 fn assemble(
     t: &Topology,
-    mut d: Vec<f64>,
+    d: Vec<f64>,
     special: SpecialRows,
     row_kinds: Vec<RowKind>,
     row: impl Fn(VertexId, &mut RowBuilder) + Sync,
 ) -> LimitMatrix {
-    let n = t.vertex_count();
-    let mut special_of = vec![u32::MAX; n];
-    for (k, (v, _)) in special.rows.iter().enumerate() {
-        special_of[*v as usize] = k as u32;
-    }
-    // Every row's columns lie in its vertex's face ring.
-    let max_len = |v: usize| match special_of[v] {
-        u32::MAX => face_ring_size(t, VertexId(v as u32)),
-        k => special.rows[k as usize].1.len(),
-    };
-    let s =
-        RowBuilder::build_parallel_bounded(n, n, Summation::Canonical, max_len, |v, rows, _: &mut ()| match special_of
-            [v]
-        {
-            u32::MAX => row(VertexId(v as u32), rows),
-            k => special.rows[k as usize].1.iter().for_each(|&(c, w)| rows.add(c, w)),
-        });
-    for &(v, dv) in &special.d {
-        d[v as usize] = dv;
-    }
-    let boundary_rows = sharp_block(&s, &row_kinds);
-    LimitMatrix { d, s, boundary_rows, row_kinds }
+    LimitOperator::new(t, d, special, row_kinds, row).assemble()
 }
 
 /// The crease and corner rows whose columns all lie in the set (the largest
@@ -1067,6 +1179,19 @@ pub fn limit_matrix_catmull_clark(t: &Topology) -> LimitMatrix {
 /// [`crate::SubdivisionPlan::with_tags`]; Catmull-Clark takes every mesh and
 /// tag, so none in practice).
 pub fn limit_matrix_catmull_clark_sharp(t: &Topology, sharp: &LevelSharpness) -> Result<LimitMatrix, StencilError> {
+    Ok(limit_operator_catmull_clark_sharp(t, sharp)?.assemble())
+}
+
+/// [`limit_matrix_catmull_clark_sharp`] before assembly: the same D, row
+/// kinds and rows ([`LimitOperator::assemble`] gives that matrix bit for
+/// bit), S not yet stored.
+///
+/// # Errors
+/// As [`limit_matrix_catmull_clark_sharp`].
+pub fn limit_operator_catmull_clark_sharp<'a>(
+    t: &'a Topology,
+    sharp: &LevelSharpness,
+) -> Result<LimitOperator<'a>, StencilError> {
     let d = t
         .vertices()
         .map(|v| {
@@ -1079,7 +1204,7 @@ pub fn limit_matrix_catmull_clark_sharp(t: &Topology, sharp: &LevelSharpness) ->
         })
         .collect();
     let (special, kinds) = special_rows(t, sharp, CUBIC_B_SPLINE, Scheme::CatmullClark)?;
-    Ok(assemble(t, d, special, kinds, |v, rows| {
+    Ok(LimitOperator::new(t, d, special, kinds, move |v, rows| {
         let n = t.valence(v) as f64;
         // Eq. (5): Σᵢ (Fⁱ…)/mᵢ and the 1/mᵢ of the E and V terms; the ½ of
         // (½ + 1/mᵢ + 1/mᵢ₋₁) Eᵢ; n(n−1)/4 V = n(n−3)/4 + n·½ (the edges' ½ at V).
@@ -1293,6 +1418,46 @@ pub fn catmull_clark_kernel(t: &Topology) -> Vec<Vec<(VertexId, f64)>> {
 mod tests {
     use super::*;
     use subdiv_mesh::shapes;
+
+    /// The rows the operator streams are the stored rows, bit for bit: on a
+    /// closed mesh of mixed polygons (assembled rows only) and on an open
+    /// grid with a semi-sharp crease and a corner (crease, corner and
+    /// composed rows too).
+    #[test]
+    fn streamed_rows_are_the_assembled_rows_bit_for_bit() {
+        use subdiv_mesh::{EdgeTag, TagList, Tags, VertexTag};
+        let mix = shapes::polygon_mix(&shapes::torus(9, 7), 3, 0.2, 0.2, 0.1);
+        let grid = shapes::quad_grid(6, 5);
+        let list = TagList {
+            creases: vec![
+                EdgeTag { a: id(1, 2), b: id(2, 2), sharpness: 1.5 },
+                EdgeTag { a: id(2, 2), b: id(3, 2), sharpness: 10.0 },
+            ],
+            corners: vec![VertexTag { vertex: id(4, 4), sharpness: 10.0 }],
+        };
+        let tags = Tags::from_list(grid.topology(), &list).unwrap();
+        let cases = [
+            (mix.topology(), LevelSharpness::plain()),
+            (grid.topology(), LevelSharpness::new(&tags, Default::default(), Default::default())),
+        ];
+        for (t, sharp) in cases {
+            let op = limit_operator_catmull_clark_sharp(t, &sharp).unwrap();
+            let (d, kinds) = (op.d().to_vec(), op.row_kinds().to_vec());
+            let mut streamed = Vec::new();
+            op.for_each_row(0..op.size(), &mut |v, c, w| streamed.push((v, c.to_vec(), w.to_vec())));
+            let a = op.assemble();
+            let stored = limit_matrix_catmull_clark_sharp(t, &sharp).unwrap();
+            assert_eq!(a.d, stored.d);
+            assert_eq!((d, kinds), (stored.d.clone(), stored.row_kinds.clone()));
+            assert_eq!(streamed.len(), stored.size());
+            for (v, columns, values) in streamed {
+                let row = stored.s.outer_view(v).unwrap();
+                assert_eq!(columns, row.indices(), "row {v}");
+                let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&values), bits(row.data()), "row {v}");
+            }
+        }
+    }
 
     /// Vertex (i, j) of `shapes::quad_grid(6, 5)`.
     fn id(i: u32, j: u32) -> u32 {

@@ -90,6 +90,19 @@ impl RowBuilder {
         self.indptr.push(self.indices.len() as u32);
     }
 
+    /// Merges the pending row (as the parallel builds store it, `summation`
+    /// deciding how repeated columns are summed) into `columns`/`values`,
+    /// which are overwritten, and clears it: one row of the matrix without
+    /// the matrix ([`crate::limit_matrix::LimitOperator::for_each_row`]).
+    pub fn merge_pending(&mut self, summation: Summation, columns: &mut Vec<u32>, values: &mut Vec<f64>) {
+        let len = self.pending.len();
+        columns.resize(len, 0);
+        values.resize(len, 0.0);
+        let written = self.merger.merge(&mut self.pending, summation, columns, values);
+        columns.truncate(written);
+        values.truncate(written);
+    }
+
     /// Number of finished rows.
     pub fn rows(&self) -> usize {
         self.indptr.len() - 1
