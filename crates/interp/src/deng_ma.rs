@@ -144,6 +144,7 @@ pub fn interpolate(mesh: &Mesh, opts: &DengMaOptions) -> Result<Interpolant, Int
         solve_seconds: 0.0,
         warnings: Vec::new(),
         parameters,
+        measured_error: None,
     };
     prepared.finish(result)
 }

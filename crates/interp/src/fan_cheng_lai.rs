@@ -184,5 +184,6 @@ pub(crate) fn interpolate_prepared(
         solve_seconds,
         warnings,
         parameters,
+        measured_error: None,
     })
 }

@@ -8,7 +8,7 @@ use glam::DVec3;
 use std::borrow::Cow;
 use subdiv_mesh::{Mesh, PowerOfTwoScale};
 use subdiv_stencil::{
-    doo_sabin, doo_sabin_limit_sites, subdivide, DualLimitSite, LoopBeta, Options, Scheme, StencilError,
+    doo_sabin, doo_sabin_limit_sites, subdivide_for_output, DualLimitSite, LoopBeta, Options, Scheme, StencilError,
     SubdivisionPlan, Tension,
 };
 
@@ -188,6 +188,13 @@ pub struct Interpolant {
     pub warnings: Vec<String>,
     /// The method's parameters, for the report.
     pub parameters: crate::Parameters,
+    /// [`Self::error`] of [`Self::interpolated`] as the method measured it
+    /// on [`Self::control`] when it finished (its tolerance check): the
+    /// same computation a caller would repeat on these positions, kept so
+    /// that a caller writing them unchanged (a 64-bit format) need not
+    /// repeat it. `None` until then; stale once the control positions are
+    /// changed.
+    pub measured_error: Option<ErrorStats>,
 }
 
 impl Interpolant {
@@ -301,14 +308,8 @@ impl Interpolant {
     /// be too large.
     pub fn surface(&self, levels: usize) -> Result<Mesh, InterpError> {
         let options = self.options();
-        let surface = match subdivide(&self.control, options, levels, true) {
-            Err(StencilError::FaceVarying(_)) => {
-                let positions_only = self.control.clone().with_uvs(None).expect("no channel is always valid");
-                subdivide(&positions_only, options, levels, true)
-            }
-            other => other,
-        };
-        surface.map_err(|e| match e {
+        let surface = subdivide_for_output(&self.control, options, levels, true, |_| {});
+        surface.map(|s| s.mesh).map_err(|e| match e {
             StencilError::NotRepresentable { reason, .. } => {
                 InterpError::NotRepresentable { method: self.method.name(), reason }
             }

@@ -176,6 +176,7 @@ impl<'a> Prepared<'a> {
                 tol: self.tol,
             });
         }
+        result.measured_error = Some(error);
         let count = result.interpolated.iter().filter(|&&b| b).count();
         result.parameters.interpolated_vertices = Some(count);
         result.warnings.splice(0..0, self.warnings);

@@ -357,6 +357,7 @@ pub(crate) fn interpolate_on_input_topology(
         solve_seconds,
         warnings,
         parameters,
+        measured_error: None,
     })
 }
 

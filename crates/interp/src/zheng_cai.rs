@@ -674,6 +674,7 @@ pub(crate) fn interpolate_prepared(
         solve_seconds,
         warnings,
         parameters,
+        measured_error: None,
     })
 }
 

@@ -234,14 +234,29 @@ impl<'a> Job<'a> {
         };
         let control_path = (!is_deng_ma).then(|| self.output("control", &ext));
         // The error, measured on the control positions as they will be written
-        // (f32 formats round them), by the plain scheme's rules.
-        let mut measured = result.clone();
+        // (f32 formats round them), by the plain scheme's rules; positions
+        // written unchanged: the method's own measurement on these very bits.
+        let mut rounded = None;
         if let Some(path) = &control_path {
             let format = Format::from_path(path).map_err(|e| bad_input(one_line(&e)))?;
-            measured.control = result.control.with_positions(as_written(path, format, result.control.positions())?);
+            if !format.keeps_f64() {
+                rounded = Some(as_written(path, format, result.control.positions())?);
+            }
         }
-        require_finite(name, &measured.control, None)?;
-        let error = measured.error(mesh.positions(), &result.interpolated, mesh.bbox_diagonal());
+        let error = match (rounded, result.measured_error) {
+            (None, Some(error)) => {
+                require_finite(name, &result.control, None)?;
+                error
+            }
+            (rounded, _) => {
+                let mut measured = result.clone();
+                if let Some(positions) = rounded {
+                    measured.control = result.control.with_positions(positions);
+                }
+                require_finite(name, &measured.control, None)?;
+                measured.error(mesh.positions(), &result.interpolated, mesh.bbox_diagonal())
+            }
+        };
         if error.max_rel.is_nan() || error.max_rel > o.tol {
             return Err(failure(
                 ErrorKind::NotConverged,
