@@ -15,8 +15,36 @@ use subdiv::prelude::*;
 #[pyclass(frozen, name = "Interpolation", module = "subdiv")]
 pub struct PyInterpolation {
     result: Interpolant,
-    report_json: String,
+    /// The data (for the report's error and input summary).
+    input: Arc<Mesh>,
+    /// The input's file, when it was read from one.
+    file: Option<String>,
+    /// Milliseconds the call took.
+    total_ms: f64,
+    /// The report as JSON, computed at its first use (measuring the error costs a limit
+    /// evaluation, which a caller who only wants the control points does not pay).
+    report_json: PyOnceLock<String>,
     control: PyOnceLock<Py<PyMesh>>,
+}
+
+impl PyInterpolation {
+    /// The report's JSON, as the command line computes it: the error measured on the control
+    /// mesh (as written: OBJ keeps every f64), then the report.
+    fn report_json(&self, py: Python<'_>) -> PyResult<&str> {
+        let json = self.report_json.get_or_try_init(py, || {
+            detached(py, || {
+                let (input, result) = (&self.input, &self.result);
+                let error = result.error(input.positions(), &result.interpolated, input.bbox_diagonal());
+                let mut report = Report::new(input, result, error).with_control(&result.control);
+                if let Some(file) = &self.file {
+                    report = report.with_input_file(file.clone());
+                }
+                let report = report.with_total_ms(self.total_ms);
+                serde_json::to_string(&report).map_err(|e| Error::Other(e.to_string()))
+            })
+        })?;
+        Ok(json)
+    }
 }
 
 #[pymethods]
@@ -34,7 +62,7 @@ impl PyInterpolation {
     /// (keys: docs/ARCHITECTURE.md, "Contract: report JSON").
     #[getter]
     fn report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        py.import("json")?.call_method1("loads", (&self.report_json,))
+        py.import("json")?.call_method1("loads", (self.report_json(py)?,))
     }
 
     /// The measured error (from the control mesh by the plain scheme's limit rules, never
@@ -89,24 +117,20 @@ pub fn interpolate(
     kw.finish()?;
     let options = options.raise(py)?;
     let input = Arc::clone(&mesh.inner);
-    let file = mesh.path.clone();
-    let (result, report_json) = detached(py, move || {
-        let result = interpolate_mesh(&input, &options)?;
-        // The CLI's order: the error measured on the control mesh (OBJ keeps f64), the report.
-        let error = result.error(input.positions(), &result.interpolated, input.bbox_diagonal());
-        let mut report = Report::new(&input, &result, error).with_control(&result.control);
-        if let Some(file) = file {
-            report = report.with_input_file(file);
-        }
-        let report = report.with_total_ms(total.elapsed().as_secs_f64() * 1e3);
-        let json = serde_json::to_string(&report).map_err(|e| Error::Other(e.to_string()))?;
-        Ok((result, json))
-    })?;
+    let result = detached(py, || interpolate_mesh(&input, &options))?;
+    let total_ms = total.elapsed().as_secs_f64() * 1e3;
     for w in &result.warnings {
         let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
         PyErr::warn(py, &category, &std::ffi::CString::new(w.as_str()).unwrap_or_default(), 1)?;
     }
-    Ok(PyInterpolation { result, report_json, control: PyOnceLock::new() })
+    Ok(PyInterpolation {
+        result,
+        input,
+        file: mesh.path.clone(),
+        total_ms,
+        report_json: PyOnceLock::new(),
+        control: PyOnceLock::new(),
+    })
 }
 
 /// The one dispatch, its error typed for Python.

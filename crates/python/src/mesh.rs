@@ -52,12 +52,15 @@ fn with_positions<R>(
         return Err(input(format!("vertices must be an (n, 3) array, got shape ({}, {})", shape[0], shape[1]))
             .into_pyerr(py));
     }
-    let result = match array.as_slice() {
-        Ok(flat) => {
+    // `as_slice` also accepts a Fortran-ordered array, whose memory holds the columns: only a
+    // C-contiguous one is the rows' `[x, y, z]` in order.
+    let flat = if array.is_c_contiguous() { array.as_slice().ok() } else { None };
+    let result = match flat {
+        Some(flat) => {
             let points: &[[f64; 3]] = bytemuck::try_cast_slice(flat).map_err(|e| input(format!("{e}"))).raise(py)?;
             f(points)
         }
-        Err(_) => {
+        None => {
             let view = array.as_array();
             let points: Vec<[f64; 3]> = view.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
             f(&points)
