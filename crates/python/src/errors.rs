@@ -124,7 +124,9 @@ impl From<subdiv::Error> for Error {
             subdiv::Error::Mesh(e) => e.into(),
             subdiv::Error::Stencil(e) => e.into(),
             subdiv::Error::Interp(e) => e.into(),
-            e if e.is_not_converged() => Error::NotConverged { message: e.to_string(), iterations: None, residual: None },
+            e if e.is_not_converged() => {
+                Error::NotConverged { message: e.to_string(), iterations: None, residual: None }
+            }
             e => Error::Input(e.to_string()),
         }
     }

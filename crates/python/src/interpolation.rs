@@ -52,9 +52,7 @@ impl PyInterpolation {
     /// The control mesh (:class:`Mesh`; for ``deng-ma``, whose scheme interpolates, the input).
     #[getter]
     fn control(&self, py: Python<'_>) -> PyResult<Py<PyMesh>> {
-        let control = self
-            .control
-            .get_or_try_init(py, || Py::new(py, PyMesh::new(self.result.control.clone())))?;
+        let control = self.control.get_or_try_init(py, || Py::new(py, PyMesh::new(self.result.control.clone())))?;
         Ok(control.clone_ref(py))
     }
 

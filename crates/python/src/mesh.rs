@@ -38,19 +38,16 @@ impl PyMesh {
 
 /// The vertex positions as `[[f64; 3]]`: borrowed from a C-contiguous
 /// float64 `(n, 3)` array, else copied.
-fn with_positions<R>(
-    vertices: &Bound<'_, PyAny>,
-    f: impl FnOnce(&[[f64; 3]]) -> Result<R, Error>,
-) -> PyResult<R> {
+fn with_positions<R>(vertices: &Bound<'_, PyAny>, f: impl FnOnce(&[[f64; 3]]) -> Result<R, Error>) -> PyResult<R> {
     let py = vertices.py();
     let array: PyArrayLike2<'_, f64, AllowTypeChange> = vertices.extract().map_err(|_| {
-        input(format!("vertices must be an (n, 3) array of numbers, got {}", type_name(vertices)))
-            .into_pyerr(py)
+        input(format!("vertices must be an (n, 3) array of numbers, got {}", type_name(vertices))).into_pyerr(py)
     })?;
     let shape = array.shape();
     if shape[1] != 3 {
-        return Err(input(format!("vertices must be an (n, 3) array, got shape ({}, {})", shape[0], shape[1]))
-            .into_pyerr(py));
+        return Err(
+            input(format!("vertices must be an (n, 3) array, got shape ({}, {})", shape[0], shape[1])).into_pyerr(py)
+        );
     }
     // `as_slice` also accepts a Fortran-ordered array, whose memory holds the columns: only a
     // C-contiguous one is the rows' `[x, y, z]` in order.
@@ -175,9 +172,9 @@ impl PyMesh {
         indices: &Bound<'_, PyAny>,
     ) -> PyResult<Self> {
         let ints = |x: &Bound<'_, PyAny>, what: &str| -> PyResult<Vec<usize>> {
-            let values: Vec<i64> = x
-                .extract()
-                .map_err(|_| input(format!("{what} must be a 1-D integer array, got {}", type_name(x))).into_pyerr(py))?;
+            let values: Vec<i64> = x.extract().map_err(|_| {
+                input(format!("{what} must be a 1-D integer array, got {}", type_name(x))).into_pyerr(py)
+            })?;
             values
                 .into_iter()
                 .map(|v| usize::try_from(v).map_err(|_| input(format!("{what}: {v} is negative"))))
@@ -185,8 +182,9 @@ impl PyMesh {
                 .raise(py)
         };
         let (offsets, indices) = (ints(offsets, "offsets")?, ints(indices, "indices")?);
-        let soup =
-            with_positions(vertices, |points| Ok(PolygonSoup::from_arrays(points, FaceArrays::csr(&offsets, &indices))?))?;
+        let soup = with_positions(vertices, |points| {
+            Ok(PolygonSoup::from_arrays(points, FaceArrays::csr(&offsets, &indices))?)
+        })?;
         validate(py, soup)
     }
 
@@ -301,7 +299,11 @@ impl PyMesh {
         let t = self.inner.topology();
         let mut extras = String::new();
         if !self.inner.tags().is_empty() {
-            extras += &format!(", {} creases, {} corners", self.inner.tags().crease_count(), self.inner.tags().corner_count());
+            extras += &format!(
+                ", {} creases, {} corners",
+                self.inner.tags().crease_count(),
+                self.inner.tags().corner_count()
+            );
         }
         if self.inner.uvs().is_some() {
             extras += ", uvs";

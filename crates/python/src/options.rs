@@ -34,9 +34,10 @@ impl<'py> Kwargs<'py> {
     /// [`Self::take`], extracted as `T`, with a message naming the keyword.
     pub fn get<T: for<'a> FromPyObjectOwned<'a>>(&mut self, key: &str, what: &str) -> PyResult<Option<T>> {
         let Some(value) = self.take(key)? else { return Ok(None) };
-        value.extract::<T>().map(Some).map_err(|_| {
-            pyo3::exceptions::PyTypeError::new_err(format!("{}(): {key} must be {what}", self.function))
-        })
+        value
+            .extract::<T>()
+            .map(Some)
+            .map_err(|_| pyo3::exceptions::PyTypeError::new_err(format!("{}(): {key} must be {what}", self.function)))
     }
 
     /// A `TypeError` for the first keyword nobody took.
@@ -229,16 +230,12 @@ pub fn interpolate(
     let beta_name = kw.get::<String>("beta", "a str")?;
     let tension = tension(kw)?;
     let surface = surface(kw)?;
-    let shape = match &shape_value {
-        None => None,
-        Some(v) => Some(match v.extract::<f64>() {
-            Ok(lambda) => Ok(Shape::Uniform(lambda)),
-            Err(_) => v
-                .extract::<Vec<f64>>()
-                .map(Shape::PerFace)
-                .map_err(|_| input("shape must be a float λ or one λ per face")),
-        }),
-    };
+    let shape = shape_value.as_ref().map(|v| match v.extract::<f64>() {
+        Ok(lambda) => Ok(Shape::Uniform(lambda)),
+        Err(_) => {
+            v.extract::<Vec<f64>>().map(Shape::PerFace).map_err(|_| input("shape must be a float λ or one λ per face"))
+        }
+    });
     Ok((|| {
         let method: Method = method.parse().map_err(|e: subdiv::interp::UnknownMethod| input(e.to_string()))?;
         use Method::*;
@@ -247,7 +244,13 @@ pub fn interpolate(
             return misuse("shape", "fan-cheng-lai");
         }
         if (handles.is_some() || ite_max.is_some() || eps.is_some()) && method != ZhengCai {
-            let key = if handles.is_some() { "handles" } else if ite_max.is_some() { "ite_max" } else { "eps" };
+            let key = if handles.is_some() {
+                "handles"
+            } else if ite_max.is_some() {
+                "ite_max"
+            } else {
+                "eps"
+            };
             return misuse(key, "zheng-cai");
         }
         if normals.is_some() && !matches!(method, ZhengCai | DengWang) {
@@ -270,19 +273,27 @@ pub fn interpolate(
             return Err(input(format!("tol must be positive, got {tol}")));
         }
         let param = |key: &str, e: subdiv::interp::ParamFileError| input(format!("{key}: {e}"));
-        let normals = normals.transpose()?.map(|j| params::parse_normals(&j, n)).transpose().map_err(|e| param("normals", e))?;
+        let normals =
+            normals.transpose()?.map(|j| params::parse_normals(&j, n)).transpose().map_err(|e| param("normals", e))?;
         let subset = match subset {
             None => None,
             Some(list) => Some(
                 list.into_iter()
-                    .map(|v| u32::try_from(v).map_err(|_| input(format!("subset: vertex {v} does not exist (the mesh has {n} vertices)"))))
+                    .map(|v| {
+                        u32::try_from(v).map_err(|_| {
+                            input(format!("subset: vertex {v} does not exist (the mesh has {n} vertices)"))
+                        })
+                    })
                     .collect::<Result<Vec<u32>, _>>()?,
             ),
         };
         let options: MethodOptions = match method {
             ZhengCai => {
-                let handles =
-                    handles.transpose()?.map(|j| params::parse_handles(&j, n)).transpose().map_err(|e| param("handles", e))?;
+                let handles = handles
+                    .transpose()?
+                    .map(|j| params::parse_handles(&j, n))
+                    .transpose()
+                    .map_err(|e| param("handles", e))?;
                 ZhengCaiOptions::default()
                     .with_ite_max(ite_max.unwrap_or(5))
                     .with_eps(eps.unwrap_or(0.003))
