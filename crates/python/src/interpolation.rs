@@ -82,7 +82,12 @@ impl PyInterpolation {
     /// ``--surface``; write it with ``normals=True`` for its file).
     #[pyo3(signature = (levels = 3))]
     fn surface(&self, py: Python<'_>, levels: usize) -> PyResult<PyMesh> {
-        detached(py, || Ok(self.result.surface(levels)?)).map(PyMesh::new)
+        detached(py, || {
+            let control = &self.result.control;
+            crate::budget::check("surface", control.topology(), self.result.options().scheme, levels, 1)?;
+            Ok(self.result.surface(levels)?)
+        })
+        .map(PyMesh::new)
     }
 
     fn __repr__(&self) -> String {
@@ -160,6 +165,7 @@ pub fn subdivide(
             triangulated = subdiv::mesh::triangulate(mesh)?.mesh;
             mesh = &triangulated;
         }
+        crate::budget::check("subdivide", mesh.topology(), plan.options.scheme, levels, u64::from(limit))?;
         // As the command line: texture coordinates the scheme cannot refine (Doo-Sabin with
         // seams or tags) are dropped with a warning, the positions are what was asked for.
         match subdiv::subdivide(mesh, plan.options, levels, limit) {

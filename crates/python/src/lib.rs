@@ -18,6 +18,7 @@
 //! `subdiv::info` and `subdiv::batch` the same way (a function here, a name
 //! in `__init__.py`).
 
+mod budget;
 mod errors;
 mod interpolation;
 mod mesh;

@@ -272,7 +272,8 @@ pub fn interpolate(
         if !(tol > 0.0 && tol.is_finite()) {
             return Err(input(format!("tol must be positive, got {tol}")));
         }
-        let param = |key: &str, e: subdiv::interp::ParamFileError| input(format!("{key}: {e}"));
+        // The JSON is ours: its line numbers mean nothing to the caller, the message is the point.
+        let param = |key: &str, e: subdiv::interp::ParamFileError| input(format!("{key}: {}", e.message()));
         let normals =
             normals.transpose()?.map(|j| params::parse_normals(&j, n)).transpose().map_err(|e| param("normals", e))?;
         let subset = match subset {

@@ -111,3 +111,12 @@ def test_everything_public_is_documented():
         for attr, member in vars(cls).items():
             if not attr.startswith("_"):
                 assert member.__doc__, f"{cls.__name__}.{attr}"
+
+
+def test_refinements_too_large_are_refused_not_aborted():
+    X, F = torus(8, 6)
+    mesh = subdiv.Mesh(X, F)
+    with pytest.raises(ValueError, match="32-bit ids"):
+        subdiv.subdivide(mesh, "catmull-clark", levels=30)
+    with pytest.raises(ValueError, match="memory budget|32-bit ids"):
+        subdiv.interpolate(mesh).surface(14)
