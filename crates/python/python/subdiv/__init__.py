@@ -1,0 +1,130 @@
+"""subdiv: smooth subdivision surfaces (Doo-Sabin, Catmull-Clark, Loop) that pass through a
+polygon mesh's vertices, by the six interpolation methods of the literature; plus plain
+subdivision and limit evaluation (OpenSubdiv's options), and mesh files (OBJ, OFF, PLY, STL,
+glTF/GLB).
+
+NumPy in and out (float64 vertices, int64 faces); the computation runs without the GIL, so
+threads interpolate in parallel::
+
+    import numpy as np, subdiv
+    mesh = subdiv.read("fixtures/quad/spot_control_mesh.obj")
+    result = subdiv.interpolate(mesh, method="cheng", tol=1e-9)
+    print(result.error["max_rel"])            # measured by the limit rules, relative to d
+    control = result.control.vertices          # (n, 3) float64
+    subdiv.write(result.surface(3), "spot-surface.ply", normals=True)
+
+Errors: :class:`InputError` (a ``ValueError``) for bad input, :class:`NotConvergedError` (a
+``RuntimeError``, with ``iterations`` and ``residual``), both :class:`SubdivError`;
+``OSError`` (``FileNotFoundError``, …) for files. The Rust library and the ``subdiv`` command
+line compute the same numbers bit for bit.
+"""
+
+from typing import Any, Optional
+
+from ._errors import InputError, NotConvergedError, SubdivError
+from . import _subdiv
+from ._subdiv import Interpolation, Mesh, __version__, read, write
+
+__all__ = [
+    "Mesh",
+    "Interpolation",
+    "read",
+    "write",
+    "subdivide",
+    "interpolate",
+    "methods",
+    "SubdivError",
+    "InputError",
+    "NotConvergedError",
+    "__version__",
+]
+
+# Planned in the same layout (issue #19), wrapping the facade's `subdiv::info` and
+# `subdiv::batch` as `_subdiv` functions: `info(mesh) -> dict`, `batch(...)`, and the
+# submodule `subdiv.dask` (collections of meshes at scale). Not here yet.
+
+
+def methods() -> "dict[str, str]":
+    """The interpolation methods: ``{name: one-line summary}``, in the papers' order."""
+    return dict(_subdiv.methods())
+
+
+def subdivide(mesh: Mesh, scheme: str = "catmull-clark", levels: int = 1, limit: bool = False, **options: Any) -> Mesh:
+    """Subdivide ``mesh`` ``levels`` times by a plain scheme (the command line's ``subdivide``).
+
+    Args:
+        mesh: the mesh, with its crease/corner tags and texture coordinates.
+        scheme: ``"doo-sabin"``, ``"catmull-clark"``, ``"loop"`` (triangles) or ``"deng-ma"``
+            (interpolatory).
+        levels: subdivision steps (0 with ``limit=True``: the input's limit positions).
+        limit: move the final vertices to their limit positions (not for ``deng-ma``).
+        **options: ``boundary`` (``"edge-and-corner"`` default, ``"edge-only"``, ``"none"``),
+            ``crease_method`` (``"uniform"``, ``"chaikin"``), ``fvar`` (face-varying mode of the
+            texture coordinates: ``"linear-all"`` default, ``"linear-boundaries"``,
+            ``"linear-corners-plus2"``, ``"linear-corners-plus1"``, ``"linear-corners-only"``,
+            ``"linear-none"``); loop: ``beta`` (``"warren"`` default, ``"loop"``),
+            ``triangulate`` (split non-triangles first); deng-ma: ``omega`` (global tension in
+            (0, 1], default 1) or ``variable_tension`` (λ in (0, 1]).
+
+    Returns:
+        The refined :class:`Mesh` (with the final level's tags and texture coordinates).
+
+    Raises:
+        InputError: an unknown scheme or option value, a mesh the scheme cannot take.
+    """
+    return _subdiv.subdivide(mesh, scheme, levels, limit, **options)
+
+
+def interpolate(
+    mesh: Mesh,
+    method: str = "cheng",
+    tol: float = 1e-6,
+    solver: str = "auto",
+    max_iter: Optional[int] = None,
+    **method_options: Any,
+) -> Interpolation:
+    return _subdiv.interpolate(mesh, method, tol, solver, max_iter, **method_options)
+
+
+_INTERPOLATE_DOC = """Find the control mesh whose limit surface passes through ``mesh``'s vertices.
+
+The command line's ``interpolate``: the same options, checks, messages and numbers (bit for
+bit).
+
+Methods (``method=``):
+{methods}
+
+Args:
+    mesh: the data: its vertices are interpolated (with its crease/corner tags).
+    method: one of the names above.
+    tol: bound on the measured error, max over vertices of |P - limit| / d (d the
+        bounding-box diagonal); also the solver's tolerance.
+    solver: ``"auto"`` (CG on positive definite systems, MINRES on possibly indefinite ones,
+        GMRES on nonsymmetric ones) or one of pia, weighted-pia, jacobi, gauss-seidel,
+        gauss-seidel-symmetric, gauss-seidel-multicolor, chebyshev, cg, cg-jacobi, minres,
+        gmres, ldl, dense.
+    max_iter: iteration cap of the iterative solvers (default 10000).
+    **method_options: ``subset`` (vertex indices to interpolate; default all), ``boundary``,
+        ``crease_method``, ``fvar`` (as :func:`subdivide`);
+        fan-cheng-lai: ``shape`` (λ in (0, 1), one float or one per face; default 0.5);
+        zheng-cai: ``normals`` and ``handles`` (per vertex: a dict ``{{vertex: value}}`` or one
+        entry per vertex, NaN for none; a normal is 3 numbers, a handle S > 0), ``ite_max``
+        (default 5), ``eps`` (default 0.003); deng-wang: ``normals``, ``mu`` (default 3/8),
+        ``beta`` (``"warren"``, ``"loop"``); deng-ma: ``omega`` or ``variable_tension``.
+
+Returns:
+    An :class:`Interpolation`: ``.control`` (:class:`Mesh`), ``.report`` (the command line's
+    ``--report`` JSON as a dict), ``.error`` (the measured error), ``.surface(levels)``.
+
+Raises:
+    InputError: bad options, a mesh the method cannot take (the message names the methods
+        that take it).
+    NotConvergedError: the tolerance was not reached (``iterations``, ``residual``).
+"""
+
+
+def _method_lines() -> str:
+    return "\n".join(f"    {name}: {summary}" for name, summary in _subdiv.methods())
+
+
+interpolate.__doc__ = _INTERPOLATE_DOC.format(methods=_method_lines())

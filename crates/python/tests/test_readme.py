@@ -1,0 +1,23 @@
+"""The README's Python quickstart runs as written (from the repository root)."""
+
+import os
+import re
+
+import pytest
+
+from conftest import REPO
+
+
+def test_readme_quickstart(tmp_path, monkeypatch):
+    readme = REPO / "README.md"
+    if not readme.exists():
+        pytest.skip("no README (not a checkout)")
+    text = readme.read_text()
+    section = text.split("\n## Python\n", 1)
+    assert len(section) == 2, "the README has a '## Python' section"
+    blocks = re.findall(r"```python\n(.*?)```", section[1].split("\n## ", 1)[0], re.S)
+    assert blocks, "the Python section has a python code block"
+    monkeypatch.chdir(REPO)
+    code = blocks[0].replace('"spot-surface.ply"', repr(str(tmp_path / "spot-surface.ply")))
+    exec(compile(code, "README.md", "exec"), {})
+    assert (tmp_path / "spot-surface.ply").exists()
