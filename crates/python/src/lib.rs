@@ -14,10 +14,10 @@
 //! `Mesh::from_soup` (validation), `subdiv::io::{load_mesh, write_mesh}`,
 //! `subdiv::subdivide`, the one dispatch `subdiv::interpolate` with
 //! `MethodOptions` built as the command line builds them, and `Report`.
-//! `subdiv.info`, `subdiv.batch` and `subdiv.dask` will wrap the facade's
-//! `subdiv::info` and `subdiv::batch` the same way (a function here, a name
-//! in `__init__.py`).
+//! `subdiv.info`, `subdiv.batch` and `subdiv.dask` wrap the facade's
+//! `subdiv::info` and `subdiv::batch` the same way (`batch`).
 
+mod batch;
 mod budget;
 mod errors;
 mod interpolation;
@@ -36,6 +36,11 @@ fn _subdiv(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(interpolation::subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(interpolation::interpolate, m)?)?;
     m.add_function(wrap_pyfunction!(interpolation::methods, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::info, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::batch, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::expand_inputs, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::run_one, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::check_command, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

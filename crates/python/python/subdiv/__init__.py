@@ -19,7 +19,9 @@ Errors: :class:`InputError` (a ``ValueError``) for bad input, :class:`NotConverg
 line compute the same numbers bit for bit.
 """
 
-from typing import Any, Optional
+import json
+import os
+from typing import Any, Iterable, List, Optional, Union
 
 from ._errors import InputError, NotConvergedError, SubdivError
 from . import _subdiv
@@ -33,15 +35,60 @@ __all__ = [
     "subdivide",
     "interpolate",
     "methods",
+    "info",
+    "batch",
     "SubdivError",
     "InputError",
     "NotConvergedError",
     "__version__",
 ]
 
-# Planned in the same layout (issue #19), wrapping the facade's `subdiv::info` and
-# `subdiv::batch` as `_subdiv` functions: `info(mesh) -> dict`, `batch(...)`, and the
-# submodule `subdiv.dask` (collections of meshes at scale). Not here yet.
+
+def info(mesh: Mesh) -> "dict[str, Any]":
+    """The command line's ``subdiv info --json`` object of ``mesh``: counts, face sizes,
+    valences, boundary, genus, tags, texture coordinates, warnings, and per interpolation
+    method whether it takes the mesh and why not."""
+    return json.loads(_subdiv.info(mesh))
+
+
+def batch(
+    paths: "Union[str, os.PathLike[str], Iterable[Union[str, os.PathLike[str]]]]",
+    out_dir: "Union[str, os.PathLike[str]]",
+    command: str,
+    *,
+    jobs: int = 0,
+    resume: bool = True,
+    **options: Any,
+) -> "List[dict[str, Any]]":
+    """Run ``command`` (``"info"``, ``"interpolate"``, ``"subdivide"``) over many meshes, in
+    parallel across meshes (the command line's ``subdiv batch``).
+
+    Args:
+        paths: files, directories (their mesh files, sorted) and glob patterns (``*``, ``?``,
+            ``**``), or one of them.
+        out_dir: where ``NAME.control.EXT``/``NAME.surface.EXT`` (interpolate),
+            ``NAME.subdivided.EXT`` (subdivide) and ``NAME.record.json`` go; NAME is the
+            input's stem (plus a stable hash when two inputs share one).
+        command: the command.
+        jobs: meshes at once (0: one per core).
+        resume: skip inputs whose stored record says they are done (same file, same command,
+            outputs present).
+        **options: the single command's options by their keyword names: interpolate
+            ``method`` (required), ``tol``, ``max_iter``, ``solver``, ``levels`` (surface levels,
+            0: none; default 3), ``format``, ``boundary``, ``crease_method``, ``fvar`` and the
+            method's own (``shape``, ``omega``, ``mu``, …); subdivide ``scheme``, ``levels``,
+            ``limit``, ``normals``, ``format``, …; info ``strict``. A misspelled option raises
+            ``ValueError`` naming it.
+
+    Returns:
+        One record per input, in input order: ``input``, ``outputs``, ``report`` (the
+        interpolation's ``--report`` JSON, the ``info`` object, or the subdivision's counts),
+        ``error`` (``message``, ``kind``, ``exit_code``) or ``None``, ``skipped``, ``seconds``,
+        ``index``, ``name``, ``warnings``. A failing mesh never stops the others.
+    """
+    given = [paths] if isinstance(paths, (str, os.PathLike)) else list(paths)
+    records = _subdiv.batch([os.fspath(p) for p in given], os.fspath(out_dir), command, json.dumps(options), jobs, resume)
+    return [json.loads(r) for r in records]
 
 
 def methods() -> "dict[str, str]":

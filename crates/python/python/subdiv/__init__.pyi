@@ -146,3 +146,17 @@ def interpolate(
         deng-wang: Deng & Wang 2010: Loop, explicit modified first step
         deng-ma: Deng & Ma 2011: interpolatory scheme derived from Doo-Sabin (no control mesh)
     """
+
+def info(mesh: Mesh) -> Dict[str, Any]:
+    """The command line's ``subdiv info --json`` object of the mesh."""
+
+def batch(
+    paths: Union[PathLike, Sequence[PathLike]],
+    out_dir: PathLike,
+    command: str,
+    *,
+    jobs: int = 0,
+    resume: bool = True,
+    **options: Any,
+) -> List[Dict[str, Any]]:
+    """Runs ``command`` (info, interpolate, subdivide) over many meshes; one record per input."""
