@@ -77,6 +77,8 @@ pub fn expand_inputs(py: Python<'_>, inputs: Vec<PathBuf>) -> PyResult<(Vec<Path
 /// what a distributed task runs.
 #[pyfunction]
 #[pyo3(signature = (index, input_path, name, out_dir, command_name, options_json, resume = true))]
+// The task's arguments are the Python call's: one per field of the job.
+#[allow(clippy::too_many_arguments)]
 pub fn run_one(
     py: Python<'_>,
     index: usize,
