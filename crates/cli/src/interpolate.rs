@@ -2,7 +2,7 @@
 //!
 //! [report JSON]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-report-json
 
-use crate::budget::{Budget, MemoryArgs};
+use crate::budget::{refused, MemoryArgs};
 use crate::failure::{bad_input, Failure};
 use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::{self, Outputs};
@@ -241,14 +241,14 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
 
     // The refined meshes to write: sized before they are built.
     let is_deng_ma = args.method == Method::DengMa;
-    let budget = Budget::new(&args.memory);
+    let budget = args.memory.budget();
     let plain = result.scheme.scheme();
     let refined_outputs = [(is_deng_ma, "--output", control_format), (true, "--surface", surface_format)];
     for (refined, flag, format) in refined_outputs {
         if let (true, Some(format)) = (refined, format) {
             let what = format!("{flag} (--levels {})", args.levels);
             // Limit positions and normals.
-            budget.check(&what, result.control.topology(), plain, args.levels, 2, format)?;
+            budget.check(&what, result.control.topology(), plain, args.levels, 2, Some(format)).map_err(refused)?;
         }
     }
     let refine_surface = |result: &subdiv_interp::Interpolant| {

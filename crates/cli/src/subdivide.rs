@@ -1,7 +1,7 @@
 //! `subdiv subdivide MESH --scheme S --levels N [--limit] [--beta B]
 //! [--boundary B] [--crease-method M] -o OUT`.
 
-use crate::budget::{Budget, MemoryArgs};
+use crate::budget::{refused, MemoryArgs};
 use crate::failure::{bad_input, Failure};
 use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::Outputs;
@@ -168,7 +168,8 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
     }
     // Normals and limit positions: one more array per vertex each.
     let vertex_arrays = u64::from(args.normals) + u64::from(args.limit);
-    Budget::new(&args.memory).check("subdivide", mesh.topology(), scheme, args.levels, vertex_arrays, format)?;
+    let budget = args.memory.budget();
+    budget.check("subdivide", mesh.topology(), scheme, args.levels, vertex_arrays, Some(format)).map_err(refused)?;
     let refined = refine(&mesh, args.surface.options(scheme), args.levels, args.limit).map_err(|e| {
         let hint = match e {
             subdiv_stencil::StencilError::NotTriangles { .. } => " (or pass --triangulate)",

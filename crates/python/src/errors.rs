@@ -86,6 +86,12 @@ impl From<IoError> for Error {
     }
 }
 
+impl From<subdiv::budget::BudgetError> for Error {
+    fn from(e: subdiv::budget::BudgetError) -> Self {
+        Error::Input(e.to_string())
+    }
+}
+
 impl From<StencilError> for Error {
     fn from(e: StencilError) -> Self {
         Error::Input(e.to_string())

@@ -8,6 +8,7 @@ use pyo3::sync::PyOnceLock;
 use pyo3::types::PyDict;
 use std::sync::Arc;
 use std::time::Instant;
+use subdiv::budget::MemoryBudget;
 use subdiv::prelude::*;
 
 /// The result of :func:`subdiv.interpolate`: the control mesh whose limit surface (by the
@@ -84,7 +85,8 @@ impl PyInterpolation {
     fn surface(&self, py: Python<'_>, levels: usize) -> PyResult<PyMesh> {
         detached(py, || {
             let control = &self.result.control;
-            crate::budget::check("surface", control.topology(), self.result.options().scheme, levels, 1)?;
+            let budget = MemoryBudget::available();
+            budget.check("surface", control.topology(), self.result.options().scheme, levels, 1, None)?;
             Ok(self.result.surface(levels)?)
         })
         .map(PyMesh::new)
@@ -165,16 +167,12 @@ pub fn subdivide(
             triangulated = subdiv::mesh::triangulate(mesh)?.mesh;
             mesh = &triangulated;
         }
-        crate::budget::check("subdivide", mesh.topology(), plan.options.scheme, levels, u64::from(limit))?;
+        let budget = MemoryBudget::available();
+        budget.check("subdivide", mesh.topology(), plan.options.scheme, levels, u64::from(limit), None)?;
         // As the command line: texture coordinates the scheme cannot refine (Doo-Sabin with
         // seams or tags) are dropped with a warning, the positions are what was asked for.
-        match subdiv::subdivide(mesh, plan.options, levels, limit) {
-            Err(subdiv::StencilError::FaceVarying(reason)) => {
-                let positions_only = mesh.clone().with_uvs(None)?;
-                Ok((subdiv::subdivide(&positions_only, plan.options, levels, limit)?, Some(reason)))
-            }
-            other => Ok((other?, None)),
-        }
+        let refined = subdiv::stencil::subdivide_for_output(mesh, plan.options, levels, limit, |_| {})?;
+        Ok((refined.mesh, refined.uvs_dropped))
     })?;
     if let Some(reason) = dropped_uvs {
         let category = py.get_type::<pyo3::exceptions::PyUserWarning>();

@@ -18,7 +18,6 @@
 //! `subdiv::info` and `subdiv::batch` the same way (`batch`).
 
 mod batch;
-mod budget;
 mod errors;
 mod interpolation;
 mod mesh;

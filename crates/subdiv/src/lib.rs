@@ -73,6 +73,7 @@
 //! not compile outside their crate; build them with the setters).
 
 pub mod batch;
+pub mod budget;
 pub mod info;
 
 pub use subdiv_interp as interp;
@@ -130,6 +131,9 @@ pub enum Error {
     /// A batch that could not start ([`batch::run`]).
     #[error(transparent)]
     Batch(#[from] batch::BatchError),
+    /// A refinement larger than the memory budget (or than 32-bit ids).
+    #[error(transparent)]
+    Budget(#[from] budget::BudgetError),
 }
 
 impl Error {

@@ -4,6 +4,7 @@
 
 use super::command::{InfoOptions, InterpolateOptions, SubdivideOptions};
 use super::{in_option_terms, ErrorKind, RecordError};
+use crate::budget::MemoryBudget;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -190,6 +191,11 @@ impl<'a> Job<'a> {
             mesh = t.mesh;
         }
         let options = o.options();
+        let format = Format::from_path(&path).map_err(|e| bad_input(one_line(&e)))?;
+        let vertex_arrays = u64::from(o.normals) + u64::from(o.limit);
+        MemoryBudget::available()
+            .check("subdivide", mesh.topology(), options.scheme, o.levels, vertex_arrays, Some(format))
+            .map_err(|e| bad_input(e.to_string()))?;
         let refined = refine(&mut self.warnings, &mesh, options, o.levels, o.limit).map_err(|e| {
             let hint = match e {
                 StencilError::NotTriangles { .. } => " (or pass --triangulate)",
@@ -227,6 +233,12 @@ impl<'a> Job<'a> {
         let result = subdiv_interp::interpolate(&mesh, &options).map_err(|e| classify(&input, e))?;
         let is_deng_ma = o.method == Method::DengMa;
         let surface = if o.levels > 0 {
+            let surface_path = self.output("surface", &ext);
+            let format = Format::from_path(&surface_path).map_err(|e| bad_input(one_line(&e)))?;
+            let what = format!("--surface {}", surface_path.display());
+            MemoryBudget::available()
+                .check(&what, result.control.topology(), result.options().scheme, o.levels, 2, Some(format))
+                .map_err(|e| bad_input(e.to_string()))?;
             let refined = refine(&mut self.warnings, &result.control, result.options(), o.levels, true);
             Some(refined.map_err(|e| classify(&input, e.into()))?)
         } else {
