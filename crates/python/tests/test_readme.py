@@ -21,3 +21,18 @@ def test_readme_quickstart(tmp_path, monkeypatch):
     code = blocks[0].replace('"spot-surface.ply"', repr(str(tmp_path / "spot-surface.ply")))
     exec(compile(code, "README.md", "exec"), {})
     assert (tmp_path / "spot-surface.ply").exists()
+
+
+def test_readme_collections(tmp_path, monkeypatch):
+    """The README's local batch example runs on the fixtures (the cluster one needs a cluster)."""
+    readme = REPO / "README.md"
+    if not readme.exists():
+        pytest.skip("no README (not a checkout)")
+    section = readme.read_text().split("\n## Python\n", 1)[1].split("\n## ", 1)[0]
+    blocks = re.findall(r"```python\n(.*?)```", section, re.S)
+    assert len(blocks) >= 2, "the Python section shows collections"
+    monkeypatch.chdir(REPO)
+    code = blocks[1].replace('"scans/*.obj"', '"fixtures/quad/*.obj"').replace('"out"', repr(str(tmp_path)))
+    scope = {}
+    exec(compile(code, "README.md", "exec"), scope)
+    assert scope["records"] and not scope["failed"]
