@@ -141,7 +141,7 @@ pub(crate) fn is_blank(bytes: &[u8]) -> bool {
 
 /// Parses a decimal number; accepts `nan`, `inf`, `-inf`, `infinity` in any case.
 pub(crate) fn parse_f64(token: &[u8]) -> Option<f64> {
-    std::str::from_utf8(token).ok()?.parse().ok()
+    fast_float2::parse(token).ok()
 }
 
 /// Why a token is not a usable integer.
@@ -413,6 +413,27 @@ mod tests {
         assert_eq!(buffer.format(f64::NEG_INFINITY), b"-inf");
         assert_eq!(buffer.format(1e-5), b"1e-5");
         assert_eq!(buffer.format(-1.25e20), b"-1.25e20");
+    }
+
+    #[test]
+    fn parse_f64_accepts_what_str_parse_accepts() {
+        let odd = ["1", "1.", ".5", "+1", "-.5", "1e5", "1e", "1.e5", ".e5", "inf", "Infinity", "-nan", "NaN", "+inf"];
+        let odd =
+            odd.iter().chain(&["infin", "1_0", "0x10", " 1", "1 ", "", "-", ".", "e5", "1E+5", "1e400", "1e-400"]);
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let alphabet = b"0123456789.eE+-infatyINFATY_ ";
+        let random = (0..100_000).map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (0..1 + (x % 8) as usize).map(|i| alphabet[((x >> (8 + 6 * i)) % alphabet.len() as u64) as usize]).collect()
+        });
+        for token in odd.map(|t| t.as_bytes().to_vec()).chain(random) {
+            let std: Option<f64> = std::str::from_utf8(&token).ok().and_then(|t| t.parse().ok());
+            let ours = parse_f64(&token);
+            assert_eq!(ours.map(|v| v.is_nan()), std.map(|v| v.is_nan()), "{}", show(&token));
+            assert_eq!(ours.filter(|v| !v.is_nan()).map(f64::to_bits), std.filter(|v| !v.is_nan()).map(f64::to_bits));
+        }
     }
 
     #[test]
