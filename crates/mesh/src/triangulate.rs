@@ -237,33 +237,39 @@ fn conflicting_faces(t: &Topology) -> Vec<bool> {
     // far corner of face owner[w].
     let mut stamp = vec![u32::MAX; t.vertex_count()];
     let mut owner = vec![EDGE; t.vertex_count()];
+    let idx = faces.indices();
+    // The corners of the face of fan half-edge h: (face, its first corner, size, h's position).
+    let corner = |h: crate::ids::HalfEdgeId| {
+        let f = t.he_face(h).index();
+        let start = offsets[f] as usize;
+        (f, start, offsets[f + 1] as usize - start, h.index() - start)
+    };
     for a in t.vertices() {
         let fan = t.vertex_fan(a);
-        if !fan.iter().any(|&h| t.face_size(t.he_face(h)) > 3) {
+        if !fan.iter().any(|&h| corner(h).2 > 3) {
             continue;
         }
-        for w in t.vertex_neighbors(a) {
-            stamp[w.index()] = a.0;
-            owner[w.index()] = EDGE;
+        // Neighbours first: the corners before and after a in each of its
+        // faces (on the boundary, that includes the closing neighbour).
+        for &h in fan {
+            let (_, start, m, k) = corner(h);
+            for w in [idx[start + (k + 1) % m], idx[start + (k + m - 1) % m]] {
+                stamp[w as usize] = a.0;
+                owner[w as usize] = EDGE;
+            }
         }
         for &h in fan {
-            let f = t.he_face(h);
-            let face = faces.face(f.index());
-            let m = face.len();
-            if m <= 3 {
-                continue;
-            }
-            let k = (h.0 - offsets[f.index()]) as usize;
-            for j in 2..m - 1 {
-                let w = face[(k + j) % m] as usize;
+            let (f, start, m, k) = corner(h);
+            for j in 2..m.saturating_sub(1) {
+                let w = idx[start + (k + j) % m] as usize;
                 if stamp[w] == a.0 {
-                    conflicting[f.index()] = true;
+                    conflicting[f] = true;
                     if owner[w] != EDGE {
                         conflicting[owner[w] as usize] = true;
                     }
                 } else {
                     stamp[w] = a.0;
-                    owner[w] = f.0;
+                    owner[w] = f as u32;
                 }
             }
         }
