@@ -8,8 +8,10 @@
 use proptest::prelude::*;
 use subdiv_io::{read_mesh_from_bytes, Format, IoError};
 
-/// (PLY name, size, integer range or None for floats).
-const TYPES: [(&str, usize, Option<(i64, i64)>); 8] = [
+/// A PLY scalar type: (name, size, integer range or None for floats).
+type Scalar = (&'static str, usize, Option<(i64, i64)>);
+
+const TYPES: [Scalar; 8] = [
     ("char", 1, Some((-128, 127))),
     ("uchar", 1, Some((0, 255))),
     ("short", 2, Some((-32768, 32767))),
