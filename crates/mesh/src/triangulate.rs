@@ -233,24 +233,68 @@ fn conflicting_faces(t: &Topology) -> Vec<bool> {
     let faces = t.faces();
     let offsets = faces.offsets();
     let mut conflicting = vec![false; faces.len()];
-    // stamp[w] == a: w seen at a, as a neighbour (owner EDGE) or as the
-    // far corner of face owner[w].
-    let mut stamp = vec![u32::MAX; t.vertex_count()];
-    let mut owner = vec![EDGE; t.vertex_count()];
+    // For big fans, stamp[w] == a: w seen at a, as a neighbour (owner EDGE)
+    // or as the far corner of face owner[w].
     let idx = faces.indices();
-    // The corners of the face of fan half-edge h: (face, its first corner, size, h's position).
-    let corner = |h: crate::ids::HalfEdgeId| {
-        let f = t.he_face(h).index();
-        let start = offsets[f] as usize;
-        (f, start, offsets[f + 1] as usize - start, h.index() - start)
+    // The corners of the face of fan half-edge h: (face, its first corner,
+    // size, h's position). In a mesh of one face size (all quads) the face
+    // follows from h alone: no dependent loads of he_face and offsets.
+    let uniform = faces.face_size(0);
+    let uniform = faces.all_of_size(uniform).then_some(uniform);
+    let corner = |h: crate::ids::HalfEdgeId| match uniform {
+        Some(m) => {
+            let f = h.index() / m;
+            (f, f * m, m, h.index() - f * m)
+        }
+        None => {
+            let f = t.he_face(h).index();
+            let start = offsets[f] as usize;
+            (f, start, offsets[f + 1] as usize - start, h.index() - start)
+        }
     };
+    // Small fans compare their corners on the stack; others stamp vertices.
+    const SMALL: usize = 16;
+    let (mut stamp, mut owner) = (Vec::new(), Vec::new());
     for a in t.vertices() {
         let fan = t.vertex_fan(a);
         if !fan.iter().any(|&h| corner(h).2 > 3) {
             continue;
         }
-        // Neighbours first: the corners before and after a in each of its
-        // faces (on the boundary, that includes the closing neighbour).
+        let far_count: usize = fan.iter().map(|&h| corner(h).2 - 3).sum();
+        if fan.len() <= SMALL && far_count <= 2 * SMALL {
+            // Neighbours: the corners before and after a in each of its faces
+            // (on the boundary, that includes the closing neighbour).
+            let mut neighbours = [0u32; 2 * SMALL];
+            let mut far = [(0u32, 0u32); 2 * SMALL];
+            let (mut n, mut nf) = (0, 0);
+            for &h in fan {
+                let (f, start, m, k) = corner(h);
+                neighbours[n] = idx[start + (k + 1) % m];
+                neighbours[n + 1] = idx[start + (k + m - 1) % m];
+                n += 2;
+                for j in 2..m.saturating_sub(1) {
+                    far[nf] = (idx[start + (k + j) % m], f as u32);
+                    nf += 1;
+                }
+            }
+            for i in 0..nf {
+                let (w, f) = far[i];
+                if neighbours[..n].contains(&w) {
+                    conflicting[f as usize] = true;
+                }
+                for &(x, g) in &far[i + 1..nf] {
+                    if x == w {
+                        conflicting[f as usize] = true;
+                        conflicting[g as usize] = true;
+                    }
+                }
+            }
+            continue;
+        }
+        if stamp.is_empty() {
+            stamp = vec![u32::MAX; t.vertex_count()];
+            owner = vec![EDGE; t.vertex_count()];
+        }
         for &h in fan {
             let (_, start, m, k) = corner(h);
             for w in [idx[start + (k + 1) % m], idx[start + (k + m - 1) % m]] {

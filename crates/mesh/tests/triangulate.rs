@@ -361,6 +361,19 @@ fn check_triangulation_agrees_on_the_named_cases() {
     for m in [quad_and_two_triangles(), shapes::pillow(), shapes::cube(), shapes::torus(3, 3), shapes::prism(5)] {
         assert_eq!(subdiv_mesh::check_triangulation(&m), triangulate(&m).map(|_| ()));
     }
+    // Big polygons: their corners are scanned through stamps, not on the stack.
+    for n in [20, 40, 64] {
+        for m in [shapes::prism(n), shapes::pyramid(n)] {
+            assert_eq!(subdiv_mesh::check_triangulation(&m), triangulate(&m).map(|_| ()));
+        }
+    }
+    for seed in 0..200 {
+        let m = random_merges(csaszar_torus_faces(), 7, seed, 12, 14);
+        assert_eq!(subdiv_mesh::check_triangulation(&m), triangulate(&m).map(|_| ()));
+        let (faces, n) = (shapes::prism(24).topology().faces().iter().map(<[u32]>::to_vec).collect(), 48);
+        let m = random_merges(faces, n, seed, 10, 40);
+        assert_eq!(subdiv_mesh::check_triangulation(&m), triangulate(&m).map(|_| ()));
+    }
 }
 
 proptest! {
