@@ -773,9 +773,17 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> 
     if binary {
         // Records are assembled in a local buffer, written out in blocks.
         let mut buf = Vec::with_capacity(BLOCK + 4096);
+        let plain = mesh.normals.is_none() && vertex_uvs.is_none();
         for i in 0..mesh.positions.len() {
-            for x in vertex(i) {
-                buf.extend_from_slice(&x.to_le_bytes());
+            if plain {
+                // Positions only (the common case): no iterator chain per vertex.
+                for x in mesh.positions[i].to_array() {
+                    buf.extend_from_slice(&x.to_le_bytes());
+                }
+            } else {
+                for x in vertex(i) {
+                    buf.extend_from_slice(&x.to_le_bytes());
+                }
             }
             if buf.len() >= BLOCK {
                 out.write_all(&buf)?;
@@ -783,7 +791,11 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> 
             }
         }
         for (f, face) in mesh.faces.iter().enumerate() {
-            write_count(&mut buf, face.len(), big_faces)?;
+            if big_faces {
+                buf.extend_from_slice(&(face.len() as u32).to_le_bytes());
+            } else {
+                buf.push(face.len() as u8);
+            }
             for &v in face {
                 // `int` and `uint` share their bits for every index ≤ i32::MAX.
                 buf.extend_from_slice(&v.to_le_bytes());
