@@ -26,7 +26,7 @@ impl Method {
         match self {
             Method::Nasri | Method::ZhengCai | Method::FanChengLai | Method::DengMa => Ok(()),
             Method::Cheng => cheng_range(mesh, DEFAULT_TOL),
-            Method::DengWang => subdiv_mesh::triangulate(mesh).map(|_| ()).map_err(|e| e.to_string()),
+            Method::DengWang => subdiv_mesh::check_triangulation(mesh).map_err(|e| e.to_string()),
         }
     }
 }

@@ -58,8 +58,8 @@ use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, PolygonSoup, TagLi
 
 use crate::error::{Ctx, IoError, ReadWarning};
 use crate::text::{
-    check_text, is_control, parse_bounded, parse_f64, parse_integer, show, strip_bom, strip_comment, tokens, write_f64,
-    IntError, Lines,
+    check_text, is_control, parse_bounded, parse_f64, parse_integer, show, strip_bom, strip_comment, tokens, IntError,
+    Lines, TextOut,
 };
 use crate::{Format, MeshView};
 
@@ -436,51 +436,53 @@ fn read_tag<'a>(
 }
 
 pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()> {
-    out.write_all(b"# written by subdiv-io\n")?;
-    for p in mesh.positions {
-        out.write_all(b"v")?;
+    let mut text = TextOut::new(out);
+    text.bytes(b"# written by subdiv-io\n");
+    let xyz = |text: &mut TextOut<'_, _>, keyword: &[u8], p: &DVec3| {
+        text.bytes(keyword);
         for x in p.to_array() {
-            out.write_all(b" ")?;
-            write_f64(out, x)?;
+            text.bytes(b" ");
+            text.f64(x);
         }
-        out.write_all(b"\n")?;
+        text.end_line()
+    };
+    for p in mesh.positions {
+        xyz(&mut text, b"v", p)?;
     }
-    if let Some(normals) = mesh.normals {
-        for n in normals {
-            out.write_all(b"vn")?;
-            for x in n.to_array() {
-                out.write_all(b" ")?;
-                write_f64(out, x)?;
-            }
-            out.write_all(b"\n")?;
-        }
+    for n in mesh.normals.into_iter().flatten() {
+        xyz(&mut text, b"vn", n)?;
     }
     if let Some(uvs) = mesh.uvs {
         for uv in &uvs.values {
-            out.write_all(b"vt ")?;
-            write_f64(out, uv.x)?;
-            out.write_all(b" ")?;
-            write_f64(out, uv.y)?;
-            out.write_all(b"\n")?;
+            text.bytes(b"vt ");
+            text.f64(uv.x);
+            text.bytes(b" ");
+            text.f64(uv.y);
+            text.end_line()?;
         }
     }
     let with_normals = mesh.normals.is_some();
     let uv_indices = mesh.uvs.map(|uvs| uvs.indices.as_slice());
     for (f, face) in mesh.faces.iter().enumerate() {
-        out.write_all(b"f")?;
+        text.bytes(b"f");
         let start = mesh.faces.offsets()[f] as usize;
         for (j, &v) in face.iter().enumerate() {
             let k = u64::from(v) + 1;
-            let t = uv_indices.map(|uv| u64::from(uv[start + j]) + 1);
-            match (t, with_normals) {
-                (None, false) => write!(out, " {k}")?,
-                (None, true) => write!(out, " {k}//{k}")?,
-                (Some(t), false) => write!(out, " {k}/{t}")?,
-                (Some(t), true) => write!(out, " {k}/{t}/{k}")?,
+            text.bytes(b" ");
+            text.int(k);
+            // `k/t`, `k//k` with normals, `k/t/k` with both.
+            if let Some(uv) = uv_indices {
+                text.bytes(b"/");
+                text.int(u64::from(uv[start + j]) + 1);
+            }
+            if with_normals {
+                text.bytes(if uv_indices.is_some() { b"/" } else { b"//" });
+                text.int(k);
             }
         }
-        out.write_all(b"\n")?;
+        text.end_line()?;
     }
+    text.finish()?;
     if let Some(tags) = mesh.tags {
         // `{:?}` of an f32 is the shortest form that parses back to it.
         for t in &tags.creases {

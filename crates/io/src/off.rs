@@ -36,8 +36,8 @@ use subdiv_mesh::{FaceList, FaceVarying, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
 use crate::text::{
-    check_text, is_blank, parse_bounded, parse_f64, parse_integer, show, strip_bom, strip_comment, tokens, write_f64,
-    IntError, Lines,
+    check_text, is_blank, parse_bounded, parse_f64, parse_integer, show, strip_bom, strip_comment, tokens, IntError,
+    Lines, TextOut,
 };
 use crate::{Format, MeshView};
 
@@ -318,23 +318,26 @@ fn binary_faces(
 pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()> {
     out.write_all(if mesh.normals.is_some() { b"NOFF\n" } else { b"OFF\n" })?;
     writeln!(out, "{} {} 0", mesh.positions.len(), mesh.faces.len())?;
+    let mut text = TextOut::new(out);
     for (i, p) in mesh.positions.iter().enumerate() {
         let normal = mesh.normals.map(|n| n[i].to_array());
         for (k, x) in p.to_array().into_iter().chain(normal.into_iter().flatten()).enumerate() {
             if k > 0 {
-                out.write_all(b" ")?;
+                text.bytes(b" ");
             }
-            write_f64(out, x)?;
+            text.f64(x);
         }
-        out.write_all(b"\n")?;
+        text.end_line()?;
     }
     for face in mesh.faces.iter() {
-        write!(out, "{}", face.len())?;
+        text.int(face.len());
         for &v in face {
-            write!(out, " {v}")?;
+            text.bytes(b" ");
+            text.int(v);
         }
-        out.write_all(b"\n")?;
+        text.end_line()?;
     }
+    text.finish()?;
     Ok(())
 }
 

@@ -41,8 +41,8 @@ use subdiv_mesh::{FaceList, FaceVarying, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
 use crate::text::{
-    is_blank, parse_bounded, parse_f64, parse_integer, show, sniff, strip_bom, tokens, write_f64, IntError, Lines,
-    NotText,
+    is_blank, parse_bounded, parse_f64, parse_integer, show, sniff, strip_bom, tokens, IntError, Lines, NotText,
+    TextOut,
 };
 use crate::{Format, MeshView};
 
@@ -275,6 +275,62 @@ trait Values {
     fn min_size(&self, ty: Scalar) -> usize;
     /// Line of the last value (ASCII only).
     fn line(&self) -> Option<usize>;
+    /// Reads all records of a vertex element at once, when they have a fixed
+    /// layout that the data holds in full; false (nothing read) otherwise.
+    fn fast_vertices(
+        &mut self,
+        _element: &Element,
+        _positions: &mut Vec<DVec3>,
+        _uvs: Option<&mut Vec<DVec2>>,
+    ) -> bool {
+        false
+    }
+    /// Reads all records of a face element that holds nothing but its
+    /// integer index list into `faces` (empty before), when every value is
+    /// in range and the data holds them all; false (nothing read) otherwise.
+    fn fast_faces(&mut self, _element: &Element, _faces: &mut FaceList) -> bool {
+        false
+    }
+}
+
+/// A scalar of type `ty` from the start of `b` (at least `ty.size()` bytes).
+#[inline(always)]
+fn decode(ty: Scalar, big_endian: bool, b: &[u8]) -> f64 {
+    fn word<const N: usize>(b: &[u8], big_endian: bool) -> [u8; N] {
+        let mut a = [0u8; N];
+        a.copy_from_slice(&b[..N]);
+        if big_endian {
+            a.reverse();
+        }
+        a
+    }
+    match ty {
+        Scalar::I8 => f64::from(b[0] as i8),
+        Scalar::U8 => f64::from(b[0]),
+        Scalar::I16 => f64::from(i16::from_le_bytes(word(b, big_endian))),
+        Scalar::U16 => f64::from(u16::from_le_bytes(word(b, big_endian))),
+        Scalar::I32 => f64::from(i32::from_le_bytes(word(b, big_endian))),
+        Scalar::U32 => f64::from(u32::from_le_bytes(word(b, big_endian))),
+        Scalar::F32 => f64::from(f32::from_le_bytes(word(b, big_endian))),
+        Scalar::F64 => f64::from_le_bytes(word(b, big_endian)),
+    }
+}
+
+/// An integer list length or index of type `ty` from the start of `b`, or
+/// `None` for a float type or a negative value (which the record loop
+/// reports).
+#[inline(always)]
+fn decode_index(ty: Scalar, big_endian: bool, b: &[u8]) -> Option<u32> {
+    let x = match ty {
+        Scalar::F32 | Scalar::F64 => return None,
+        Scalar::U32 => {
+            let mut a = [0u8; 4];
+            a.copy_from_slice(&b[..4]);
+            return Some(if big_endian { u32::from_be_bytes(a) } else { u32::from_le_bytes(a) });
+        }
+        _ => decode(ty, big_endian, b),
+    };
+    (x >= 0.0).then_some(x as u32)
 }
 
 struct Binary<'a> {
@@ -329,6 +385,65 @@ impl Values for Binary<'_> {
 
     fn line(&self) -> Option<usize> {
         None
+    }
+
+    fn fast_vertices(&mut self, element: &Element, positions: &mut Vec<DVec3>, uvs: Option<&mut Vec<DVec2>>) -> bool {
+        if element.properties.iter().any(|p| p.list.is_some()) {
+            return false;
+        }
+        let stride: usize = element.properties.iter().map(|p| p.ty.size()).sum();
+        let rest = &self.data[self.pos..];
+        let Some(bytes) = element.count.checked_mul(stride).filter(|&n| n <= rest.len()) else { return false };
+        let mut at = [(0usize, Scalar::F64); 5];
+        let mut offset = 0;
+        for p in &element.properties {
+            match p.role {
+                Role::Coordinate(axis) => at[axis] = (offset, p.ty),
+                Role::Uv(k) => at[3 + k] = (offset, p.ty),
+                _ => {}
+            }
+            offset += p.ty.size();
+        }
+        let big = self.big_endian;
+        let records = rest[..bytes].chunks_exact(stride.max(1)).take(element.count);
+        let value = |r: &[u8], (o, ty): (usize, Scalar)| decode(ty, big, &r[o..]);
+        positions.extend(records.clone().map(|r| DVec3::new(value(r, at[0]), value(r, at[1]), value(r, at[2]))));
+        if let Some(uvs) = uvs {
+            uvs.extend(records.map(|r| DVec2::new(value(r, at[3]), value(r, at[4]))));
+        }
+        self.pos += bytes;
+        true
+    }
+
+    fn fast_faces(&mut self, element: &Element, faces: &mut FaceList) -> bool {
+        let [Property { list: Some(count_ty), ty, role: Role::Indices, .. }] = element.properties.as_slice() else {
+            return false;
+        };
+        let (count_ty, ty, big) = (*count_ty, *ty, self.big_endian);
+        let (count_size, size) = (count_ty.size(), ty.size());
+        let data = &self.data[self.pos..];
+        let mut offsets = Vec::with_capacity(element.count.min(data.len() / count_size) + 1);
+        let mut indices = Vec::with_capacity(data.len() / size);
+        offsets.push(0u32);
+        let mut pos = 0;
+        for _ in 0..element.count {
+            let Some(n) = data.get(pos..pos + count_size).and_then(|b| decode_index(count_ty, big, b)) else {
+                return false;
+            };
+            pos += count_size;
+            let end = (n as usize).checked_mul(size).and_then(|b| b.checked_add(pos)).filter(|&e| e <= data.len());
+            let Some(end) = end else { return false };
+            for b in data[pos..end].chunks_exact(size) {
+                let Some(v) = decode_index(ty, big, b) else { return false };
+                indices.push(v);
+            }
+            pos = end;
+            let Ok(corners) = u32::try_from(indices.len()) else { return false };
+            offsets.push(corners);
+        }
+        *faces = FaceList::from_raw(offsets, indices);
+        self.pos += pos;
+        true
     }
 }
 
@@ -504,6 +619,14 @@ fn read_body(
         let is_face = has(Role::Indices);
         let is_vertex = element.properties.iter().any(|p| matches!(p.role, Role::Coordinate(_)));
         let (has_uv, has_texcoords) = (has(Role::Uv(0)), has(Role::TexCoords));
+        // Binary records of fixed layout are decoded in one tight loop; the
+        // loop below reads the rest (and reports every error).
+        if is_vertex && src.fast_vertices(element, &mut positions, has_uv.then_some(&mut vertex_uvs)) {
+            continue;
+        }
+        if is_face && !has_texcoords && faces.is_empty() && src.fast_faces(element, &mut faces) {
+            continue;
+        }
         for r in 0..element.count {
             rec.xyz = [0.0; 3];
             let at = |line| (line, format!("{} {r}", element.name));
@@ -595,6 +718,9 @@ fn per_vertex_uvs(faces: &FaceList, vertex_count: usize, uvs: &FaceVarying) -> O
     Some(index.into_iter().map(|i| i.map_or(DVec2::ZERO, |i| uvs.values[i as usize])).collect())
 }
 
+/// Bytes a writer assembles before handing them on.
+const BLOCK: usize = 1 << 16;
+
 pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> io::Result<()> {
     let big_faces = mesh.faces.iter().any(|f| f.len() > 255);
     let big_indices = mesh.faces.indices().iter().any(|&v| v > i32::MAX as u32);
@@ -645,48 +771,75 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> 
         }
     };
     if binary {
+        // Records are assembled in a local buffer, written out in blocks.
+        let mut buf = Vec::with_capacity(BLOCK + 4096);
+        let plain = mesh.normals.is_none() && vertex_uvs.is_none();
         for i in 0..mesh.positions.len() {
-            for x in vertex(i) {
-                out.write_all(&x.to_le_bytes())?;
+            if plain {
+                // Positions only (the common case): no iterator chain per vertex.
+                for x in mesh.positions[i].to_array() {
+                    buf.extend_from_slice(&x.to_le_bytes());
+                }
+            } else {
+                for x in vertex(i) {
+                    buf.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+            if buf.len() >= BLOCK {
+                out.write_all(&buf)?;
+                buf.clear();
             }
         }
         for (f, face) in mesh.faces.iter().enumerate() {
-            write_count(out, face.len(), big_faces)?;
+            if big_faces {
+                buf.extend_from_slice(&(face.len() as u32).to_le_bytes());
+            } else {
+                buf.push(face.len() as u8);
+            }
             for &v in face {
                 // `int` and `uint` share their bits for every index ≤ i32::MAX.
-                out.write_all(&v.to_le_bytes())?;
+                buf.extend_from_slice(&v.to_le_bytes());
             }
             if corner_uvs.is_some() {
-                write_count(out, 2 * face.len(), big_texcoords)?;
+                write_count(&mut buf, 2 * face.len(), big_texcoords)?;
                 for x in texcoords(f) {
-                    out.write_all(&x.to_le_bytes())?;
+                    buf.extend_from_slice(&x.to_le_bytes());
                 }
             }
+            if buf.len() >= BLOCK {
+                out.write_all(&buf)?;
+                buf.clear();
+            }
         }
+        out.write_all(&buf)?;
     } else {
+        let mut text = TextOut::new(out);
         for i in 0..mesh.positions.len() {
             for (k, x) in vertex(i).enumerate() {
                 if k > 0 {
-                    out.write_all(b" ")?;
+                    text.bytes(b" ");
                 }
-                write_f64(out, x)?;
+                text.f64(x);
             }
-            out.write_all(b"\n")?;
+            text.end_line()?;
         }
         for (f, face) in mesh.faces.iter().enumerate() {
-            write!(out, "{}", face.len())?;
+            text.int(face.len());
             for &v in face {
-                write!(out, " {v}")?;
+                text.bytes(b" ");
+                text.int(v);
             }
             if corner_uvs.is_some() {
-                write!(out, " {}", 2 * face.len())?;
+                text.bytes(b" ");
+                text.int(2 * face.len());
                 for x in texcoords(f) {
-                    out.write_all(b" ")?;
-                    write_f64(out, x)?;
+                    text.bytes(b" ");
+                    text.f64(x);
                 }
             }
-            out.write_all(b"\n")?;
+            text.end_line()?;
         }
+        text.finish()?;
     }
     Ok(())
 }

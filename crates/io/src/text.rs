@@ -110,7 +110,7 @@ impl<'a> Iterator for Lines<'a> {
             return None;
         }
         let rest = &self.bytes[self.pos..];
-        let (line, advance) = match rest.iter().position(|&b| b == b'\n' || b == b'\r') {
+        let (line, advance) = match memchr::memchr2(b'\n', b'\r', rest) {
             Some(end) if rest[end..].starts_with(b"\r\n") => (&rest[..end], end + 2),
             Some(end) => (&rest[..end], end + 1),
             None => (rest, rest.len()),
@@ -123,7 +123,7 @@ impl<'a> Iterator for Lines<'a> {
 
 /// The part of a line before a `#` comment.
 pub(crate) fn strip_comment(line: &[u8]) -> &[u8] {
-    match line.iter().position(|&b| b == b'#') {
+    match memchr::memchr(b'#', line) {
         Some(hash) => &line[..hash],
         None => line,
     }
@@ -141,7 +141,7 @@ pub(crate) fn is_blank(bytes: &[u8]) -> bool {
 
 /// Parses a decimal number; accepts `nan`, `inf`, `-inf`, `infinity` in any case.
 pub(crate) fn parse_f64(token: &[u8]) -> Option<f64> {
-    std::str::from_utf8(token).ok()?.parse().ok()
+    fast_float2::parse(token).ok()
 }
 
 /// Why a token is not a usable integer.
@@ -161,6 +161,12 @@ pub(crate) fn parse_integer(token: &[u8]) -> Result<i128, IntError> {
     let digits = token.strip_prefix(b"-").or_else(|| token.strip_prefix(b"+")).unwrap_or(token);
     if digits.is_empty() || !digits.iter().all(u8::is_ascii_digit) {
         return Err(IntError::NotInteger);
+    }
+    // Up to 18 digits fit an i64 whatever they are: summed directly (the
+    // common case, an index), longer ones through `i128`'s parser.
+    if digits.len() <= 18 {
+        let value = digits.iter().fold(0i64, |v, &d| 10 * v + i64::from(d - b'0'));
+        return Ok(i128::from(if token[0] == b'-' { -value } else { value }));
     }
     // ASCII digits with an optional sign: valid UTF-8, and `parse` fails only on overflow.
     std::str::from_utf8(token).ok().and_then(|t| t.parse().ok()).ok_or(IntError::OutOfRange)
@@ -204,8 +210,153 @@ pub(crate) fn escape_controls(text: Cow<'_, str>) -> Cow<'_, str> {
 /// Formats `x` so that parsing it gives back the same bits: the shortest
 /// round-trip form, with an exponent for very large or small magnitudes
 /// (`0.1`, `1e-7`, `-0.0`, `NaN`, `inf`).
+#[cfg(test)]
 pub(crate) fn write_f64(out: &mut impl std::io::Write, x: f64) -> std::io::Result<()> {
-    write!(out, "{x:?}")
+    let mut buffer = F64Buffer::new();
+    out.write_all(buffer.format(x))
+}
+
+/// Bytes a text writer assembles before handing them on.
+const BLOCK: usize = 1 << 16;
+
+/// Text assembled in blocks of [`BLOCK`] bytes before it goes to the
+/// writer (a `write_all` or a `write!` per token costs more than the
+/// token); numbers as [`F64Buffer::format`] and `itoa` write them.
+pub(crate) struct TextOut<'a, W: std::io::Write> {
+    out: &'a mut W,
+    buf: Vec<u8>,
+    floats: F64Buffer,
+    ints: itoa::Buffer,
+}
+
+impl<'a, W: std::io::Write> TextOut<'a, W> {
+    pub(crate) fn new(out: &'a mut W) -> Self {
+        Self { out, buf: Vec::with_capacity(BLOCK + 1024), floats: F64Buffer::new(), ints: itoa::Buffer::new() }
+    }
+
+    pub(crate) fn bytes(&mut self, bytes: &[u8]) {
+        self.buf.extend_from_slice(bytes);
+    }
+
+    /// The shortest form that reads back to the same bits ([`write_f64`]).
+    pub(crate) fn f64(&mut self, x: f64) {
+        self.buf.extend_from_slice(self.floats.format(x));
+    }
+
+    pub(crate) fn int(&mut self, v: impl itoa::Integer) {
+        self.buf.extend_from_slice(self.ints.format(v).as_bytes());
+    }
+
+    /// Ends a line, handing the block on when it is full.
+    pub(crate) fn end_line(&mut self) -> std::io::Result<()> {
+        self.buf.push(b'\n');
+        if self.buf.len() >= BLOCK {
+            self.out.write_all(&self.buf)?;
+            self.buf.clear();
+        }
+        Ok(())
+    }
+
+    /// Hands on what is left.
+    pub(crate) fn finish(mut self) -> std::io::Result<()> {
+        self.out.write_all(&self.buf)?;
+        self.buf.clear();
+        Ok(())
+    }
+}
+
+/// Room for one number of [`F64Buffer::format`].
+pub(crate) struct F64Buffer {
+    digits: zmij::Buffer,
+    text: [u8; 32],
+}
+
+impl F64Buffer {
+    pub(crate) fn new() -> Self {
+        Self { digits: zmij::Buffer::new(), text: [0; 32] }
+    }
+
+    /// `x` as Rust's `{:?}` lays it out — decimal for 10⁻⁴ ≤ |x| < 10¹⁶
+    /// (`0.1`, `1.0`, `-0.0`), otherwise `1e20`, `1.5e-7` — with the shortest
+    /// digits that read back to the same bits (Schubfach, the `zmij` crate;
+    /// where two shortest forms are equally close, the last digit may differ
+    /// from `{:?}`'s: both read back to `x`). `NaN`, `inf`, `-inf` otherwise.
+    pub(crate) fn format(&mut self, x: f64) -> &[u8] {
+        let magnitude = x.abs();
+        if !x.is_finite() {
+            return match (x.is_nan(), x > 0.0) {
+                (true, _) => b"NaN",
+                (false, true) => b"inf",
+                (false, false) => b"-inf",
+            };
+        }
+        let plain = self.digits.format_finite(x).as_bytes();
+        if x == 0.0 || (1e-4..1e16).contains(&magnitude) {
+            // zmij's decimal range covers this one, in the same layout.
+            return plain;
+        }
+        // Scientific: zmij writes `1.5e-7` or `1e+20`, and small numbers
+        // down to 1e-5 (or so) as `0.00001`; re-laid as `{:?}`'s `1e-5`.
+        let (negative, body) = match plain.split_first() {
+            Some((b'-', rest)) => (true, rest),
+            _ => (false, plain),
+        };
+        let (mantissa, exponent) = match memchr::memchr(b'e', body) {
+            Some(e) => (&body[..e], parse_exponent(&body[e + 1..])),
+            None => (body, 0),
+        };
+        // All mantissa digits, the point after `point` of them; the first
+        // non-zero one, at `first`, has the exponent point − 1 − first (+ e).
+        let mut digits = [0u8; 24];
+        let (mut n, mut point) = (0, None);
+        for &c in mantissa.iter().take(digits.len()) {
+            if c == b'.' {
+                point = Some(n);
+            } else {
+                digits[n] = c;
+                n += 1;
+            }
+        }
+        let point = point.unwrap_or(n) as i32;
+        let first = digits[..n].iter().position(|&d| d != b'0').unwrap_or(0);
+        let e10 = point - 1 - first as i32 + exponent;
+        let digits = &digits[first..n];
+        let n = digits.iter().rposition(|&d| d != b'0').map_or(1, |last| last + 1);
+        let mut len = 0;
+        let mut put = |text: &mut [u8; 32], b: u8| {
+            text[len] = b;
+            len += 1;
+        };
+        if negative {
+            put(&mut self.text, b'-');
+        }
+        put(&mut self.text, digits[0]);
+        if n > 1 {
+            put(&mut self.text, b'.');
+            for &d in &digits[1..n] {
+                put(&mut self.text, d);
+            }
+        }
+        put(&mut self.text, b'e');
+        if e10 < 0 {
+            put(&mut self.text, b'-');
+        }
+        let mut exp_digits = itoa::Buffer::new();
+        for &d in exp_digits.format(e10.unsigned_abs()).as_bytes() {
+            put(&mut self.text, d);
+        }
+        &self.text[..len]
+    }
+}
+
+/// The decimal exponent after an `e` (`+20`, `-7`, `5`).
+fn parse_exponent(text: &[u8]) -> i32 {
+    let (sign, digits) = match text.split_first() {
+        Some((b'-', rest)) => (-1, rest),
+        Some((b'+', rest)) => (1, rest),
+        _ => (1, text),
+    };
+    sign * digits.iter().fold(0i32, |v, &d| 10 * v + i32::from(d - b'0'))
 }
 
 #[cfg(test)]
@@ -231,6 +382,58 @@ mod tests {
         let mut s = Vec::new();
         write_f64(&mut s, f64::NAN).unwrap();
         assert!(parse_f64(&s).unwrap().is_nan());
+    }
+
+    #[test]
+    fn formatted_numbers_read_back_and_match_debug_but_for_ties() {
+        let mut buffer = F64Buffer::new();
+        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut values = vec![0.0, -0.0, 1.0, 0.1, 1e-4, 9.9e-5, 1e-5, 1e16, 9.999999999999998e15, 1e20, 1e21, 5e-324];
+        values.extend([f64::MAX, f64::MIN_POSITIVE, -1.5e-7, 123456789012345680.0, 1e300, 2.5e-300]);
+        for _ in 0..200_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            values.push(f64::from_bits(x));
+            let e = (x % 45) as i32 - 22;
+            values.push((x >> 11) as f64 / (1u64 << 53) as f64 * 10f64.powi(e));
+        }
+        for v in values.into_iter().filter(|v| v.is_finite()) {
+            let ours = std::str::from_utf8(buffer.format(v)).unwrap().to_owned();
+            assert_eq!(parse_f64(ours.as_bytes()).map(f64::to_bits), Some(v.to_bits()), "{ours}");
+            let debug = format!("{v:?}");
+            if ours != debug {
+                // Two shortest forms equally close to v: the same but for the last digit.
+                let (a, b) = (ours.split('e').next().unwrap(), debug.split('e').next().unwrap());
+                assert!(a.len() == b.len() && a[..a.len() - 1] == b[..b.len() - 1], "{ours} vs {debug}");
+                assert_eq!(ours.split('e').nth(1), debug.split('e').nth(1), "{ours} vs {debug}");
+            }
+        }
+        assert_eq!(buffer.format(f64::NAN), b"NaN");
+        assert_eq!(buffer.format(f64::NEG_INFINITY), b"-inf");
+        assert_eq!(buffer.format(1e-5), b"1e-5");
+        assert_eq!(buffer.format(-1.25e20), b"-1.25e20");
+    }
+
+    #[test]
+    fn parse_f64_accepts_what_str_parse_accepts() {
+        let odd = ["1", "1.", ".5", "+1", "-.5", "1e5", "1e", "1.e5", ".e5", "inf", "Infinity", "-nan", "NaN", "+inf"];
+        let odd =
+            odd.iter().chain(&["infin", "1_0", "0x10", " 1", "1 ", "", "-", ".", "e5", "1E+5", "1e400", "1e-400"]);
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let alphabet = b"0123456789.eE+-infatyINFATY_ ";
+        let random = (0..100_000).map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (0..1 + (x % 8) as usize).map(|i| alphabet[((x >> (8 + 6 * i)) % alphabet.len() as u64) as usize]).collect()
+        });
+        for token in odd.map(|t| t.as_bytes().to_vec()).chain(random) {
+            let std: Option<f64> = std::str::from_utf8(&token).ok().and_then(|t| t.parse().ok());
+            let ours = parse_f64(&token);
+            assert_eq!(ours.map(|v| v.is_nan()), std.map(|v| v.is_nan()), "{}", show(&token));
+            assert_eq!(ours.filter(|v| !v.is_nan()).map(f64::to_bits), std.filter(|v| !v.is_nan()).map(f64::to_bits));
+        }
     }
 
     #[test]

@@ -95,7 +95,7 @@ pub use mesh::{Mesh, ZERO_AREA_REL};
 pub use soup::{FaceGroups, FaceList, PolygonSoup};
 pub use tags::{EdgeTag, FaceVarying, TagList, Tags, VertexTag, SHARPNESS_INFINITE, SHARPNESS_SMOOTH};
 pub use topology::{Corner, Topology};
-pub use triangulate::{triangulate, Triangulation};
+pub use triangulate::{check_triangulation, triangulate, Triangulation};
 pub use validate::{diagnose, Diagnosis};
 
 /// Re-exported vector types: positions ([`DVec3`]) and texture coordinates ([`DVec2`]).

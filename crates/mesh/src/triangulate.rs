@@ -55,6 +55,7 @@ use crate::ids::FaceId;
 use crate::mesh::Mesh;
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
 use crate::tags::FaceVarying;
+use crate::topology::Topology;
 use glam::{DVec2, DVec3};
 use std::collections::HashSet;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -124,21 +125,8 @@ pub fn triangulate(mesh: &Mesh) -> Result<Triangulation, MeshError> {
         let before = corners.len();
         if face.len() == 3 {
             corners.extend_from_slice(face);
-        } else if let Some(a) = quad_diagonal(face, positions, &edges) {
-            let (b, c, d) = (a + 1, (a + 2) % 4, (a + 3) % 4);
-            corners.extend_from_slice(&[face[a], face[b], face[c], face[a], face[c], face[d]]);
-            edges.insert(face[a], face[c]);
-        } else {
-            polygon.load(face, positions);
-            let local = match face.len() {
-                4 => polygon.split_quad(&edges),
-                _ => polygon.split(&edges),
-            }
-            .ok_or(MeshError::NoTriangulation { face: f.0, size: face.len() })?;
-            for &[a, b, c] in &local {
-                corners.extend_from_slice(&[face[a], face[b], face[c]]);
-            }
-            edges.claim_diagonals(face, &local);
+        } else if !split_face(face, positions, &mut edges, &mut polygon, &mut corners) {
+            return Err(MeshError::NoTriangulation { face: f.0, size: face.len() });
         }
         source_face.extend(std::iter::repeat_n(f, (corners.len() - before) / 3));
     }
@@ -170,6 +158,198 @@ pub fn triangulate(mesh: &Mesh) -> Result<Triangulation, MeshError> {
     let soup = PolygonSoup { positions: positions.to_vec(), faces, groups, tags, uvs };
     let (mesh, _warnings) = Mesh::from_soup(soup)?;
     Ok(Triangulation { mesh, source_face, split_faces })
+}
+
+/// Whether [`triangulate`] succeeds on `mesh`, without building the
+/// triangles: `Ok` exactly when [`triangulate`] returns a triangulation, and
+/// otherwise its error ([`MeshError::NoTriangulation`] for the same face).
+/// What the `deng-wang` method's precondition asks.
+///
+/// A face fails only when diagonals it could take are blocked: by an edge
+/// of the mesh or by the diagonal an earlier face took. A diagonal (a, w)
+/// of face f — a and w corners of f, not adjacent in it — can only be
+/// blocked when it is an edge at a or a diagonal at a of another face
+/// around a too. One pass over the vertices finds these *conflicting*
+/// faces (at each vertex a, its neighbours and the far corners of its faces
+/// are stamped, and a second stamp is a conflict), in time linear in the
+/// corners for faces of bounded size. Faces without conflicts always split
+/// (nothing blocks them, and nothing they take is asked by another face),
+/// so only the conflicting ones are split, in order, exactly as
+/// [`triangulate`] splits them (the same diagonal choice, `split_face`):
+/// their choices can block one another only. An all-quad mesh whose quads'
+/// diagonals are not edges (any fine quad mesh) needs no split at all.
+///
+/// ```
+/// use subdiv_mesh::{check_triangulation, shapes, triangulate};
+/// let torus = shapes::torus(64, 32);
+/// assert!(check_triangulation(&torus).is_ok() && triangulate(&torus).is_ok());
+/// ```
+///
+/// # Errors
+/// [`MeshError::NoTriangulation`], naming the first face in order that
+/// [`triangulate`] cannot split.
+pub fn check_triangulation(mesh: &Mesh) -> Result<(), MeshError> {
+    let t = mesh.topology();
+    let faces = t.faces();
+    let polygon_cost: usize = faces.iter().map(|f| if f.len() > 3 { f.len() * (f.len() - 3) } else { 0 }).sum();
+    if polygon_cost == 0 {
+        return Ok(());
+    }
+    // The stamping costs Σ m(m − 3) over faces of m > 3 corners: for huge
+    // polygons, every polygon face is split instead (as triangulate does).
+    let conflicting = if polygon_cost <= CONFLICT_SCAN_PER_CORNER * faces.corner_count() {
+        conflicting_faces(t)
+    } else {
+        faces.iter().map(|f| f.len() > 3).collect()
+    };
+    if !conflicting.contains(&true) {
+        return Ok(());
+    }
+    let positions = mesh.positions();
+    let mut edges = EdgeSet::among(t, &conflicting);
+    let mut polygon = Polygon::default();
+    let mut corners = Vec::new();
+    for f in t.face_ids().filter(|f| conflicting[f.index()]) {
+        let face = t.face(f);
+        corners.clear();
+        if !split_face(face, positions, &mut edges, &mut polygon, &mut corners) {
+            return Err(MeshError::NoTriangulation { face: f.0, size: face.len() });
+        }
+    }
+    Ok(())
+}
+
+/// Budget of [`check_triangulation`]'s conflict scan per corner of the
+/// mesh (Σ m(m − 3) over the polygons; 4 for an all-quad mesh, 28 for
+/// heptagons).
+const CONFLICT_SCAN_PER_CORNER: usize = 64;
+
+/// The faces of four or more corners some of whose diagonals may be blocked
+/// (see [`check_triangulation`]): at every vertex a, a diagonal (a, w) of a
+/// face around a that is an edge at a or a diagonal at a of another face
+/// marks every face that has it.
+fn conflicting_faces(t: &Topology) -> Vec<bool> {
+    const EDGE: u32 = u32::MAX;
+    let faces = t.faces();
+    let offsets = faces.offsets();
+    let mut conflicting = vec![false; faces.len()];
+    // For big fans, stamp[w] == a: w seen at a, as a neighbour (owner EDGE)
+    // or as the far corner of face owner[w].
+    let idx = faces.indices();
+    // The corners of the face of fan half-edge h: (face, its first corner,
+    // size, h's position). In a mesh of one face size (all quads) the face
+    // follows from h alone: no dependent loads of he_face and offsets.
+    let uniform = faces.face_size(0);
+    let uniform = faces.all_of_size(uniform).then_some(uniform);
+    let corner = |h: crate::ids::HalfEdgeId| match uniform {
+        Some(m) => {
+            let f = h.index() / m;
+            (f, f * m, m, h.index() - f * m)
+        }
+        None => {
+            let f = t.he_face(h).index();
+            let start = offsets[f] as usize;
+            (f, start, offsets[f + 1] as usize - start, h.index() - start)
+        }
+    };
+    // Small fans compare their corners on the stack; others stamp vertices.
+    const SMALL: usize = 16;
+    let (mut stamp, mut owner) = (Vec::new(), Vec::new());
+    for a in t.vertices() {
+        let fan = t.vertex_fan(a);
+        if !fan.iter().any(|&h| corner(h).2 > 3) {
+            continue;
+        }
+        let far_count: usize = fan.iter().map(|&h| corner(h).2 - 3).sum();
+        if fan.len() <= SMALL && far_count <= 2 * SMALL {
+            // Neighbours: the corners before and after a in each of its faces
+            // (on the boundary, that includes the closing neighbour).
+            let mut neighbours = [0u32; 2 * SMALL];
+            let mut far = [(0u32, 0u32); 2 * SMALL];
+            let (mut n, mut nf) = (0, 0);
+            for &h in fan {
+                let (f, start, m, k) = corner(h);
+                neighbours[n] = idx[start + (k + 1) % m];
+                neighbours[n + 1] = idx[start + (k + m - 1) % m];
+                n += 2;
+                for j in 2..m.saturating_sub(1) {
+                    far[nf] = (idx[start + (k + j) % m], f as u32);
+                    nf += 1;
+                }
+            }
+            for i in 0..nf {
+                let (w, f) = far[i];
+                if neighbours[..n].contains(&w) {
+                    conflicting[f as usize] = true;
+                }
+                for &(x, g) in &far[i + 1..nf] {
+                    if x == w {
+                        conflicting[f as usize] = true;
+                        conflicting[g as usize] = true;
+                    }
+                }
+            }
+            continue;
+        }
+        if stamp.is_empty() {
+            stamp = vec![u32::MAX; t.vertex_count()];
+            owner = vec![EDGE; t.vertex_count()];
+        }
+        for &h in fan {
+            let (_, start, m, k) = corner(h);
+            for w in [idx[start + (k + 1) % m], idx[start + (k + m - 1) % m]] {
+                stamp[w as usize] = a.0;
+                owner[w as usize] = EDGE;
+            }
+        }
+        for &h in fan {
+            let (f, start, m, k) = corner(h);
+            for j in 2..m.saturating_sub(1) {
+                let w = idx[start + (k + j) % m] as usize;
+                if stamp[w] == a.0 {
+                    conflicting[f] = true;
+                    if owner[w] != EDGE {
+                        conflicting[owner[w] as usize] = true;
+                    }
+                } else {
+                    stamp[w] = a.0;
+                    owner[w] = f as u32;
+                }
+            }
+        }
+    }
+    conflicting
+}
+
+/// Steps 3-5 of the module docs for one face of four or more corners:
+/// appends its triangles (vertex ids) to `corners` and records its
+/// diagonals in `edges`; false when no triangulation has allowed diagonals.
+/// The one place [`triangulate`] and [`check_triangulation`] choose
+/// diagonals, so that they decide alike.
+fn split_face(
+    face: &[u32],
+    positions: &[DVec3],
+    edges: &mut EdgeSet,
+    polygon: &mut Polygon,
+    corners: &mut Vec<u32>,
+) -> bool {
+    if let Some(a) = quad_diagonal(face, positions, edges) {
+        let (b, c, d) = (a + 1, (a + 2) % 4, (a + 3) % 4);
+        corners.extend_from_slice(&[face[a], face[b], face[c], face[a], face[c], face[d]]);
+        edges.insert(face[a], face[c]);
+        return true;
+    }
+    polygon.load(face, positions);
+    let local = match face.len() {
+        4 => polygon.split_quad(edges),
+        _ => polygon.split(edges),
+    };
+    let Some(local) = local else { return false };
+    for &[a, b, c] in &local {
+        corners.extend_from_slice(&[face[a], face[b], face[c]]);
+    }
+    edges.claim_diagonals(face, &local);
+    true
 }
 
 /// Rule 3 of the module docs without the projection, for the common case:
@@ -252,6 +432,24 @@ impl EdgeSet {
         for e in t.edges() {
             let (a, b) = t.edge_vertices(e);
             if in_polygon[a.index()] && in_polygon[b.index()] {
+                set.insert(Self::key(a.0, b.0));
+            }
+        }
+        Self(set)
+    }
+
+    /// The mesh's edges between corners of the `selected` faces (the only
+    /// diagonals [`check_triangulation`] asks about).
+    fn among(t: &Topology, selected: &[bool]) -> Self {
+        let mut in_selected = vec![false; t.vertex_count()];
+        let mut corners = 0;
+        for (face, _) in t.faces().iter().zip(selected).filter(|(_, &s)| s) {
+            face.iter().for_each(|&v| in_selected[v as usize] = true);
+            corners += face.len();
+        }
+        let mut set = HashSet::with_capacity_and_hasher(4 * corners, Default::default());
+        for a in t.vertices().filter(|a| in_selected[a.index()]) {
+            for b in t.vertex_neighbors(a).filter(|b| a < *b && in_selected[b.index()]) {
                 set.insert(Self::key(a.0, b.0));
             }
         }

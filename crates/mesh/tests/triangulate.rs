@@ -288,3 +288,117 @@ proptest! {
         }
     }
 }
+
+// ---- check_triangulation against triangulate ----------------------------------------------
+
+/// The 7-vertex torus of Möbius and Császár: 14 triangles, every two
+/// vertices share an edge, so every diagonal of a merged face is blocked
+/// unless it is the edge the merge removed.
+fn csaszar_torus_faces() -> Vec<Vec<u32>> {
+    (0..7u32).flat_map(|i| [[i, i + 1, i + 3], [i, i + 3, i + 2]].map(|t| t.map(|v| v % 7).to_vec())).collect()
+}
+
+/// Merges `merges` random pairs of faces across a shared edge (faces of at
+/// most `max_size` corners, no repeated vertex), keeping only merges after
+/// which the mesh is still valid, and puts the vertices at random places.
+fn random_merges(faces: Vec<Vec<u32>>, vertex_count: usize, seed: u64, merges: usize, max_size: usize) -> Mesh {
+    let mut rng = SplitMix64(seed);
+    let mut random_positions =
+        || (0..vertex_count).map(|_| DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64())).collect::<Vec<_>>();
+    let mut mesh = Mesh::new(random_positions(), FaceList::from_faces(&faces)).expect("valid base mesh");
+    let mut rng = SplitMix64(seed ^ 0x9e37_79b9_7f4a_7c15);
+    for _ in 0..4 * merges {
+        if mesh.topology().face_count() + merges <= faces.len() {
+            break;
+        }
+        let t = mesh.topology();
+        let e = subdiv_mesh::EdgeId(rng.below(t.edge_count()) as u32);
+        let (f, Some(g)) = t.edge_faces(e) else { continue };
+        let (a, _) = t.edge_vertices(e);
+        let (fa, fb) = (t.face(f), t.face(g));
+        let ka = fa.iter().position(|&x| x == a.0).expect("edge vertex in face");
+        let kb = fb.iter().position(|&x| x == a.0).expect("edge vertex in face");
+        let mut merged: Vec<u32> = (0..fa.len()).map(|k| fa[(ka + 1 + k) % fa.len()]).collect();
+        merged.extend((1..fb.len() - 1).map(|k| fb[(kb + k) % fb.len()]));
+        let mut sorted = merged.clone();
+        sorted.sort_unstable();
+        if merged.len() > max_size || sorted.windows(2).any(|w| w[0] == w[1]) {
+            continue;
+        }
+        let mut next: Vec<Vec<u32>> = Vec::new();
+        for h in t.face_ids() {
+            if h == f {
+                next.push(merged.clone());
+            } else if h != g {
+                next.push(t.face(h).to_vec());
+            }
+        }
+        if let Ok(m) = Mesh::new(mesh.positions().to_vec(), FaceList::from_faces(&next)) {
+            mesh = m;
+        }
+    }
+    mesh
+}
+
+fn merge_base() -> impl Strategy<Value = (Vec<Vec<u32>>, usize)> {
+    let faces_of = |m: Mesh| (m.topology().faces().iter().map(<[u32]>::to_vec).collect(), m.topology().vertex_count());
+    prop_oneof![
+        Just((csaszar_torus_faces(), 7)),
+        Just(faces_of(shapes::octahedron())),
+        Just(faces_of(shapes::icosahedron())),
+        Just(faces_of(quad_and_two_triangles())),
+        (2usize..5, 2usize..5).prop_map(move |(nx, ny)| faces_of(shapes::triangle_grid(nx, ny))),
+        (3usize..6, 3usize..6).prop_map(move |(nu, nv)| faces_of(triangulate(&shapes::torus(nu, nv)).unwrap().mesh)),
+        (3usize..6, 3usize..6).prop_map(move |(nu, nv)| faces_of(shapes::torus(nu, nv))),
+        Just(faces_of(shapes::pillow())),
+    ]
+}
+
+#[test]
+fn check_triangulation_agrees_on_the_named_cases() {
+    let (m, hexagon) = torus_with_untriangulable_hexagon();
+    assert_eq!(subdiv_mesh::check_triangulation(&m), Err(MeshError::NoTriangulation { face: hexagon, size: 6 }));
+    for m in [quad_and_two_triangles(), shapes::pillow(), shapes::cube(), shapes::torus(3, 3), shapes::prism(5)] {
+        assert_eq!(subdiv_mesh::check_triangulation(&m), triangulate(&m).map(|_| ()));
+    }
+    // Big polygons: their corners are scanned through stamps, not on the stack.
+    for n in [20, 40, 64] {
+        for m in [shapes::prism(n), shapes::pyramid(n)] {
+            assert_eq!(subdiv_mesh::check_triangulation(&m), triangulate(&m).map(|_| ()));
+        }
+    }
+    for seed in 0..200 {
+        let m = random_merges(csaszar_torus_faces(), 7, seed, 12, 14);
+        assert_eq!(subdiv_mesh::check_triangulation(&m), triangulate(&m).map(|_| ()));
+        let (faces, n) = (shapes::prism(24).topology().faces().iter().map(<[u32]>::to_vec).collect(), 48);
+        let m = random_merges(faces, n, seed, 10, 40);
+        assert_eq!(subdiv_mesh::check_triangulation(&m), triangulate(&m).map(|_| ()));
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 512,
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        ..ProptestConfig::default()
+    })]
+
+    /// The cheap check answers as triangulate does, the same error naming the
+    /// same face: on random merges of small closed and open meshes whose
+    /// vertices share many edges (most diagonals blocked, some faces with
+    /// none left), at random positions, and on polygon mixes.
+    #[test]
+    fn check_triangulation_agrees_with_triangulate(
+        (faces, n) in merge_base(),
+        seed in any::<u64>(),
+        merges in 1usize..12,
+        max_size in 4usize..10,
+        base in base_mesh(),
+        merge in 0.0..0.45f64,
+    ) {
+        let merged = random_merges(faces, n, seed, merges, max_size);
+        prop_assert_eq!(subdiv_mesh::check_triangulation(&merged), triangulate(&merged).map(|_| ()));
+        let mix = shapes::polygon_mix(&base, seed, merge, 0.2, 0.2);
+        prop_assert_eq!(subdiv_mesh::check_triangulation(&mix), triangulate(&mix).map(|_| ()));
+    }
+}

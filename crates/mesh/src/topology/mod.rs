@@ -274,6 +274,11 @@ impl Topology {
     /// or negative genus (impossible for a valid oriented manifold).
     pub fn genus(&self) -> Option<u32> {
         let nc = self.component_count();
+        if nc == 1 {
+            // χ + b of the one component, without looking up components.
+            let two_g = 2 - (self.euler_characteristic() + self.boundary_loop_count() as i64);
+            return (two_g >= 0 && two_g % 2 == 0).then_some((two_g / 2) as u32);
+        }
         let mut chi = vec![0i64; nc];
         for v in self.vertices() {
             if let Some(&h) = self.vertex_fan(v).first() {
