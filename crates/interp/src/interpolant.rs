@@ -9,7 +9,7 @@ use std::borrow::Cow;
 use subdiv_mesh::{Mesh, PowerOfTwoScale};
 use subdiv_stencil::{
     doo_sabin, doo_sabin_limit_sites, subdivide_for_output, DualLimitSite, LoopBeta, Options, Scheme, StencilError,
-    SubdivisionPlan, Tension,
+    Tension,
 };
 
 /// The plain scheme whose limit surface of the control mesh interpolates the data.
@@ -250,9 +250,10 @@ impl Interpolant {
                         doo_sabin::limit_points_tagged(t, c.tags(), c.positions()).unwrap_or_else(refused)
                     }
                     ControlScheme::CatmullClark | ControlScheme::Loop(_) => {
-                        SubdivisionPlan::with_tags(t, c.tags(), self.options(), 0)
-                            .map(|plan| plan.limit_points(c.positions()).expect("the scheme has limit masks"))
-                            .unwrap_or_else(refused)
+                        match subdiv_stencil::limit_points_with_options(t, c.tags(), self.options(), c.positions()) {
+                            Ok(limits) => limits.expect("the scheme has limit masks"),
+                            Err(e) => refused(e),
+                        }
                     }
                     ControlScheme::DengMa(_) => unreachable!("Deng-Ma is interpolatory"),
                 };

@@ -59,7 +59,9 @@ pub use sharpness::{EdgeStep, LevelSharpness, VertexStep};
 pub use subdiv_rules::deng_ma::Tension;
 pub use subdiv_rules::LoopBeta;
 pub use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Rule};
-pub use subdivide::{subdivide, subdivide_for_output, Refinement, Subdivided, SubdivisionPlan};
+pub use subdivide::{
+    limit_points_with_options, subdivide, subdivide_for_output, Refinement, Subdivided, SubdivisionPlan,
+};
 
 /// Sparse matrix type of the workspace: CSR, `f64` values, `u32` indices
 /// (half the index bandwidth of `usize` in every sparse product).

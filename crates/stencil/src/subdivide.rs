@@ -116,6 +116,37 @@ fn limit_points_of(
     }
 }
 
+/// The limit points of every vertex of `t` with `tags` under `options`
+/// (`None` for Deng-Ma, which has no limit mask): the points of
+/// [`SubdivisionPlan::limit_points`] of a plan of 0 levels, bit for bit,
+/// without building the plan, which keeps a copy of the connectivity (on
+/// an 8.4M-vertex mesh, 850 MB at the peak of an interpolation's error
+/// check). Computed on normalised positions and scaled back (module docs).
+///
+/// # Errors
+/// Invalid options; the scheme's refusal of the mesh (e.g. Loop on
+/// polygons); [`StencilError::TooLarge`] when the semi-sharp levels refined
+/// first would be too large.
+pub fn limit_points_with_options(
+    t: &Topology,
+    tags: &Tags,
+    options: impl Into<Options>,
+    positions: &[DVec3],
+) -> Result<Option<Vec<DVec3>>, StencilError> {
+    let options = options.into();
+    options.validate()?;
+    let rules = options.scheme.rules();
+    let sharp = LevelSharpness::new(tags, options.boundary, options.crease_method);
+    rules.check(t, &sharp)?;
+    let (scale, scaled) = normalize(positions);
+    let Some(limits) = limit_points_of(rules.as_ref(), options.scheme, t, &sharp, &scaled, true) else {
+        return Ok(None);
+    };
+    let mut limits = limits?;
+    scale.inverse().apply_points(&mut limits);
+    Ok(Some(limits))
+}
+
 /// Maps `positions` (computed on `input` scaled by `scale`) back and checks
 /// that every coordinate is a finite f64. When `copies_input`, the first
 /// positions are input vertices by construction (zero levels without limit;

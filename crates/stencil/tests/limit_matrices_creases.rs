@@ -21,7 +21,7 @@ use subdiv_stencil::limit_matrix::{
 };
 use subdiv_stencil::{
     limit_matrix_catmull_clark, limit_matrix_loop, BoundaryInterpolation, CreaseMethod, LevelSharpness, LimitMatrix,
-    LoopBeta, Options, Scheme, SparseMatrix, StencilError,
+    LoopBeta, Options, Scheme, SparseMatrix, StencilError, SubdivisionPlan,
 };
 
 /// The neighbours of `v` along infinitely sharp edges (boundary edges included).
@@ -534,4 +534,36 @@ fn loop_rows_alone_equal_the_whole_matrix() {
         checked += 1;
     }
     assert!(checked >= 3, "Loop cases: {checked}");
+}
+
+/// `limit_points_with_options` (no plan, no copy of the connectivity) gives
+/// the plan's limit points bit for bit, on every tagged case (peer files and
+/// constructed: semi-sharp ones refine first) and untagged meshes of both
+/// schemes.
+#[test]
+fn limit_points_without_a_plan_are_the_plans() {
+    for c in &all_cases() {
+        let t = c.mesh.topology();
+        let plan = SubdivisionPlan::with_tags(t, &c.tags, c.options, 0).unwrap();
+        let expected = plan.limit_points(c.mesh.positions()).unwrap();
+        let direct = subdiv_stencil::limit_points_with_options(t, &c.tags, c.options, c.mesh.positions()).unwrap();
+        assert_eq!(direct.as_deref(), Some(&expected[..]), "{}", c.name);
+    }
+    for (mesh, scheme) in [
+        (shapes::torus(7, 5), Scheme::CatmullClark),
+        (subdiv_mesh::shapes::icosahedron(), Scheme::Loop(LoopBeta::Warren)),
+    ] {
+        let plan = SubdivisionPlan::new(mesh.topology(), scheme, 0).unwrap();
+        let expected = plan.limit_points(mesh.positions()).unwrap();
+        let direct =
+            subdiv_stencil::limit_points_with_options(mesh.topology(), &Tags::none(), scheme, mesh.positions())
+                .unwrap();
+        assert_eq!(direct, Some(expected));
+    }
+    let deng_ma = Scheme::DengMa(subdiv_stencil::Tension::Global(1.0));
+    let cube = shapes::cube();
+    assert_eq!(
+        subdiv_stencil::limit_points_with_options(cube.topology(), &Tags::none(), deng_ma, cube.positions()).unwrap(),
+        None
+    );
 }
