@@ -54,7 +54,7 @@ impl ControlScheme {
 pub enum LimitAssociation {
     /// Control vertex i, moved to its limit position by the scheme's limit
     /// rules with the control mesh's tags (Catmull-Clark, Loop:
-    /// [`SubdivisionPlan::limit_points`], after the levels semi-sharp tags
+    /// [`subdiv_stencil::limit_points_with_options`], after the levels semi-sharp tags
     /// need; Doo-Sabin: `doo_sabin::limit_points_tagged` — the centroid of
     /// its V-face after one plain step, on a boundary or crease the sharp
     /// curve's point, a corner itself).
