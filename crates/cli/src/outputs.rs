@@ -185,34 +185,14 @@ impl Outputs {
         let n = normals.then(|| mesh.vertex_normals());
         require_finite(&format!("{flag} {}", path.display()), mesh, n.as_deref())?;
         let positions = as_written(flag, path, format, mesh.positions())?;
-        let mut view = subdiv_io::MeshView::new(&positions, mesh.topology().faces());
+        // Tags and texture coordinates where the format has a place for them.
+        let tags = mesh.tags().to_list(mesh.topology());
+        let (mut view, left_out) = subdiv_io::view_for_format(mesh, &positions, &tags, format);
         if let Some(n) = &n {
             view = view.with_normals(n);
         }
-        // Tags and texture coordinates where the format has a place for them.
-        let tags = mesh.tags().to_list(mesh.topology());
-        if !tags.is_empty() {
-            if format.carries_tags() {
-                view = view.with_tags(&tags);
-            } else {
-                crate::progress::warn(format!(
-                    "{flag} {}: {format} has no crease tags: {} crease and {} corner tags not written \
-                     (OBJ keeps them)",
-                    path.display(),
-                    tags.creases.len(),
-                    tags.corners.len()
-                ));
-            }
-        }
-        if let Some(uvs) = mesh.uvs() {
-            if format.carries_uvs() {
-                view = view.with_uvs(uvs);
-            } else {
-                crate::progress::warn(format!(
-                    "{flag} {}: {format} has no texture coordinates: not written (OBJ, PLY and glTF keep them)",
-                    path.display()
-                ));
-            }
+        for what in left_out {
+            crate::progress::warn(format!("{flag} {}: {what}", path.display()));
         }
         // A rough size for the bar's ETA: text formats take ~40 bytes a vertex and ~8 a corner.
         let estimate = 40 * positions.len() as u64 + 8 * mesh.topology().half_edge_count() as u64;

@@ -142,7 +142,7 @@ pub use error::{IoError, ReadWarning};
 pub use format::Format;
 pub use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, Mesh, MeshError, PolygonSoup, TagList, VertexTag};
 pub use tag_file::{parse_tag_json, read_tag_file, TAG_FILE_LIMIT};
-pub use validated::{load_mesh, load_mesh_with_warnings, write_mesh, WriteOptions};
+pub use validated::{load_mesh, load_mesh_with_warnings, view_for_format, write_mesh, LeftOut, WriteOptions};
 
 use error::Ctx;
 

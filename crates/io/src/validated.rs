@@ -4,9 +4,10 @@
 
 use std::path::Path;
 
-use subdiv_mesh::Mesh;
+use subdiv_mesh::{DVec3, Mesh, TagList};
 
 use crate::{read_mesh_with_warnings, write_mesh_as, Format, IoError, MeshView, ReadWarning};
+use std::fmt;
 
 /// What [`write_mesh`] writes, and in which format. Defaults: the format of
 /// the path's extension ([`Format::from_path`]: binary for `.ply` and
@@ -126,6 +127,72 @@ pub fn write_mesh(path: impl AsRef<Path>, mesh: &Mesh, options: &WriteOptions) -
         tags: tags.as_ref(),
     };
     write_mesh_as(path, view, format)
+}
+
+/// What a format has no place for, left out of the view [`view_for_format`]
+/// makes; its `Display` is the warning to give (prefixed with the file).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum LeftOut {
+    /// The crease and corner tags (only OBJ keeps them).
+    Tags {
+        /// The format written.
+        format: Format,
+        /// Crease tags not written.
+        creases: usize,
+        /// Corner tags not written.
+        corners: usize,
+    },
+    /// The texture coordinates (OBJ, PLY and glTF keep them).
+    Uvs {
+        /// The format written.
+        format: Format,
+    },
+}
+
+impl fmt::Display for LeftOut {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LeftOut::Tags { format, creases, corners } => write!(
+                f,
+                "{format} has no crease tags: {creases} crease and {corners} corner tags not written (OBJ keeps them)"
+            ),
+            LeftOut::Uvs { format } => {
+                write!(f, "{format} has no texture coordinates: not written (OBJ, PLY and glTF keep them)")
+            }
+        }
+    }
+}
+
+/// The view of `mesh` that `format` can hold: `positions` (the mesh's, or
+/// a rounded copy) on its faces, with `tags` (the mesh's tags as a list,
+/// owned by the caller) and its texture coordinates where the format has
+/// a place for them ([`Format::carries_tags`], [`Format::carries_uvs`]),
+/// and what was left out (a warning each). Add normals with
+/// [`MeshView::with_normals`].
+pub fn view_for_format<'a>(
+    mesh: &'a Mesh,
+    positions: &'a [DVec3],
+    tags: &'a TagList,
+    format: Format,
+) -> (MeshView<'a>, Vec<LeftOut>) {
+    let mut view = MeshView::new(positions, mesh.topology().faces());
+    let mut left_out = Vec::new();
+    if !tags.is_empty() {
+        if format.carries_tags() {
+            view = view.with_tags(tags);
+        } else {
+            left_out.push(LeftOut::Tags { format, creases: tags.creases.len(), corners: tags.corners.len() });
+        }
+    }
+    if let Some(uvs) = mesh.uvs() {
+        if format.carries_uvs() {
+            view = view.with_uvs(uvs);
+        } else {
+            left_out.push(LeftOut::Uvs { format });
+        }
+    }
+    (view, left_out)
 }
 
 /// Reads a mesh file and validates it ([`crate::read_mesh`], then

@@ -13,7 +13,7 @@ use subdiv_interp::{
     DengMaOptions, DengWangOptions, FanChengLaiOptions, InterpError, Method, MethodOptions, Parameter, Report, Shape,
     SurfaceOptions, ZhengCaiOptions,
 };
-use subdiv_io::{Format, IoError, MeshView, StagedFile};
+use subdiv_io::{Format, IoError, StagedFile};
 use subdiv_mesh::{DVec3, Mesh};
 use subdiv_stencil::{Options, StencilError};
 
@@ -118,31 +118,12 @@ impl<'a> Job<'a> {
         let n = normals.then(|| mesh.vertex_normals());
         require_finite(&shown.to_string(), mesh, n.as_deref())?;
         let positions = as_written(path, format, mesh.positions())?;
-        let mut view = MeshView::new(&positions, mesh.topology().faces());
+        let tags = mesh.tags().to_list(mesh.topology());
+        let (mut view, left_out) = subdiv_io::view_for_format(mesh, &positions, &tags, format);
         if let Some(n) = &n {
             view = view.with_normals(n);
         }
-        let tags = mesh.tags().to_list(mesh.topology());
-        if !tags.is_empty() {
-            if format.carries_tags() {
-                view = view.with_tags(&tags);
-            } else {
-                self.warnings.push(format!(
-                    "{shown}: {format} has no crease tags: {} crease and {} corner tags not written (OBJ keeps them)",
-                    tags.creases.len(),
-                    tags.corners.len()
-                ));
-            }
-        }
-        if let Some(uvs) = mesh.uvs() {
-            if format.carries_uvs() {
-                view = view.with_uvs(uvs);
-            } else {
-                self.warnings.push(format!(
-                    "{shown}: {format} has no texture coordinates: not written (OBJ, PLY and glTF keep them)"
-                ));
-            }
-        }
+        self.warnings.extend(left_out.iter().map(|what| format!("{shown}: {what}")));
         let staged = subdiv_io::stage_mesh(path, view, format, &mut |_| {}).map_err(|e| {
             let kind = if matches!(e, IoError::Io { .. }) { ErrorKind::WriteFailed } else { ErrorKind::BadInput };
             failure(kind, one_line(&e))
