@@ -319,6 +319,15 @@ impl Topology {
 /// half-edge, a half-edge of every edge).
 fn number_edges(he_twin: &[u32]) -> (Vec<u32>, Vec<u32>) {
     let mut he_edge = vec![NONE; he_twin.len()];
+    let edge_he = number_edges_into(he_twin, &mut he_edge);
+    (he_edge, edge_he)
+}
+
+/// [`number_edges`] into a buffer the caller reuses: writes the edge of
+/// every half-edge into `he_edge` (every entry, whatever it held; one per
+/// half-edge) and returns a half-edge of every edge.
+fn number_edges_into(he_twin: &[u32], he_edge: &mut [u32]) -> Vec<u32> {
+    debug_assert_eq!(he_edge.len(), he_twin.len());
     let mut edge_he = Vec::with_capacity(he_twin.len() / 2 + 1);
     for (h, &t) in he_twin.iter().enumerate() {
         if t == NONE || (h as u32) < t {
@@ -329,5 +338,5 @@ fn number_edges(he_twin: &[u32]) -> (Vec<u32>, Vec<u32>) {
             edge_he.push(h as u32);
         }
     }
-    (he_edge, edge_he)
+    edge_he
 }

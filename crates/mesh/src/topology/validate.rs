@@ -113,20 +113,11 @@ impl Topology {
             return Err(e);
         }
 
-        // Undirected edges from twins, in half-edge order (as number_edges).
+        // Undirected edges from twins, in half-edge order, into the bucket memory.
         let mut he_edge = link;
         he_edge.truncate(nh);
         he_edge.shrink_to_fit();
-        let mut edge_he = Vec::with_capacity(nh / 2 + 1);
-        for (h, &t) in he_twin.iter().enumerate() {
-            if t == NONE || (h as u32) < t {
-                he_edge[h] = edge_he.len() as u32;
-                if t != NONE {
-                    he_edge[t as usize] = edge_he.len() as u32;
-                }
-                edge_he.push(h as u32);
-            }
-        }
+        let edge_he = super::number_edges_into(&he_twin, &mut he_edge);
 
         // Boundary loops: after boundary half-edge a→b comes b's boundary half-edge.
         let to = |h: usize| -> u32 {
