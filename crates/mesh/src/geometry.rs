@@ -258,14 +258,7 @@ pub(crate) fn scaled_newell(corners: impl Iterator<Item = DVec3> + Clone) -> (DV
     // The common case first: offsets within [2^-250, 2^250], whose products
     // can neither overflow nor underflow, summed unscaled (the scaled sum
     // would be the same bits; this saves three passes).
-    let mut reach = 0.0_f64;
-    let next = corners.clone().skip(1).chain(std::iter::once(first));
-    let naive = corners.clone().zip(next).fold(DVec3::ZERO, |acc, (a, b)| {
-        let (da, db) = (a - first, b - first);
-        reach = reach.max(da.abs().max_element());
-        acc + da.cross(db) // Newell: N = Σ (Vᵢ − V₀) × (Vᵢ₊₁ − V₀) (Zheng-Cai Eq. 10)
-    });
-    if in_safe_range(reach) {
+    if let Some(naive) = unscaled_newell(corners.clone()) {
         return (naive, PowerOfTwoScale::IDENTITY);
     }
     let outer = PowerOfTwoScale::normalizing(corners.clone());
@@ -278,6 +271,22 @@ pub(crate) fn scaled_newell(corners: impl Iterator<Item = DVec3> + Clone) -> (DV
     let n = q.zip(next).fold(DVec3::ZERO, |acc, (a, b)| acc + a.cross(b));
     // N' = Σ (2^k dᵢ) × (2^k dᵢ₊₁) = 2^2k N for the combined exponent k.
     (n, PowerOfTwoScale { exponent: 2 * (outer.exponent + inner.exponent) })
+}
+
+/// The Newell vector N = Σ (Vᵢ − V₀) × (Vᵢ₊₁ − V₀) (Zheng-Cai Eq. 10)
+/// summed unscaled, when the offsets' largest |component| lies in
+/// [2^-250, 2^250] (see [`in_safe_range`]); `None` otherwise (and for no
+/// corners).
+pub(crate) fn unscaled_newell(corners: impl Iterator<Item = DVec3> + Clone) -> Option<DVec3> {
+    let first = corners.clone().next()?;
+    let mut reach = 0.0_f64;
+    let next = corners.clone().skip(1).chain(std::iter::once(first));
+    let naive = corners.zip(next).fold(DVec3::ZERO, |acc, (a, b)| {
+        let (da, db) = (a - first, b - first);
+        reach = reach.max(da.abs().max_element());
+        acc + da.cross(db)
+    });
+    in_safe_range(reach).then_some(naive)
 }
 
 /// True when a largest |component| `x` lies in [2^-250, 2^250], where products

@@ -91,7 +91,7 @@ pub use geometry::{
     centroid, corner_angle, distance, newell_normal, unit_newell_normal, unit_vector, Aabb, PowerOfTwoScale,
 };
 pub use ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
-pub use mesh::{Mesh, ZERO_AREA_REL};
+pub use mesh::{Mesh, Rejected, ZERO_AREA_REL};
 pub use soup::{FaceGroups, FaceList, PolygonSoup};
 pub use tags::{EdgeTag, FaceVarying, TagList, Tags, VertexTag, SHARPNESS_INFINITE, SHARPNESS_SMOOTH};
 pub use topology::{Corner, Topology};

@@ -1,12 +1,13 @@
 //! A validated topology with positions.
 
 use crate::error::{MeshError, Warning};
-use crate::geometry::{centroid, corner_angle, scaled_newell, unit_vector, Aabb, Magnitude};
+use crate::geometry::{centroid, corner_angle, scaled_newell, unit_vector, unscaled_newell, Aabb, Magnitude};
 use crate::ids::{FaceId, VertexId};
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
 use crate::tags::{EdgeTag, FaceVarying, TagList, Tags, VertexTag};
 use crate::topology::Topology;
 use glam::DVec3;
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// Relative area below which a face counts as zero-area: area ≤ this · d².
@@ -26,6 +27,15 @@ pub struct Mesh {
     uvs: Option<Arc<FaceVarying>>,
 }
 
+/// A soup [`Mesh::try_from_soup`] refused: why, and the soup itself, as given.
+#[derive(Clone, Debug)]
+pub struct Rejected {
+    /// The first error that makes the soup no valid mesh.
+    pub error: MeshError,
+    /// The soup, unchanged.
+    pub soup: PolygonSoup,
+}
+
 impl Mesh {
     /// Validates a soup: per-face checks, finite coordinates, then connectivity
     /// (see [`Topology::new`]), then extent: a mesh whose faces' vertices all
@@ -34,24 +44,47 @@ impl Mesh {
     /// the warning-level defects (isolated vertices, zero-area faces), which
     /// do not prevent its use. Time linear in the number of corners.
     pub fn from_soup(soup: PolygonSoup) -> Result<(Self, Vec<Warning>), MeshError> {
+        Self::try_from_soup(soup).map_err(|rejected| rejected.error)
+    }
+
+    /// [`Mesh::from_soup`] that gives the soup back, unchanged, with the
+    /// error: for a caller that goes on to describe what is wrong with it
+    /// ([`crate::diagnose`]) without having copied it first.
+    pub fn try_from_soup(soup: PolygonSoup) -> Result<(Self, Vec<Warning>), Box<Rejected>> {
+        if soup.faces.is_empty() {
+            return Err(Box::new(Rejected { error: MeshError::NoFaces, soup }));
+        }
+        if let Some((v, p)) = soup.positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+            let error = MeshError::NonFiniteCoordinate { vertex: v as u32, x: p.x, y: p.y, z: p.z };
+            return Err(Box::new(Rejected { error, soup }));
+        }
         let PolygonSoup { positions, faces, groups, tags, uvs } = soup;
-        if faces.is_empty() {
-            return Err(MeshError::NoFaces);
-        }
-        if let Some((v, p)) = positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {
-            return Err(MeshError::NonFiniteCoordinate { vertex: v as u32, x: p.x, y: p.y, z: p.z });
-        }
-        let topology = Topology::new(faces, positions.len())?;
-        let tags = Tags::from_list(&topology, &tags)?;
-        if let Some(uvs) = &uvs {
-            uvs.validate(topology.half_edge_count())?;
-        }
-        let mesh = Self { topology: Arc::new(topology), positions, groups, tags, uvs: uvs.map(Arc::new) };
+        let topology = match Topology::new_or_return(faces, positions.len()) {
+            Ok(topology) => topology,
+            Err((error, faces)) => {
+                return Err(Box::new(Rejected { error, soup: PolygonSoup { positions, faces, groups, tags, uvs } }));
+            }
+        };
+        let checked = Tags::from_list(&topology, &tags).and_then(|checked| {
+            if let Some(uvs) = &uvs {
+                uvs.validate(topology.half_edge_count())?;
+            }
+            Ok(checked)
+        });
+        let checked_tags = match checked {
+            Ok(checked_tags) => checked_tags,
+            Err(error) => {
+                let faces = topology.into_faces();
+                return Err(Box::new(Rejected { error, soup: PolygonSoup { positions, faces, groups, tags, uvs } }));
+            }
+        };
+        let mesh = Self { topology: Arc::new(topology), positions, groups, tags: checked_tags, uvs: uvs.map(Arc::new) };
         let bbox = mesh.bbox();
         if bbox.min == bbox.max {
             let p = bbox.min;
             let vertices = mesh.topology.referenced_vertex_count();
-            return Err(MeshError::AllVerticesCoincide { vertices, x: p.x, y: p.y, z: p.z });
+            let error = MeshError::AllVerticesCoincide { vertices, x: p.x, y: p.y, z: p.z };
+            return Err(Box::new(Rejected { error, soup: PolygonSoup { tags, ..mesh.into_soup() } }));
         }
         let warnings = mesh.warnings();
         Ok((mesh, warnings))
@@ -242,8 +275,21 @@ impl Mesh {
         }
         let d = self.bbox().diagonal_magnitude();
         let threshold = Magnitude::new(ZERO_AREA_REL).times(d).times(d);
+        // The common case in plain `f64`, the same verdicts: with d, the
+        // offsets and ‖N‖² in the normal range, the exact path's scalings by
+        // powers of two commute with every rounding (same bits).
+        let plain_threshold =
+            (2f64.powi(-200)..=2f64.powi(200)).contains(&d.value()).then(|| ZERO_AREA_REL * d.value() * d.value());
+        let is_degenerate = |f: FaceId| {
+            let plain = plain_threshold.and_then(|threshold| {
+                let n = unscaled_newell(self.face_points(f))?;
+                let squared = n.length_squared();
+                in_plain_range(squared).then(|| 0.5 * squared.sqrt() <= threshold)
+            });
+            plain.unwrap_or_else(|| self.face_area_magnitude(f).le(threshold))
+        };
         let degenerate: Vec<u32> =
-            t.face_ids().filter(|&f| self.face_area_magnitude(f).le(threshold)).map(|f| f.0).collect();
+            (0..t.face_count() as u32).into_par_iter().filter(|&f| is_degenerate(FaceId(f))).collect();
         if !degenerate.is_empty() {
             warnings.push(Warning::ZeroAreaFaces { faces: degenerate });
         }
@@ -285,4 +331,10 @@ impl PolygonSoup {
         let tags = TagList { creases, corners };
         (PolygonSoup { positions, faces, groups: self.groups.clone(), tags, uvs: self.uvs.clone() }, map)
     }
+}
+
+/// True for x in [2^-900, 2^900]: far from the subnormals and from overflow,
+/// where scaling by a power of two and rounding commute.
+fn in_plain_range(x: f64) -> bool {
+    (2f64.powi(-900)..=2f64.powi(900)).contains(&x)
 }

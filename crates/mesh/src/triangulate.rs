@@ -51,12 +51,13 @@
 
 use crate::error::MeshError;
 use crate::geometry::{scaled_newell, PowerOfTwoScale};
-use crate::ids::FaceId;
+use crate::ids::{FaceId, HalfEdgeId, VertexId};
 use crate::mesh::Mesh;
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
 use crate::tags::FaceVarying;
 use crate::topology::Topology;
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 use std::collections::HashSet;
 use std::hash::{BuildHasherDefault, Hasher};
 
@@ -229,38 +230,82 @@ const CONFLICT_SCAN_PER_CORNER: usize = 64;
 /// face around a that is an edge at a or a diagonal at a of another face
 /// marks every face that has it.
 fn conflicting_faces(t: &Topology) -> Vec<bool> {
-    const EDGE: u32 = u32::MAX;
     let faces = t.faces();
-    let offsets = faces.offsets();
-    let mut conflicting = vec![false; faces.len()];
-    // For big fans, stamp[w] == a: w seen at a, as a neighbour (owner EDGE)
-    // or as the far corner of face owner[w].
-    let idx = faces.indices();
-    // The corners of the face of fan half-edge h: (face, its first corner,
-    // size, h's position). In a mesh of one face size (all quads) the face
-    // follows from h alone: no dependent loads of he_face and offsets.
     let uniform = faces.face_size(0);
-    let uniform = faces.all_of_size(uniform).then_some(uniform);
-    let corner = |h: crate::ids::HalfEdgeId| match uniform {
-        Some(m) => {
-            let f = h.index() / m;
-            (f, f * m, m, h.index() - f * m)
+    let scan = ConflictScan { t, uniform: faces.all_of_size(uniform).then_some(uniform) };
+    // Vertices in blocks across threads, each block listing the faces it
+    // marks; the marks are merged into one vector (the same whatever the
+    // order: a mark is a mark).
+    const BLOCK: usize = 1 << 14;
+    let blocks: Vec<Vec<u32>> = (0..t.vertex_count().div_ceil(BLOCK))
+        .into_par_iter()
+        .map_init(Stamps::default, |stamps, block| {
+            let mut marks = Vec::new();
+            let end = ((block + 1) * BLOCK).min(t.vertex_count());
+            for a in block * BLOCK..end {
+                scan.vertex(VertexId(a as u32), stamps, &mut marks);
+            }
+            marks
+        })
+        .collect();
+    let mut conflicting = vec![false; faces.len()];
+    for f in blocks.iter().flatten() {
+        conflicting[*f as usize] = true;
+    }
+    conflicting
+}
+
+/// What [`conflicting_faces`] reads: the topology, and its face size when
+/// every face has the same (the face of a half-edge then follows from its
+/// index alone: no dependent loads of he_face and offsets).
+struct ConflictScan<'a> {
+    t: &'a Topology,
+    uniform: Option<usize>,
+}
+
+/// Per-thread marks for big fans: `stamp[w] == a`: w seen at a, as a
+/// neighbour (owner [`Stamps::EDGE`]) or as the far corner of face `owner[w]`.
+#[derive(Default)]
+struct Stamps {
+    stamp: Vec<u32>,
+    owner: Vec<u32>,
+}
+
+impl Stamps {
+    const EDGE: u32 = u32::MAX;
+}
+
+impl ConflictScan<'_> {
+    /// The corners of the face of fan half-edge h: (face, its first corner,
+    /// size, h's position).
+    #[inline]
+    fn corner(&self, h: HalfEdgeId) -> (usize, usize, usize, usize) {
+        match self.uniform {
+            Some(m) => {
+                let f = h.index() / m;
+                (f, f * m, m, h.index() - f * m)
+            }
+            None => {
+                let offsets = self.t.faces().offsets();
+                let f = self.t.he_face(h).index();
+                let start = offsets[f] as usize;
+                (f, start, offsets[f + 1] as usize - start, h.index() - start)
+            }
         }
-        None => {
-            let f = t.he_face(h).index();
-            let start = offsets[f] as usize;
-            (f, start, offsets[f + 1] as usize - start, h.index() - start)
-        }
-    };
-    // Small fans compare their corners on the stack; others stamp vertices.
-    const SMALL: usize = 16;
-    let (mut stamp, mut owner) = (Vec::new(), Vec::new());
-    for a in t.vertices() {
+    }
+
+    /// The faces around `a` whose diagonals at `a` are blocked, pushed to
+    /// `marks` (possibly repeated).
+    fn vertex(&self, a: VertexId, stamps: &mut Stamps, marks: &mut Vec<u32>) {
+        let t = self.t;
+        let idx = t.faces().indices();
         let fan = t.vertex_fan(a);
-        if !fan.iter().any(|&h| corner(h).2 > 3) {
-            continue;
+        if !fan.iter().any(|&h| self.corner(h).2 > 3) {
+            return;
         }
-        let far_count: usize = fan.iter().map(|&h| corner(h).2 - 3).sum();
+        // Small fans compare their corners on the stack; others stamp vertices.
+        const SMALL: usize = 16;
+        let far_count: usize = fan.iter().map(|&h| self.corner(h).2 - 3).sum();
         if fan.len() <= SMALL && far_count <= 2 * SMALL {
             // Neighbours: the corners before and after a in each of its faces
             // (on the boundary, that includes the closing neighbour).
@@ -268,7 +313,7 @@ fn conflicting_faces(t: &Topology) -> Vec<bool> {
             let mut far = [(0u32, 0u32); 2 * SMALL];
             let (mut n, mut nf) = (0, 0);
             for &h in fan {
-                let (f, start, m, k) = corner(h);
+                let (f, start, m, k) = self.corner(h);
                 neighbours[n] = idx[start + (k + 1) % m];
                 neighbours[n + 1] = idx[start + (k + m - 1) % m];
                 n += 2;
@@ -280,36 +325,36 @@ fn conflicting_faces(t: &Topology) -> Vec<bool> {
             for i in 0..nf {
                 let (w, f) = far[i];
                 if neighbours[..n].contains(&w) {
-                    conflicting[f as usize] = true;
+                    marks.push(f);
                 }
                 for &(x, g) in &far[i + 1..nf] {
                     if x == w {
-                        conflicting[f as usize] = true;
-                        conflicting[g as usize] = true;
+                        marks.extend([f, g]);
                     }
                 }
             }
-            continue;
+            return;
         }
+        let Stamps { stamp, owner } = stamps;
         if stamp.is_empty() {
-            stamp = vec![u32::MAX; t.vertex_count()];
-            owner = vec![EDGE; t.vertex_count()];
+            *stamp = vec![u32::MAX; t.vertex_count()];
+            *owner = vec![Stamps::EDGE; t.vertex_count()];
         }
         for &h in fan {
-            let (_, start, m, k) = corner(h);
+            let (_, start, m, k) = self.corner(h);
             for w in [idx[start + (k + 1) % m], idx[start + (k + m - 1) % m]] {
                 stamp[w as usize] = a.0;
-                owner[w as usize] = EDGE;
+                owner[w as usize] = Stamps::EDGE;
             }
         }
         for &h in fan {
-            let (f, start, m, k) = corner(h);
+            let (f, start, m, k) = self.corner(h);
             for j in 2..m.saturating_sub(1) {
                 let w = idx[start + (k + j) % m] as usize;
                 if stamp[w] == a.0 {
-                    conflicting[f] = true;
-                    if owner[w] != EDGE {
-                        conflicting[owner[w] as usize] = true;
+                    marks.push(f as u32);
+                    if owner[w] != Stamps::EDGE {
+                        marks.push(owner[w]);
                     }
                 } else {
                     stamp[w] = a.0;
@@ -318,7 +363,6 @@ fn conflicting_faces(t: &Topology) -> Vec<bool> {
             }
         }
     }
-    conflicting
 }
 
 /// Steps 3-5 of the module docs for one face of four or more corners:

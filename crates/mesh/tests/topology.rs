@@ -147,7 +147,14 @@ fn soup(positions: usize, faces: &[&[u32]]) -> PolygonSoup {
 #[test]
 fn every_error_names_its_element() {
     let tet: [&[u32]; 4] = [&[0, 1, 2], &[0, 2, 3], &[0, 3, 1], &[1, 3, 2]];
-    let err = |s: PolygonSoup| Mesh::from_soup(s).expect_err("must be rejected");
+    // Both entry points refuse alike; `try_from_soup` gives the soup back as it was.
+    let err = |s: PolygonSoup| {
+        let rejected = Mesh::try_from_soup(s.clone()).expect_err("must be rejected");
+        // (Debug text: a NaN coordinate is not == itself.)
+        assert_eq!(format!("{:?}", rejected.soup), format!("{s:?}"), "the refused soup comes back unchanged");
+        assert_eq!(format!("{:?}", Mesh::from_soup(s).expect_err("must be rejected")), format!("{:?}", rejected.error));
+        rejected.error
+    };
 
     assert_eq!(err(soup(4, &[])), MeshError::NoFaces);
     assert_eq!(err(soup(4, &[&[0, 1]])), MeshError::FaceTooSmall { face: 0, size: 2 });
@@ -169,6 +176,10 @@ fn every_error_names_its_element() {
     let two_tets: [&[u32]; 8] =
         [&[0, 1, 2], &[0, 2, 3], &[0, 3, 1], &[1, 3, 2], &[0, 4, 5], &[0, 5, 6], &[0, 6, 4], &[4, 6, 5]];
     assert_eq!(err(soup(7, &two_tets)), MeshError::NonManifoldVertex { vertex: 0, fans: 2 });
+    // Valid connectivity, every vertex in one place.
+    let mut point = soup(4, &tet);
+    point.positions.fill(glam::DVec3::ONE);
+    assert!(matches!(err(point), MeshError::AllVerticesCoincide { vertices: 4, .. }));
     for e in [MeshError::NonManifoldEdge { a: 0, b: 1, faces: 3 }, MeshError::NonManifoldVertex { vertex: 0, fans: 2 }]
     {
         assert!(e.to_string().contains('0'));

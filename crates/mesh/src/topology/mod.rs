@@ -91,6 +91,10 @@ impl Topology {
     pub fn faces(&self) -> &FaceList {
         &self.faces
     }
+    /// The face list, giving up the rest.
+    pub(crate) fn into_faces(self) -> FaceList {
+        self.faces
+    }
     /// Vertex indices of face `f`, in order.
     #[inline]
     pub fn face(&self, f: FaceId) -> &[u32] {

@@ -17,10 +17,25 @@ impl Topology {
     /// faces, two faces traversing an edge the same way, or a vertex whose faces
     /// form more than one fan. A face list with no faces is an error too.
     pub fn new(faces: FaceList, vertex_count: usize) -> Result<Self, MeshError> {
+        Self::new_or_return(faces, vertex_count).map_err(|(error, _)| error)
+    }
+
+    /// [`Topology::new`] that gives the face list back with the error (for a
+    /// caller that goes on to describe what is wrong, without a copy).
+    pub(crate) fn new_or_return(faces: FaceList, vertex_count: usize) -> Result<Self, (MeshError, FaceList)> {
+        match Self::connect(&faces, vertex_count) {
+            Ok(topology) => Ok(Self { faces, ..topology }),
+            Err(error) => Err((error, faces)),
+        }
+    }
+
+    /// The connectivity of `faces`: everything [`Topology::new`] returns but
+    /// the face list itself (left empty here, moved in by the caller).
+    fn connect(faces: &FaceList, vertex_count: usize) -> Result<Self, MeshError> {
         if faces.is_empty() {
             return Err(MeshError::NoFaces);
         }
-        check_faces(&faces, vertex_count)?;
+        check_faces(faces, vertex_count)?;
         let nv = vertex_count;
         let nh = faces.corner_count();
         if nh >= NONE as usize {
@@ -147,7 +162,7 @@ impl Topology {
 
         Ok(Self {
             vertex_count: nv as u32,
-            faces,
+            faces: FaceList::default(),
             he_face,
             he_twin,
             he_edge,
