@@ -6,7 +6,9 @@ use super::{Topology, NONE};
 use crate::error::MeshError;
 use crate::ids::HalfEdgeId;
 use crate::soup::FaceList;
+use rayon::prelude::*;
 use std::collections::HashMap;
+use std::ops::Range;
 
 impl Topology {
     /// Builds and validates the connectivity of `faces` over `vertex_count`
@@ -49,82 +51,56 @@ impl Topology {
         // order), each with its end vertex and its face's previous half-edge
         // (which ends at the vertex): `link[2k]` and `link[2k + 1]` for slot
         // k. The fan is this CSR reordered in place: everything a vertex
-        // needs is in its own bucket. (One pass also fills he_face; `link`'s
-        // memory becomes he_edge, so that fewer fresh pages are touched.)
+        // needs is in its own bucket. (`link`'s memory becomes he_edge, so
+        // that fewer fresh pages are touched.) Big meshes are split into
+        // vertex ranges of about equal corner counts, one per thread: each
+        // owns its buckets' slots, so the result is the same whatever the
+        // split (every bucket in half-edge order).
         let fan_offsets = csr_offsets(nv, idx.iter().copied());
-        let mut cursor: Vec<u32> = fan_offsets[..nv].to_vec();
-        let mut he_face = vec![0u32; nh];
+        let parts = if nh < PARALLEL_CORNERS { 1 } else { rayon::current_num_threads().max(1) };
+        let vertex_parts = balanced_ranges(&fan_offsets, parts);
+        let he_face = face_of_half_edges(faces, parts);
         let mut fan = vec![HalfEdgeId(0); nh];
         let mut link = vec![0u32; 2 * nh];
-        for f in 0..nf {
-            let (start, end) = (offsets[f], offsets[f + 1]);
-            he_face[start as usize..end as usize].fill(f as u32);
-            let mut prev = end - 1;
-            for h in start..end {
-                let next = if h + 1 == end { start } else { h + 1 };
-                let slot = &mut cursor[idx[h as usize] as usize];
-                let k = *slot as usize;
-                *slot += 1;
-                fan[k] = HalfEdgeId(h);
-                link[2 * k] = idx[next as usize];
-                link[2 * k + 1] = prev;
-                prev = h;
+        split_by_buckets(&vertex_parts, &fan_offsets, &mut fan, &mut link)
+            .into_par_iter()
+            .for_each(|(vertices, fan, link)| scatter_corners(faces, &fan_offsets, vertices, fan, link));
+
+        // The twin of a→b is the half-edge b→a: the corner of b's bucket that
+        // ends at a (read in parallel; a repeated end is an error below).
+        let mut he_twin = vec![NONE; nh];
+        let to = |h: usize| -> u32 {
+            let f = he_face[h] as usize;
+            idx[if h + 1 == offsets[f + 1] as usize { offsets[f] as usize } else { h + 1 }]
+        };
+        he_twin.par_chunks_mut(1 << 14).enumerate().for_each(|(chunk, twins)| {
+            for (i, twin) in twins.iter_mut().enumerate() {
+                let h = (chunk << 14) + i;
+                let (a, b) = (idx[h], to(h) as usize);
+                let bucket = fan_offsets[b] as usize..fan_offsets[b + 1] as usize;
+                if let Some(k) = bucket.clone().find(|&k| link[2 * k] == a) {
+                    *twin = fan[k].0;
+                }
             }
-        }
-        drop(cursor);
+        });
 
         // Per vertex a, from its bucket alone: two half-edges a→b are an
-        // edge error; the twin of a→b is the previous half-edge b→a of the
-        // corner of a whose previous vertex is b; the fan walks h ←
-        // twin(prev(h)), i.e. to the corner whose end is h's previous vertex,
-        // from the boundary half-edge (or the first one). Edge errors are
-        // reported before fan errors, at the first vertex that has one.
-        let mut he_twin = vec![NONE; nh];
+        // edge error; the fan walks h ← twin(prev(h)), i.e. to the corner
+        // whose end is h's previous vertex, from the boundary half-edge (or
+        // the first one). Edge errors are reported before fan errors, at the
+        // first vertex that has one (per range, then the first range's).
         let mut vertex_on_boundary = vec![false; nv];
-        let mut fan_error: Option<MeshError> = None;
-        let mut bucket = Bucket::default();
-        for a in 0..nv {
-            let range = fan_offsets[a] as usize..fan_offsets[a + 1] as usize;
-            if range.is_empty() {
-                continue;
-            }
-            let links = &link[2 * range.start..2 * range.end];
-            let verdict = if range.len() <= SMALL_BUCKET {
-                small_bucket(links, idx, &mut fan[range.clone()], &mut he_twin)
-            } else {
-                bucket.load(links, idx);
-                bucket.fan(links, &mut fan[range.clone()], &mut he_twin)
-            };
-            match verdict {
-                Verdict::Fan { boundary } => vertex_on_boundary[a] = boundary,
-                Verdict::RepeatedEnd(i, j) => {
-                    let (first, second) = (fan[range.start + i].0, fan[range.start + j].0);
-                    let b = links[2 * i];
-                    let count = |from: u32, target: u32| {
-                        let r = fan_offsets[from as usize] as usize..fan_offsets[from as usize + 1] as usize;
-                        link[2 * r.start..2 * r.end].iter().step_by(2).filter(|&&to| to == target).count()
-                    };
-                    let faces = count(a as u32, b) + count(b, a as u32);
-                    return Err(if faces > 2 {
-                        MeshError::NonManifoldEdge { a: (a as u32).min(b), b: (a as u32).max(b), faces }
-                    } else {
-                        MeshError::InconsistentOrientation {
-                            a: a as u32,
-                            b,
-                            face_a: he_face[first as usize],
-                            face_b: he_face[second as usize],
-                        }
-                    });
-                }
-                Verdict::SeveralFans => {
-                    if fan_error.is_none() {
-                        bucket.load(links, idx);
-                        fan_error = Some(MeshError::NonManifoldVertex { vertex: a as u32, fans: bucket.count_fans() });
-                    }
-                }
-            }
+        let verdicts: Vec<RangeVerdict> = split_by_buckets(&vertex_parts, &fan_offsets, &mut fan, &mut [])
+            .into_par_iter()
+            .zip(split_at_ranges(&vertex_parts, &mut vertex_on_boundary))
+            .map(|((vertices, fan, _), on_boundary)| {
+                order_fans(vertices, &fan_offsets, &link, idx, &he_face, fan, on_boundary)
+            })
+            .collect();
+        if let Some(e) = verdicts.iter().find_map(|v| v.edge_error.clone()) {
+            return Err(e);
         }
-        if let Some(e) = fan_error {
+        if let Some(e) = verdicts.into_iter().find_map(|v| v.fan_error) {
             return Err(e);
         }
 
@@ -135,10 +111,6 @@ impl Topology {
         let edge_he = super::number_edges_into(&he_twin, &mut he_edge);
 
         // Boundary loops: after boundary half-edge a→b comes b's boundary half-edge.
-        let to = |h: usize| -> u32 {
-            let f = he_face[h] as usize;
-            idx[if h + 1 == offsets[f + 1] as usize { offsets[f] as usize } else { h + 1 }]
-        };
         let mut loop_offsets = vec![0u32];
         let mut loop_he = Vec::new();
         // Marks for boundary half-edges, allocated only for an open mesh.
@@ -202,6 +174,173 @@ fn check_faces(faces: &FaceList, vertex_count: usize) -> Result<(), MeshError> {
         }
     }
     Ok(())
+}
+
+/// Below this many corners the construction runs on one thread.
+const PARALLEL_CORNERS: usize = 1 << 16;
+
+/// `0..prefix.len() − 1` cut into `parts` consecutive ranges of about equal
+/// weight, `prefix` being the running sum of the weights (CSR offsets).
+fn balanced_ranges(prefix: &[u32], parts: usize) -> Vec<Range<usize>> {
+    let n = prefix.len() - 1;
+    let total = u64::from(prefix[n]);
+    let mut cuts: Vec<usize> = (1..parts)
+        .map(|p| prefix.partition_point(|&w| u64::from(w) * parts as u64 <= total * p as u64).saturating_sub(1))
+        .collect();
+    cuts.insert(0, 0);
+    cuts.push(n);
+    cuts.dedup();
+    cuts.windows(2).map(|w| w[0]..w[1]).collect()
+}
+
+/// The face of every half-edge, face ranges filled in parallel.
+fn face_of_half_edges(faces: &FaceList, parts: usize) -> Vec<u32> {
+    let offsets = faces.offsets();
+    let mut he_face = vec![0u32; faces.corner_count()];
+    let face_parts = balanced_ranges(offsets, parts);
+    let corner_parts: Vec<Range<usize>> =
+        face_parts.iter().map(|r| offsets[r.start] as usize..offsets[r.end] as usize).collect();
+    split_at_ranges(&corner_parts, &mut he_face).into_par_iter().zip(face_parts).for_each(|(slice, faces)| {
+        let base = offsets[faces.start] as usize;
+        for f in faces {
+            slice[offsets[f] as usize - base..offsets[f + 1] as usize - base].fill(f as u32);
+        }
+    });
+    he_face
+}
+
+/// `data` cut at consecutive `ranges` (which cover it from 0).
+fn split_at_ranges<'a, T>(ranges: &[Range<usize>], mut data: &'a mut [T]) -> Vec<&'a mut [T]> {
+    let mut slices = Vec::with_capacity(ranges.len());
+    for r in ranges {
+        let (head, tail) = std::mem::take(&mut data).split_at_mut(r.len());
+        slices.push(head);
+        data = tail;
+    }
+    slices
+}
+
+/// Per vertex range: the range, its buckets' slots of `fan` and of `link`
+/// (two entries per slot; `link` may be empty).
+type BucketSlices<'a> = (Range<usize>, &'a mut [HalfEdgeId], &'a mut [u32]);
+
+fn split_by_buckets<'a>(
+    vertex_parts: &[Range<usize>],
+    fan_offsets: &[u32],
+    fan: &'a mut [HalfEdgeId],
+    link: &'a mut [u32],
+) -> Vec<BucketSlices<'a>> {
+    let slots: Vec<Range<usize>> =
+        vertex_parts.iter().map(|r| fan_offsets[r.start] as usize..fan_offsets[r.end] as usize).collect();
+    let fans = split_at_ranges(&slots, fan);
+    let links: Vec<&mut [u32]> = if link.is_empty() {
+        slots.iter().map(|_| Default::default()).collect()
+    } else {
+        let doubled: Vec<Range<usize>> = slots.iter().map(|r| 2 * r.start..2 * r.end).collect();
+        split_at_ranges(&doubled, link)
+    };
+    vertex_parts.iter().cloned().zip(fans).zip(links).map(|((r, f), l)| (r, f, l)).collect()
+}
+
+/// The counting sort's scatter for the buckets of `vertices` (whose slots
+/// `fan` and `link` are): every corner of every face, in half-edge order,
+/// into its start vertex's bucket when that is in the range.
+fn scatter_corners(
+    faces: &FaceList,
+    fan_offsets: &[u32],
+    vertices: Range<usize>,
+    fan: &mut [HalfEdgeId],
+    link: &mut [u32],
+) {
+    let (offsets, idx) = (faces.offsets(), faces.indices());
+    let base = fan_offsets[vertices.start];
+    let mut cursor: Vec<u32> = fan_offsets[vertices.clone()].iter().map(|&o| o - base).collect();
+    let (first, count) = (vertices.start as u32, vertices.len() as u32);
+    for f in 0..faces.len() {
+        let (start, end) = (offsets[f], offsets[f + 1]);
+        let mut prev = end - 1;
+        for h in start..end {
+            let a = idx[h as usize].wrapping_sub(first);
+            if a < count {
+                let next = if h + 1 == end { start } else { h + 1 };
+                let slot = &mut cursor[a as usize];
+                let k = *slot as usize;
+                *slot += 1;
+                fan[k] = HalfEdgeId(h);
+                link[2 * k] = idx[next as usize];
+                link[2 * k + 1] = prev;
+            }
+            prev = h;
+        }
+    }
+}
+
+/// What one vertex range's buckets say: its first edge error, its first
+/// fan error.
+struct RangeVerdict {
+    edge_error: Option<MeshError>,
+    fan_error: Option<MeshError>,
+}
+
+/// Orders the fans of `vertices` (whose buckets' slots `fan` is) and marks
+/// the boundary ones, stopping at the first edge error.
+fn order_fans(
+    vertices: Range<usize>,
+    fan_offsets: &[u32],
+    link: &[u32],
+    idx: &[u32],
+    he_face: &[u32],
+    fan: &mut [HalfEdgeId],
+    on_boundary: &mut [bool],
+) -> RangeVerdict {
+    let base = fan_offsets[vertices.start] as usize;
+    let mut verdict = RangeVerdict { edge_error: None, fan_error: None };
+    let mut bucket = Bucket::default();
+    for a in vertices.clone() {
+        let range = fan_offsets[a] as usize..fan_offsets[a + 1] as usize;
+        if range.is_empty() {
+            continue;
+        }
+        let links = &link[2 * range.start..2 * range.end];
+        let local = range.start - base..range.end - base;
+        let corners = if range.len() <= SMALL_BUCKET {
+            small_bucket(links, idx, &mut fan[local.clone()])
+        } else {
+            bucket.load(links, idx);
+            bucket.fan(&mut fan[local.clone()])
+        };
+        match corners {
+            Verdict::Fan { boundary } => on_boundary[a - vertices.start] = boundary,
+            Verdict::RepeatedEnd(i, j) => {
+                let (first, second) = (fan[local.start + i].0, fan[local.start + j].0);
+                let b = links[2 * i];
+                let count = |from: u32, target: u32| {
+                    let r = fan_offsets[from as usize] as usize..fan_offsets[from as usize + 1] as usize;
+                    link[2 * r.start..2 * r.end].iter().step_by(2).filter(|&&to| to == target).count()
+                };
+                let faces = count(a as u32, b) + count(b, a as u32);
+                verdict.edge_error = Some(if faces > 2 {
+                    MeshError::NonManifoldEdge { a: (a as u32).min(b), b: (a as u32).max(b), faces }
+                } else {
+                    MeshError::InconsistentOrientation {
+                        a: a as u32,
+                        b,
+                        face_a: he_face[first as usize],
+                        face_b: he_face[second as usize],
+                    }
+                });
+                return verdict;
+            }
+            Verdict::SeveralFans => {
+                if verdict.fan_error.is_none() {
+                    bucket.load(links, idx);
+                    verdict.fan_error =
+                        Some(MeshError::NonManifoldVertex { vertex: a as u32, fans: bucket.count_fans() });
+                }
+            }
+        }
+    }
+    verdict
 }
 
 /// CSR offsets of a bucket count: `keys` yields the bucket of every item.
@@ -270,9 +409,9 @@ enum Verdict {
 /// [`Bucket::fan`] for a bucket of at most [`SMALL_BUCKET`] corners, on the
 /// stack: `links` are the corners' end vertices and previous half-edges
 /// (interleaved), `fan` their half-edges, reordered into the fan on
-/// success; the twins of the corners are written to `he_twin`.
+/// success.
 #[inline]
-fn small_bucket(links: &[u32], idx: &[u32], fan: &mut [HalfEdgeId], he_twin: &mut [u32]) -> Verdict {
+fn small_bucket(links: &[u32], idx: &[u32], fan: &mut [HalfEdgeId]) -> Verdict {
     const NO: u8 = u8::MAX;
     let k = fan.len();
     let mut to = [0u32; SMALL_BUCKET];
@@ -286,8 +425,7 @@ fn small_bucket(links: &[u32], idx: &[u32], fan: &mut [HalfEdgeId], he_twin: &mu
             return Verdict::RepeatedEnd(i, j);
         }
     }
-    // succ[i]: the corner ending at i's previous vertex (twin(prev(h))),
-    // whose twin is i's previous half-edge.
+    // succ[i]: the corner ending at i's previous vertex (twin(prev(h))).
     let mut succ = [NO; SMALL_BUCKET];
     let mut has_pred = [false; SMALL_BUCKET];
     for i in 0..k {
@@ -295,7 +433,6 @@ fn small_bucket(links: &[u32], idx: &[u32], fan: &mut [HalfEdgeId], he_twin: &mu
             if to[j] == prev_from[i] {
                 succ[i] = j as u8;
                 has_pred[j] = true;
-                he_twin[fan[j].index()] = links[2 * i + 1];
             }
         }
     }
@@ -389,8 +526,8 @@ impl Bucket {
         }
     }
 
-    /// Twins and fan order of the loaded bucket (see [`small_bucket`]).
-    fn fan(&mut self, links: &[u32], fan: &mut [HalfEdgeId], he_twin: &mut [u32]) -> Verdict {
+    /// Fan order of the loaded bucket (see [`small_bucket`]).
+    fn fan(&mut self, fan: &mut [HalfEdgeId]) -> Verdict {
         if let Some((i, j)) = self.first_repeated_end() {
             return Verdict::RepeatedEnd(i, j);
         }
@@ -399,7 +536,7 @@ impl Bucket {
         let mut boundary_count = 0;
         for i in 0..k {
             match self.with_prev_from(self.to[i]) {
-                Some(j) => he_twin[fan[i].index()] = links[2 * j + 1],
+                Some(_) => {}
                 None => {
                     boundary_count += 1;
                     boundary_start.get_or_insert(i);
@@ -559,6 +696,27 @@ mod tests {
             let mut flipped = fan.clone();
             flipped[7] = [0, 1 + (7 + 1) % n, 8];
             agree(FaceList::from_faces(&flipped), n as usize + 1).unwrap();
+        }
+    }
+
+    #[test]
+    fn meshes_split_across_threads_agree_with_the_reference() {
+        // Above PARALLEL_CORNERS: vertex ranges per thread, whatever the count.
+        let big = [
+            shapes::torus(150, 120),
+            shapes::polygon_mix(&shapes::torus(200, 150), 7, 0.3, 0.2, 0.0),
+            shapes::plate_with_holes(140, 130, &[(10, 10), (70, 40), (100, 100)], true),
+        ];
+        for (i, m) in big.iter().enumerate() {
+            assert!(m.topology().half_edge_count() > PARALLEL_CORNERS);
+            for (seed, rate) in [(0, 0.0), (1, 1e-4), (2, 1e-4), (3, 1e-3), (4, 2e-5), (5, 1e-3)] {
+                let (faces, n) = damaged(m.topology().faces(), m.topology().vertex_count(), seed + 10 * i as u64, rate);
+                for threads in [1, 2, 3, 7] {
+                    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+                    pool.install(|| agree(faces.clone(), n))
+                        .unwrap_or_else(|e| panic!("shape {i}, seed {seed}, {threads} threads: {e}"));
+                }
+            }
         }
     }
 
