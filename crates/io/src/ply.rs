@@ -774,21 +774,48 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> 
         // Records are assembled in a local buffer, written out in blocks.
         let mut buf = Vec::with_capacity(BLOCK + 4096);
         let plain = mesh.normals.is_none() && vertex_uvs.is_none();
-        for i in 0..mesh.positions.len() {
-            if plain {
-                // Positions only (the common case): no iterator chain per vertex.
-                for x in mesh.positions[i].to_array() {
-                    buf.extend_from_slice(&x.to_le_bytes());
+        if plain {
+            // Positions only (the common case): fixed 24-byte records filled
+            // in place, a block at a time.
+            for block in mesh.positions.chunks(BLOCK / 24) {
+                buf.resize(24 * block.len(), 0);
+                for (record, p) in buf.chunks_exact_mut(24).zip(block) {
+                    record[..8].copy_from_slice(&p.x.to_le_bytes());
+                    record[8..16].copy_from_slice(&p.y.to_le_bytes());
+                    record[16..].copy_from_slice(&p.z.to_le_bytes());
                 }
-            } else {
+                out.write_all(&buf)?;
+            }
+            buf.clear();
+        } else {
+            for i in 0..mesh.positions.len() {
                 for x in vertex(i) {
                     buf.extend_from_slice(&x.to_le_bytes());
                 }
+                if buf.len() >= BLOCK {
+                    out.write_all(&buf)?;
+                    buf.clear();
+                }
             }
-            if buf.len() >= BLOCK {
+        }
+        let faces = mesh.faces;
+        let uniform = (!faces.is_empty()).then(|| faces.face_size(0)).filter(|&m| m > 0 && faces.all_of_size(m));
+        if let Some(m) = uniform.filter(|_| !big_faces && corner_uvs.is_none()) {
+            // One face size (all quads, all triangles): fixed records of a
+            // count byte and m indices, filled in place as above.
+            let record = 1 + 4 * m;
+            out.write_all(&buf)?;
+            for block in mesh.faces.indices().chunks(m * (BLOCK / record).max(1)) {
+                buf.resize(record * (block.len() / m), 0);
+                for (bytes, face) in buf.chunks_exact_mut(record).zip(block.chunks_exact(m)) {
+                    bytes[0] = m as u8;
+                    for (slot, &v) in bytes[1..].chunks_exact_mut(4).zip(face) {
+                        slot.copy_from_slice(&v.to_le_bytes());
+                    }
+                }
                 out.write_all(&buf)?;
-                buf.clear();
             }
+            return Ok(());
         }
         for (f, face) in mesh.faces.iter().enumerate() {
             if big_faces {
