@@ -14,7 +14,14 @@
 //! evaluating needs the control positions, and [`LimitSurface::stencil`]
 //! gives the limit point and derivatives at a parameter as weights on the
 //! control points (what fitting solves for).
+#![warn(missing_docs)]
 
+mod catmull_clark;
+mod doo_sabin;
+mod local;
+mod loop_scheme;
+mod patch;
+mod patch_vertex;
 pub mod surface;
 
-pub use surface::{Domain, EvalError, EvalStencil, LimitSample, LimitSurface, SurfaceParam};
+pub use surface::{BoundSurface, Domain, EvalError, EvalStencil, LimitJet, LimitSample, LimitSurface, SurfaceParam};
