@@ -397,7 +397,8 @@ impl LimitSurface {
             surface.ring_offsets.push(surface.ring_vertices.len() as u32);
         }
         // Patch trees, a domain per task.
-        let trees: Vec<Result<Tree, EvalError>> = surface.domains.par_iter().map(|&d| surface.build_tree(d)).collect();
+        let trees: Vec<Result<Tree, EvalError>> =
+            surface.domains.par_iter().map(|&d| surface.build_tree(d, &sharp)).collect();
         for tree in trees {
             let tree = tree?;
             let (node_base, patch_base) = (surface.nodes.len() as u32, surface.patch_kinds.len() as u32);
@@ -682,10 +683,27 @@ impl LimitSurface {
         }
     }
 
-    fn build_tree(&self, d: Domain) -> Result<Tree, EvalError> {
+    fn build_tree(&self, d: Domain, sharp: &LevelSharpness) -> Result<Tree, EvalError> {
         let index = self.domain_index(d)?;
-        let (ids, local, face) = self.domain_start(index)?;
         let mut tree = Tree::default();
+        // Most faces are regular on the control mesh itself: their patch
+        // points are control vertices (or phantom combinations of them),
+        // found without building the face's ring.
+        let spec = self.kind.spec();
+        if self.kind != Kind::DooSabin {
+            if let Some(points) = regular_points(spec, &self.topology, sharp, FaceId(d.face)) {
+                tree.kinds.push(spec.kind);
+                for slot in 0..16 {
+                    tree.points.push(points.get(slot).map_or_else(Vec::new, |combo| {
+                        let dense: Vec<(u32, f64)> = combo.clone();
+                        to_global_pairs(dense)
+                    }));
+                }
+                tree.nodes.push(Node::Patch(0));
+                return Ok(tree);
+            }
+        }
+        let (ids, local, face) = self.domain_start(index)?;
         self.build_node(&ids, &local, face, 0, &mut tree)?;
         Ok(tree)
     }
@@ -810,7 +828,11 @@ enum Located {
 
 /// Dense weights over a root as merged (vertex, weight) pairs of the control mesh.
 fn to_global(ids: &[u32], dense: &[f64]) -> Vec<(u32, f64)> {
-    let mut out: Vec<(u32, f64)> = ids.iter().zip(dense).filter(|(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)).collect();
+    to_global_pairs(ids.iter().zip(dense).filter(|(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)).collect())
+}
+
+/// (vertex, weight) pairs sorted by vertex, repeated vertices merged.
+fn to_global_pairs(mut out: Vec<(u32, f64)>) -> Vec<(u32, f64)> {
     out.sort_by_key(|p| p.0);
     out.dedup_by(|b, a| {
         if a.0 == b.0 {
