@@ -238,12 +238,23 @@ impl Kind {
         }
     }
 
-    /// The child face `k` of `face` after one step of the scheme on `t`.
-    fn child_face(self, local: &Local, refined: &crate::local::Refined, face: FaceId, k: usize) -> FaceId {
+    /// Child `k` of the cell `face` after one step of the scheme: the
+    /// refined face, and the cell within that face's ring (the face itself,
+    /// 0, for Catmull-Clark and Loop; its corner for a Doo-Sabin cell).
+    fn child_cell(self, local: &Local, refined: &crate::local::Refined, face: FaceId, k: usize) -> (FaceId, u32) {
         match self {
-            Kind::CatmullClark => FaceId(local.t.faces().offsets()[face.index()] + k as u32),
-            Kind::Loop => FaceId(4 * face.0 + k as u32),
-            Kind::DooSabin => doo_sabin::child_face(local, refined, face, k),
+            Kind::CatmullClark => (FaceId(local.t.faces().offsets()[face.index()] + k as u32), 0),
+            Kind::Loop => (FaceId(4 * face.0 + k as u32), 0),
+            Kind::DooSabin => doo_sabin::child_cell(local, refined, face, k),
+        }
+    }
+
+    /// The control points of the regular patch of a cell (a face; a
+    /// Doo-Sabin face corner), if it is one.
+    fn regular(self, t: &Topology, sharp: &LevelSharpness, cell: FaceId) -> Option<Vec<crate::patch::Combo>> {
+        match self {
+            Kind::DooSabin => doo_sabin::regular(t, cell),
+            _ => regular_points(self.spec(), t, sharp, cell),
         }
     }
 
@@ -718,7 +729,7 @@ impl LimitSurface {
     ) -> Result<u32, EvalError> {
         let spec = self.kind.spec();
         let id = tree.nodes.len() as u32;
-        if let Some(points) = regular_points(spec, &local.t, &local.sharp, face) {
+        if let Some(points) = self.kind.regular(&local.t, &local.sharp, face) {
             let patch = tree.kinds.len() as u32;
             tree.kinds.push(spec.kind);
             let mut dense = vec![0.0; local.root];
@@ -742,9 +753,9 @@ impl LimitSurface {
         let refined = local.refine(&self.options)?;
         let mut children = [0u32; 4];
         for (k, c) in children.iter_mut().enumerate() {
-            let child = self.kind.child_face(local, &refined, face, k);
-            let (next, next_face) = refined.ring(&self.options, child)?;
-            *c = self.build_node(ids, &next, next_face, depth + 1, tree)?;
+            let (child, cell) = self.kind.child_cell(local, &refined, face, k);
+            let (next, _) = refined.ring(&self.options, child)?;
+            *c = self.build_node(ids, &next, FaceId(cell), depth + 1, tree)?;
         }
         tree.nodes[id as usize] = Node::Split(children);
         Ok(id)
@@ -757,7 +768,7 @@ impl LimitSurface {
         let spec = self.kind.spec();
         let mut a = [[1.0, 0.0], [0.0, 1.0]];
         for depth in 0..=MAX_DEPTH {
-            if let Some(points) = regular_points(spec, &local.t, &local.sharp, face) {
+            if let Some(points) = self.kind.regular(&local.t, &local.sharp, face) {
                 let (p, q) = self.kind.patch_frame();
                 let (s, t) = (p[0][0] * u + p[0][1] * v + q[0], p[1][0] * u + p[1][1] * v + q[1]);
                 let b = basis(spec.kind, s, t);
@@ -787,8 +798,11 @@ impl LimitSurface {
                 None => None,
             };
             if let Some(k) = corner {
-                let c = VertexId(local.t.face(face)[k]);
-                if patch_vertex::ready(&local, &self.options, c) || depth == MAX_DEPTH {
+                let ready = match self.kind {
+                    Kind::DooSabin => true,
+                    _ => patch_vertex::ready(&local, &self.options, VertexId(local.t.face(face)[k])),
+                };
+                if ready || depth == MAX_DEPTH {
                     let [pos, ta, tb] = self.vertex_limit(&local, face, k)?;
                     // [T_a T_b] = [∂u' ∂v']·D, D = [d_a d_b]; then ·A to the domain.
                     let (da, db) = self.kind.frames()[k];
@@ -805,10 +819,11 @@ impl LimitSurface {
             }
             let refined = local.refine(&self.options)?;
             let (k, ak, bk) = self.kind.child(u, v);
-            let child = self.kind.child_face(&local, &refined, face, k);
+            let (child, cell) = self.kind.child_cell(&local, &refined, face, k);
             (u, v) = apply_affine(&(ak, bk), u, v);
             a = compose(&ak, &a);
-            (local, face) = refined.ring(&self.options, child)?;
+            (local, _) = refined.ring(&self.options, child)?;
+            face = FaceId(cell);
         }
         Err(EvalError::Internal("no regular patch or vertex limit within the depth cap".into()))
     }
