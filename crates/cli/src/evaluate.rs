@@ -92,9 +92,11 @@ pub fn run(args: &EvaluateArgs) -> Result<(), Failure> {
         SchemeArg::DooSabin => Scheme::DooSabin,
         SchemeArg::CatmullClark => Scheme::CatmullClark,
         SchemeArg::Loop => Scheme::Loop(args.beta.into()),
-        SchemeArg::DengMa => return Err(bad_input(anyhow!(
+        SchemeArg::DengMa => {
+            return Err(bad_input(anyhow!(
             "--scheme deng-ma: an interpolatory scheme has no limit evaluation; its refined vertices are the surface"
-        ))),
+        )))
+        }
     };
     let mut outputs = Outputs::new([args.mesh.as_path(), args.at.as_path()].into_iter().chain(args.tags.files()));
     outputs.other("--output", &args.output)?;

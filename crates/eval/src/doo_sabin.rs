@@ -1,7 +1,7 @@
 //! Doo-Sabin: the parameterisation and the regular patches.
 //!
 //! **Domains.** One domain per face corner: `(face, K)` is the quarter of
-//! the face at corner K, (u, v) ∈ [0,1]², (0,0) at corner K's vertex V,
+//! the face at corner K, (u, v) ∈ \[0,1\]², (0,0) at corner K's vertex V,
 //! (1,0) toward the midpoint of edge K → K+1, (0,1) toward the midpoint of
 //! edge K−1 → K, (1,1) at the face's centre. On a regular quad lattice this
 //! is the biquadratic B-spline's own parameterisation (the patch centred on

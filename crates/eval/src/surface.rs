@@ -5,7 +5,7 @@
 //! evaluations with second derivatives).
 //!
 //! # Parameterisation
-//! * **Catmull-Clark**: a quad is one domain `(face, 0)`, (u, v) ∈ [0,1]²,
+//! * **Catmull-Clark**: a quad is one domain `(face, 0)`, (u, v) ∈ \[0,1\]²,
 //!   corner 0 at (0,0), corner 1 at (1,0), corner 3 at (0,1). An n-gon
 //!   (n ≠ 4, triangles included) has n domains `(face, K)`, OpenSubdiv's
 //!   ptex faces: the level-1 quad at corner K, (0,0) at corner K, (1,0) at the
@@ -14,12 +14,18 @@
 //!   order, one ptex face per corner, after the quads' single ones).
 //! * **Loop**: a triangle is one domain `(face, 0)`, barycentric (u, v) with
 //!   u, v ≥ 0, u + v ≤ 1, corner 0 at (0,0), 1 at (1,0), 2 at (0,1).
-//! * **Doo-Sabin**: see [`crate::doo_sabin`]: one domain per face corner.
+//! * **Doo-Sabin**: one domain per face corner `(face, K)`: the quarter of the face at
+//!   corner K, (0,0) at the vertex's limit point, (1,0) toward the midpoint
+//!   of edge K → K+1, (0,1) toward the midpoint of edge K−1 → K, (1,1) at the
+//!   face's centroid (the biquadratic B-spline's own parameterisation on a
+//!   regular lattice; the `doo_sabin` module docs give the refinement).
 //!
 //! Derivatives are with respect to the domain's (u, v). At an irregular
 //! vertex itself (a parameter at the corner of a domain whose corner vertex
 //! is extraordinary, a dart, or an irregular crease or corner) they are the
-//! tangent masks' tangents described in [`crate::patch_vertex`]; the second
+//! tangent masks' tangents (the `patch_vertex` module docs: the
+//! spectral projection of the star's points, equal to the parametric
+//! derivatives wherever those exist); the second
 //! derivatives there are reported as zero.
 
 use crate::local::{ring_faces, Local, Root};
@@ -349,7 +355,7 @@ impl LimitSurface {
     /// [`EvalError::Stencil`] when the scheme refuses the mesh (Loop on a
     /// non-triangle, semi-sharp tags on Doo-Sabin), [`EvalError::Unsupported`]
     /// for Deng-Ma (interpolatory, no limit masks) and the Doo-Sabin cases
-    /// [`crate::doo_sabin`] lists.
+    /// `doo_sabin` module lists (boundaries, tags, valence-2 vertices).
     pub fn new(mesh: &Mesh, options: &Options) -> Result<Self, EvalError> {
         options.validate()?;
         let kind = match options.scheme {
@@ -484,7 +490,7 @@ impl LimitSurface {
     ///
     /// # Errors
     /// [`EvalError::NoSuchDomain`], [`EvalError::OutOfDomain`] (NaN, outside
-    /// [0,1]², u + v > 1 on a Loop triangle), [`EvalError::PositionCount`].
+    /// \[0,1\]², u + v > 1 on a Loop triangle), [`EvalError::PositionCount`].
     pub fn evaluate(&self, positions: &[DVec3], param: SurfaceParam) -> Result<LimitSample, EvalError> {
         self.check_positions(positions)?;
         Ok(self.evaluate_jet_with(positions, param, None)?.sample)
