@@ -280,8 +280,19 @@ enum Node {
     Patch(u32),
     /// Four children in the scheme's child order (node indices).
     Split([u32; 4]),
-    /// Not regular within the table's depth: evaluated by refining on demand.
-    Deep,
+    /// Not regular within the table's depth: evaluated by refining on
+    /// demand from the level kept in the deep entry (index), or from the
+    /// domain's root (`u32::MAX`: the placeholder while building).
+    Deep(u32),
+}
+
+/// Where on-demand refinement resumes below the table: the local level of
+/// a deep node, its cell, and the domain's root vertices.
+#[derive(Clone, Debug)]
+struct DeepEntry {
+    local: Local,
+    cell: FaceId,
+    ids: std::sync::Arc<Vec<u32>>,
 }
 
 /// Affine map (u', v') = A·(u, v) + b.
@@ -306,6 +317,7 @@ fn apply_affine((a, b): &Affine, u: f64, v: f64) -> (f64, f64) {
 #[derive(Default)]
 struct Tree {
     nodes: Vec<Node>,
+    deep: Vec<DeepEntry>,
     kinds: Vec<PatchKind>,
     /// Per patch point: (control vertex, weight) lists.
     points: Vec<Vec<(u32, f64)>>,
@@ -331,6 +343,8 @@ pub struct LimitSurface {
     /// Root node of every domain.
     roots: Vec<u32>,
     nodes: Vec<NodeRepr>,
+    /// The levels where on-demand refinement resumes.
+    deep: Vec<DeepEntry>,
     /// Kind of every patch.
     patch_kinds: Vec<PatchKind>,
     /// First point of every patch (16 slots per patch).
@@ -398,6 +412,7 @@ impl LimitSurface {
             face_domains,
             roots: Vec::new(),
             nodes: Vec::new(),
+            deep: Vec::new(),
             patch_kinds: Vec::new(),
             point_offsets: vec![0],
             point_vertices: Vec::new(),
@@ -419,14 +434,16 @@ impl LimitSurface {
         for tree in trees {
             let tree = tree?;
             let (node_base, patch_base) = (surface.nodes.len() as u32, surface.patch_kinds.len() as u32);
+            let deep_base = surface.deep.len() as u32;
             surface.roots.push(node_base);
             surface.nodes.extend(tree.nodes.iter().map(|n| {
                 NodeRepr(match *n {
                     Node::Patch(p) => Node::Patch(p + patch_base),
                     Node::Split(c) => Node::Split(c.map(|c| c + node_base)),
-                    Node::Deep => Node::Deep,
+                    Node::Deep(i) => Node::Deep(if i == u32::MAX { i } else { i + deep_base }),
                 })
             }));
+            surface.deep.extend(tree.deep);
             surface.patch_kinds.extend(&tree.kinds);
             for (k, kind) in tree.kinds.iter().enumerate() {
                 for slot in 0..16 {
@@ -523,8 +540,8 @@ impl LimitSurface {
                     }
                 }
             }
-            Located::Deep => {
-                let (ids, jet) = self.general(d, u, v)?;
+            Located::Deep { entry, u: du, v: dv, a } => {
+                let (ids, jet) = self.resume(d, u, v, entry, du, dv, a)?;
                 for (k, &i) in ids.iter().enumerate() {
                     let w = [jet.rows[0][k], jet.rows[1][k], jet.rows[2][k]];
                     if w != [0.0; 3] {
@@ -635,7 +652,7 @@ impl LimitSurface {
                     a = compose(&ak, &a);
                     node = children[k];
                 }
-                Node::Deep => return Located::Deep,
+                Node::Deep(i) => return Located::Deep { entry: i, u, v, a },
             }
         }
     }
@@ -664,8 +681,8 @@ impl LimitSurface {
                 }
                 out = jet_of(&b, &cp[..kind.len()], &j);
             }
-            Located::Deep => {
-                let (ids, jet) = self.general(d, u, v)?;
+            Located::Deep { entry, u: du, v: dv, a } => {
+                let (ids, jet) = self.resume(d, u, v, entry, du, dv, a)?;
                 for (r, o) in jet.rows.iter().zip(out.iter_mut()) {
                     *o = ids.iter().zip(r).fold(DVec3::ZERO, |acc, (&i, &w)| acc + w * positions[i as usize]);
                 }
@@ -721,13 +738,13 @@ impl LimitSurface {
             }
         }
         let (ids, local, face) = self.domain_start(index)?;
-        self.build_node(&ids, &local, face, 0, &mut tree)?;
+        self.build_node(&std::sync::Arc::new(ids), &local, face, 0, &mut tree)?;
         Ok(tree)
     }
 
     fn build_node(
         &self,
-        ids: &[u32],
+        ids: &std::sync::Arc<Vec<u32>>,
         local: &Local,
         face: FaceId,
         depth: usize,
@@ -752,10 +769,11 @@ impl LimitSurface {
             return Ok(id);
         }
         if depth >= TABLE_DEPTH {
-            tree.nodes.push(Node::Deep);
+            tree.nodes.push(Node::Deep(tree.deep.len() as u32));
+            tree.deep.push(DeepEntry { local: local.clone(), cell: face, ids: ids.clone() });
             return Ok(id);
         }
-        tree.nodes.push(Node::Deep); // placeholder, replaced below
+        tree.nodes.push(Node::Deep(u32::MAX)); // placeholder, replaced below
         let refined = local.refine(&self.options)?;
         let mut children = [0u32; 4];
         for (k, c) in children.iter_mut().enumerate() {
@@ -769,11 +787,44 @@ impl LimitSurface {
 
     /// The general path: refine on demand until (u, v) lies in a regular
     /// patch or is an irregular vertex; dense weights on the domain's root.
-    fn general(&self, d: usize, mut u: f64, mut v: f64) -> Result<(Vec<u32>, DenseJet), EvalError> {
-        let (ids, mut local, mut face) = self.domain_start(d)?;
+    /// [`Self::general_from`] at a deep node of the table (from the
+    /// domain's root when the entry is the building placeholder).
+    #[allow(clippy::too_many_arguments)]
+    fn resume(
+        &self,
+        d: usize,
+        u0: f64,
+        v0: f64,
+        entry: u32,
+        u: f64,
+        v: f64,
+        a: [[f64; 2]; 2],
+    ) -> Result<(std::sync::Arc<Vec<u32>>, DenseJet), EvalError> {
+        match self.deep.get(entry as usize) {
+            Some(e) => Ok((e.ids.clone(), self.general_from(e.local.clone(), e.cell, u, v, a, TABLE_DEPTH)?)),
+            None => {
+                let (ids, local, face) = self.domain_start(d)?;
+                let jet = self.general_from(local, face, u0, v0, [[1.0, 0.0], [0.0, 1.0]], 0)?;
+                Ok((std::sync::Arc::new(ids), jet))
+            }
+        }
+    }
+
+    /// The general path from a local level `start` levels below the domain
+    /// ((u, v) its parameters, `a` = ∂(u,v)/∂(domain u, v)): refine on
+    /// demand until (u, v) lies in a regular patch or is an irregular
+    /// vertex; dense weights on the domain's root.
+    fn general_from(
+        &self,
+        mut local: Local,
+        mut face: FaceId,
+        mut u: f64,
+        mut v: f64,
+        mut a: [[f64; 2]; 2],
+        start: usize,
+    ) -> Result<DenseJet, EvalError> {
         let spec = self.kind.spec();
-        let mut a = [[1.0, 0.0], [0.0, 1.0]];
-        for depth in 0..=MAX_DEPTH {
+        for depth in start..=MAX_DEPTH {
             if let Some(points) = self.kind.regular(&local.t, &local.sharp, face) {
                 let (p, q) = self.kind.patch_frame();
                 let (s, t) = (p[0][0] * u + p[0][1] * v + q[0], p[1][0] * u + p[1][1] * v + q[1]);
@@ -792,7 +843,7 @@ impl LimitSurface {
                         r.iter_mut().zip(&dense).for_each(|(o, x)| *o += w * x);
                     }
                 }
-                return Ok((ids, DenseJet { rows }));
+                return Ok(DenseJet { rows });
             }
             let corner = match self.kind.corner_at(u, v) {
                 Some(k) => Some(k),
@@ -820,7 +871,7 @@ impl LimitSurface {
                     let du: Vec<f64> = ta.iter().zip(&tb).map(|(x, y)| x * j[0][0] + y * j[1][0]).collect();
                     let dv: Vec<f64> = ta.iter().zip(&tb).map(|(x, y)| x * j[0][1] + y * j[1][1]).collect();
                     let zero = vec![0.0; local.root];
-                    return Ok((ids, DenseJet { rows: [pos, du, dv, zero.clone(), zero.clone(), zero] }));
+                    return Ok(DenseJet { rows: [pos, du, dv, zero.clone(), zero.clone(), zero] });
                 }
             }
             let refined = local.refine(&self.options)?;
@@ -843,8 +894,19 @@ impl LimitSurface {
 }
 
 enum Located {
-    Patch { patch: u32, s: f64, t: f64, j: [[f64; 2]; 2] },
-    Deep,
+    Patch {
+        patch: u32,
+        s: f64,
+        t: f64,
+        j: [[f64; 2]; 2],
+    },
+    /// Below the table: the deep entry, the parameters there and ∂(u′,v′)/∂(u,v).
+    Deep {
+        entry: u32,
+        u: f64,
+        v: f64,
+        a: [[f64; 2]; 2],
+    },
 }
 
 /// Dense weights over a root as merged (vertex, weight) pairs of the control mesh.
