@@ -136,6 +136,48 @@ fn loop_on_triangles() {
 }
 
 #[test]
+fn doo_sabin_domains_are_face_corners() {
+    // (1,1) of every corner domain of a face is its centroid; (0,0) the vertex's limit point.
+    let cube = fixtures().join("canonical/cube_quad.obj");
+    let control = read(&cube);
+    let at = write("ds-at.txt", "0.0 1 1\n0.3 1 1\n2.1 0 0\n");
+    let out = out_path("evaluate", "ds-out.txt");
+    let run = subdiv(&[
+        "evaluate",
+        cube.to_str().unwrap(),
+        "--scheme",
+        "doo-sabin",
+        "--at",
+        at.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
+    let rows = numbers(&out);
+    let face = control.faces.face(0);
+    let centroid = face.iter().map(|&v| control.positions[v as usize]).sum::<glam::DVec3>() / face.len() as f64;
+    for row in &rows[..2] {
+        assert!((glam::DVec3::new(row[0], row[1], row[2]) - centroid).length() < 1e-12);
+    }
+    let limit = out_path("evaluate", "ds-limit.obj");
+    let run = subdiv(&[
+        "subdivide",
+        cube.to_str().unwrap(),
+        "--scheme",
+        "doo-sabin",
+        "--levels",
+        "0",
+        "--limit",
+        "-o",
+        limit.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
+    let v = control.faces.face(2)[1] as usize;
+    let want = read(&limit).positions[v];
+    assert!((glam::DVec3::new(rows[2][0], rows[2][1], rows[2][2]) - want).length() < 1e-12);
+}
+
+#[test]
 fn bad_parameters_fail_with_the_line_and_write_nothing() {
     let pyramid = fixtures().join("canonical/pyramid_mixed.obj");
     let mesh = subdiv_io::load_mesh(&pyramid).unwrap();
@@ -152,6 +194,7 @@ fn bad_parameters_fail_with_the_line_and_write_nothing() {
         (&pyramid, "catmull-clark", &format!("{ngon} 0.5 0.5\n"), "give FACE.K"),
         (&cube, "loop", "0 0.5 0.5\n", "Loop subdivision needs a triangle mesh"),
         (&cube, "deng-ma", "0 0.5 0.5\n", "deng-ma"),
+        (&cube, "doo-sabin", "0 0.5 0.5\n", "give FACE.K"),
     ] {
         let at = write("bad-at.txt", text);
         let out = out_path("evaluate", "bad-out.txt");

@@ -250,25 +250,42 @@ fn real_fixtures() {
 }
 
 fn arbitrary_mesh() -> impl Strategy<Value = (Mesh, bool)> {
-    (0u64..1000, 2usize..5, 2usize..4, any::<bool>(), any::<bool>()).prop_map(|(seed, nx, ny, closed, tri)| {
-        let base = if tri {
-            if closed {
-                shapes::icosahedron()
+    (0u64..1000, 2usize..5, 2usize..4, any::<bool>(), any::<bool>(), 0usize..3).prop_map(
+        |(seed, nx, ny, closed, tri, tags)| {
+            let base = if tri {
+                if closed {
+                    shapes::icosahedron()
+                } else {
+                    shapes::triangle_grid(nx, ny)
+                }
+            } else if closed {
+                shapes::torus(nx + 3, ny + 3)
             } else {
-                shapes::triangle_grid(nx, ny)
+                shapes::quad_grid(nx, ny)
+            };
+            let mesh = if tri { base } else { shapes::polygon_mix(&base, seed, 0.2, 0.2, 0.1) };
+            // Up to two tagged edges: semi-sharp or infinitely sharp.
+            let t = mesh.topology();
+            let mut rng = shapes::SplitMix64(seed);
+            let mut e = vec![0f32; t.edge_count()];
+            for _ in 0..tags {
+                e[rng.below(t.edge_count())] = [0.5f32, 1.5, 10.0][rng.below(3)];
             }
-        } else if closed {
-            shapes::torus(nx + 3, ny + 3)
-        } else {
-            shapes::quad_grid(nx, ny)
-        };
-        let mesh = if tri { base } else { shapes::polygon_mix(&base, seed, 0.2, 0.2, 0.1) };
-        (mesh, tri)
-    })
+            let tags = Tags::from_arrays(t, e, Vec::new()).unwrap();
+            (mesh.clone().with_tags(tags), tri)
+        },
+    )
+}
+
+#[test]
+fn surfaces_are_send_and_sync() {
+    fn check<T: Send + Sync>() {}
+    check::<LimitSurface>();
+    check::<subdiv_eval::BoundSurface<'static>>();
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
     #[test]
     fn proptest_dyadic_and_properties((mesh, tri) in arbitrary_mesh()) {
         let options = if tri { lp() } else { cc() };
