@@ -800,11 +800,17 @@ impl LimitSurface {
         v: f64,
         a: [[f64; 2]; 2],
     ) -> Result<(std::sync::Arc<Vec<u32>>, DenseJet), EvalError> {
+        // The local plans use rayon inside (joins, parallel row builds):
+        // run the whole refinement on one worker, so that a caller outside
+        // the pool pays one hand-over rather than one per plan.
         match self.deep.get(entry as usize) {
-            Some(e) => Ok((e.ids.clone(), self.general_from(e.local.clone(), e.cell, u, v, a, TABLE_DEPTH)?)),
+            Some(e) => {
+                let jet = rayon::scope(|_| self.general_from(e.local.clone(), e.cell, u, v, a, TABLE_DEPTH))?;
+                Ok((e.ids.clone(), jet))
+            }
             None => {
                 let (ids, local, face) = self.domain_start(d)?;
-                let jet = self.general_from(local, face, u0, v0, [[1.0, 0.0], [0.0, 1.0]], 0)?;
+                let jet = rayon::scope(|_| self.general_from(local, face, u0, v0, [[1.0, 0.0], [0.0, 1.0]], 0))?;
                 Ok((std::sync::Arc::new(ids), jet))
             }
         }
