@@ -20,6 +20,10 @@
 //!   face's centroid (the biquadratic B-spline's own parameterisation on a
 //!   regular lattice; the `doo_sabin` module docs give the refinement).
 //!
+//! Boundaries follow the options' boundary interpolation as `subdivide
+//! --limit` does; under `none`, the faces OpenSubdiv leaves out as holes
+//! are evaluated like the others.
+//!
 //! Derivatives are with respect to the domain's (u, v). At an irregular
 //! vertex itself (a parameter at the corner of a domain whose corner vertex
 //! is extraordinary, a dart, or an irregular crease or corner) they are the
