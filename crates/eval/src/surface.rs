@@ -1024,6 +1024,51 @@ impl BoundSurface<'_> {
         Ok(self.evaluate_jet(param)?.sample)
     }
 
+    /// An axis-aligned box holding the limit surface over `domain`: the
+    /// bounds of its regular patches' control points (each patch lies in
+    /// their convex hull, phantom points included: the bases are
+    /// non-negative) and, below the table, of the refined points around the
+    /// irregular vertex (the surface there is a convex combination of them).
+    /// Much tighter than the hull of [`LimitSurface::domain_support`];
+    /// `None` for a domain the mesh does not have.
+    pub fn domain_bounds(&self, domain: Domain) -> Option<(DVec3, DVec3)> {
+        let s = self.surface;
+        let d = s.domain_index(domain).ok()?;
+        let first = s.roots[d] as usize;
+        let end = s.roots.get(d + 1).map_or(s.nodes.len(), |&r| r as usize);
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        let mut add = |p: DVec3| {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        };
+        for node in &s.nodes[first..end] {
+            match node.0 {
+                Node::Patch(p) => {
+                    let n = s.patch_kinds[p as usize].len();
+                    self.points[p as usize * 16..][..n].iter().for_each(|&q| add(q));
+                }
+                Node::Deep(i) => {
+                    if let Some(e) = s.deep.get(i as usize) {
+                        let root = e.local.root;
+                        for row in e.local.rows.chunks(root) {
+                            add(e
+                                .ids
+                                .iter()
+                                .zip(row)
+                                .fold(DVec3::ZERO, |acc, (&v, &w)| acc + w * self.positions[v as usize]));
+                        }
+                    } else {
+                        for &v in s.domain_support(domain)? {
+                            add(self.positions[v as usize]);
+                        }
+                    }
+                }
+                Node::Split(_) => {}
+            }
+        }
+        Some((lo, hi))
+    }
+
     /// [`Self::evaluate`] with the second derivatives (zero at an irregular
     /// vertex itself).
     ///

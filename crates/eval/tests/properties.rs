@@ -230,6 +230,28 @@ fn domain_support_holds_every_stencil() {
 }
 
 #[test]
+fn domain_bounds_hold_the_surface() {
+    for (mesh, options) in [
+        (shapes::polygon_mix(&shapes::torus(6, 5), 3, 0.2, 0.2, 0.1), cc()),
+        (shapes::icosahedron(), lp()),
+        (shapes::quad_grid(3, 3), cc()),
+    ] {
+        let surface = LimitSurface::new(&mesh, &options).unwrap();
+        let bound = surface.bind(mesh.positions()).unwrap();
+        let eps = 1e-12 * mesh.bbox_diagonal();
+        let mut params = params(&surface, 8, is_loop(&options));
+        // Corners too: the extraordinary vertices themselves.
+        params.extend(surface.domains().iter().map(|d| SurfaceParam::new(d.face, d.corner, 0.0, 0.0)));
+        params.extend(surface.domains().iter().map(|d| SurfaceParam::new(d.face, d.corner, 1e-5, 2e-5)));
+        for p in params {
+            let (lo, hi) = bound.domain_bounds(p.domain()).unwrap();
+            let x = bound.evaluate(p).unwrap().position;
+            assert!(x.cmpge(lo - eps).all() && x.cmple(hi + eps).all(), "{p:?}: {x} outside {lo}..{hi}");
+        }
+    }
+}
+
+#[test]
 fn real_fixtures() {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/");
     for (path, options) in [
