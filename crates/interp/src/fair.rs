@@ -62,11 +62,28 @@
 //! feature (each side of a crease is faired on its own, the crease curve
 //! along itself), as the scheme's rules do; corners carry no term.
 //!
-//! # Algorithm (null-space method, exact constraints)
-//! 1. Plan K levels of the scheme on the input with its tags
-//!    ([`subdiv_stencil::SubdivisionPlan`]; the tags decay as they do there)
-//!    and take M^K with the refined data R·P as starting guess; build T and
-//!    Δ, and B = Δ·T.
+//! # Algorithm
+//! Two algorithms with the same minimiser ([`FairAlgorithm`]; the tests
+//! compare them). Both start by planning K levels of the scheme on the
+//! input with its tags ([`subdiv_stencil::SubdivisionPlan`]; the tags decay
+//! as they do there) and taking M^K with the refined data R·P as starting
+//! guess.
+//!
+//! **Limit points** (the default for Catmull-Clark and Loop with J = 0 and
+//! exact constraints). T is invertible (it is the exact method's limit
+//! matrix of M^K), so Y = T·X is a change of unknowns, and (2) becomes
+//! *minimise ‖Δ·Y‖² subject to Y_v = P_v at the interpolated images*: a
+//! discrete biharmonic fairing of the limit points with the data pinned.
+//! 1. Fair Y: CG on the normal equations of ‖Δ(Y_F ⊕ P)‖² over the free
+//!    points Y_F (below, with identity constraints).
+//! 2. X = T⁻¹·Y by the exact method of the scheme on M^K (Cheng's solve for
+//!    Catmull-Clark, the Loop limit-matrix solve), to the tolerance.
+//! 3. The constraint rows solved for their private pivots (below), which
+//!    makes the interpolation exact to round-off whatever step 2 reached.
+//!
+//! **Elimination** (Doo-Sabin, J > 0, the penalty, or on request): the
+//! null-space method in the control points.
+//! 1. Build T, Δ and B = Δ·L·R (kept as factors, never multiplied out).
 //! 2. For every constraint row i pick a **private pivot** column p(i): one
 //!    that no other constraint row uses (the largest such weight). With
 //!    K ≥ 1 one always exists for Catmull-Clark and Loop: every face of M^K
@@ -80,16 +97,24 @@
 //!    the accuracy proof: the interpolation error does not depend on how
 //!    well the energy is minimised.
 //! 3. Minimise ‖B(E·y + c)‖² over y: CG on the normal equations
-//!    GᵀG·y = −Gᵀ(B·c), G = B·E, Jacobi-preconditioned, products by G and
-//!    Gᵀ (never GᵀG), from the y of R·P; stop at a relative residual of
-//!    10⁻¹⁰ or `max_iter` (then a warning: the surface interpolates, but is
-//!    not the fairest). The constraints pin every data point, so the free
-//!    points form patches of bounded size between pinned ones and the
-//!    number of iterations does not grow with the mesh.
+//!    GᵀG·y = −Gᵀ(B·c), G = B·E, Jacobi-preconditioned (the column norms of
+//!    G, pushed through the factors column by column), products by the
+//!    factors and their transposes, from the y of R·P; stop at a relative
+//!    residual of 10⁻⁶ (the energy's excess over its minimum is of the
+//!    order of its square) or `max_iter` (then a warning: the surface
+//!    interpolates, but is not the fairest). The constraints pin every data
+//!    point, so the free points form patches of bounded size between pinned
+//!    ones and the number of iterations does not grow with the mesh.
 //! 4. X = E·y + c, the pivots recomputed from the constraint rows. The
 //!    control mesh is M^K with X, its tags and texture coordinates.
 //!
-//! With w > 0, (3) is solved by the same CG on AᵀA + w·4^K·BᵀB, starting
+//! `energy_levels` J > 0 takes (1) on the limit points of M^(K+J) instead:
+//! B = Δ·L·R with R: M^K → M^(K+J), L the limit stencil of M^(K+J), and
+//! the factor 4^(K+J); closer to the limit surface's energy, about 4^J
+//! times the cost.
+//!
+//! With w > 0, (3) is solved by CG on AᵀA + w·4^K·BᵀB (relative residual
+//! 10⁻¹²), starting
 //! from (2)'s solution (K ≥ 1) or from X = P (K = 0). The result no longer
 //! interpolates: the tolerance check of the numeric rule is not applied
 //! (the error is measured and reported as for every method).
@@ -155,8 +180,13 @@ use subdiv_stencil::{
 pub const DEFAULT_REFINE: usize = 1;
 /// The most refinements accepted (each multiplies the unknowns by about 4).
 pub const MAX_REFINE: usize = 4;
-/// Relative residual of the normal equations at which the minimisation stops.
-const FAIR_RTOL: f64 = 1e-10;
+/// Relative residual of the reduced normal equations at which the fairing
+/// stops: the interpolation is exact whatever it is (the constraints are
+/// eliminated), and the energy's excess over its minimum is of the order of
+/// its square.
+const FAIR_RTOL: f64 = 1e-6;
+/// The same for the penalty problem (3), whose result nothing corrects.
+const PENALTY_RTOL: f64 = 1e-12;
 
 /// The scheme whose control mesh the fair method computes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -219,6 +249,24 @@ impl FromStr for FairScheme {
     }
 }
 
+/// How (2) of the module docs is solved: two algorithms with the same
+/// minimiser, one of which needs the energy on M^K's own limit points.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum FairAlgorithm {
+    /// Limit points for Catmull-Clark and Loop with J = 0 and exact
+    /// constraints, elimination otherwise.
+    #[default]
+    Auto,
+    /// Eliminate the constraints by private pivots, CG on the reduced
+    /// normal equations in the control points (any scheme, J, weight).
+    Elimination,
+    /// Fair the limit points Y = T·X with the data pinned, then solve
+    /// T·X = Y by the scheme's exact method (Catmull-Clark and Loop, J = 0,
+    /// exact constraints).
+    LimitPoints,
+}
+
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
@@ -232,6 +280,11 @@ pub struct FairOptions {
     /// K: the control mesh is the input refined K times (0 ≤ K ≤ [`MAX_REFINE`];
     /// Doo-Sabin ≤ 1).
     pub refine: usize,
+    /// J: the energy is taken on the limit points of M^(K+J) (default 0:
+    /// M^K's own; each level multiplies its cost by about 4).
+    pub energy_levels: usize,
+    /// Which of the two equivalent algorithms solves (2) (module docs).
+    pub algorithm: FairAlgorithm,
     /// w of (3) in the module docs: `None` (default) for exact constraints;
     /// `Some(w)`, w > 0, for the penalty trade-off, whose result does not
     /// interpolate.
@@ -244,6 +297,8 @@ impl Default for FairOptions {
             common: CommonOptions::default(),
             scheme: FairScheme::default(),
             refine: DEFAULT_REFINE,
+            energy_levels: 0,
+            algorithm: FairAlgorithm::Auto,
             fairness_weight: None,
         }
     }
@@ -264,6 +319,18 @@ impl FairOptions {
         self
     }
 
+    /// Sets J, the levels beyond M^K whose limit points the energy is taken on.
+    pub fn with_energy_levels(mut self, levels: usize) -> Self {
+        self.energy_levels = levels;
+        self
+    }
+
+    /// Sets the algorithm.
+    pub fn with_algorithm(mut self, algorithm: FairAlgorithm) -> Self {
+        self.algorithm = algorithm;
+        self
+    }
+
     /// Sets the fairness weight (`None`: exact constraints).
     pub fn with_fairness_weight(mut self, w: impl Into<Option<f64>>) -> Self {
         self.fairness_weight = w.into();
@@ -278,6 +345,12 @@ impl FairOptions {
                     "refine = {} exceeds {MAX_REFINE} (each level multiplies the unknowns by about 4)",
                     self.refine
                 ),
+            ));
+        }
+        if self.refine + self.energy_levels > MAX_REFINE {
+            return Err(InterpError::invalid(
+                Parameter::Refine,
+                format!("refine + energy levels = {} exceeds {MAX_REFINE}", self.refine + self.energy_levels),
             ));
         }
         if self.scheme == FairScheme::DooSabin && self.refine > 1 {
@@ -416,18 +489,31 @@ fn fair(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Result<Inte
     };
     drop(plan);
     let tk = refined.topology();
+    let sharp_k = opts.common.surface.sharpness(refined.tags());
+    let by_limit_points = match opts.algorithm {
+        FairAlgorithm::Auto => {
+            k > 0 && opts.energy_levels == 0 && opts.fairness_weight.is_none() && opts.scheme != FairScheme::DooSabin
+        }
+        FairAlgorithm::LimitPoints => true,
+        FairAlgorithm::Elimination => false,
+    };
+    if by_limit_points {
+        return by_limit_points_path(mesh, interpolated, opts, refined, sharp_k, start, warnings);
+    }
     // T: the limit stencil of M^K with its tags (the rows the error check evaluates).
-    let limit_plan = SubdivisionPlan::with_tags(tk, refined.tags(), options, 0)?;
-    let limit = limit_plan.limit_stencil().expect("the fair schemes have limit masks")?;
-    let sharp_k = limit_plan.sharpness().clone();
-    drop(limit_plan);
+    let rules = options.scheme.rules();
+    let limit = if rules.levels_before_limit(tk, &sharp_k, true) == 0 {
+        rules.limit_stencil(tk, &sharp_k, tk.vertex_count()).expect("the fair schemes have limit masks")?
+    } else {
+        // Semi-sharp tags left: the plan composes the levels the masks need.
+        let limit_plan = SubdivisionPlan::with_tags(tk, refined.tags(), options, 0)?;
+        limit_plan.limit_stencil().expect("the fair schemes have limit masks")?
+    };
     // The constraints and the association of the input vertices.
     let (constraints, association) = constraints(mesh, &interpolated, &limit, opts, k)?;
-    // B = Δ·T: the Laplacian of the limit points.
-    let delta = energy::umbrella(tk, &sharp_k);
-    let b = &delta * &limit;
-    drop(delta);
-    let scale = 4f64.powi(k as i32);
+    // B = Δ·L·R: the Laplacian of the limit points of M^(K+J), as a chain.
+    let b = energy_operator(tk, &sharp_k, refined.tags(), options, opts.energy_levels, limit)?;
+    let scale = 4f64.powi((k + opts.energy_levels) as i32);
     let setup_seconds = seconds_since(start);
     let solve_start = std::time::Instant::now();
     let x0 = refined.positions().to_vec();
@@ -451,7 +537,7 @@ fn fair(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Result<Inte
             if opts.fairness_weight.is_none() { ", but it interpolates" } else { "" }
         ));
     }
-    let energy = scale * subdiv_stencil::apply(&b, &x).iter().map(|p| p.length_squared()).sum::<f64>();
+    let energy = scale * b.apply(&x).iter().map(|p| p.length_squared()).sum::<f64>();
     let d = mesh.bbox_diagonal();
     let solve_seconds = seconds_since(solve_start);
     let parameters = crate::Parameters {
@@ -475,6 +561,246 @@ fn fair(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Result<Inte
         parameters,
         measured_error: None,
     })
+}
+
+/// The limit-points algorithm (module docs): the fairest limit points Y of
+/// M^K with the data pinned, then the control points X with T·X = Y by the
+/// scheme's exact method on M^K, then the pivots recomputed from the
+/// constraint rows (exact to round-off).
+fn by_limit_points_path(
+    mesh: &Mesh,
+    interpolated: Vec<bool>,
+    opts: &FairOptions,
+    refined: Mesh,
+    sharp_k: subdiv_stencil::LevelSharpness,
+    start: std::time::Instant,
+    warnings: Vec<String>,
+) -> Result<Interpolant, InterpError> {
+    if opts.scheme == FairScheme::DooSabin || opts.energy_levels > 0 || opts.fairness_weight.is_some() {
+        return Err(InterpError::invalid(
+            Parameter::Scheme,
+            "the limit-points algorithm takes Catmull-Clark or Loop, exact constraints and no energy levels",
+        ));
+    }
+    let k = opts.refine;
+    let tk = refined.topology();
+    let m = tk.vertex_count();
+    let n = mesh.topology().vertex_count();
+    let options = opts.common.surface.for_scheme(opts.scheme.scheme());
+    // (a) Y: min ‖Δ·Y‖² with Y_v = P_v at the interpolated images.
+    let pinned = Constraints {
+        rows: (0..n as u32).filter(|&v| interpolated[v as usize]).map(|v| (vec![v], vec![1.0])).collect(),
+        data: (0..n).filter(|&v| interpolated[v]).map(|v| mesh.positions()[v]).collect(),
+    };
+    let delta = Chain::new(vec![energy::umbrella(tk, &sharp_k)]);
+    let setup_seconds = seconds_since(start);
+    let solve_start = std::time::Instant::now();
+    let (y, fairing) = minimise_exact(&pinned, &delta, refined.positions().to_vec(), opts.common.max_iter, mesh)?;
+    // (b) X with T·X = Y: the exact method of the scheme on M^K.
+    let fine = refined.with_positions(y);
+    let fine_opts = FairOptions { common: opts.common.clone().with_subset(None), ..opts.clone() };
+    let exact = exact_method(&fine, vec![true; m], &fine_opts)?;
+    let mut x = exact.control.positions().to_vec();
+    // (c) The constraint rows (the first n rows of T) solved for their pivots.
+    let rules = options.scheme.rules();
+    let rows = if rules.levels_before_limit(tk, &sharp_k, true) == 0 {
+        rules.limit_stencil(tk, &sharp_k, n).expect("the fair schemes have limit masks")?
+    } else {
+        let plan = SubdivisionPlan::with_tags(tk, fine.tags(), options, 0)?;
+        plan.limit_stencil().expect("the fair schemes have limit masks")?
+    };
+    let (constraints, association) = constraints(mesh, &interpolated, &rows, opts, k)?;
+    let pivots = private_pivots(&constraints, m, mesh)?;
+    for (i, ((cols, w), &(p, ap))) in constraints.rows.iter().zip(&pivots).enumerate() {
+        let others: DVec3 = cols.iter().zip(w).filter(|(&j, _)| j != p).map(|(&j, &a)| a * x[j as usize]).sum();
+        x[p as usize] = (constraints.data[i] - others) / ap;
+    }
+    let mut summary = merge(fairing, exact.solve.unwrap_or_default());
+    summary.solver = format!("fair-cg+{}", exact.parameters.solver.as_deref().unwrap_or("none"));
+    let mut warnings = warnings;
+    warnings.extend(exact.warnings);
+    if !summary.converged {
+        warnings.push(format!(
+            "the fairness minimisation stopped after {} iterations at relative residual {:.1e} (max_iter): the \
+             surface is not the fairest of its kind, but it interpolates",
+            summary.iterations, summary.residual
+        ));
+    }
+    let control = fine.with_positions(x);
+    let limits = subdiv_stencil::limit_points_with_options(tk, control.tags(), options, control.positions())?
+        .expect("the fair schemes have limit masks");
+    let d = mesh.bbox_diagonal();
+    let energy = 4f64.powi(k as i32) * energy::umbrella_sum(tk, &sharp_k, &limits) / (d * d);
+    let parameters = crate::Parameters {
+        solver: Some(summary.solver.clone()),
+        tol: Some(opts.common.tol),
+        energy: Some(energy),
+        ..Default::default()
+    };
+    Ok(Interpolant {
+        method: Method::Fair,
+        control,
+        scheme: opts.scheme.control_scheme(),
+        surface_options: opts.common.surface,
+        interpolated,
+        association,
+        solve: Some(summary),
+        setup_seconds,
+        solve_seconds: seconds_since(solve_start),
+        warnings,
+        parameters,
+        measured_error: None,
+    })
+}
+
+/// A product of sparse matrices M_r ⋯ M_1, applied factor by factor (never
+/// multiplied out: the product of the energy's factors has several times
+/// their entries), and its transpose by scattering over the same rows.
+struct Chain {
+    /// M_1, …, M_r.
+    factors: Vec<SparseMatrix>,
+    /// Their transposes as CSR (the transposed products are parallel gathers).
+    transposes: Vec<SparseMatrix>,
+}
+
+impl Chain {
+    fn new(factors: Vec<SparseMatrix>) -> Self {
+        use rayon::prelude::*;
+        let transposes = factors.par_iter().map(|m| m.transpose_view().to_csr()).collect();
+        Chain { factors, transposes }
+    }
+
+    /// M_r ⋯ M_1 · x.
+    fn apply(&self, x: &[DVec3]) -> Vec<DVec3> {
+        let mut y = subdiv_stencil::apply(&self.factors[0], x);
+        for m in &self.factors[1..] {
+            y = subdiv_stencil::apply(m, &y);
+        }
+        y
+    }
+
+    /// (M_r ⋯ M_1)ᵀ · y.
+    fn apply_t(&self, y: &[DVec3]) -> Vec<DVec3> {
+        let mut x = subdiv_stencil::apply(self.transposes.last().expect("a chain has a factor"), y);
+        for m in self.transposes[..self.transposes.len() - 1].iter().rev() {
+            x = subdiv_stencil::apply(m, &x);
+        }
+        x
+    }
+
+    /// (M_r ⋯ M_1)ᵀ(M_r ⋯ M_1)·y into `out`, through buffers kept from
+    /// call to call (fresh buffers of this size would cost a page fault per
+    /// page on every product).
+    fn normal_into(&self, y: &[DVec3], out: &mut [DVec3], scratch: &mut Scratch) {
+        let r = self.factors.len();
+        if scratch.forward.len() != r {
+            scratch.forward = self.factors.iter().map(|m| vec![DVec3::ZERO; m.rows()]).collect();
+            scratch.backward = self.factors.iter().map(|m| vec![DVec3::ZERO; m.cols()]).collect();
+        }
+        for k in 0..r {
+            let (done, rest) = scratch.forward.split_at_mut(k);
+            let input = if k == 0 { y } else { &done[k - 1][..] };
+            apply_into(&self.factors[k], input, &mut rest[0]);
+        }
+        // backward[k] = M_kᵀ · (what came back from above), k = r−1 … 0.
+        for k in (0..r).rev() {
+            let (below, above) = scratch.backward.split_at_mut(k + 1);
+            let input = if k + 1 == r { &scratch.forward[r - 1][..] } else { &above[0][..] };
+            let target: &mut [DVec3] = if k == 0 { &mut *out } else { &mut below[k] };
+            apply_into(&self.transposes[k], input, target);
+        }
+    }
+
+    /// Σ_i (M_r ⋯ M_1)_ij² per column j (the Jacobi preconditioner of
+    /// the normal equations): column j pushed through the factors as a
+    /// sparse vector (each factor's transpose gives its columns), in
+    /// parallel over chunks of columns.
+    fn column_squares(&self) -> Vec<f64> {
+        use rayon::prelude::*;
+        let transposes = &self.transposes;
+        let cols = self.factors[0].cols();
+        let widest = self.factors.iter().map(|m| m.rows()).max().unwrap_or(0);
+        let mut out = vec![0.0; cols];
+        out.par_chunks_mut(4096).enumerate().for_each(|(chunk, slots)| {
+            let (mut dense, mut seen) = (vec![0.0; widest], vec![false; widest]);
+            let (mut current, mut next): (Vec<(u32, f64)>, Vec<u32>) = (Vec::new(), Vec::new());
+            for (k, slot) in slots.iter_mut().enumerate() {
+                current.clear();
+                current.push(((chunk * 4096 + k) as u32, 1.0));
+                for mt in transposes.iter() {
+                    next.clear();
+                    for &(i, v) in &current {
+                        let row = mt.outer_view(i as usize).expect("a column of the factor");
+                        for (r, &a) in row.iter() {
+                            if !seen[r] {
+                                seen[r] = true;
+                                next.push(r as u32);
+                            }
+                            dense[r] += v * a;
+                        }
+                    }
+                    current.clear();
+                    for &r in &next {
+                        current.push((r, dense[r as usize]));
+                        (dense[r as usize], seen[r as usize]) = (0.0, false);
+                    }
+                }
+                *slot = current.iter().map(|&(_, v)| v * v).sum();
+            }
+        });
+        out
+    }
+}
+
+/// The buffers of [`Chain::normal_into`].
+#[derive(Default)]
+struct Scratch {
+    forward: Vec<Vec<DVec3>>,
+    backward: Vec<Vec<DVec3>>,
+}
+
+/// M·x into `out` (rows in parallel chunks).
+fn apply_into(m: &SparseMatrix, x: &[DVec3], out: &mut [DVec3]) {
+    use rayon::prelude::*;
+    debug_assert_eq!((m.rows(), m.cols()), (out.len(), x.len()));
+    let indptr = m.indptr();
+    let indptr = indptr.raw_storage();
+    let (indices, data) = (m.indices(), m.data());
+    out.par_chunks_mut(8192).enumerate().for_each(|(c, chunk)| {
+        for (k, o) in chunk.iter_mut().enumerate() {
+            let i = c * 8192 + k;
+            let mut acc = DVec3::ZERO;
+            for q in indptr[i] as usize..indptr[i + 1] as usize {
+                acc += data[q] * x[indices[q] as usize];
+            }
+            *o = acc;
+        }
+    });
+}
+
+/// B of (1) as a chain: R (M^K → M^(K+J), J levels), then the limit
+/// stencil L of M^(K+J), then its umbrella Laplacian Δ. For J = 0, `limit`
+/// (M^K's) is L.
+fn energy_operator(
+    tk: &subdiv_mesh::Topology,
+    sharp: &subdiv_stencil::LevelSharpness,
+    tags: &subdiv_mesh::Tags,
+    options: subdiv_stencil::Options,
+    levels: usize,
+    limit: SparseMatrix,
+) -> Result<Chain, InterpError> {
+    if levels == 0 {
+        let delta = energy::umbrella(tk, sharp);
+        return Ok(Chain::new(vec![limit, delta]));
+    }
+    drop(limit);
+    let plan = SubdivisionPlan::with_tags(tk, tags, options, levels)?;
+    let delta = energy::umbrella(plan.topology(), plan.sharpness());
+    let mut chain: Vec<SparseMatrix> =
+        plan.levels().iter().map(|l| l.stencil.clone().expect("the fair schemes have stencils")).collect();
+    chain.push(plan.limit_stencil().expect("the fair schemes have limit masks")?);
+    chain.push(delta);
+    Ok(Chain::new(chain))
 }
 
 /// The constraint rows of the interpolated vertices, and where the input
@@ -532,77 +858,68 @@ fn constraints(
 /// minimise the energy over the free points by CG.
 fn minimise_exact(
     c: &Constraints,
-    b: &SparseMatrix,
+    b: &Chain,
     x0: Vec<DVec3>,
     max_iter: usize,
     mesh: &Mesh,
 ) -> Result<(Vec<DVec3>, SolveSummary), InterpError> {
     let m = x0.len();
-    // How many constraint rows use each column.
-    let mut uses = vec![0u32; m];
-    for (cols, _) in &c.rows {
-        for &j in cols {
-            uses[j as usize] += 1;
-        }
-    }
-    const NO_PIVOT: u32 = u32::MAX;
-    let mut pivot_of_column = vec![NO_PIVOT; m]; // the row whose pivot a column is
-    let mut pivots = Vec::with_capacity(c.rows.len());
-    for (i, (cols, w)) in c.rows.iter().enumerate() {
-        let best = cols
-            .iter()
-            .zip(w)
-            .filter(|(&j, &a)| uses[j as usize] == 1 && a != 0.0)
-            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-            .map(|(&j, &a)| (j, a));
-        let Some((j, a)) = best else {
-            return Err(crate::preconditions::unsupported(
-                Method::Fair,
-                mesh,
-                format!(
-                    "the limit point of interpolated row {i} shares every control point with another one (semi-sharp \
-                     creases spreading the limit rows), so the constraints cannot be eliminated point by point \
-                     (use --refine 0, or a larger refine)"
-                ),
-            ));
-        };
-        pivot_of_column[j as usize] = i as u32;
-        pivots.push((j, a));
+    let pivots = private_pivots(c, m, mesh)?;
+    let mut is_pivot = vec![false; m];
+    for &(p, _) in &pivots {
+        is_pivot[p as usize] = true;
     }
     // Free columns, numbered.
     let mut free_index = vec![u32::MAX; m];
     let mut free = Vec::with_capacity(m - pivots.len());
     for j in 0..m {
-        if pivot_of_column[j] == NO_PIVOT {
+        if !is_pivot[j] {
             free_index[j] = free.len() as u32;
             free.push(j);
         }
     }
     let nf = free.len();
-    // X = E·y + c.
-    let mut e = TriMatI::<f64, u32>::with_capacity((m, nf), m + 8 * pivots.len());
+    // X = E·y + c, E (m × nf) built row by row: a free row is its own column,
+    // a pivot row −a_ij/a_ip over the other columns of its constraint.
+    let mut pivot_row = vec![u32::MAX; m];
+    for (i, &(p, _)) in pivots.iter().enumerate() {
+        pivot_row[p as usize] = i as u32;
+    }
     let mut shift = vec![DVec3::ZERO; m];
-    for (k, &j) in free.iter().enumerate() {
-        e.add_triplet(j, k, 1.0);
-    }
-    for (i, ((cols, w), &(p, ap))) in c.rows.iter().zip(&pivots).enumerate() {
-        for (&j, &a) in cols.iter().zip(w) {
-            if j != p {
-                e.add_triplet(p as usize, free_index[j as usize] as usize, -a / ap);
+    let (mut indptr, mut indices, mut data) = (Vec::with_capacity(m + 1), Vec::new(), Vec::new());
+    indptr.push(0u32);
+    let mut row = Vec::new();
+    for j in 0..m {
+        if free_index[j] != u32::MAX {
+            indices.push(free_index[j]);
+            data.push(1.0);
+        } else {
+            let i = pivot_row[j] as usize;
+            let (cols, w) = &c.rows[i];
+            let ap = pivots[i].1;
+            row.clear();
+            row.extend(
+                cols.iter().zip(w).filter(|(&q, _)| q as usize != j).map(|(&q, &a)| (free_index[q as usize], -a / ap)),
+            );
+            row.sort_unstable_by_key(|e| e.0);
+            for &(q, v) in &row {
+                indices.push(q);
+                data.push(v);
             }
+            shift[j] = c.data[i] / ap;
         }
-        shift[p as usize] = c.data[i] / ap;
+        indptr.push(indices.len() as u32);
     }
-    let e: SparseMatrix = e.to_csr();
-    let g = b * &e;
-    drop(e);
-    let gt: SparseMatrix = g.transpose_view().to_csr();
-    let g0 = subdiv_stencil::apply(b, &shift);
-    let rhs: Vec<DVec3> = subdiv_stencil::apply(&gt, &g0).into_iter().map(|v| -v).collect();
-    let diag = column_squares(&g, nf);
+    let e = SparseMatrix::new((m, nf), indptr, indices, data);
+    let mut factors = vec![e];
+    factors.extend(b.factors.iter().cloned());
+    let g = Chain::new(factors);
+    let g0 = b.apply(&shift);
+    let rhs: Vec<DVec3> = g.apply_t(&g0).into_iter().map(|v| -v).collect();
+    let diag = g.column_squares();
     let y0: Vec<DVec3> = free.iter().map(|&j| x0[j]).collect();
-    let run =
-        solve::pcg(|y| subdiv_stencil::apply(&gt, &subdiv_stencil::apply(&g, y)), &diag, &rhs, y0, FAIR_RTOL, max_iter);
+    let mut scratch = Scratch::default();
+    let run = solve::pcg(|y, out| g.normal_into(y, out, &mut scratch), &diag, &rhs, y0, FAIR_RTOL, max_iter);
     // X: the free points, then each pivot from its row (exact elimination).
     let mut x = vec![DVec3::ZERO; m];
     for (k, &j) in free.iter().enumerate() {
@@ -615,37 +932,56 @@ fn minimise_exact(
     Ok((x, summary_of("fair-cg", &run)))
 }
 
-/// (3) of the module docs: CG on AᵀA + s·BᵀB from `x0`.
-fn minimise_penalty(
-    c: &Constraints,
-    b: &SparseMatrix,
-    s: f64,
-    x0: Vec<DVec3>,
-    max_iter: usize,
-) -> (Vec<DVec3>, SolveSummary) {
-    let m = x0.len();
-    let a = c.matrix(m);
-    let at: SparseMatrix = a.transpose_view().to_csr();
-    let bt: SparseMatrix = b.transpose_view().to_csr();
-    let rhs = subdiv_stencil::apply(&at, &c.data);
-    let diag: Vec<f64> = column_squares(&a, m).iter().zip(column_squares(b, m)).map(|(da, db)| da + s * db).collect();
-    let apply = |x: &[DVec3]| -> Vec<DVec3> {
-        let ax = subdiv_stencil::apply(&at, &subdiv_stencil::apply(&a, x));
-        let bx = subdiv_stencil::apply(&bt, &subdiv_stencil::apply(b, x));
-        ax.iter().zip(&bx).map(|(u, v)| *u + s * *v).collect()
-    };
-    let run = solve::pcg(apply, &diag, &rhs, x0, FAIR_RTOL, max_iter);
-    let summary = summary_of("fair-penalty-cg", &run);
-    (run.x, summary)
+/// Per constraint row, a private pivot (a column no other row uses, the
+/// largest such weight) and its weight.
+fn private_pivots(c: &Constraints, m: usize, mesh: &Mesh) -> Result<Vec<(u32, f64)>, InterpError> {
+    // How many constraint rows use each column.
+    let mut uses = vec![0u32; m];
+    for (cols, _) in &c.rows {
+        for &j in cols {
+            uses[j as usize] += 1;
+        }
+    }
+    let mut pivots = Vec::with_capacity(c.rows.len());
+    for (i, (cols, w)) in c.rows.iter().enumerate() {
+        let best = cols
+            .iter()
+            .zip(w)
+            .filter(|(&j, &a)| uses[j as usize] == 1 && a != 0.0)
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            .map(|(&j, &a)| (j, a));
+        let Some(pivot) = best else {
+            return Err(crate::preconditions::unsupported(
+                Method::Fair,
+                mesh,
+                format!(
+                    "the limit point of interpolated row {i} shares every control point with another one (semi-sharp \
+                     creases spreading the limit rows), so the constraints cannot be eliminated point by point \
+                     (use --refine 0, or a larger refine)"
+                ),
+            ));
+        };
+        pivots.push(pivot);
+    }
+    Ok(pivots)
 }
 
-/// Σ_i G_ij² per column j.
-fn column_squares(g: &SparseMatrix, cols: usize) -> Vec<f64> {
-    let mut out = vec![0.0; cols];
-    for (&j, &v) in g.indices().iter().zip(g.data()) {
-        out[j as usize] += v * v;
-    }
-    out
+/// (3) of the module docs: CG on AᵀA + s·BᵀB from `x0`.
+fn minimise_penalty(c: &Constraints, b: &Chain, s: f64, x0: Vec<DVec3>, max_iter: usize) -> (Vec<DVec3>, SolveSummary) {
+    let m = x0.len();
+    let a = Chain::new(vec![c.matrix(m)]);
+    let rhs = a.apply_t(&c.data);
+    let diag: Vec<f64> = a.column_squares().iter().zip(b.column_squares()).map(|(da, db)| da + s * db).collect();
+    let (mut sa, mut sb) = (Scratch::default(), Scratch::default());
+    let mut bx = vec![DVec3::ZERO; m];
+    let apply = |x: &[DVec3], out: &mut [DVec3]| {
+        a.normal_into(x, out, &mut sa);
+        b.normal_into(x, &mut bx, &mut sb);
+        out.iter_mut().zip(&bx).for_each(|(u, v)| *u += s * *v);
+    };
+    let run = solve::pcg(apply, &diag, &rhs, x0, PENALTY_RTOL, max_iter);
+    let summary = summary_of("fair-penalty-cg", &run);
+    (run.x, summary)
 }
 
 fn summary_of(name: &str, run: &solve::CgRun) -> SolveSummary {

@@ -76,7 +76,7 @@ pub use cheng::ChengOptions;
 pub use deng_ma::DengMaOptions;
 pub use deng_wang::DengWangOptions;
 pub use error::{InterpError, Parameter};
-pub use fair::{FairOptions, FairScheme};
+pub use fair::{FairAlgorithm, FairOptions, FairScheme};
 pub use fan_cheng_lai::{FanChengLaiOptions, Shape};
 pub use interpolant::{ControlScheme, ErrorStats, Interpolant, LimitAssociation, SolveSummary};
 pub use method::{interpolate, Method, MethodOptions, UnknownMethod};

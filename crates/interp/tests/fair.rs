@@ -7,7 +7,7 @@
 mod support;
 use glam::DVec3;
 use proptest::prelude::*;
-use subdiv_interp::fair::{self, thin_plate_energy, FairOptions, FairScheme};
+use subdiv_interp::fair::{self, thin_plate_energy, FairAlgorithm, FairOptions, FairScheme};
 use subdiv_interp::{
     cheng, interpolate, nasri, ChengOptions, InterpError, Interpolant, LoopBeta, Method, MethodOptions, NasriOptions,
     SurfaceOptions,
@@ -237,5 +237,42 @@ proptest! {
             let (e0, e1) = (energy(&exact, 0, 1, d), energy(&fair, 1, 1, d));
             prop_assert!(e1 <= e0 * (1.0 + 1e-9), "{} > {}", e1, e0);
         }
+    }
+}
+
+#[test]
+fn energy_on_further_levels_is_minimised_there() {
+    // With J energy levels fair minimises the energy of the level-(K+J) limit
+    // points, where the exact method's control mesh refined K times is feasible.
+    for (name, mesh, scheme) in cases().into_iter().filter(|c| c.2 != FairScheme::DooSabin) {
+        let d = mesh.bbox_diagonal();
+        let exact = fair::interpolate(&mesh, &FairOptions::default().with_scheme(scheme).with_refine(0)).unwrap();
+        let o = FairOptions::default().with_scheme(scheme).with_energy_levels(1);
+        let r = fair::interpolate(&mesh, &o).unwrap();
+        check(&format!("{name}, J = 1"), &mesh, &r, scheme);
+        let (e0, e1) = (energy(&exact, 0, 2, d), energy(&r, 1, 2, d));
+        assert!(e1 <= e0 * (1.0 + 1e-9), "{name}: {e1} > {e0}");
+        // And below fair's own J = 0 result there.
+        let j0 = fair::interpolate(&mesh, &FairOptions::default().with_scheme(scheme)).unwrap();
+        assert!(e1 <= energy(&j0, 1, 2, d) * (1.0 + 1e-9), "{name}");
+    }
+}
+
+#[test]
+fn the_two_algorithms_find_the_same_minimiser() {
+    // Limit points (fair Y with the data pinned, then T·X = Y) against
+    // elimination (private pivots, CG in the control points): the same
+    // problem (2), solved by different code.
+    for (name, mesh, scheme) in cases().into_iter().filter(|c| c.2 != FairScheme::DooSabin) {
+        let d = mesh.bbox_diagonal();
+        let base = FairOptions::default().with_scheme(scheme).with_tol(1e-12);
+        let by = |a: FairAlgorithm| fair::interpolate(&mesh, &base.clone().with_algorithm(a)).unwrap();
+        let (lp, el) = (by(FairAlgorithm::LimitPoints), by(FairAlgorithm::Elimination));
+        check(&format!("{name}, limit points"), &mesh, &lp, scheme);
+        let gap = max_gap(&lp.control, &el.control) / d;
+        let (e1, e2) = (lp.parameters.energy.unwrap(), el.parameters.energy.unwrap());
+        eprintln!("{name}: control gap {gap:.1e}·d, energies {e1:.6e} / {e2:.6e}");
+        assert!(gap < 1e-4, "{name}: {gap:e}");
+        assert!((e1 - e2).abs() <= 1e-6 * e2, "{name}: {e1} vs {e2}");
     }
 }

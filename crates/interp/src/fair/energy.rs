@@ -3,7 +3,6 @@
 
 use crate::SurfaceOptions;
 use glam::DVec3;
-use sprs::TriMatI;
 use subdiv_mesh::{Mesh, Topology, VertexId};
 use subdiv_stencil::{LevelSharpness, SparseMatrix};
 
@@ -56,28 +55,37 @@ fn row_kind(t: &Topology, sharp: &LevelSharpness, v: VertexId) -> LaplacianRow {
 /// a corner.
 pub(crate) fn umbrella(t: &Topology, sharp: &LevelSharpness) -> SparseMatrix {
     let n = t.vertex_count();
-    let mut tri = TriMatI::<f64, u32>::with_capacity((n, n), 8 * n);
-    let mut ring = Vec::new();
+    let mut indptr = Vec::with_capacity(n + 1);
+    let (mut indices, mut data) = (Vec::with_capacity(6 * n), Vec::with_capacity(6 * n));
+    indptr.push(0u32);
+    let mut row: Vec<(u32, f64)> = Vec::new();
     for v in t.vertices() {
+        row.clear();
         match row_kind(t, sharp, v) {
             LaplacianRow::None => {}
-            LaplacianRow::Curve(a, b) => {
-                tri.add_triplet(v.index(), a.index(), 0.5);
-                tri.add_triplet(v.index(), b.index(), 0.5);
-                tri.add_triplet(v.index(), v.index(), -1.0);
-            }
+            LaplacianRow::Curve(a, b) => row.extend([(a.0, 0.5), (b.0, 0.5), (v.0, -1.0)]),
             LaplacianRow::Surface => {
-                ring.clear();
-                ring.extend(t.vertex_neighbors(v));
-                let w = 1.0 / ring.len() as f64;
-                for &u in &ring {
-                    tri.add_triplet(v.index(), u.index(), w);
-                }
-                tri.add_triplet(v.index(), v.index(), -1.0);
+                let k = t.valence(v);
+                let w = 1.0 / k as f64;
+                row.extend(t.vertex_neighbors(v).map(|u| (u.0, w)));
+                row.push((v.0, -1.0));
             }
         }
+        // Sorted columns, repeated ones summed (a neighbour twice on coarse meshes).
+        row.sort_unstable_by_key(|e| e.0);
+        let mut last = u32::MAX;
+        for &(j, w) in &row {
+            if j == last {
+                *data.last_mut().expect("a previous entry") += w;
+            } else {
+                indices.push(j);
+                data.push(w);
+                last = j;
+            }
+        }
+        indptr.push(indices.len() as u32);
     }
-    tri.to_csr()
+    SparseMatrix::new((n, n), indptr, indices, data)
 }
 
 /// Σ_v ‖(Δx)_v‖² of the points `x` of `t` with `sharp` ([`umbrella`]'s rows).

@@ -41,10 +41,11 @@ fn ratio(a: DVec3, b: DVec3) -> DVec3 {
     DVec3::new(f(a.x, b.x), f(a.y, b.y), f(a.z, b.z))
 }
 
-/// Solves `apply(x) = b` from `x`, preconditioned by the diagonal `diag`
+/// Solves `apply(x) = b` from `x` (`apply(x, out)` writes the product into
+/// `out`), preconditioned by the diagonal `diag`
 /// (entries ≤ 0 are treated as 1).
 pub(crate) fn pcg(
-    apply: impl Fn(&[DVec3]) -> Vec<DVec3>,
+    mut apply: impl FnMut(&[DVec3], &mut [DVec3]),
     diag: &[f64],
     b: &[DVec3],
     mut x: Vec<DVec3>,
@@ -69,8 +70,9 @@ pub(crate) fn pcg(
         };
         f(s.x, b_norm.x).max(f(s.y, b_norm.y)).max(f(s.z, b_norm.z))
     };
-    let ax = apply(&x);
-    let mut r: Vec<DVec3> = b.iter().zip(&ax).map(|(b, a)| *b - *a).collect();
+    let mut q = vec![DVec3::ZERO; x.len()];
+    apply(&x, &mut q);
+    let mut r: Vec<DVec3> = b.iter().zip(&q).map(|(b, a)| *b - *a).collect();
     let mut z: Vec<DVec3> = r.iter().zip(&inv).map(|(r, w)| *r * *w).collect();
     let mut p = z.clone();
     let mut rz = dot(&r, &z);
@@ -78,7 +80,7 @@ pub(crate) fn pcg(
     let mut history = Vec::new();
     let mut iterations = 0;
     while residual > rtol && iterations < max_iter {
-        let q = apply(&p);
+        apply(&p, &mut q);
         let alpha = ratio(rz, dot(&p, &q));
         for ((x, r), (p, q)) in x.iter_mut().zip(r.iter_mut()).zip(p.iter().zip(&q)) {
             *x += alpha * *p;
@@ -111,19 +113,18 @@ mod tests {
     fn solves_a_small_spd_system_column_by_column() {
         // The 1D Laplacian plus identity, n = 50, three different right-hand sides.
         let n = 50;
-        let apply = |x: &[DVec3]| -> Vec<DVec3> {
-            (0..n)
-                .map(|i| {
-                    let left = if i > 0 { x[i - 1] } else { DVec3::ZERO };
-                    let right = if i + 1 < n { x[i + 1] } else { DVec3::ZERO };
-                    3.0 * x[i] - left - right
-                })
-                .collect()
+        let apply = |x: &[DVec3], out: &mut [DVec3]| {
+            for (i, o) in out.iter_mut().enumerate() {
+                let left = if i > 0 { x[i - 1] } else { DVec3::ZERO };
+                let right = if i + 1 < n { x[i + 1] } else { DVec3::ZERO };
+                *o = 3.0 * x[i] - left - right;
+            }
         };
         let b: Vec<DVec3> = (0..n).map(|i| DVec3::new(1.0, i as f64, if i == 7 { 1.0 } else { 0.0 })).collect();
         let run = pcg(apply, &[3.0; 50], &b, vec![DVec3::ZERO; n], 1e-12, 200);
         assert!(run.converged);
-        let back = apply(&run.x);
+        let mut back = vec![DVec3::ZERO; n];
+        apply(&run.x, &mut back);
         for (u, v) in back.iter().zip(&b) {
             assert!((*u - *v).length() < 1e-9 * (1.0 + v.length()));
         }
