@@ -55,10 +55,25 @@ fn runs(mesh: &Mesh, big: bool) -> Vec<Run> {
         })
         .collect();
     out.push(fair(FairScheme::CatmullClark));
+    out.push(Run {
+        label: "fair (catmull-clark, J = 1)".into(),
+        options: FairOptions::default().with_energy_levels(1).into(),
+        control_level: 1,
+    });
+    out.push(Run {
+        label: "fair (catmull-clark, K = 2)".into(),
+        options: FairOptions::default().with_refine(2).into(),
+        control_level: 2,
+    });
     if triangles {
         out.push(fair(FairScheme::Loop(LoopBeta::Warren)));
     }
     out.push(fair(FairScheme::DooSabin));
+    out.push(Run {
+        label: "fair (doo-sabin, J = 1)".into(),
+        options: FairOptions::default().with_scheme(FairScheme::DooSabin).with_energy_levels(1).into(),
+        control_level: 1,
+    });
     out
 }
 
@@ -268,7 +283,9 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     table.setup = format!(
         "Every method with its defaults (tol 10⁻⁶·d), all vertices interpolated; `fair` with refine 1 \
          (control mesh M¹) and exact constraints, for Catmull-Clark, for Loop on triangle meshes and for \
-         Doo-Sabin. Every measure is taken on the limit surface at level {LEVEL} of the input (the control \
+         Doo-Sabin; and two variants of fair Catmull-Clark that see more of the surface: the energy on the \
+         limit points of M² (`energy_levels` J = 1) and the control mesh M² (refine K = 2), and fair \
+         Doo-Sabin with J = 1. Every measure is taken on the limit surface at level {LEVEL} of the input (the control \
          mesh refined {LEVEL} levels minus its own level, at limit positions): the **thin-plate energy** \
          4^{LEVEL}·Σ‖Δx‖²/d² (umbrella Laplacian, curve rule on boundaries; `subdiv_interp::fair::thin_plate_energy`, \
          the one function applied to every method; fair minimises the same form on its level-1 limit points, \
@@ -303,7 +320,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     for (name, mesh, big) in &models {
         let grid = TriangleGrid::new(mesh);
         let n = mesh.topology().vertex_count();
-        let mut cheng_energy = None;
+        let (mut cheng_energy, mut cheng_measures) = (None, None);
         let runs = runs(mesh, *big);
         let repeats = if *big { 1 } else { ctx.runs() };
         for run in &runs {
@@ -321,6 +338,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
             let m = measure(mesh, &grid, &r, run.control_level)?;
             if run.label == "cheng" {
                 cheng_energy = Some(m.energy);
+                cheng_measures = Some((m.willmore, m.distance));
             }
             let ratio = cheng_energy.map(|c| m.energy / c);
             let iterations = r.solve.as_ref().map_or(0, |s| s.iterations);
@@ -342,7 +360,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
                 "energy": m.energy, "energy_over_cheng": ratio, "willmore": m.willmore,
                 "max_distance": m.distance, "time_ms": time, "iterations": iterations,
             }));
-            let key = format!("{name}/{}", run.label.replace([' ', '(', ')'], ""));
+            let key = format!("{name}/{}", run.label.replace([' ', '(', ')', ',', '='], ""));
             table.metric(format!("{key}/error"), m.error, Kind::Error);
             table.metric(format!("{key}/iterations"), iterations as f64, Kind::Iterations);
             if run.label.starts_with("fair") {
@@ -350,17 +368,19 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
                 table.metric(format!("{key}/energy"), m.energy, Kind::Error);
             }
             if run.label == "fair (catmull-clark)" {
-                summary.push((name.to_string(), ratio, m, time));
+                let (w, dist) = cheng_measures.unwrap_or((f64::NAN, f64::NAN));
+                summary.push((name.to_string(), ratio, m.willmore / w, m.distance / dist, time));
             }
         }
     }
-    let mut lines = vec!["**Fair (Catmull-Clark) against Cheng**, the exact method of the same scheme:".to_string()];
-    for (name, ratio, m, time) in &summary {
+    let mut lines =
+        vec!["**Fair (Catmull-Clark) against Cheng**, the exact method of the same scheme (ratios fair / cheng; \
+         below 1: fair is fairer):"
+            .to_string()];
+    for (name, ratio, w, dist, time) in &summary {
         lines.push(format!(
-            "- {name}: energy ×{}, ∫H² {}, max distance {}, {} ms",
+            "- {name}: thin-plate energy ×{}, ∫H² ×{w:.2}, max distance to the input mesh ×{dist:.2}; {} ms",
             ratio.map_or("—".into(), |x| format!("{x:.2}")),
-            sci(m.willmore),
-            sci(m.distance),
             ms(*time)
         ));
     }
@@ -393,4 +413,41 @@ fn figure(ctx: &Ctx, table: &mut Table) -> Result<()> {
     img.save_png(&ctx.out.join(name))?;
     table.figures.push(name.into());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subdiv_mesh::shapes;
+
+    /// A sphere sampled finely: ∫H² = 4π, max distance to itself 0.
+    fn sphere() -> Mesh {
+        let fine = subdiv_stencil::subdivide(&shapes::icosahedron(), Scheme::Loop(LoopBeta::Warren), 4, false).unwrap();
+        let p = fine.positions().iter().map(|p| p.normalize()).collect();
+        fine.with_positions(p)
+    }
+
+    #[test]
+    fn willmore_of_a_sphere_is_four_pi() {
+        let w = willmore(&sphere());
+        assert!((w - 4.0 * std::f64::consts::PI).abs() < 0.05, "{w}");
+        // Scale-invariant.
+        let s = sphere();
+        let big = s.with_positions(s.positions().iter().map(|p| 7.0 * *p).collect());
+        assert!((willmore(&big) - w).abs() < 1e-9 * w);
+    }
+
+    #[test]
+    fn distances_to_a_mesh_are_exact() {
+        let grid = shapes::quad_grid(4, 4);
+        let tri = TriangleGrid::new(&grid);
+        for (p, expected) in [
+            (DVec3::new(1.5, 2.5, 0.7), 0.7),
+            (DVec3::new(-1.0, 2.0, 0.0), 1.0),
+            (DVec3::new(-3.0, -4.0, 0.0), 5.0),
+            (DVec3::new(2.2, 3.3, -0.25), 0.25),
+        ] {
+            assert!((tri.distance(p) - expected).abs() < 1e-12, "{p}: {}", tri.distance(p));
+        }
+    }
 }
