@@ -140,6 +140,21 @@
 //!   three-column solve does not take.
 //! - Vertices outside the subset are unconstrained for K ≥ 1 (their images
 //!   are free points of the fairing).
+//! - Doo-Sabin: (1) on the limit points of M¹'s vertices (the centroids of
+//!   their V-faces one step on) sees little of what happens inside M¹'s
+//!   faces, and on triangle meshes fair Doo-Sabin can come out *less* fair
+//!   than Nasri's at level 3 (Table 7, the knight); `energy_levels` 1
+//!   helps, Catmull-Clark is the scheme to use.
+//!
+//! # Measured
+//! `docs/results/table7-fairness.md` (`cargo xtask reproduce-paper --only
+//! table7`): against Cheng on the same inputs, fair Catmull-Clark lowers the
+//! largest distance from the surface to the input mesh (the bulging) on
+//! every model and the thin-plate energy on most, by modest factors (the
+//! energy of a curved shape is mostly its own curvature, which no
+//! interpolant removes); its time is about 10× Cheng's at 1.5·10⁵ vertices
+//! (`examples/fair_time.rs`), most of it the exact method on M¹ (4× the
+//! unknowns) and the fairing's products.
 //!
 //! ```
 //! use subdiv_interp::fair::{self, FairOptions};
