@@ -152,9 +152,11 @@
 //! largest distance from the surface to the input mesh (the bulging) on
 //! every model and the thin-plate energy on most, by modest factors (the
 //! energy of a curved shape is mostly its own curvature, which no
-//! interpolant removes); its time is about 10× Cheng's at 1.5·10⁵ vertices
-//! (`examples/fair_time.rs`), most of it the exact method on M¹ (4× the
-//! unknowns) and the fairing's products.
+//! interpolant removes). Its time is 10-15× Cheng's at 1.5·10⁵ vertices
+//! (`cargo run --release -p subdiv-interp --example fair_time`: 0.93-1.2 s
+//! against 0.07-0.10 s on 2 shared cores), above the issue's 5×: the exact
+//! method on M¹ (4× Cheng's unknowns), the fairing's products on M¹, and
+//! building M¹ and its operators.
 //!
 //! ```
 //! use subdiv_interp::fair::{self, FairOptions};
