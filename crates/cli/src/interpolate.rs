@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use subdiv_interp::params;
 use subdiv_interp::{
-    DengMaOptions, DengWangOptions, FanChengLaiOptions, InterpError, IterationObserver, Method, MethodOptions,
-    Parameter, Report, Shape, Solver, SolverChoice, SurfaceOptions, ZhengCaiOptions,
+    DengMaOptions, DengWangOptions, FairOptions, FairScheme, FanChengLaiOptions, InterpError, IterationObserver,
+    Method, MethodOptions, Parameter, Report, Shape, Solver, SolverChoice, SurfaceOptions, ZhengCaiOptions,
 };
 use subdiv_mesh::Mesh;
 
@@ -24,6 +24,17 @@ fn method_parser() -> impl clap::builder::TypedValueParser<Value = Method> {
     use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
     PossibleValuesParser::new(Method::ALL.map(|m| PossibleValue::new(m.name()).help(m.summary())))
         .map(|name| name.parse::<Method>().expect("a possible value is a method name"))
+}
+
+/// `--scheme` of `--method fair`: the control mesh's scheme.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FairSchemeArg {
+    /// Catmull-Clark (any polygons).
+    CatmullClark,
+    /// Loop (triangles only; --beta chooses β).
+    Loop,
+    /// Doo-Sabin (any polygons; --refine 0 or 1).
+    DooSabin,
 }
 
 /// Arguments of `subdiv interpolate`.
@@ -70,12 +81,22 @@ pub struct InterpolateArgs {
     /// deng-wang: the edge parameter μ of Eq. 9 (default ⅜: measured best, see the deng_wang module docs).
     #[arg(long, default_value_t = subdiv_interp::deng_wang::DEFAULT_MU)]
     mu: f64,
-    /// deng-wang: Loop's β.
+    /// deng-wang, fair --scheme loop: Loop's β.
     #[arg(long, value_enum, default_value = "warren")]
     beta: BetaArg,
     /// deng-ma: the tension.
     #[command(flatten)]
     tension: TensionArgs,
+    /// fair: the control mesh is the input refined K times (default 1; 0: the scheme's exact method).
+    #[arg(long, value_name = "K")]
+    refine: Option<usize>,
+    /// fair: trade interpolation for fairness, minimising |limit − data|² + W·energy (W > 0; the
+    /// result approximates and --tol is not checked); default: exact interpolation.
+    #[arg(long, value_name = "W")]
+    fairness_weight: Option<f64>,
+    /// fair: the control mesh's scheme (default catmull-clark).
+    #[arg(long, value_enum)]
+    scheme: Option<FairSchemeArg>,
     /// The surface's boundary, crease and face-varying options (as `subdivide`): the control
     /// mesh interpolates the data under these options and its tags.
     #[command(flatten)]
@@ -124,6 +145,9 @@ fn check_applies(args: &InterpolateArgs) -> Result<(), Failure> {
     if args.tension.given() && args.method != DengMa {
         return misuse("--omega/--variable-tension", "deng-ma");
     }
+    if (args.refine.is_some() || args.fairness_weight.is_some() || args.scheme.is_some()) && args.method != Fair {
+        return misuse("--refine/--fairness-weight/--scheme", "fair");
+    }
     if let Some(lambda) = args.shape {
         if !(lambda > 0.0 && lambda < 1.0) {
             return Err(bad_input(anyhow!("--shape: λ = {lambda} is outside (0, 1)")));
@@ -162,6 +186,18 @@ fn method_options(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserv
             DengWangOptions::default().with_mu(args.mu).with_beta(args.beta.into()).with_normals(normals).into()
         }
         Method::DengMa => DengMaOptions::default().with_tension(args.tension.tension()).into(),
+        Method::Fair => {
+            let scheme = match args.scheme.unwrap_or(FairSchemeArg::CatmullClark) {
+                FairSchemeArg::CatmullClark => FairScheme::CatmullClark,
+                FairSchemeArg::Loop => FairScheme::Loop(args.beta.into()),
+                FairSchemeArg::DooSabin => FairScheme::DooSabin,
+            };
+            FairOptions::default()
+                .with_scheme(scheme)
+                .with_refine(args.refine.unwrap_or(subdiv_interp::fair::DEFAULT_REFINE))
+                .with_fairness_weight(args.fairness_weight)
+                .into()
+        }
         method => MethodOptions::new(method),
     };
     let surface = SurfaceOptions::default()
@@ -195,6 +231,9 @@ fn subject(args: &InterpolateArgs, e: &InterpError) -> String {
             Parameter::Eps => "--eps".into(),
             Parameter::Mu => "--mu".into(),
             Parameter::Tension => "--omega/--variable-tension".into(),
+            Parameter::Refine => "--refine".into(),
+            Parameter::FairnessWeight => "--fairness-weight".into(),
+            Parameter::Scheme => "--scheme".into(),
             _ => args.mesh.display().to_string(),
         },
         _ => args.mesh.display().to_string(),
@@ -284,8 +323,10 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     swap(&mut result, &mut written);
     drop(written);
     let error = measured?;
-    // NaN fails too.
-    if error.max_rel.is_nan() || error.max_rel > args.tol {
+    // NaN fails too. A fair result with a fairness weight approximates: its
+    // error is reported, not held to --tol.
+    let approximates = args.method == Method::Fair && args.fairness_weight.is_some();
+    if error.max_rel.is_nan() || (error.max_rel > args.tol && !approximates) {
         return Err(Failure::NotConverged(anyhow!(
             "{}: {name}: the measured error {:.3e}·d exceeds --tol {:.1e} (mean {:.3e}·d); nothing written",
             args.mesh.display(),

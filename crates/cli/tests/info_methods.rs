@@ -1,4 +1,4 @@
-//! `subdiv info`'s "interpolation methods" section: for each of the six
+//! `subdiv info`'s "interpolation methods" section: for each of the seven
 //! methods, whether it takes the mesh and why not — the same verdict the
 //! method itself reaches (`subdiv interpolate` is run to check it).
 
@@ -6,7 +6,7 @@ mod common;
 use common::{assert_no_panic, fixtures, subdiv};
 use serde_json::Value;
 
-const METHODS: [&str; 6] = ["nasri", "zheng-cai", "cheng", "fan-cheng-lai", "deng-wang", "deng-ma"];
+const METHODS: [&str; 7] = ["nasri", "zheng-cai", "cheng", "fan-cheng-lai", "deng-wang", "deng-ma", "fair"];
 
 fn info_json(path: &str) -> (Value, std::process::Output) {
     let out = subdiv(&["info", path, "--json"]);
@@ -37,7 +37,7 @@ fn methods_section_matches_what_interpolate_does() {
         let (json, out) = info_json(path);
         assert!(out.status.success(), "{path}");
         let methods = json["methods"].as_object().expect("a methods object");
-        assert_eq!(methods.len(), 6, "{path}");
+        assert_eq!(methods.len(), METHODS.len(), "{path}");
         for m in METHODS {
             let verdict = &methods[m];
             let accepts = verdict["accepts"].as_bool().expect("accepts is a bool");

@@ -26,11 +26,18 @@ pub enum Parameter {
     Mu,
     /// Deng-Ma's tension ω or λ ([`crate::DengMaOptions::tension`]).
     Tension,
+    /// The fair method's refinement count ([`crate::FairOptions::refine`]).
+    Refine,
+    /// The fair method's fairness weight ([`crate::FairOptions::fairness_weight`]).
+    FairnessWeight,
+    /// The fair method's scheme ([`crate::FairOptions::scheme`]).
+    Scheme,
 }
 
 impl Parameter {
     /// The option's name as the command line spells it (`subset`, `tol`,
-    /// `eps`, `normals`, `handles`, `shape`, `mu`, `tension`).
+    /// `eps`, `normals`, `handles`, `shape`, `mu`, `tension`, `refine`,
+    /// `fairness-weight`, `scheme`).
     pub fn name(self) -> &'static str {
         match self {
             Parameter::Subset => "subset",
@@ -41,6 +48,9 @@ impl Parameter {
             Parameter::Shape => "shape",
             Parameter::Mu => "mu",
             Parameter::Tension => "tension",
+            Parameter::Refine => "refine",
+            Parameter::FairnessWeight => "fairness-weight",
+            Parameter::Scheme => "scheme",
         }
     }
 }

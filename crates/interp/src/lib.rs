@@ -13,6 +13,7 @@
 //! | [`fan_cheng_lai`] | Fan, Cheng & Lai | phase-one(M̂, λ), Doo-Sabin |
 //! | [`deng_wang`] | Deng & Wang 2010 | M¹ after a modified first step, Loop |
 //! | [`deng_ma`] | Deng & Ma 2011 | none: the scheme interpolates |
+//! | [`fair`] | after Halstead, Kass & DeRose 1993 | M^K (input refined K times), Catmull-Clark, Loop or Doo-Sabin; least thin-plate energy subject to interpolation |
 //!
 //! The error of a result is measured from the control mesh by the scheme's
 //! own rules with the control mesh's tags ([`Interpolant::error`]), never
@@ -57,6 +58,7 @@ pub mod cheng;
 pub mod deng_ma;
 pub mod deng_wang;
 mod error;
+pub mod fair;
 pub mod fan_cheng_lai;
 mod interpolant;
 mod method;
@@ -74,6 +76,7 @@ pub use cheng::ChengOptions;
 pub use deng_ma::DengMaOptions;
 pub use deng_wang::DengWangOptions;
 pub use error::{InterpError, Parameter};
+pub use fair::{FairAlgorithm, FairOptions, FairScheme};
 pub use fan_cheng_lai::{FanChengLaiOptions, Shape};
 pub use interpolant::{ControlScheme, ErrorStats, Interpolant, LimitAssociation, SolveSummary};
 pub use method::{interpolate, Method, MethodOptions, UnknownMethod};

@@ -3,9 +3,9 @@
 //! paper reproduction, the examples and the bindings share.
 
 use crate::{
-    cheng, deng_ma, deng_wang, fan_cheng_lai, nasri, zheng_cai, ChengOptions, CommonOptions, DengMaOptions,
-    DengWangOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, SolverChoice, SurfaceOptions,
-    ZhengCaiOptions,
+    cheng, deng_ma, deng_wang, fair, fan_cheng_lai, nasri, zheng_cai, ChengOptions, CommonOptions, DengMaOptions,
+    DengWangOptions, FairOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, SolverChoice,
+    SurfaceOptions, ZhengCaiOptions,
 };
 use std::fmt;
 use std::str::FromStr;
@@ -27,15 +27,27 @@ pub enum Method {
     DengWang,
     /// Deng & Ma 2011: interpolatory scheme derived from Doo-Sabin.
     DengMa,
+    /// Fair interpolation after Halstead, Kass & DeRose 1993: the control
+    /// mesh of the input refined K times with the least thin-plate energy.
+    Fair,
 }
 
 impl Method {
-    /// Every method, in the order of the papers' tables.
-    pub const ALL: [Method; 6] =
-        [Method::Nasri, Method::ZhengCai, Method::Cheng, Method::FanChengLai, Method::DengWang, Method::DengMa];
+    /// Every method, in the order of the papers' tables, then `fair` (no
+    /// seed paper's table has it: the tables that reproduce a paper filter
+    /// for their methods).
+    pub const ALL: [Method; 7] = [
+        Method::Nasri,
+        Method::ZhengCai,
+        Method::Cheng,
+        Method::FanChengLai,
+        Method::DengWang,
+        Method::DengMa,
+        Method::Fair,
+    ];
 
     /// The method's id in reports and on the command line (`nasri`,
-    /// `zheng-cai`, `cheng`, `fan-cheng-lai`, `deng-wang`, `deng-ma`);
+    /// `zheng-cai`, `cheng`, `fan-cheng-lai`, `deng-wang`, `deng-ma`, `fair`);
     /// [`FromStr`] parses it back.
     pub fn name(self) -> &'static str {
         match self {
@@ -45,6 +57,7 @@ impl Method {
             Method::FanChengLai => "fan-cheng-lai",
             Method::DengWang => "deng-wang",
             Method::DengMa => "deng-ma",
+            Method::Fair => "fair",
         }
     }
 
@@ -58,6 +71,10 @@ impl Method {
             Method::FanChengLai => "Fan, Cheng & Lai: two-phase Doo-Sabin with per-face shape λ",
             Method::DengWang => "Deng & Wang 2010: Loop, explicit modified first step",
             Method::DengMa => "Deng & Ma 2011: interpolatory scheme derived from Doo-Sabin (no control mesh)",
+            Method::Fair => {
+                "Halstead, Kass & DeRose 1993: Catmull-Clark (or Loop, Doo-Sabin), the fairest control mesh of the \
+                 input refined K times"
+            }
         }
     }
 }
@@ -124,6 +141,8 @@ pub enum MethodOptions {
     DengWang(DengWangOptions),
     /// [`deng_ma::interpolate`].
     DengMa(DengMaOptions),
+    /// [`fair::interpolate`].
+    Fair(FairOptions),
 }
 
 impl MethodOptions {
@@ -136,6 +155,7 @@ impl MethodOptions {
             Method::FanChengLai => MethodOptions::FanChengLai(FanChengLaiOptions::default()),
             Method::DengWang => MethodOptions::DengWang(DengWangOptions::default()),
             Method::DengMa => MethodOptions::DengMa(DengMaOptions::default()),
+            Method::Fair => MethodOptions::Fair(FairOptions::default()),
         }
     }
 
@@ -148,6 +168,7 @@ impl MethodOptions {
             MethodOptions::FanChengLai(_) => Method::FanChengLai,
             MethodOptions::DengWang(_) => Method::DengWang,
             MethodOptions::DengMa(_) => Method::DengMa,
+            MethodOptions::Fair(_) => Method::Fair,
         }
     }
 
@@ -160,6 +181,7 @@ impl MethodOptions {
             MethodOptions::Cheng(o) => Some(&o.common),
             MethodOptions::FanChengLai(o) => Some(&o.common),
             MethodOptions::DengWang(o) => Some(&o.common),
+            MethodOptions::Fair(o) => Some(&o.common),
             MethodOptions::DengMa(_) => None,
         }
     }
@@ -172,6 +194,7 @@ impl MethodOptions {
             MethodOptions::Cheng(o) => Some(&mut o.common),
             MethodOptions::FanChengLai(o) => Some(&mut o.common),
             MethodOptions::DengWang(o) => Some(&mut o.common),
+            MethodOptions::Fair(o) => Some(&mut o.common),
             MethodOptions::DengMa(_) => None,
         }
     }
@@ -282,6 +305,7 @@ method_options_from!(
     FanChengLai(FanChengLaiOptions),
     DengWang(DengWangOptions),
     DengMa(DengMaOptions),
+    Fair(FairOptions),
 );
 
 /// Runs the method of `options` on `mesh` (its vertices are the data):
@@ -298,6 +322,7 @@ pub fn interpolate(mesh: &Mesh, options: &MethodOptions) -> Result<Interpolant, 
         MethodOptions::FanChengLai(o) => fan_cheng_lai::interpolate(mesh, o),
         MethodOptions::DengWang(o) => deng_wang::interpolate(mesh, o),
         MethodOptions::DengMa(o) => deng_ma::interpolate(mesh, o),
+        MethodOptions::Fair(o) => fair::interpolate(mesh, o),
     }
 }
 

@@ -151,6 +151,13 @@ impl<'a> Prepared<'a> {
         Self { mesh: Cow::Borrowed(self.data), scale: PowerOfTwoScale::IDENTITY, ..self }
     }
 
+    /// For a result that approximates rather than interpolates (the fair
+    /// method's penalty): [`Self::finish`] measures the error but accepts
+    /// any finite value.
+    pub fn without_tolerance(self) -> Self {
+        Self { tol: f64::INFINITY, ..self }
+    }
+
     /// Maps `positions` computed on [`Self::mesh`] back to the data's scale;
     /// `what` names them in the error ("the control mesh").
     pub fn map_back(&self, what: &str, positions: &mut [DVec3]) -> Result<(), InterpError> {

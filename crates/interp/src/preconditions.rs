@@ -9,6 +9,7 @@
 //! | `cheng` | every valid mesh (valence 2: MINRES on the indefinite A) | data outside the range of a singular A: a closed component with only valence-3 vertices and a bipartite vertex graph (the cube) whose checkerboard c has Σ c_v P_v ≠ 0 |
 //! | `deng-wang` | triangles; other polygons are triangulated inside the method | a polygon with no valid triangulation over its own corners |
 //! | `deng-ma` | every valid mesh, open or closed | — |
+//! | `fair` (Catmull-Clark, refine 1) | every valid mesh | semi-sharp creases whose limit rows share every control point (rare) |
 //!
 //! The checks look at the mesh with the default options (all vertices
 //! interpolated, the default tolerance); options such as a solver that
@@ -27,6 +28,9 @@ impl Method {
             Method::Nasri | Method::ZhengCai | Method::FanChengLai | Method::DengMa => Ok(()),
             Method::Cheng => cheng_range(mesh, DEFAULT_TOL),
             Method::DengWang => subdiv_mesh::check_triangulation(mesh).map_err(|e| e.to_string()),
+            // Catmull-Clark, refine 1: every private pivot exists on untagged
+            // meshes; semi-sharp tags that spread the limit rows are refused.
+            Method::Fair => Ok(()),
         }
     }
 }

@@ -264,6 +264,19 @@ pub struct Parameters {
     /// Corner tags of Deng-Wang's control mesh.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub control_corners: Option<usize>,
+    /// The fair method's refinement count K.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refine: Option<usize>,
+    /// The fair method's fairness weight w (`None`: exact constraints).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fairness_weight: Option<f64>,
+    /// The fair method's scheme (`catmull-clark`, `loop`, `doo-sabin`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scheme: Option<String>,
+    /// The fair method's energy (1) of its result, relative to d²
+    /// (`subdiv_interp::fair` module docs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy: Option<f64>,
     /// Vertices interpolated (every method).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub interpolated_vertices: Option<usize>,

@@ -525,7 +525,7 @@ fn a_face_without_triangulation_is_refused_naming_it() {
     let hexagon = mesh.topology().face_count() - 1;
     assert!(reason.starts_with(&format!("face {hexagon} (6 vertices) cannot be triangulated")), "{reason}");
     // Every other method takes it (`advice.rs` checks that each one succeeds).
-    assert_eq!(suggestion, "nasri, zheng-cai, cheng, fan-cheng-lai or deng-ma (they take this mesh)");
+    assert_eq!(suggestion, "nasri, zheng-cai, cheng, fan-cheng-lai, deng-ma or fair (they take this mesh)");
 }
 
 #[test]

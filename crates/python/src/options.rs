@@ -5,7 +5,7 @@
 use crate::errors::{input, Error};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use subdiv::interp::{params, Shape};
+use subdiv::interp::{params, FairOptions, FairScheme, Shape};
 use subdiv::prelude::*;
 
 /// The keyword arguments of a call, taken one by one; what is left at the
@@ -228,6 +228,9 @@ pub fn interpolate(
     let eps = kw.get::<f64>("eps", "a float")?;
     let mu = kw.get::<f64>("mu", "a float")?;
     let beta_name = kw.get::<String>("beta", "a str")?;
+    let refine = kw.get::<usize>("refine", "a non-negative int")?;
+    let fairness_weight = kw.get::<f64>("fairness_weight", "a float")?;
+    let scheme = kw.get::<String>("scheme", "a str")?;
     let tension = tension(kw)?;
     let surface = surface(kw)?;
     let shape = shape_value.as_ref().map(|v| match v.extract::<f64>() {
@@ -256,9 +259,23 @@ pub fn interpolate(
         if normals.is_some() && !matches!(method, ZhengCai | DengWang) {
             return misuse("normals", "zheng-cai or deng-wang");
         }
-        if (mu.is_some() || beta_name.is_some()) && method != DengWang {
-            return misuse(if mu.is_some() { "mu" } else { "beta" }, "deng-wang");
+        if mu.is_some() && method != DengWang {
+            return misuse("mu", "deng-wang");
         }
+        if beta_name.is_some() && !matches!(method, DengWang | Fair) {
+            return misuse("beta", "deng-wang or fair");
+        }
+        if (refine.is_some() || fairness_weight.is_some() || scheme.is_some()) && method != Fair {
+            let key = if refine.is_some() {
+                "refine"
+            } else if fairness_weight.is_some() {
+                "fairness_weight"
+            } else {
+                "scheme"
+            };
+            return misuse(key, "fair");
+        }
+        let beta_given = beta_name.is_some();
         let tension = tension?;
         if tension.is_some() && method != DengMa {
             return misuse("omega/variable_tension", "deng-ma");
@@ -309,6 +326,21 @@ pub fn interpolate(
                 .with_normals(normals)
                 .into(),
             DengMa => DengMaOptions::default().with_tension(tension.unwrap_or_default()).into(),
+            Fair => {
+                let scheme = match scheme.as_deref().map(|s| s.to_ascii_lowercase().replace('_', "-")) {
+                    None => FairScheme::CatmullClark,
+                    Some(s) if s == "loop" => FairScheme::Loop(beta(beta_name)?),
+                    Some(s) => s.parse::<FairScheme>().map_err(|e| input(format!("scheme: {e}")))?,
+                };
+                if beta_given && !matches!(scheme, FairScheme::Loop(_)) {
+                    return misuse("beta", "fair with scheme loop");
+                }
+                FairOptions::default()
+                    .with_scheme(scheme)
+                    .with_refine(refine.unwrap_or(subdiv::interp::fair::DEFAULT_REFINE))
+                    .with_fairness_weight(fairness_weight)
+                    .into()
+            }
             method => MethodOptions::new(method),
         };
         let solver = match solver {

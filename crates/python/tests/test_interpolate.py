@@ -120,3 +120,28 @@ def test_refinements_too_large_are_refused_not_aborted():
         subdiv.subdivide(mesh, "catmull-clark", levels=30)
     with pytest.raises(ValueError, match="memory budget|32-bit ids"):
         subdiv.interpolate(mesh).surface(14)
+
+
+def test_fair_interpolates_and_takes_its_options():
+    X, F = torus(12, 8)
+    mesh = subdiv.Mesh(X, F)
+    result = subdiv.interpolate(mesh, method="fair", refine=1)
+    # Independent check: the Catmull-Clark limit points of the control mesh's first
+    # vertices (the input vertices' images) are the data.
+    limit = subdiv.subdivide(result.control, "catmull-clark", levels=0, limit=True).vertices
+    d = np.linalg.norm(X.max(0) - X.min(0))
+    assert np.abs(limit[: len(X)] - X).max() / d <= 1e-9
+    assert result.control.n_vertices == 96 + 192 + 96  # V + E + F of the torus
+    assert result.report["parameters"]["refine"] == 1
+    # refine 0 is the exact method.
+    exact = subdiv.interpolate(mesh, method="fair", refine=0)
+    cheng = subdiv.interpolate(mesh, method="cheng")
+    assert np.array_equal(exact.control.vertices, cheng.control.vertices)
+    ds = subdiv.interpolate(mesh, method="fair", scheme="doo-sabin")
+    assert ds.error["max_rel"] <= 1e-9
+    weighted = subdiv.interpolate(mesh, method="fair", fairness_weight=0.1)
+    assert weighted.error["max_rel"] > 1e-6  # a penalty approximates
+    with pytest.raises(ValueError, match="refine applies to method fair only"):
+        subdiv.interpolate(mesh, method="cheng", refine=2)
+    with pytest.raises(ValueError, match="Loop scheme needs triangles"):
+        subdiv.interpolate(mesh, method="fair", scheme="loop")

@@ -309,7 +309,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     );
     let d = mesh.bbox_diagonal();
     let mut runs = Vec::new();
-    for m in subdiv_interp::Method::ALL {
+    // fair has its own table (table7, `fairness.rs`).
+    for m in subdiv_interp::Method::ALL.into_iter().filter(|&m| m != subdiv_interp::Method::Fair) {
         let (method, options) = (m.name(), subdiv_interp::MethodOptions::new(m));
         for (tagged, input) in [(false, &mesh), (true, &tagged_input)] {
             let (r, time) = timed(ctx.runs(), || subdiv_interp::interpolate(input, &options));

@@ -47,7 +47,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     for (name, mesh) in &models {
         let tri =
             if mesh.topology().faces().all_of_size(3) { None } else { Some(subdiv_mesh::triangulate(mesh)?.mesh) };
-        for m in Method::ALL {
+        // fair has its own table (table7, `fairness.rs`), with its energy columns.
+        for m in Method::ALL.into_iter().filter(|&m| m != Method::Fair) {
             let (method, options) = (m.name(), MethodOptions::new(m));
             let input = if m == Method::DengWang { tri.as_ref().unwrap_or(mesh) } else { mesh };
             let mut phases = Vec::new(); // (setup, solve) of every run: their medians are reported

@@ -20,6 +20,7 @@ mod creases;
 mod deng;
 mod deng_ma_open;
 mod doo_sabin_creases;
+mod fairness;
 mod fan_cheng_lai;
 mod figures;
 mod meshes;
@@ -37,7 +38,7 @@ pub struct Args {
     /// CI mode: small meshes, no figures, compare with docs/results/baseline.json.
     #[arg(long)]
     quick: bool,
-    /// Run one table only: table1 … table6, creases or figures.
+    /// Run one table only: table1 … table7, creases or figures.
     #[arg(long)]
     only: Option<String>,
     /// Rewrite docs/results/baseline.json from this (quick) run instead of comparing.
@@ -50,13 +51,14 @@ pub struct Args {
 
 type TableFn = fn(&Ctx) -> Result<Table>;
 
-const TABLES: [(&str, TableFn); 8] = [
+const TABLES: [(&str, TableFn); 9] = [
     ("table1", zheng_cai::run),
     ("table2", fan_cheng_lai::run),
     ("table3", cheng::run),
     ("table4", deng::run),
     ("table5", convergence::run),
     ("table6", methods::run),
+    ("table7", fairness::run),
     ("creases", creases::run),
     ("figures", figures::run),
 ];
@@ -73,7 +75,7 @@ pub fn run(args: &Args) -> Result<()> {
     let ctx = Ctx { quick: args.quick, root: root.clone(), out: out.clone() };
     if let Some(only) = &args.only {
         if !TABLES.iter().any(|(id, _)| id == only) {
-            bail!("--only: unknown table '{only}' (table1 … table6, creases, figures)");
+            bail!("--only: unknown table '{only}' (table1 … table7, creases, figures)");
         }
     }
     let machine = common::machine();

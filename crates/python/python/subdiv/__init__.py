@@ -157,7 +157,11 @@ Args:
         zheng-cai: ``normals`` and ``handles`` (per vertex: a dict ``{{vertex: value}}`` or one
         entry per vertex, NaN for none; a normal is 3 numbers, a handle S > 0), ``ite_max``
         (default 5), ``eps`` (default 0.003); deng-wang: ``normals``, ``mu`` (default 3/8),
-        ``beta`` (``"warren"``, ``"loop"``); deng-ma: ``omega`` or ``variable_tension``.
+        ``beta`` (``"warren"``, ``"loop"``); deng-ma: ``omega`` or ``variable_tension``;
+        fair: ``refine`` (K, the control mesh is the input refined K times; default 1),
+        ``fairness_weight`` (w > 0: minimise misfit² + w·energy, the result approximates;
+        default: exact interpolation), ``scheme`` (``"catmull-clark"``, ``"loop"`` with
+        ``beta``, ``"doo-sabin"``).
 
 Returns:
     An :class:`Interpolation`: ``.control`` (:class:`Mesh`), ``.report`` (the command line's

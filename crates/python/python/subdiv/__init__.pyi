@@ -135,6 +135,9 @@ def interpolate(
     beta: str = ...,
     omega: float = ...,
     variable_tension: float = ...,
+    refine: int = ...,
+    fairness_weight: float = ...,
+    scheme: str = ...,
 ) -> Interpolation:
     """Finds the control mesh whose limit surface passes through the mesh's vertices.
 
@@ -145,6 +148,7 @@ def interpolate(
         fan-cheng-lai: Fan, Cheng & Lai: two-phase Doo-Sabin with per-face shape λ
         deng-wang: Deng & Wang 2010: Loop, explicit modified first step
         deng-ma: Deng & Ma 2011: interpolatory scheme derived from Doo-Sabin (no control mesh)
+        fair: Halstead, Kass & DeRose 1993: Catmull-Clark (or Loop, Doo-Sabin), the fairest control mesh of the input refined K times
     """
 
 def info(mesh: Mesh) -> Dict[str, Any]:
