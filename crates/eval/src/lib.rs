@@ -15,6 +15,13 @@
 //! gives the limit point and derivatives at a parameter as weights on the
 //! control points (what fitting solves for).
 
+pub mod bvh;
+pub mod fit;
+pub mod project;
+pub mod sample;
 pub mod surface;
 
+pub use fit::{fit, FitIteration, FitOptions, FitResult, FitTarget};
+pub use project::{project_points, DomainShape, PatchEvaluator, ProjectOptions, Projection, Projector};
+pub use sample::{sample_by_area, sample_per_domain, SurfaceSample};
 pub use surface::{Domain, EvalError, EvalStencil, LimitSample, LimitSurface, SurfaceParam};

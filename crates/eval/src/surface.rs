@@ -76,6 +76,30 @@ pub enum EvalError {
         /// v given.
         v: f64,
     },
+    /// The surface has no domain (an empty mesh).
+    #[error("the surface has no domain")]
+    NoSurface,
+    /// An operation this scheme or input does not support.
+    #[error("not supported: {what}")]
+    Unsupported {
+        /// What was asked.
+        what: String,
+    },
+    /// The control mesh cannot be refined (from subdiv-stencil).
+    #[error(transparent)]
+    Stencil(#[from] subdiv_stencil::StencilError),
+    /// Bad input data for sampling, projection or fitting.
+    #[error("{what}")]
+    InvalidInput {
+        /// What is wrong, naming the offending element.
+        what: String,
+    },
+    /// Fitting could not solve its least-squares system.
+    #[error("fitting: {what}")]
+    Solve {
+        /// The solver's message.
+        what: String,
+    },
     /// Not implemented yet (skeleton).
     #[error("limit evaluation is not implemented yet")]
     Unimplemented,

@@ -1,0 +1,618 @@
+//! Closest points on the limit surface: for a query point q, the parameter
+//! (domain, u, v) minimising ‖S(u, v) − q‖ over the whole surface.
+//!
+//! # Algorithm
+//! 1. **Conservative patch bounds.** Catmull-Clark and Loop weights are
+//!    non-negative and local: the limit patch of a face lies in the convex
+//!    hull of the control points of the faces around its corners (its
+//!    *face ring*). Bounding the hull of the level-0 ring is loose (the ring
+//!    is three faces wide), so the mesh is refined [`ProjectOptions::levels`]
+//!    times first (the refined mesh has the same limit surface) and every
+//!    refined face's ring gives the box of one piece of its ancestor's
+//!    domain ([`refined_bounds`]); for other schemes the boxes are the hulls
+//!    of [`LimitSurface::domain_support`] ([`support_bounds`]). The boxes
+//!    are inflated by [`BOUND_INFLATION`]·d for rounding.
+//! 2. **BVH.** The boxes go into a [`Bvh`]; a query walks it nearest box
+//!    first and prunes every box farther than the best distance so far (a
+//!    box distance is a lower bound of the distance to what it holds).
+//! 3. **Local solve.** The first time a box of a domain is reached, the
+//!    whole domain is solved: start at the nearest of a precomputed grid of
+//!    samples of the domain ([`ProjectOptions::grid`]), then a projected
+//!    Newton iteration on f(u, v) = ½‖S(u, v) − q‖² (exact gradient
+//!    (S_u·r, S_v·r), Hessian with the second-derivative terms r·S_uu …, the
+//!    Gauss-Newton matrix JᵀJ when that is not positive definite), an active
+//!    set on the domain's edges (a constraint is held when the descent
+//!    direction leaves the domain through it: the iteration continues along
+//!    the edge, and stops at a corner that is a constrained minimum), steps
+//!    clipped to the domain and an Armijo backtracking line search. A
+//!    minimum on an edge shared with a neighbouring domain is found from the
+//!    neighbour too: its boxes are at the same distance, so it is solved
+//!    before the search stops.
+//!
+//! The result is at least as close as the nearest grid sample of every domain
+//! whose boxes were reached, and as the nearest vertex of any tessellation
+//! whose vertices lie on the surface inside pruned-in domains.
+//!
+//! Queries run in parallel with rayon; the output keeps the input order and
+//! does not depend on the thread count (each query is independent).
+
+use crate::bvh::{union, Bvh};
+use crate::surface::{Domain, EvalError, LimitSample, LimitSurface, SurfaceParam};
+use glam::DVec3;
+use rayon::prelude::*;
+use subdiv_mesh::{Aabb, FaceId, HalfEdgeId, Mesh, Topology, VertexId};
+use subdiv_stencil::{Options, Scheme, SubdivisionPlan};
+
+/// Boxes are grown by this fraction of the control mesh's bbox diagonal
+/// (rounding in the refined positions and in the evaluation).
+pub const BOUND_INFLATION: f64 = 1e-9;
+/// Newton stops when a step moves (u, v) by less than this.
+pub const PARAM_TOLERANCE: f64 = 1e-14;
+/// Step for the finite-difference second derivatives of
+/// [`PatchEvaluator::evaluate_second`]'s default (on the unit domain).
+pub const HESSIAN_STEP: f64 = 1e-5;
+
+/// The shape of every domain of a surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DomainShape {
+    /// (u, v) ∈ [0, 1]² (Catmull-Clark, Doo-Sabin).
+    Square,
+    /// u, v ≥ 0, u + v ≤ 1 (Loop).
+    Triangle,
+}
+
+impl DomainShape {
+    /// The shape of `scheme`'s domains.
+    pub fn of(scheme: Scheme) -> Self {
+        match scheme {
+            Scheme::Loop(_) => Self::Triangle,
+            _ => Self::Square,
+        }
+    }
+
+    /// The domain as half-planes a·x ≤ b.
+    fn constraints(self) -> &'static [([f64; 2], f64)] {
+        match self {
+            Self::Square => &[([-1.0, 0.0], 0.0), ([1.0, 0.0], 1.0), ([0.0, -1.0], 0.0), ([0.0, 1.0], 1.0)],
+            Self::Triangle => &[([-1.0, 0.0], 0.0), ([0.0, -1.0], 0.0), ([1.0, 1.0], 1.0)],
+        }
+    }
+
+    /// True when (u, v) is in the domain.
+    pub fn contains(self, u: f64, v: f64) -> bool {
+        self.constraints().iter().all(|(a, b)| a[0] * u + a[1] * v <= *b)
+    }
+
+    /// (u, v) moved into the domain (the nearest point; for rounding).
+    pub fn clamp(self, u: f64, v: f64) -> (f64, f64) {
+        let (u, v) = (u.clamp(0.0, 1.0), v.clamp(0.0, 1.0));
+        match self {
+            Self::Square => (u, v),
+            Self::Triangle if u + v > 1.0 => {
+                let excess = 0.5 * (u + v - 1.0);
+                let (u, v) = ((u - excess).max(0.0), (v - excess).max(0.0));
+                (u, v.min(1.0 - u))
+            }
+            Self::Triangle => (u, v),
+        }
+    }
+
+    /// The vertices of the domain split `n` times along each side: an
+    /// (n+1)² grid (square) or the (n+1)(n+2)/2 barycentric grid (triangle).
+    pub fn grid(self, n: usize) -> Vec<(f64, f64)> {
+        let n = n.max(1);
+        let t = |i: usize| i as f64 / n as f64;
+        let mut out = Vec::new();
+        for j in 0..=n {
+            let last = match self {
+                Self::Square => n,
+                Self::Triangle => n - j,
+            };
+            for i in 0..=last {
+                out.push((t(i), t(j)));
+            }
+        }
+        out
+    }
+}
+
+/// A limit sample with second derivatives (for Newton).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SecondOrder {
+    /// Position, first derivatives, normal.
+    pub sample: LimitSample,
+    /// ∂²S/∂u².
+    pub duu: DVec3,
+    /// ∂²S/∂u∂v.
+    pub duv: DVec3,
+    /// ∂²S/∂v².
+    pub dvv: DVec3,
+}
+
+/// What sampling and projection need from a limit surface whose control
+/// points are fixed: its domains and their shape, and evaluation.
+///
+/// [`BoundLimitSurface`] implements it for [`LimitSurface`]; tests implement
+/// it for closed-form surfaces.
+pub trait PatchEvaluator: Sync {
+    /// The shape of every domain.
+    fn shape(&self) -> DomainShape;
+    /// Every domain, in face order.
+    fn domains(&self) -> &[Domain];
+    /// Position, first derivatives and normal at `param`.
+    fn evaluate(&self, param: SurfaceParam) -> Result<LimitSample, EvalError>;
+    /// Also the second derivatives. The default differentiates
+    /// [`Self::evaluate`]'s first derivatives (forward differences of step
+    /// [`HESSIAN_STEP`], backward where the forward point leaves the domain):
+    /// good enough for Newton's matrix, whose accuracy only changes the
+    /// convergence rate (the gradient is exact).
+    fn evaluate_second(&self, param: SurfaceParam) -> Result<SecondOrder, EvalError> {
+        let sample = self.evaluate(param)?;
+        let shape = self.shape();
+        let h = HESSIAN_STEP;
+        let diff = |du: f64, dv: f64| -> Result<Option<(DVec3, DVec3)>, EvalError> {
+            for sign in [1.0, -1.0] {
+                let (u, v) = (param.u + sign * du, param.v + sign * dv);
+                if shape.contains(u, v) {
+                    let s = self.evaluate(SurfaceParam { u, v, ..param })?;
+                    return Ok(Some(((s.du - sample.du) / (sign * h), (s.dv - sample.dv) / (sign * h))));
+                }
+            }
+            Ok(None)
+        };
+        let along_u = diff(h, 0.0)?;
+        let along_v = diff(0.0, h)?;
+        let (duu, duv_a) = along_u.unwrap_or((DVec3::ZERO, DVec3::ZERO));
+        let (duv_b, dvv) = along_v.map_or((DVec3::ZERO, DVec3::ZERO), |(a, b)| (a, b));
+        let duv = match (along_u, along_v) {
+            (Some(_), Some(_)) => 0.5 * (duv_a + duv_b),
+            (Some(_), None) => duv_a,
+            _ => duv_b,
+        };
+        Ok(SecondOrder { sample, duu, duv, dvv })
+    }
+}
+
+/// A [`LimitSurface`] with its control points: the [`PatchEvaluator`] of
+/// sampling, projection and fitting.
+#[derive(Clone, Debug)]
+pub struct BoundLimitSurface<'a> {
+    surface: &'a LimitSurface,
+    positions: &'a [DVec3],
+    shape: DomainShape,
+}
+
+impl<'a> BoundLimitSurface<'a> {
+    /// `surface` (built with `scheme`) at control points `positions`.
+    pub fn new(surface: &'a LimitSurface, positions: &'a [DVec3], scheme: Scheme) -> Self {
+        Self { surface, positions, shape: DomainShape::of(scheme) }
+    }
+}
+
+impl PatchEvaluator for BoundLimitSurface<'_> {
+    fn shape(&self) -> DomainShape {
+        self.shape
+    }
+    fn domains(&self) -> &[Domain] {
+        self.surface.domains()
+    }
+    fn evaluate(&self, param: SurfaceParam) -> Result<LimitSample, EvalError> {
+        self.surface.evaluate(self.positions, param)
+    }
+}
+
+/// Tuning of [`Projector`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProjectOptions {
+    /// Refinement levels before the face-ring boxes are taken (Catmull-Clark
+    /// and Loop; more levels: tighter boxes, more of them). Default 2.
+    pub levels: usize,
+    /// Start grid: every domain sampled at its `grid`-split vertices. Default 4.
+    pub grid: usize,
+    /// Newton iterations per domain at most. Default 40.
+    pub max_iterations: usize,
+}
+
+impl Default for ProjectOptions {
+    fn default() -> Self {
+        Self { levels: 2, grid: 4, max_iterations: 40 }
+    }
+}
+
+/// The closest point of the surface to one query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projection {
+    /// Where it is.
+    pub param: SurfaceParam,
+    /// The surface point S(param).
+    pub position: DVec3,
+    /// Unit normal there.
+    pub normal: DVec3,
+    /// ‖position − query‖.
+    pub distance: f64,
+}
+
+/// Boxes of pieces of domains: `(domain index, box)`, the union of a
+/// domain's boxes containing its limit patch.
+pub type DomainBounds = Vec<(u32, Aabb)>;
+
+/// A closest-point index over a limit surface with fixed control points.
+pub struct Projector<E: PatchEvaluator> {
+    eval: E,
+    bvh: Bvh,
+    leaf_domain: Vec<u32>,
+    grid_params: Vec<(f64, f64)>,
+    /// Grid sample positions, `grid_params.len()` per domain.
+    grid_points: Vec<DVec3>,
+    options: ProjectOptions,
+}
+
+impl<E: PatchEvaluator> Projector<E> {
+    /// An index over `eval` with the domain boxes `bounds` (every domain
+    /// covered by the union of its boxes).
+    ///
+    /// # Errors
+    /// What evaluating the start grid returns.
+    pub fn new(eval: E, bounds: DomainBounds, options: ProjectOptions) -> Result<Self, EvalError> {
+        let grid_params = eval.shape().grid(options.grid);
+        let domains = eval.domains();
+        let grid_points: Vec<DVec3> = (0..domains.len())
+            .into_par_iter()
+            .map(|k| {
+                let d = domains[k];
+                grid_params
+                    .iter()
+                    .map(|&(u, v)| {
+                        eval.evaluate(SurfaceParam { face: d.face, corner: d.corner, u, v }).map(|s| s.position)
+                    })
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .collect::<Result<Vec<_>, _>>()?
+            .concat();
+        let (leaf_domain, boxes): (Vec<u32>, Vec<Aabb>) = bounds.into_iter().unzip();
+        Ok(Self { bvh: Bvh::new(boxes), leaf_domain, grid_params, grid_points, options, eval })
+    }
+
+    /// The evaluator.
+    pub fn evaluator(&self) -> &E {
+        &self.eval
+    }
+
+    /// The closest surface point to `q`.
+    ///
+    /// # Errors
+    /// [`EvalError::NoSurface`] when the surface has no domain; what evaluation returns.
+    pub fn project(&self, q: DVec3) -> Result<Projection, EvalError> {
+        let mut solved: Vec<u32> = Vec::with_capacity(16);
+        let mut best: Option<(Foot, u32)> = None;
+        let mut error = None;
+        let m = self.grid_params.len();
+        self.bvh.nearest(q, f64::INFINITY, |item, _| {
+            let k = self.leaf_domain[item as usize];
+            let current = best.as_ref().map_or(f64::INFINITY, |(f, _)| f.dist2);
+            if error.is_some() || solved.contains(&k) {
+                return current;
+            }
+            solved.push(k);
+            let grid = &self.grid_points[k as usize * m..(k as usize + 1) * m];
+            let start =
+                (0..m).min_by(|&a, &b| (grid[a] - q).length_squared().total_cmp(&(grid[b] - q).length_squared()));
+            let start = self.grid_params[start.unwrap_or(0)];
+            let domain = self.eval.domains()[k as usize];
+            match closest_in_domain(&self.eval, domain, q, start, self.options.max_iterations) {
+                Ok(foot) if foot.dist2 < current => {
+                    let d = foot.dist2;
+                    best = Some((foot, k));
+                    d
+                }
+                Ok(_) => current,
+                Err(e) => {
+                    error = Some(e);
+                    current
+                }
+            }
+        });
+        if let Some(e) = error {
+            return Err(e);
+        }
+        let (foot, _) = best.ok_or(EvalError::NoSurface)?;
+        Ok(Projection {
+            param: foot.param,
+            position: foot.sample.position,
+            normal: foot.sample.normal,
+            distance: foot.dist2.sqrt(),
+        })
+    }
+
+    /// [`Self::project`] for every query, in parallel, in input order.
+    ///
+    /// # Errors
+    /// The first failing query's error (in input order).
+    pub fn project_all(&self, queries: &[DVec3]) -> Result<Vec<Projection>, EvalError> {
+        queries.par_iter().with_min_len(64).map(|&q| self.project(q)).collect()
+    }
+}
+
+/// A local minimum found on one domain.
+#[derive(Clone, Copy, Debug)]
+struct Foot {
+    param: SurfaceParam,
+    sample: LimitSample,
+    dist2: f64,
+}
+
+/// Projected Newton with an active set on the domain's edges (module docs, step 3).
+fn closest_in_domain<E: PatchEvaluator + ?Sized>(
+    eval: &E,
+    domain: Domain,
+    q: DVec3,
+    start: (f64, f64),
+    max_iterations: usize,
+) -> Result<Foot, EvalError> {
+    let shape = eval.shape();
+    let constraints = shape.constraints();
+    let at = |u: f64, v: f64| SurfaceParam { face: domain.face, corner: domain.corner, u, v };
+    let (mut u, mut v) = start;
+    let mut s = eval.evaluate_second(at(u, v))?;
+    let mut f = 0.5 * (s.sample.position - q).length_squared();
+    for _ in 0..max_iterations {
+        let r = s.sample.position - q;
+        let (su, sv) = (s.sample.du, s.sample.dv);
+        let g = [su.dot(r), sv.dot(r)];
+        let gn = [su.dot(su), su.dot(sv), sv.dot(sv)];
+        let full = [gn[0] + s.duu.dot(r), gn[1] + s.duv.dot(r), gn[2] + s.dvv.dot(r)];
+        let h = if full[0] > 0.0 && full[0] * full[2] - full[1] * full[1] > 0.0 { full } else { gn };
+        // Constraints the descent direction −g would cross.
+        let active: Vec<[f64; 2]> = constraints
+            .iter()
+            .filter(|(a, b)| a[0] * u + a[1] * v >= b - 1e-15 && -(a[0] * g[0] + a[1] * g[1]) > 0.0)
+            .map(|(a, _)| *a)
+            .collect();
+        let dir = match active.len() {
+            0 => newton_step(h, g),
+            1 => edge_step(h, g, active[0]),
+            _ => {
+                // A corner: move along one of its edges if that descends and stays inside.
+                let mut best = None;
+                for a in &active {
+                    let d = edge_step(h, g, *a);
+                    let inside = active.iter().all(|b| b[0] * d[0] + b[1] * d[1] <= 1e-15);
+                    if inside && d[0] * g[0] + d[1] * g[1] < 0.0 {
+                        best = Some(d);
+                        break;
+                    }
+                }
+                match best {
+                    Some(d) => d,
+                    None => break,
+                }
+            }
+        };
+        let slope = dir[0] * g[0] + dir[1] * g[1];
+        if !(slope < 0.0) {
+            break;
+        }
+        // Longest step inside the domain.
+        let mut max_step: f64 = 1.0;
+        for (a, b) in constraints {
+            let ad = a[0] * dir[0] + a[1] * dir[1];
+            if ad > 0.0 {
+                max_step = max_step.min(((b - (a[0] * u + a[1] * v)) / ad).max(0.0));
+            }
+        }
+        let mut step = max_step;
+        let mut accepted = None;
+        for _ in 0..40 {
+            let (nu, nv) = shape.clamp(u + step * dir[0], v + step * dir[1]);
+            let ns = eval.evaluate_second(at(nu, nv))?;
+            let nf = 0.5 * (ns.sample.position - q).length_squared();
+            if nf <= f + 1e-4 * step * slope || nf < f {
+                accepted = Some((nu, nv, ns, nf));
+                break;
+            }
+            step *= 0.5;
+        }
+        let Some((nu, nv, ns, nf)) = accepted else { break };
+        let moved = (nu - u).abs().max((nv - v).abs());
+        (u, v, s, f) = (nu, nv, ns, nf);
+        if moved < PARAM_TOLERANCE {
+            break;
+        }
+    }
+    Ok(Foot { param: at(u, v), sample: s.sample, dist2: 2.0 * f })
+}
+
+/// −H⁻¹g for the 2×2 symmetric positive definite H = [h0 h1; h1 h2].
+fn newton_step(h: [f64; 3], g: [f64; 2]) -> [f64; 2] {
+    let det = h[0] * h[2] - h[1] * h[1];
+    if det > 0.0 && h[0] > 0.0 {
+        [-(h[2] * g[0] - h[1] * g[1]) / det, -(h[0] * g[1] - h[1] * g[0]) / det]
+    } else {
+        let scale = (h[0] + h[2]).max(f64::MIN_POSITIVE);
+        [-g[0] / scale, -g[1] / scale]
+    }
+}
+
+/// The Newton step along the edge with outward normal `a`.
+fn edge_step(h: [f64; 3], g: [f64; 2], a: [f64; 2]) -> [f64; 2] {
+    let len = (a[0] * a[0] + a[1] * a[1]).sqrt();
+    let t = [-a[1] / len, a[0] / len];
+    let gt = g[0] * t[0] + g[1] * t[1];
+    let ht = h[0] * t[0] * t[0] + 2.0 * h[1] * t[0] * t[1] + h[2] * t[1] * t[1];
+    let s = if ht > 0.0 { -gt / ht } else { -gt / (h[0] + h[2]).max(f64::MIN_POSITIVE) };
+    [s * t[0], s * t[1]]
+}
+
+/// Boxes of the hulls of [`LimitSurface::domain_support`], one per domain,
+/// inflated by [`BOUND_INFLATION`]·d; `None` when a domain has no support
+/// with the hull property.
+pub fn support_bounds(surface: &LimitSurface, positions: &[DVec3]) -> Option<DomainBounds> {
+    let pad = inflation(positions);
+    surface
+        .domains()
+        .iter()
+        .enumerate()
+        .map(|(k, &d)| {
+            let support = surface.domain_support(d)?;
+            let b = Aabb::of(support.iter().map(|&i| positions[i as usize]))?;
+            Some((k as u32, Aabb { min: b.min - pad, max: b.max + pad }))
+        })
+        .collect()
+}
+
+fn inflation(positions: &[DVec3]) -> DVec3 {
+    let d = Aabb::of(positions.iter().copied()).map_or(0.0, |b| b.diagonal());
+    DVec3::splat(BOUND_INFLATION * d.max(f64::MIN_POSITIVE))
+}
+
+/// For Catmull-Clark and Loop: the mesh refined `levels` times (same limit
+/// surface), and for every refined face the box of its face ring (the
+/// control points its limit patch depends on, with non-negative weights),
+/// named by the level-0 domain the refined face lies in. `domains` is the
+/// surface's domain list (quads and Loop triangles: one domain `(f, 0)`;
+/// n-gons: `(f, K)` per corner, the level-1 quad at corner K).
+///
+/// # Errors
+/// [`EvalError::Unsupported`] for other schemes; [`EvalError::Stencil`]
+/// when the mesh cannot be refined.
+pub fn refined_bounds(
+    mesh: &Mesh,
+    options: &Options,
+    domains: &[Domain],
+    levels: usize,
+) -> Result<DomainBounds, EvalError> {
+    let loop_scheme = match options.scheme {
+        Scheme::CatmullClark => false,
+        Scheme::Loop(_) => true,
+        other => return Err(EvalError::Unsupported { what: format!("refined patch bounds for {}", other.name()) }),
+    };
+    let t0 = mesh.topology();
+    // Index of domain (f, K): first[f] + K.
+    let mut first = vec![u32::MAX; t0.face_count()];
+    for (k, d) in domains.iter().enumerate().rev() {
+        first[d.face as usize] = k as u32;
+    }
+    let levels = levels.max(usize::from(!loop_scheme));
+    let plan = SubdivisionPlan::with_tags(t0, mesh.tags(), *options, levels)?;
+    let positions = plan.apply(mesh.positions());
+    // Domain of every face, level by level.
+    let mut owner: Vec<u32> = Vec::new();
+    let mut coarse: &Topology = t0;
+    for (level, refinement) in plan.levels().iter().enumerate() {
+        let fine = &refinement.topology;
+        owner = (0..fine.face_count())
+            .map(|c| {
+                if loop_scheme {
+                    let parent = c / 4;
+                    if level == 0 {
+                        first[parent]
+                    } else {
+                        owner[parent]
+                    }
+                } else {
+                    // Child quad `h` of a quad split is the parent's corner h.
+                    let h = HalfEdgeId(c as u32);
+                    let parent = coarse.he_face(h);
+                    if level == 0 {
+                        let corner = if coarse.face_size(parent) == 4 {
+                            0
+                        } else {
+                            c as u32 - coarse.face_half_edges(parent).next().expect("a face has corners").0
+                        };
+                        first[parent.0 as usize] + corner
+                    } else {
+                        owner[parent.0 as usize]
+                    }
+                }
+            })
+            .collect();
+        coarse = fine;
+    }
+    if levels == 0 {
+        owner = (0..t0.face_count()).map(|f| first[f]).collect();
+    }
+    let t = plan.topology();
+    let pad = inflation(mesh.positions());
+    Ok((0..t.face_count())
+        .into_par_iter()
+        .map(|f| {
+            let mut b = Aabb { min: DVec3::splat(f64::INFINITY), max: DVec3::splat(f64::NEG_INFINITY) };
+            for &c in t.face(FaceId(f as u32)) {
+                for &h in t.vertex_fan(VertexId(c)) {
+                    for &w in t.face(t.he_face(h)) {
+                        let p = positions[w as usize];
+                        b = union(&b, &Aabb { min: p, max: p });
+                    }
+                }
+            }
+            (owner[f], Aabb { min: b.min - pad, max: b.max + pad })
+        })
+        .collect())
+}
+
+/// The closest points on `mesh`'s limit surface under `options` to every
+/// query (a plain-data entry point): Catmull-Clark and Loop use
+/// [`refined_bounds`], other schemes [`support_bounds`].
+///
+/// # Errors
+/// As [`LimitSurface::new`], [`Projector::project_all`];
+/// [`EvalError::Unsupported`] when a scheme has no conservative bounds.
+pub fn project_points(
+    mesh: &Mesh,
+    options: &Options,
+    queries: &[DVec3],
+    project: &ProjectOptions,
+) -> Result<Vec<Projection>, EvalError> {
+    let surface = LimitSurface::new(mesh, options)?;
+    let projector = projector(&surface, mesh, options, project)?;
+    projector.project_all(queries)
+}
+
+/// A [`Projector`] over `surface` (built from `mesh` and `options`) at
+/// `mesh`'s positions.
+///
+/// # Errors
+/// As [`project_points`].
+pub fn projector<'a>(
+    surface: &'a LimitSurface,
+    mesh: &'a Mesh,
+    options: &Options,
+    project: &ProjectOptions,
+) -> Result<Projector<BoundLimitSurface<'a>>, EvalError> {
+    let bounds = match options.scheme {
+        Scheme::CatmullClark | Scheme::Loop(_) => refined_bounds(mesh, options, surface.domains(), project.levels)?,
+        other => support_bounds(surface, mesh.positions()).ok_or_else(|| EvalError::Unsupported {
+            what: format!("projection on {}: no conservative patch bounds", other.name()),
+        })?,
+    };
+    Projector::new(BoundLimitSurface::new(surface, mesh.positions(), options.scheme), bounds, *project)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grids_and_clamp_stay_in_the_domain() {
+        for shape in [DomainShape::Square, DomainShape::Triangle] {
+            for (u, v) in shape.grid(5) {
+                assert!(shape.contains(u, v));
+            }
+            for (u, v) in [(-1.0, 0.5), (2.0, 2.0), (0.7, 0.7), (0.3, -0.2), (1.5, -3.0)] {
+                let (a, b) = shape.clamp(u, v);
+                assert!(shape.contains(a, b), "{shape:?} ({u}, {v}) → ({a}, {b})");
+            }
+        }
+        assert_eq!(DomainShape::Square.grid(4).len(), 25);
+        assert_eq!(DomainShape::Triangle.grid(4).len(), 15);
+    }
+
+    #[test]
+    fn newton_step_solves_the_system() {
+        let h = [3.0, 1.0, 2.0];
+        let g = [1.0, -2.0];
+        let d = newton_step(h, g);
+        assert!((h[0] * d[0] + h[1] * d[1] + g[0]).abs() < 1e-15);
+        assert!((h[1] * d[0] + h[2] * d[1] + g[1]).abs() < 1e-15);
+    }
+}
