@@ -84,7 +84,10 @@ pub fn run(args: &FitArgs) -> Result<(), Failure> {
     let mut triangles = Vec::new();
     for (k, f) in soup.faces.iter().enumerate() {
         if let Some(&v) = f.iter().find(|&&v| v as usize >= soup.positions.len()) {
-            return Err(bad_input(anyhow!("{}: face {k} names vertex {v}, which does not exist", args.target.display())));
+            return Err(bad_input(anyhow!(
+                "{}: face {k} names vertex {v}, which does not exist",
+                args.target.display()
+            )));
         }
         for i in 1..f.len().saturating_sub(1) {
             triangles.push([f[0], f[i], f[i + 1]]);

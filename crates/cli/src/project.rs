@@ -49,9 +49,10 @@ pub fn read_points(path: &Path) -> Result<Vec<DVec3>, Failure> {
             let field = fields.next().ok_or_else(|| {
                 bad_input(anyhow!("{}:{}: expected three coordinates `x y z`", path.display(), k + 1))
             })?;
-            *c = field.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| {
-                bad_input(anyhow!("{}:{}: '{field}' is not a finite number", path.display(), k + 1))
-            })?;
+            *c =
+                field.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| {
+                    bad_input(anyhow!("{}:{}: '{field}' is not a finite number", path.display(), k + 1))
+                })?;
         }
         points.push(DVec3::from_array(xyz));
     }

@@ -52,8 +52,7 @@ impl LimitArgs {
     pub fn load(&self, path: &Path) -> Result<(Mesh, Options, LimitSurface), Failure> {
         let options = self.options()?;
         let mesh = load_tagged_mesh(path, &self.tags)?;
-        let surface =
-            LimitSurface::new(&mesh, &options).map_err(|e| bad_input(anyhow!("{}: {e}", path.display())))?;
+        let surface = LimitSurface::new(&mesh, &options).map_err(|e| bad_input(anyhow!("{}: {e}", path.display())))?;
         Ok((mesh, options, surface))
     }
 }
@@ -87,7 +86,10 @@ pub struct SampleArgs {
 pub fn run(args: &SampleArgs) -> Result<(), Failure> {
     let mut outputs = Outputs::new(std::iter::once(args.mesh.as_path()).chain(args.limit.tags.files()));
     let format = outputs.mesh("--output", &args.output)?;
-    if !matches!(format, subdiv_io::Format::PlyAscii | subdiv_io::Format::PlyBinary | subdiv_io::Format::Obj | subdiv_io::Format::Off) {
+    if !matches!(
+        format,
+        subdiv_io::Format::PlyAscii | subdiv_io::Format::PlyBinary | subdiv_io::Format::Obj | subdiv_io::Format::Off
+    ) {
         return Err(bad_input(anyhow!(
             "--output {}: {format} cannot store a point cloud with normals; use .ply, .obj or .off",
             args.output.display()
@@ -118,7 +120,10 @@ pub fn stage_cloud(
     normals: &[glam::DVec3],
 ) -> Result<(), Failure> {
     if positions.iter().chain(normals).any(|p| !p.is_finite()) {
-        return Err(Failure::NotConverged(anyhow!("{}: a point or normal is not finite; nothing written", path.display())));
+        return Err(Failure::NotConverged(anyhow!(
+            "{}: a point or normal is not finite; nothing written",
+            path.display()
+        )));
     }
     let faces = FaceList::new();
     let view = subdiv_io::MeshView::new(positions, &faces).with_normals(normals);
