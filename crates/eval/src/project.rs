@@ -484,7 +484,12 @@ pub fn refined_bounds(
     let loop_scheme = match options.scheme {
         Scheme::CatmullClark => false,
         Scheme::Loop(_) => true,
-        other => return Err(EvalError::Unsupported { what: format!("refined patch bounds for {}", other.name()) }),
+        other => {
+            return Err(EvalError::Unsupported {
+                scheme: other.name(),
+                reason: "no refined patch bounds (Catmull-Clark and Loop only)".into(),
+            })
+        }
     };
     let t0 = mesh.topology();
     // Index of domain (f, K): first[f] + K.
@@ -582,7 +587,8 @@ pub fn projector<'a>(
     let bounds = match options.scheme {
         Scheme::CatmullClark | Scheme::Loop(_) => refined_bounds(mesh, options, surface.domains(), project.levels)?,
         other => support_bounds(surface, mesh.positions()).ok_or_else(|| EvalError::Unsupported {
-            what: format!("projection on {}: no conservative patch bounds", other.name()),
+            scheme: other.name(),
+            reason: "projection needs conservative patch bounds, and a domain has none".into(),
         })?,
     };
     Projector::new(BoundLimitSurface::new(surface, mesh.positions(), options.scheme), bounds, *project)

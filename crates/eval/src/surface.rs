@@ -79,11 +79,13 @@ pub enum EvalError {
     /// The surface has no domain (an empty mesh).
     #[error("the surface has no domain")]
     NoSurface,
-    /// An operation this scheme or input does not support.
-    #[error("not supported: {what}")]
+    /// The scheme has no limit surface to evaluate here.
+    #[error("{scheme}: {reason}")]
     Unsupported {
-        /// What was asked.
-        what: String,
+        /// Scheme name.
+        scheme: &'static str,
+        /// Why.
+        reason: String,
     },
     /// The control mesh cannot be refined (from subdiv-stencil).
     #[error(transparent)]
