@@ -152,9 +152,9 @@ fn build(nodes: &mut Vec<Node>, at: usize, order: &mut [u32], offset: usize, box
     build(nodes, first + 1, right, offset + mid, boxes, centres);
 }
 
-/// The closest point to `p` on triangle `(a, b, c)` and its barycentric
-/// coordinates of `b` and `c` (Ericson, *Real-Time Collision Detection*,
-/// 2005, §5.1.5: Voronoi regions of the vertices, edges and face).
+/// The closest point to `p` on triangle `(a, b, c)` (Ericson, *Real-Time
+/// Collision Detection*, 2005, §5.1.5: the Voronoi regions of the vertices,
+/// edges and face).
 pub fn closest_point_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
     let ab = b - a;
     let ac = c - a;
@@ -222,7 +222,7 @@ impl TargetIndex {
     /// and its distance; `None` for an empty target.
     pub fn nearest(&self, q: DVec3) -> Option<(DVec3, f64)> {
         let mut found = None;
-        let best = self.bvh.nearest(q, f64::INFINITY, |item, _| {
+        self.bvh.nearest(q, f64::INFINITY, |item, _| {
             let p = if self.triangles.is_empty() {
                 self.points[item as usize]
             } else {
@@ -238,7 +238,6 @@ impl TargetIndex {
                 }
             }
         });
-        let _ = best;
         found.map(|(p, d)| (p, d.sqrt()))
     }
 }
