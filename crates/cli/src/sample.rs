@@ -95,8 +95,8 @@ pub fn run(args: &SampleArgs) -> Result<(), Failure> {
             args.output.display()
         )));
     }
-    let (mesh, options, surface) = args.limit.load(&args.mesh)?;
-    let bound = BoundLimitSurface::new(&surface, mesh.positions(), options.scheme);
+    let (mesh, _, surface) = args.limit.load(&args.mesh)?;
+    let bound = BoundLimitSurface::new(&surface, mesh.positions()).map_err(|e| bad_input(anyhow!("{e}")))?;
     let samples = match (args.per_face, args.count) {
         (Some(n), _) => sample_per_domain(&bound, n),
         (None, Some(n)) => sample_by_area(&bound, n, args.seed),

@@ -25,7 +25,7 @@ fn setup() -> (subdiv_mesh::Mesh, Options, Vec<DVec3>) {
     let options = Options::new(Scheme::CatmullClark);
     let mesh = subdiv_stencil::subdivide(&spot, options, 3, false).expect("subdivides");
     let surface = LimitSurface::new(&mesh, &options).expect("a surface");
-    let bound = BoundLimitSurface::new(&surface, mesh.positions(), options.scheme);
+    let bound = BoundLimitSurface::new(&surface, mesh.positions()).unwrap();
     let samples = sample_by_area(&bound, 20_000, 1).expect("samples");
     let bbox = mesh.bbox();
     let d = bbox.diagonal();

@@ -14,14 +14,22 @@
 //! evaluating needs the control positions, and [`LimitSurface::stencil`]
 //! gives the limit point and derivatives at a parameter as weights on the
 //! control points (what fitting solves for).
+#![warn(missing_docs)]
+
+mod catmull_clark;
+mod doo_sabin;
+mod local;
+mod loop_scheme;
+mod patch;
+mod patch_vertex;
+pub mod surface;
 
 pub mod bvh;
 pub mod fit;
 pub mod project;
 pub mod sample;
-pub mod surface;
 
 pub use fit::{fit, FitIteration, FitOptions, FitResult, FitTarget};
 pub use project::{project_points, DomainShape, PatchEvaluator, ProjectOptions, Projection, Projector};
 pub use sample::{sample_by_area, sample_per_domain, SurfaceSample};
-pub use surface::{Domain, EvalError, EvalStencil, LimitSample, LimitSurface, SurfaceParam};
+pub use surface::{BoundSurface, Domain, EvalError, EvalStencil, LimitJet, LimitSample, LimitSurface, SurfaceParam};

@@ -37,7 +37,7 @@
 //! does not depend on the thread count (each query is independent).
 
 use crate::bvh::{union, Bvh};
-use crate::surface::{Domain, EvalError, LimitSample, LimitSurface, SurfaceParam};
+use crate::surface::{BoundSurface, Domain, EvalError, LimitJet, LimitSample, LimitSurface, SurfaceParam};
 use glam::DVec3;
 use rayon::prelude::*;
 use subdiv_mesh::{Aabb, FaceId, HalfEdgeId, Mesh, Topology, VertexId};
@@ -116,19 +116,6 @@ impl DomainShape {
     }
 }
 
-/// A limit sample with second derivatives (for Newton).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SecondOrder {
-    /// Position, first derivatives, normal.
-    pub sample: LimitSample,
-    /// ∂²S/∂u².
-    pub duu: DVec3,
-    /// ∂²S/∂u∂v.
-    pub duv: DVec3,
-    /// ∂²S/∂v².
-    pub dvv: DVec3,
-}
-
 /// What sampling and projection need from a limit surface whose control
 /// points are fixed: its domains and their shape, and evaluation.
 ///
@@ -146,7 +133,7 @@ pub trait PatchEvaluator: Sync {
     /// [`HESSIAN_STEP`], backward where the forward point leaves the domain):
     /// good enough for Newton's matrix, whose accuracy only changes the
     /// convergence rate (the gradient is exact).
-    fn evaluate_second(&self, param: SurfaceParam) -> Result<SecondOrder, EvalError> {
+    fn evaluate_second(&self, param: SurfaceParam) -> Result<LimitJet, EvalError> {
         let sample = self.evaluate(param)?;
         let shape = self.shape();
         let h = HESSIAN_STEP;
@@ -169,23 +156,26 @@ pub trait PatchEvaluator: Sync {
             (Some(_), None) => duv_a,
             _ => duv_b,
         };
-        Ok(SecondOrder { sample, duu, duv, dvv })
+        Ok(LimitJet { sample, duu, duv, dvv })
     }
 }
 
-/// A [`LimitSurface`] with its control points: the [`PatchEvaluator`] of
-/// sampling, projection and fitting.
+/// A [`LimitSurface`] bound to its control points ([`LimitSurface::bind`]):
+/// the [`PatchEvaluator`] of sampling, projection and fitting, with the
+/// evaluator's exact second derivatives.
 #[derive(Clone, Debug)]
 pub struct BoundLimitSurface<'a> {
-    surface: &'a LimitSurface,
-    positions: &'a [DVec3],
+    bound: BoundSurface<'a>,
     shape: DomainShape,
 }
 
 impl<'a> BoundLimitSurface<'a> {
-    /// `surface` (built with `scheme`) at control points `positions`.
-    pub fn new(surface: &'a LimitSurface, positions: &'a [DVec3], scheme: Scheme) -> Self {
-        Self { surface, positions, shape: DomainShape::of(scheme) }
+    /// `surface` at control points `positions`.
+    ///
+    /// # Errors
+    /// As [`LimitSurface::bind`] (a position count that does not match).
+    pub fn new(surface: &'a LimitSurface, positions: &'a [DVec3]) -> Result<Self, EvalError> {
+        Ok(Self { bound: surface.bind(positions)?, shape: DomainShape::of(surface.options().scheme) })
     }
 }
 
@@ -194,10 +184,13 @@ impl PatchEvaluator for BoundLimitSurface<'_> {
         self.shape
     }
     fn domains(&self) -> &[Domain] {
-        self.surface.domains()
+        self.bound.surface().domains()
     }
     fn evaluate(&self, param: SurfaceParam) -> Result<LimitSample, EvalError> {
-        self.surface.evaluate(self.positions, param)
+        self.bound.evaluate(param)
+    }
+    fn evaluate_second(&self, param: SurfaceParam) -> Result<LimitJet, EvalError> {
+        self.bound.evaluate_jet(param)
     }
 }
 
@@ -591,7 +584,7 @@ pub fn projector<'a>(
             reason: "projection needs conservative patch bounds, and a domain has none".into(),
         })?,
     };
-    Projector::new(BoundLimitSurface::new(surface, mesh.positions(), options.scheme), bounds, *project)
+    Projector::new(BoundLimitSurface::new(surface, mesh.positions())?, bounds, *project)
 }
 
 #[cfg(test)]

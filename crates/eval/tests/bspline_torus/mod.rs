@@ -5,8 +5,7 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use subdiv_eval::project::SecondOrder;
-use subdiv_eval::{Domain, DomainShape, EvalError, LimitSample, PatchEvaluator, SurfaceParam};
+use subdiv_eval::{Domain, DomainShape, EvalError, LimitJet, LimitSample, PatchEvaluator, SurfaceParam};
 use subdiv_mesh::Mesh;
 
 /// Uniform cubic B-spline basis, first and second derivatives at t ∈ [0, 1].
@@ -42,7 +41,7 @@ impl BSplineTorus {
         Self { nu, nv, positions: mesh.positions().to_vec(), domains, finite_differences: false }
     }
 
-    pub fn second(&self, p: SurfaceParam) -> Result<SecondOrder, EvalError> {
+    pub fn second(&self, p: SurfaceParam) -> Result<LimitJet, EvalError> {
         if p.face as usize >= self.nu * self.nv || p.corner != 0 {
             return Err(EvalError::NoSuchDomain { face: p.face, corner: p.corner });
         }
@@ -67,7 +66,7 @@ impl BSplineTorus {
             }
         }
         let normal = out[1].cross(out[2]).normalize();
-        Ok(SecondOrder {
+        Ok(LimitJet {
             sample: LimitSample { position: out[0], du: out[1], dv: out[2], normal },
             duu: out[3],
             duv: out[4],
@@ -86,7 +85,7 @@ impl PatchEvaluator for BSplineTorus {
     fn evaluate(&self, param: SurfaceParam) -> Result<LimitSample, EvalError> {
         self.second(param).map(|s| s.sample)
     }
-    fn evaluate_second(&self, param: SurfaceParam) -> Result<SecondOrder, EvalError> {
+    fn evaluate_second(&self, param: SurfaceParam) -> Result<LimitJet, EvalError> {
         if self.finite_differences {
             // The trait's default.
             struct Plain<'a>(&'a BSplineTorus);
