@@ -30,14 +30,28 @@
 //!    system definite and vanishes at a fixed point. The 3n × 3n normal
 //!    equations Σ (Wⱼᵀ ⊗ I₃) Mⱼ (Wⱼ ⊗ I₃) + … are assembled from six sparse
 //!    products Wᵀ·diag(Mⱼ,cd)·W and solved by sparse LDLᵀ (subdiv-solve).
-//! 3. Stop after [`FitOptions::iterations`] rounds, or as soon as the RMS
+//! 3. A round is kept when it lowers the RMS target → surface distance.
+//!    The tangential term λ anchors every foot to its current parameter and
+//!    so brakes the sliding that the exact solution needs (with exact data,
+//!    λ = 0.05 stalls near 1e-4·d, λ = 1e-7 reaches 1e-13·d in ten rounds)
+//!    while it keeps the first rounds, far from the target, stable: λ starts
+//!    at the given value, shrinks ×[`LAMBDA_DECREASE`] after every kept round
+//!    (to [`LAMBDA_MIN`]) and grows ÷[`LAMBDA_DECREASE`] to retry a rejected
+//!    one, at most [`MAX_RETRIES`] times in a row (Levenberg-Marquardt style;
+//!    [`FitOptions::adaptive_lambda`]). With λ → 0 the round is the
+//!    Gauss-Newton step of the joint problem in (P, t): eliminating the foot
+//!    parameters from its normal equations leaves exactly the point-to-plane
+//!    term nⱼnⱼᵀ.
+//! 4. Stop after [`FitOptions::iterations`] kept rounds, or as soon as the RMS
 //!    target → surface distance is at most [`FitOptions::tolerance`]·d, or
-//!    when a round improves it by less than a relative [`STALL`].
+//!    when a kept round improves it by less than a relative [`STALL`], or
+//!    when the retries are spent.
 //!
 //! # Deviations from the papers
 //! LSPIA's fixed-step iteration is replaced by the direct solve of the
 //! same least-squares problem each round (same fixed point, no step size to
-//! pick); the default error term is the tangent distance.
+//! pick); the default error term is the tangent distance, with the adaptive
+//! λ of step 3 (ours).
 
 use crate::bvh::TargetIndex;
 use crate::project::{projector, ProjectOptions};
@@ -53,7 +67,14 @@ use subdiv_stencil::Options;
 /// μ of the damping term, relative to the mean diagonal of the data term.
 pub const DAMPING: f64 = 1e-9;
 /// A round that improves the RMS distance by less than this fraction stops the fit.
-pub const STALL: f64 = 1e-7;
+pub const STALL: f64 = 1e-4;
+/// [`FitOptions::adaptive_lambda`]: λ is multiplied by this after an accepted round
+/// (and divided by it before a retry of a rejected one).
+pub const LAMBDA_DECREASE: f64 = 0.1;
+/// The smallest λ the adaptive schedule reaches.
+pub const LAMBDA_MIN: f64 = 1e-8;
+/// Rejected rounds retried with a larger λ before the fit stops.
+pub const MAX_RETRIES: usize = 3;
 
 /// What the fit is to come close to.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -105,8 +126,12 @@ pub struct FitOptions {
     pub smoothness: f64,
     /// Stop when the RMS target → surface distance is at most this times d. Default 0 (never).
     pub tolerance: f64,
-    /// The error term. Default tangent distance, λ = 0.05.
+    /// The error term. Default tangent distance, λ = 0.05 at the start.
     pub distance: FitDistance,
+    /// Tangent distance: λ shrinks ×[`LAMBDA_DECREASE`] after every accepted
+    /// round down to [`LAMBDA_MIN`] and grows again for a rejected one
+    /// (module docs, step 3). Default true.
+    pub adaptive_lambda: bool,
     /// Surface samples per domain side for the surface → target distance. Default 4.
     pub samples_per_domain: usize,
     /// Projection tuning.
@@ -121,6 +146,7 @@ impl Default for FitOptions {
             smoothness: 0.0,
             tolerance: 0.0,
             distance: FitDistance::TangentDistance { lambda: 0.05 },
+            adaptive_lambda: true,
             samples_per_domain: 4,
             project: ProjectOptions::default(),
         }
@@ -230,22 +256,41 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
     let mut iterations = Vec::new();
     let mut measured = measure(&surface, &mesh, target, &index, options, 0, scale)?;
     iterations.push(measured.stats);
-    for k in 1..=options.iterations {
-        if measured.stats.rms_target_to_surface <= options.tolerance * scale {
-            break;
-        }
-        let positions = solve_round(&surface, &mesh, target, &measured.feet, options, laplacian.as_ref())?;
+    let mut lambda = match options.distance {
+        FitDistance::TangentDistance { lambda } => Some(lambda),
+        FitDistance::PointToPoint => None,
+    };
+    let (mut k, mut retries) = (1, 0);
+    while k <= options.iterations && measured.stats.rms_target_to_surface > options.tolerance * scale {
+        let distance = lambda.map_or(FitDistance::PointToPoint, |lambda| FitDistance::TangentDistance { lambda });
+        let positions = solve_round(&surface, &mesh, target, &measured.feet, distance, options, laplacian.as_ref())?;
         let candidate = mesh.with_positions(positions);
         let next = measure(&surface, &candidate, target, &index, options, k, scale)?;
         let (old, new) = (measured.stats.rms_target_to_surface, next.stats.rms_target_to_surface);
-        let stalled = new > old * (1.0 - STALL);
-        if new <= old {
+        if new < old * (1.0 - STALL) {
             mesh = candidate;
             iterations.push(next.stats);
             measured = next;
+            k += 1;
+            retries = 0;
+            if options.adaptive_lambda {
+                lambda = lambda.map(|l| (l * LAMBDA_DECREASE).max(LAMBDA_MIN));
+            }
+            continue;
         }
-        if stalled {
+        if new < old {
+            // Accepted, but too small a gain to go on.
+            mesh = candidate;
+            iterations.push(next.stats);
             break;
+        }
+        // Rejected: more of the point-to-point term (Levenberg-Marquardt style), or stop.
+        match lambda {
+            Some(l) if options.adaptive_lambda && retries < MAX_RETRIES => {
+                lambda = Some(l / LAMBDA_DECREASE);
+                retries += 1;
+            }
+            _ => break,
         }
     }
     Ok(FitResult { mesh, iterations })
@@ -275,6 +320,7 @@ fn solve_round(
     mesh: &Mesh,
     target: &FitTarget,
     feet: &[crate::project::Projection],
+    distance: FitDistance,
     options: &FitOptions,
     laplacian: Option<&CsMatI<f64, u32>>,
 ) -> Result<Vec<DVec3>, EvalError> {
@@ -303,7 +349,7 @@ fn solve_round(
     // Mⱼ entries (c, d), c ≤ d.
     let weight = |j: usize, c: usize, d: usize| -> f64 {
         let delta = if c == d { 1.0 } else { 0.0 };
-        match options.distance {
+        match distance {
             FitDistance::PointToPoint => delta,
             FitDistance::TangentDistance { lambda } => {
                 let nj = feet[j].normal.to_array();
@@ -317,7 +363,7 @@ fn solve_round(
     let mut diagonal_sum = 0.0;
     for c in 0..3 {
         for d in c..3 {
-            if matches!(options.distance, FitDistance::PointToPoint) && c != d {
+            if matches!(distance, FitDistance::PointToPoint) && c != d {
                 continue;
             }
             let mut scaled = w.data().to_vec();

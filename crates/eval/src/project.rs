@@ -16,8 +16,8 @@
 //!    first and prunes every box farther than the best distance so far (a
 //!    box distance is a lower bound of the distance to what it holds).
 //! 3. **Local solve.** The first time a box of a domain is reached, the
-//!    whole domain is solved: start at the nearest of a precomputed grid of
-//!    samples of the domain ([`ProjectOptions::grid`]), then a projected
+//!    whole domain is solved: start at the nearest of precomputed samples
+//!    of the domain (cell centres, [`ProjectOptions::grid`]), then a projected
 //!    Newton iteration on f(u, v) = ½‖S(u, v) − q‖² (exact gradient
 //!    (S_u·r, S_v·r), Hessian with the second-derivative terms r·S_uu …, the
 //!    Gauss-Newton matrix JᵀJ when that is not positive definite), an active
@@ -48,6 +48,8 @@ use subdiv_stencil::{Options, Scheme, SubdivisionPlan};
 pub const BOUND_INFLATION: f64 = 1e-9;
 /// Newton stops when a step moves (u, v) by less than this.
 pub const PARAM_TOLERANCE: f64 = 1e-14;
+/// Halvings of a Newton step before the line search gives up (a step of 2⁻²⁴ of the Newton step).
+pub const LINE_SEARCH_STEPS: usize = 24;
 /// Step for the finite-difference second derivatives of
 /// [`PatchEvaluator::evaluate_second`]'s default (on the unit domain).
 pub const HESSIAN_STEP: f64 = 1e-5;
@@ -94,6 +96,23 @@ impl DomainShape {
                 (u, v.min(1.0 - u))
             }
             Self::Triangle => (u, v),
+        }
+    }
+
+    /// Newton's start points: the centres of the n × n cells of a square, the
+    /// centroids of the n² triangles of the n-split triangle. Inside the
+    /// domain, away from its corners, where an evaluation near an
+    /// extraordinary vertex is expensive (refinement on demand).
+    pub fn start_points(self, n: usize) -> Vec<(f64, f64)> {
+        let n = n.max(1);
+        match self {
+            Self::Square => {
+                (0..n * n).map(|k| (((k % n) as f64 + 0.5) / n as f64, ((k / n) as f64 + 0.5) / n as f64)).collect()
+            }
+            Self::Triangle => crate::sample::sub_triangles(self, n)
+                .iter()
+                .map(|[a, b, c]| ((a.0 + b.0 + c.0) / 3.0, (a.1 + b.1 + c.1) / 3.0))
+                .collect(),
         }
     }
 
@@ -200,7 +219,7 @@ pub struct ProjectOptions {
     /// Refinement levels before the face-ring boxes are taken (Catmull-Clark
     /// and Loop; more levels: tighter boxes, more of them). Default 2.
     pub levels: usize,
-    /// Start grid: every domain sampled at its `grid`-split vertices. Default 4.
+    /// Start points: every domain sampled at [`DomainShape::start_points`]`(grid)`. Default 4.
     pub grid: usize,
     /// Newton iterations per domain at most. Default 40.
     pub max_iterations: usize,
@@ -247,7 +266,7 @@ impl<E: PatchEvaluator> Projector<E> {
     /// # Errors
     /// What evaluating the start grid returns.
     pub fn new(eval: E, bounds: DomainBounds, options: ProjectOptions) -> Result<Self, EvalError> {
-        let grid_params = eval.shape().grid(options.grid);
+        let grid_params = eval.shape().start_points(options.grid);
         let domains = eval.domains();
         let grid_points: Vec<DVec3> = (0..domains.len())
             .into_par_iter()
@@ -382,7 +401,7 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
             }
         };
         let slope = dir[0] * g[0] + dir[1] * g[1];
-        if !(slope < 0.0) {
+        if !(slope < 0.0) || dir[0].abs().max(dir[1].abs()) < PARAM_TOLERANCE {
             break;
         }
         // Longest step inside the domain.
@@ -395,7 +414,7 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
         }
         let mut step = max_step;
         let mut accepted = None;
-        for _ in 0..40 {
+        for _ in 0..LINE_SEARCH_STEPS {
             let (nu, nv) = shape.clamp(u + step * dir[0], v + step * dir[1]);
             let ns = eval.evaluate_second(at(nu, nv))?;
             let nf = 0.5 * (ns.sample.position - q).length_squared();
