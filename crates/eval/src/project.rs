@@ -9,7 +9,9 @@
 //!    is three faces wide), so the mesh is refined [`ProjectOptions::levels`]
 //!    times first (the refined mesh has the same limit surface) and every
 //!    refined face's ring gives the box of one piece of its ancestor's
-//!    domain ([`refined_bounds`]); for other schemes the boxes are the hulls
+//!    domain ([`refined_bounds`]); a regular Catmull-Clark face of an
+//!    untagged mesh (four interior valence-4 corners) is a bicubic B-spline
+//!    patch, bounded tighter by the box of its Bézier control points; for other schemes the boxes are the hulls
 //!    of [`LimitSurface::domain_support`] ([`support_bounds`]). The boxes
 //!    are inflated by [`BOUND_INFLATION`]·d for rounding.
 //! 2. **BVH.** The boxes go into a [`Bvh`]; a query walks it nearest box
@@ -48,6 +50,9 @@ use subdiv_stencil::{Options, Scheme, SubdivisionPlan};
 pub const BOUND_INFLATION: f64 = 1e-9;
 /// Newton stops when a step moves (u, v) by less than this.
 pub const PARAM_TOLERANCE: f64 = 1e-14;
+/// How far (in the parameter) [`Projector`] probes along the edges from a
+/// corner of a domain where Newton is blocked.
+pub const CORNER_PROBE: f64 = 1e-3;
 /// Halvings of a Newton step before the line search gives up (a step of 2⁻²⁴ of the Newton step).
 pub const LINE_SEARCH_STEPS: usize = 24;
 /// Step for the finite-difference second derivatives of
@@ -256,6 +261,8 @@ pub struct Projector<E: PatchEvaluator> {
     grid_params: Vec<(f64, f64)>,
     /// Grid sample positions, `grid_params.len()` per domain.
     grid_points: Vec<DVec3>,
+    /// Per domain, per constraint of [`DomainShape`]: the surface is C¹ across that edge.
+    smooth_edges: Vec<[bool; 4]>,
     options: ProjectOptions,
 }
 
@@ -282,7 +289,32 @@ impl<E: PatchEvaluator> Projector<E> {
             .collect::<Result<Vec<_>, _>>()?
             .concat();
         let (leaf_domain, boxes): (Vec<u32>, Vec<Aabb>) = bounds.into_iter().unzip();
-        Ok(Self { bvh: Bvh::new(boxes), leaf_domain, grid_params, grid_points, options, eval })
+        Ok(Self {
+            bvh: Bvh::new(boxes),
+            leaf_domain,
+            grid_params,
+            grid_points,
+            smooth_edges: Vec::new(),
+            options,
+            eval,
+        })
+    }
+
+    /// The same index, told which domain edges the surface crosses smoothly
+    /// (per domain, per constraint in [`DomainShape`] order: square u = 0,
+    /// u = 1, v = 0, v = 1; triangle u = 0, v = 0, u + v = 1;
+    /// [`smooth_domain_edges`]). A domain's Newton iteration stops where its
+    /// descent leaves through such an edge: the neighbour across it continues
+    /// the surface, is at the same box distance and is solved too, so the
+    /// slide along the edge (often into an extraordinary corner, where
+    /// evaluation is slow) is not needed.
+    ///
+    /// # Panics
+    /// When `smooth` does not have one entry per domain (a caller bug).
+    pub fn with_smooth_edges(mut self, smooth: Vec<[bool; 4]>) -> Self {
+        assert_eq!(smooth.len(), self.eval.domains().len(), "one entry per domain");
+        self.smooth_edges = smooth;
+        self
     }
 
     /// The evaluator.
@@ -311,7 +343,8 @@ impl<E: PatchEvaluator> Projector<E> {
                 (0..m).min_by(|&a, &b| (grid[a] - q).length_squared().total_cmp(&(grid[b] - q).length_squared()));
             let start = self.grid_params[start.unwrap_or(0)];
             let domain = self.eval.domains()[k as usize];
-            match closest_in_domain(&self.eval, domain, q, start, self.options.max_iterations) {
+            let smooth = self.smooth_edges.get(k as usize).copied().unwrap_or([false; 4]);
+            match closest_in_domain(&self.eval, domain, q, start, smooth, self.options.max_iterations) {
                 Ok(foot) if foot.dist2 < current => {
                     let d = foot.dist2;
                     best = Some((foot, k));
@@ -359,6 +392,7 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
     domain: Domain,
     q: DVec3,
     start: (f64, f64),
+    smooth: [bool; 4],
     max_iterations: usize,
 ) -> Result<Foot, EvalError> {
     let shape = eval.shape();
@@ -375,29 +409,43 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
         let full = [gn[0] + s.duu.dot(r), gn[1] + s.duv.dot(r), gn[2] + s.dvv.dot(r)];
         let h = if full[0] > 0.0 && full[0] * full[2] - full[1] * full[1] > 0.0 { full } else { gn };
         // Constraints the descent direction −g would cross.
-        let active: Vec<[f64; 2]> = constraints
-            .iter()
-            .filter(|(a, b)| a[0] * u + a[1] * v >= b - 1e-15 && -(a[0] * g[0] + a[1] * g[1]) > 0.0)
-            .map(|(a, _)| *a)
+        let crossing: Vec<usize> = (0..constraints.len())
+            .filter(|&i| {
+                let (a, b) = constraints[i];
+                a[0] * u + a[1] * v >= b - 1e-15 && -(a[0] * g[0] + a[1] * g[1]) > 0.0
+            })
             .collect();
+        if crossing.iter().any(|&i| smooth[i]) {
+            // The neighbour across the edge goes on (Projector::with_smooth_edges).
+            break;
+        }
+        let active: Vec<[f64; 2]> = crossing.iter().map(|&i| constraints[i].0).collect();
+        let on: Vec<[f64; 2]> =
+            constraints.iter().filter(|(a, b)| a[0] * u + a[1] * v >= b - 1e-15).map(|(a, _)| *a).collect();
+        let leaves = |d: [f64; 2]| on.iter().any(|a| a[0] * d[0] + a[1] * d[1] > 1e-15);
+        let descends = |d: [f64; 2]| d[0] * g[0] + d[1] * g[1] < 0.0;
         let dir = match active.len() {
-            0 => newton_step(h, g),
-            1 => edge_step(h, g, active[0]),
-            _ => {
-                // A corner: move along one of its edges if that descends and stays inside.
-                let mut best = None;
-                for a in &active {
-                    let d = edge_step(h, g, *a);
-                    let inside = active.iter().all(|b| b[0] * d[0] + b[1] * d[1] <= 1e-15);
-                    if inside && d[0] * g[0] + d[1] * g[1] < 0.0 {
-                        best = Some(d);
-                        break;
-                    }
+            0 => Some(newton_step(h, g)),
+            1 => Some(edge_step(h, g, active[0])),
+            // A corner: move along one of its edges if that descends and stays inside.
+            _ => active.iter().map(|&a| edge_step(h, g, a)).find(|&d| !leaves(d) && descends(d)),
+        };
+        // A Newton direction that leaves through an edge the iterate lies on
+        // (while −g does not) slides along that edge instead.
+        let dir = match dir {
+            Some(d) if leaves(d) => on.iter().map(|&a| edge_step(h, g, a)).find(|&d| !leaves(d) && descends(d)),
+            other => other,
+        };
+        let Some(dir) = dir else {
+            // Blocked in a corner of the domain, where the derivatives may be
+            // degenerate (an extraordinary or boundary corner): compare values
+            // a little way along both edges instead.
+            match probe_corner(eval, &at, shape, &on, (u, v), q, f)? {
+                Some((nu, nv, ns, nf)) => {
+                    (u, v, s, f) = (nu, nv, ns, nf);
+                    continue;
                 }
-                match best {
-                    Some(d) => d,
-                    None => break,
-                }
+                None => break,
             }
         };
         let slope = dir[0] * g[0] + dir[1] * g[1];
@@ -432,6 +480,41 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
         }
     }
     Ok(Foot { param: at(u, v), sample: s.sample, dist2: 2.0 * f })
+}
+
+/// At a corner of the domain (two constraints `on`): the point
+/// [`CORNER_PROBE`] along either edge from it, when that is closer to `q`
+/// than `f` (= ½‖S − q‖² at the corner).
+#[allow(clippy::type_complexity)]
+fn probe_corner<E: PatchEvaluator + ?Sized>(
+    eval: &E,
+    at: &dyn Fn(f64, f64) -> SurfaceParam,
+    shape: DomainShape,
+    on: &[[f64; 2]],
+    (u, v): (f64, f64),
+    q: DVec3,
+    f: f64,
+) -> Result<Option<(f64, f64, LimitJet, f64)>, EvalError> {
+    if on.len() < 2 {
+        return Ok(None);
+    }
+    let mut best: Option<(f64, f64, LimitJet, f64)> = None;
+    for a in on {
+        let len = (a[0] * a[0] + a[1] * a[1]).sqrt();
+        for sign in [1.0, -1.0] {
+            let t = [-sign * a[1] / len, sign * a[0] / len];
+            if on.iter().any(|b| b[0] * t[0] + b[1] * t[1] > 1e-12) {
+                continue;
+            }
+            let (nu, nv) = shape.clamp(u + CORNER_PROBE * t[0], v + CORNER_PROBE * t[1]);
+            let ns = eval.evaluate_second(at(nu, nv))?;
+            let nf = 0.5 * (ns.sample.position - q).length_squared();
+            if nf < best.as_ref().map_or(f, |b| b.3) {
+                best = Some((nu, nv, ns, nf));
+            }
+        }
+    }
+    Ok(best)
 }
 
 /// −H⁻¹g for the 2×2 symmetric positive definite H = [h0 h1; h1 h2].
@@ -550,9 +633,15 @@ pub fn refined_bounds(
     }
     let t = plan.topology();
     let pad = inflation(mesh.positions());
+    let regular_patches = !loop_scheme && mesh.tags().is_empty();
     Ok((0..t.face_count())
         .into_par_iter()
         .map(|f| {
+            if regular_patches {
+                if let Some(b) = bezier_bounds(t, FaceId(f as u32), &positions) {
+                    return (owner[f], Aabb { min: b.min - pad, max: b.max + pad });
+                }
+            }
             let mut b = Aabb { min: DVec3::splat(f64::INFINITY), max: DVec3::splat(f64::NEG_INFINITY) };
             for &c in t.face(FaceId(f as u32)) {
                 for &h in t.vertex_fan(VertexId(c)) {
@@ -565,6 +654,84 @@ pub fn refined_bounds(
             (owner[f], Aabb { min: b.min - pad, max: b.max + pad })
         })
         .collect())
+}
+
+/// The uniform cubic B-spline → Bézier matrix: Bézier point i = Σ_k M[i][k]·Pₖ
+/// (non-negative rows summing to 1).
+const BSPLINE_TO_BEZIER: [[f64; 4]; 4] = [
+    [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0, 0.0],
+    [0.0, 4.0 / 6.0, 2.0 / 6.0, 0.0],
+    [0.0, 2.0 / 6.0, 4.0 / 6.0, 0.0],
+    [0.0, 1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0],
+];
+
+/// The 4 × 4 control grid of a regular Catmull-Clark quad (every corner
+/// interior with four faces, every face around it a quad, 16 distinct
+/// vertices): grid[j][i] with the face in cells i, j ∈ {1, 2}, corner 0 at
+/// (1, 1), corner 1 at (2, 1), corner 3 at (1, 2). `None` otherwise.
+fn regular_grid(t: &Topology, f: FaceId) -> Option<[[u32; 4]; 4]> {
+    if t.face_size(f) != 4 {
+        return None;
+    }
+    let h: Vec<HalfEdgeId> = t.face_half_edges(f).collect();
+    for &e in &h {
+        let c = t.he_from(e);
+        if t.is_boundary_vertex(c) || t.vertex_face_count(c) != 4 {
+            return None;
+        }
+    }
+    // Across edge k (corner k → k+1): the outer vertices p (next to corner k)
+    // and q (next to corner k+1); at corner k, the diagonal vertex s.
+    let mut p = [0u32; 4];
+    let mut q = [0u32; 4];
+    let mut s = [0u32; 4];
+    for k in 0..4 {
+        let twin = t.he_twin(h[k])?;
+        if t.face_size(t.he_face(twin)) != 4 {
+            return None;
+        }
+        let out = t.he_next(twin);
+        p[k] = t.he_to(out).0;
+        q[k] = t.he_to(t.he_next(out)).0;
+        let diagonal = t.he_twin(out)?;
+        if t.face_size(t.he_face(diagonal)) != 4 {
+            return None;
+        }
+        s[k] = t.he_to(t.he_next(t.he_next(diagonal))).0;
+    }
+    let c: Vec<u32> = h.iter().map(|&e| t.he_from(e).0).collect();
+    let grid = [[s[0], p[0], q[0], s[1]], [q[3], c[0], c[1], p[1]], [p[3], c[3], c[2], q[1]], [s[3], q[2], p[2], s[2]]];
+    let mut all: Vec<u32> = grid.iter().flatten().copied().collect();
+    all.sort_unstable();
+    all.dedup();
+    (all.len() == 16).then_some(grid)
+}
+
+/// The box of the Bézier control points of a regular Catmull-Clark quad's
+/// bicubic patch (tighter than its face ring: the Bézier net hugs the
+/// patch, and the patch lies in its convex hull); `None` for other faces.
+fn bezier_bounds(t: &Topology, f: FaceId, positions: &[DVec3]) -> Option<Aabb> {
+    let grid = regular_grid(t, f)?;
+    let g = |i: usize, j: usize| positions[grid[j][i] as usize];
+    let m = &BSPLINE_TO_BEZIER;
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for a in 0..4 {
+        for b in 0..4 {
+            let mut x = DVec3::ZERO;
+            for i in 0..4 {
+                for j in 0..4 {
+                    let w = m[a][i] * m[b][j];
+                    if w != 0.0 {
+                        x += w * g(i, j);
+                    }
+                }
+            }
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+    }
+    Some(Aabb { min: lo, max: hi })
 }
 
 /// The closest points on `mesh`'s limit surface under `options` to every
@@ -603,7 +770,58 @@ pub fn projector<'a>(
             reason: "projection needs conservative patch bounds, and a domain has none".into(),
         })?,
     };
-    Projector::new(BoundLimitSurface::new(surface, mesh.positions())?, bounds, *project)
+    let smooth = smooth_domain_edges(mesh, options, surface.domains());
+    Ok(Projector::new(BoundLimitSurface::new(surface, mesh.positions())?, bounds, *project)?.with_smooth_edges(smooth))
+}
+
+/// For [`Projector::with_smooth_edges`]: the domain edges across which the
+/// Catmull-Clark or Loop limit surface is C¹ — interior mesh edges without a
+/// crease tag whose ends are neither boundary, corner-tagged nor crease
+/// vertices, and the edges between the sub-domains of an n-gon that end on
+/// such an edge. All false for other schemes.
+pub fn smooth_domain_edges(mesh: &Mesh, options: &Options, domains: &[Domain]) -> Vec<[bool; 4]> {
+    let t = mesh.topology();
+    let tags = mesh.tags();
+    // Vertices where the surface may not be C¹ (or where a minimum may sit
+    // in a corner of every domain around it): boundary, corner-tagged and
+    // crease vertices. No edge at them counts as smooth.
+    let mut rough: Vec<bool> =
+        t.vertices().map(|v| t.is_boundary_vertex(v) || tags.vertex_sharpness(v) > 0.0).collect();
+    for e in t.edges() {
+        if tags.edge_sharpness(e) > 0.0 {
+            let (a, b) = t.edge_vertices(e);
+            rough[a.index()] = true;
+            rough[b.index()] = true;
+        }
+    }
+    let smooth = |h: HalfEdgeId| {
+        t.he_twin(h).is_some()
+            && tags.edge_sharpness(t.he_edge(h)) == 0.0
+            && !rough[t.he_from(h).index()]
+            && !rough[t.he_to(h).index()]
+    };
+    domains
+        .iter()
+        .map(|d| {
+            let f = FaceId(d.face);
+            let h: Vec<HalfEdgeId> = t.face_half_edges(f).collect();
+            let n = h.len();
+            match options.scheme {
+                // Square order: u = 0, u = 1, v = 0, v = 1; half-edge k runs corner k → k + 1.
+                Scheme::CatmullClark if n == 4 => [smooth(h[3]), smooth(h[1]), smooth(h[0]), smooth(h[2])],
+                Scheme::CatmullClark => {
+                    let k = d.corner as usize;
+                    // u = 1 runs from the midpoint of edge K → K+1 to the centre, v = 1 from
+                    // the midpoint of edge K−1 → K: smooth when that mesh edge is.
+                    let (before, after) = (smooth(h[(k + n - 1) % n]), smooth(h[k]));
+                    [before, after, after, before]
+                }
+                // Triangle order: u = 0 (corners 2, 0), v = 0 (0, 1), u + v = 1 (1, 2).
+                Scheme::Loop(_) => [smooth(h[2]), smooth(h[0]), smooth(h[1]), false],
+                _ => [false; 4],
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -139,3 +139,74 @@ fn refined_bounds_contain_their_patches() {
         }
     }
 }
+
+/// The acceptance check on the library's evaluator (`projector`, with the
+/// refined bounds and the smooth-edge exits) for one mesh.
+fn check_limit_surface(what: &str, mesh: &Mesh, options: Options, count: usize) {
+    let d = mesh.bbox_diagonal();
+    let surface = subdiv_eval::LimitSurface::new(mesh, &options).unwrap();
+    let projector = subdiv_eval::project::projector(&surface, mesh, &options, &ProjectOptions::default()).unwrap();
+    let tessellation = subdiv_stencil::subdivide(mesh, options, 4, true).unwrap();
+    let qs = queries(mesh, count, 21);
+    check_projections(&projector, &qs, tessellation.positions(), d);
+    // project_points is the same computation.
+    let again = subdiv_eval::project_points(mesh, &options, &qs[..20], &ProjectOptions::default()).unwrap();
+    let first = projector.project_all(&qs[..20]).unwrap();
+    assert_eq!(again, first, "{what}");
+}
+
+fn bumped(mesh: Mesh, amount: f64, seed: u64) -> Mesh {
+    let mut rng = SplitMix64(seed);
+    let p = mesh
+        .positions()
+        .iter()
+        .map(|&p| p + amount * DVec3::new(0.3 * rng.next_f64(), 0.2 * rng.next_f64(), rng.next_f64()))
+        .collect();
+    mesh.with_positions(p)
+}
+
+#[test]
+fn catmull_clark_cube_extraordinary_vertices() {
+    check_limit_surface("cube", &bumped(shapes::cube(), 0.2, 1), Options::new(Scheme::CatmullClark), 1000);
+}
+
+#[test]
+fn catmull_clark_polygon_mix_with_n_gons() {
+    let mix = shapes::polygon_mix(&shapes::torus(8, 6), 5, 0.2, 0.1, 0.1);
+    assert!(mix.topology().face_ids().any(|f| mix.topology().face_size(f) != 4));
+    check_limit_surface("polygon mix", &mix, Options::new(Scheme::CatmullClark), 1000);
+}
+
+#[test]
+fn catmull_clark_open_grid_boundary() {
+    check_limit_surface("grid", &bumped(shapes::quad_grid(5, 4), 1.0, 2), Options::new(Scheme::CatmullClark), 1000);
+}
+
+#[test]
+fn catmull_clark_creases_and_corners() {
+    let cube = bumped(shapes::cube(), 0.1, 3);
+    let t = cube.topology();
+    let f0 = t.face(subdiv_mesh::FaceId(0)).to_vec();
+    let mut creases: Vec<subdiv_mesh::EdgeTag> = (0..4)
+        .map(|k| subdiv_mesh::EdgeTag { a: f0[k], b: f0[(k + 1) % 4], sharpness: if k == 0 { 10.0 } else { 1.5 } })
+        .collect();
+    creases.truncate(3);
+    let list =
+        subdiv_mesh::TagList { creases, corners: vec![subdiv_mesh::VertexTag { vertex: f0[2], sharpness: 10.0 }] };
+    let tags = subdiv_mesh::Tags::from_list(t, &list).unwrap();
+    check_limit_surface("creased cube", &cube.clone().with_tags(tags), Options::new(Scheme::CatmullClark), 1000);
+}
+
+#[test]
+fn loop_closed_and_open() {
+    let options = Options::new(Scheme::Loop(Default::default()));
+    check_limit_surface("loop icosahedron", &bumped(shapes::icosahedron(), 0.2, 4), options, 600);
+    check_limit_surface("loop grid", &bumped(shapes::triangle_grid(4, 4), 0.8, 5), options, 600);
+}
+
+#[test]
+fn catmull_clark_spot_fixture() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/quad/spot_control_mesh.obj");
+    let spot = subdiv_io::load_mesh(path).unwrap();
+    check_limit_surface("spot", &spot, Options::new(Scheme::CatmullClark), 600);
+}
