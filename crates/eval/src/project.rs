@@ -307,7 +307,10 @@ impl<E: PatchEvaluator> Projector<E> {
     /// descent leaves through such an edge: the neighbour across it continues
     /// the surface, is at the same box distance and is solved too, so the
     /// slide along the edge (often into an extraordinary corner, where
-    /// evaluation is slow) is not needed.
+    /// evaluation is slow) is not needed. When such a hand-over point is the
+    /// best of all (the minimum lies on the shared edge or at its corner, and
+    /// every domain around handed over), its domain is finished from there
+    /// without hand-overs.
     ///
     /// # Panics
     /// When `smooth` does not have one entry per domain (a caller bug).
@@ -360,7 +363,18 @@ impl<E: PatchEvaluator> Projector<E> {
         if let Some(e) = error {
             return Err(e);
         }
-        let (foot, _) = best.ok_or(EvalError::NoSurface)?;
+        let (mut foot, k) = best.ok_or(EvalError::NoSurface)?;
+        if foot.exited {
+            // The best point is where a domain handed over to its neighbour,
+            // and no domain did better: the minimum is on that edge or at its
+            // corner. Finish the domain from there, along its edges.
+            let domain = self.eval.domains()[k as usize];
+            let start = (foot.param.u, foot.param.v);
+            let done = closest_in_domain(&self.eval, domain, q, start, [false; 4], self.options.max_iterations)?;
+            if done.dist2 <= foot.dist2 {
+                foot = done;
+            }
+        }
         Ok(Projection {
             param: foot.param,
             position: foot.sample.position,
@@ -384,6 +398,8 @@ struct Foot {
     param: SurfaceParam,
     sample: LimitSample,
     dist2: f64,
+    /// Stopped at a smooth edge (not converged in its domain).
+    exited: bool,
 }
 
 /// Projected Newton with an active set on the domain's edges (module docs, step 3).
@@ -401,6 +417,7 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
     let (mut u, mut v) = start;
     let mut s = eval.evaluate_second(at(u, v))?;
     let mut f = 0.5 * (s.sample.position - q).length_squared();
+    let mut exited = false;
     for _ in 0..max_iterations {
         let r = s.sample.position - q;
         let (su, sv) = (s.sample.du, s.sample.dv);
@@ -417,12 +434,13 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
             .collect();
         if crossing.iter().any(|&i| smooth[i]) {
             // The neighbour across the edge goes on (Projector::with_smooth_edges).
+            exited = true;
             break;
         }
         let active: Vec<[f64; 2]> = crossing.iter().map(|&i| constraints[i].0).collect();
         let on: Vec<[f64; 2]> =
             constraints.iter().filter(|(a, b)| a[0] * u + a[1] * v >= b - 1e-15).map(|(a, _)| *a).collect();
-        let leaves = |d: [f64; 2]| on.iter().any(|a| a[0] * d[0] + a[1] * d[1] > 1e-15);
+        let leaves = |d: [f64; 2]| on.iter().any(|a| a[0] * d[0] + a[1] * d[1] > 0.0);
         let descends = |d: [f64; 2]| d[0] * g[0] + d[1] * g[1] < 0.0;
         let dir = match active.len() {
             0 => Some(newton_step(h, g)),
@@ -473,13 +491,16 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
             step *= 0.5;
         }
         let Some((nu, nv, ns, nf)) = accepted else { break };
+        if !(max_step > 0.0) {
+            break;
+        }
         let moved = (nu - u).abs().max((nv - v).abs());
         (u, v, s, f) = (nu, nv, ns, nf);
         if moved < PARAM_TOLERANCE {
             break;
         }
     }
-    Ok(Foot { param: at(u, v), sample: s.sample, dist2: 2.0 * f })
+    Ok(Foot { param: at(u, v), sample: s.sample, dist2: 2.0 * f, exited })
 }
 
 /// At a corner of the domain (two constraints `on`): the point

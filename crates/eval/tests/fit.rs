@@ -67,13 +67,22 @@ fn recover(what: &str, mesh: &Mesh, options: Options) {
             })
             .collect(),
     );
-    let fit_options = FitOptions { surface: options, iterations: 40, tolerance: 1e-8, ..FitOptions::default() };
+    let fit_options = FitOptions { surface: options, iterations: 40, tolerance: 1e-9, ..FitOptions::default() };
     let result = fit(&target, &perturbed, &fit_options).unwrap();
     print_rounds(what, &result);
     let end = *result.iterations.last().unwrap();
     assert!(result.iterations[0].max_target_to_surface > 1e-3 * d);
     assert!(end.max_target_to_surface <= 1e-6 * d, "{what}: max {:.3e}·d", end.max_target_to_surface / d);
-    assert!(end.max_surface_to_target <= 1e-3 * d, "{what}: back {:.3e}·d", end.max_surface_to_target / d);
+    // Surface → target is measured against the target's triangles (chords of
+    // the exact surface): the known mesh's own value is the floor.
+    let exact = fit(&target, mesh, &FitOptions { iterations: 0, ..fit_options }).unwrap().iterations[0];
+    assert!(exact.max_target_to_surface <= 1e-12 * d);
+    assert!(
+        end.max_surface_to_target <= exact.max_surface_to_target + 1e-6 * d,
+        "{what}: back {:.3e}·d, the known mesh's {:.3e}·d",
+        end.max_surface_to_target / d,
+        exact.max_surface_to_target / d
+    );
 }
 
 #[test]
