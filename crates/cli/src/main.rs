@@ -12,6 +12,7 @@
 
 mod batch;
 mod budget;
+mod evaluate;
 mod failure;
 mod fit;
 mod info;
@@ -63,6 +64,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Subdivide a mesh N levels with Doo-Sabin, Catmull-Clark, Loop or Deng-Ma.
     Subdivide(subdivide::SubdivideArgs),
+    /// Evaluate the limit surface (position, normal, derivatives) at given (face, u, v).
+    Evaluate(Box<evaluate::EvaluateArgs>),
     /// Find a control mesh whose subdivision surface passes through the mesh's vertices.
     Interpolate(Box<interpolate::InterpolateArgs>),
     /// Run info, interpolate or subdivide over many meshes (files, directories, globs) in
@@ -83,6 +86,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Subdivide(args) => subdivide::run(&args),
+        Command::Evaluate(args) => evaluate::run(&args),
         Command::Interpolate(args) => interpolate::run(&args),
         Command::Sample(args) => sample::run(&args),
         Command::Project(args) => project::run(&args),

@@ -204,7 +204,6 @@ pub(crate) struct Refined {
     /// Width of the rows.
     pub root: usize,
     /// Doo-Sabin provenance.
-    #[allow(dead_code)] // read by the Doo-Sabin domains (next)
     pub dual: Option<subdiv_mesh::refine::DualProvenance>,
 }
 

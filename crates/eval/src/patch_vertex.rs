@@ -103,7 +103,11 @@ pub(crate) fn vertex_limit(
         }
         let sum: f64 = next0.iter().sum();
         next0.iter_mut().for_each(|x| *x /= sum);
+        let change = l0.iter().zip(&next0).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         std::mem::swap(&mut l0, &mut next0);
+        if change == 0.0 {
+            break; // a fixed point in floating point
+        }
     }
     let cs = VertexId(0);
     let (a, b) = (VertexId(a as u32), VertexId(b as u32));
@@ -112,7 +116,9 @@ pub(crate) fn vertex_limit(
     let mut x: Vec<[f64; 2]> = (0..n).map(|i| [(i as f64 * 1.3 + 0.4).cos(), (i as f64 * 0.7 + 1.1).sin()]).collect();
     let mut y = x.clone();
     let mut next = vec![[0.0; 2]; n];
+    let mut steady = 0;
     for _ in 0..ITERATIONS {
+        let (x_old, y_old) = (x.clone(), y.clone());
         // X ← S X, minus its component along 𝟙 (l₀·X).
         for i in 0..n {
             let mut acc = [0.0; 2];
@@ -145,6 +151,14 @@ pub(crate) fn vertex_limit(
         }
         orthonormalize(&mut next);
         std::mem::swap(&mut y, &mut next);
+        let moved = |a: &[[f64; 2]], b: &[[f64; 2]]| {
+            a.iter().zip(b).map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs())).fold(0.0, f64::max)
+        };
+        // Stop once both bases have stopped moving (to rounding) a few times running.
+        steady = if moved(&x, &x_old).max(moved(&y, &y_old)) < 1e-15 { steady + 1 } else { 0 };
+        if steady >= 3 {
+            break;
+        }
     }
     // Π = X (YᵀX)⁻¹ Yᵀ.
     let mut g = [[0.0; 2]; 2];

@@ -5,7 +5,7 @@
 //! evaluations with second derivatives).
 //!
 //! # Parameterisation
-//! * **Catmull-Clark**: a quad is one domain `(face, 0)`, (u, v) ∈ [0,1]²,
+//! * **Catmull-Clark**: a quad is one domain `(face, 0)`, (u, v) ∈ \[0,1\]²,
 //!   corner 0 at (0,0), corner 1 at (1,0), corner 3 at (0,1). An n-gon
 //!   (n ≠ 4, triangles included) has n domains `(face, K)`, OpenSubdiv's
 //!   ptex faces: the level-1 quad at corner K, (0,0) at corner K, (1,0) at the
@@ -14,12 +14,22 @@
 //!   order, one ptex face per corner, after the quads' single ones).
 //! * **Loop**: a triangle is one domain `(face, 0)`, barycentric (u, v) with
 //!   u, v ≥ 0, u + v ≤ 1, corner 0 at (0,0), 1 at (1,0), 2 at (0,1).
-//! * **Doo-Sabin**: see [`crate::doo_sabin`]: one domain per face corner.
+//! * **Doo-Sabin**: one domain per face corner `(face, K)`: the quarter of the face at
+//!   corner K, (0,0) at the vertex's limit point, (1,0) toward the midpoint
+//!   of edge K → K+1, (0,1) toward the midpoint of edge K−1 → K, (1,1) at the
+//!   face's centroid (the biquadratic B-spline's own parameterisation on a
+//!   regular lattice; the `doo_sabin` module docs give the refinement).
+//!
+//! Boundaries follow the options' boundary interpolation as `subdivide
+//! --limit` does; under `none`, the faces OpenSubdiv leaves out as holes
+//! are evaluated like the others.
 //!
 //! Derivatives are with respect to the domain's (u, v). At an irregular
 //! vertex itself (a parameter at the corner of a domain whose corner vertex
 //! is extraordinary, a dart, or an irregular crease or corner) they are the
-//! tangent masks' tangents described in [`crate::patch_vertex`]; the second
+//! tangent masks' tangents (the `patch_vertex` module docs: the
+//! spectral projection of the star's points, equal to the parametric
+//! derivatives wherever those exist); the second
 //! derivatives there are reported as zero.
 
 use crate::local::{ring_faces, Local, Root};
@@ -253,12 +263,23 @@ impl Kind {
         }
     }
 
-    /// The child face `k` of `face` after one step of the scheme on `t`.
-    fn child_face(self, local: &Local, refined: &crate::local::Refined, face: FaceId, k: usize) -> FaceId {
+    /// Child `k` of the cell `face` after one step of the scheme: the
+    /// refined face, and the cell within that face's ring (the face itself,
+    /// 0, for Catmull-Clark and Loop; its corner for a Doo-Sabin cell).
+    fn child_cell(self, local: &Local, refined: &crate::local::Refined, face: FaceId, k: usize) -> (FaceId, u32) {
         match self {
-            Kind::CatmullClark => FaceId(local.t.faces().offsets()[face.index()] + k as u32),
-            Kind::Loop => FaceId(4 * face.0 + k as u32),
-            Kind::DooSabin => doo_sabin::child_face(local, refined, face, k),
+            Kind::CatmullClark => (FaceId(local.t.faces().offsets()[face.index()] + k as u32), 0),
+            Kind::Loop => (FaceId(4 * face.0 + k as u32), 0),
+            Kind::DooSabin => doo_sabin::child_cell(local, refined, face, k),
+        }
+    }
+
+    /// The control points of the regular patch of a cell (a face; a
+    /// Doo-Sabin face corner), if it is one.
+    fn regular(self, t: &Topology, sharp: &LevelSharpness, cell: FaceId) -> Option<Vec<crate::patch::Combo>> {
+        match self {
+            Kind::DooSabin => doo_sabin::regular(t, cell),
+            _ => regular_points(self.spec(), t, sharp, cell),
         }
     }
 
@@ -278,8 +299,19 @@ enum Node {
     Patch(u32),
     /// Four children in the scheme's child order (node indices).
     Split([u32; 4]),
-    /// Not regular within the table's depth: evaluated by refining on demand.
-    Deep,
+    /// Not regular within the table's depth: evaluated by refining on
+    /// demand from the level kept in the deep entry (index), or from the
+    /// domain's root (`u32::MAX`: the placeholder while building).
+    Deep(u32),
+}
+
+/// Where on-demand refinement resumes below the table: the local level of
+/// a deep node, its cell, and the domain's root vertices.
+#[derive(Clone, Debug)]
+struct DeepEntry {
+    local: Local,
+    cell: FaceId,
+    ids: std::sync::Arc<Vec<u32>>,
 }
 
 /// Affine map (u', v') = A·(u, v) + b.
@@ -304,6 +336,7 @@ fn apply_affine((a, b): &Affine, u: f64, v: f64) -> (f64, f64) {
 #[derive(Default)]
 struct Tree {
     nodes: Vec<Node>,
+    deep: Vec<DeepEntry>,
     kinds: Vec<PatchKind>,
     /// Per patch point: (control vertex, weight) lists.
     points: Vec<Vec<(u32, f64)>>,
@@ -329,6 +362,8 @@ pub struct LimitSurface {
     /// Root node of every domain.
     roots: Vec<u32>,
     nodes: Vec<NodeRepr>,
+    /// The levels where on-demand refinement resumes.
+    deep: Vec<DeepEntry>,
     /// Kind of every patch.
     patch_kinds: Vec<PatchKind>,
     /// First point of every patch (16 slots per patch).
@@ -353,7 +388,7 @@ impl LimitSurface {
     /// [`EvalError::Stencil`] when the scheme refuses the mesh (Loop on a
     /// non-triangle, semi-sharp tags on Doo-Sabin), [`EvalError::Unsupported`]
     /// for Deng-Ma (interpolatory, no limit masks) and the Doo-Sabin cases
-    /// [`crate::doo_sabin`] lists.
+    /// `doo_sabin` module lists (boundaries, tags, valence-2 vertices).
     pub fn new(mesh: &Mesh, options: &Options) -> Result<Self, EvalError> {
         options.validate()?;
         let kind = match options.scheme {
@@ -396,6 +431,7 @@ impl LimitSurface {
             face_domains,
             roots: Vec::new(),
             nodes: Vec::new(),
+            deep: Vec::new(),
             patch_kinds: Vec::new(),
             point_offsets: vec![0],
             point_vertices: Vec::new(),
@@ -412,18 +448,21 @@ impl LimitSurface {
             surface.ring_offsets.push(surface.ring_vertices.len() as u32);
         }
         // Patch trees, a domain per task.
-        let trees: Vec<Result<Tree, EvalError>> = surface.domains.par_iter().map(|&d| surface.build_tree(d)).collect();
+        let trees: Vec<Result<Tree, EvalError>> =
+            surface.domains.par_iter().map(|&d| surface.build_tree(d, &sharp)).collect();
         for tree in trees {
             let tree = tree?;
             let (node_base, patch_base) = (surface.nodes.len() as u32, surface.patch_kinds.len() as u32);
+            let deep_base = surface.deep.len() as u32;
             surface.roots.push(node_base);
             surface.nodes.extend(tree.nodes.iter().map(|n| {
                 NodeRepr(match *n {
                     Node::Patch(p) => Node::Patch(p + patch_base),
                     Node::Split(c) => Node::Split(c.map(|c| c + node_base)),
-                    Node::Deep => Node::Deep,
+                    Node::Deep(i) => Node::Deep(if i == u32::MAX { i } else { i + deep_base }),
                 })
             }));
+            surface.deep.extend(tree.deep);
             surface.patch_kinds.extend(&tree.kinds);
             for (k, kind) in tree.kinds.iter().enumerate() {
                 for slot in 0..16 {
@@ -487,7 +526,7 @@ impl LimitSurface {
     ///
     /// # Errors
     /// [`EvalError::NoSuchDomain`], [`EvalError::OutOfDomain`] (NaN, outside
-    /// [0,1]², u + v > 1 on a Loop triangle), [`EvalError::PositionCount`].
+    /// \[0,1\]², u + v > 1 on a Loop triangle), [`EvalError::PositionCount`].
     pub fn evaluate(&self, positions: &[DVec3], param: SurfaceParam) -> Result<LimitSample, EvalError> {
         self.check_positions(positions)?;
         Ok(self.evaluate_jet_with(positions, param, None)?.sample)
@@ -520,8 +559,8 @@ impl LimitSurface {
                     }
                 }
             }
-            Located::Deep => {
-                let (ids, jet) = self.general(d, u, v)?;
+            Located::Deep { entry, u: du, v: dv, a } => {
+                let (ids, jet) = self.resume(d, u, v, entry, du, dv, a)?;
                 for (k, &i) in ids.iter().enumerate() {
                     let w = [jet.rows[0][k], jet.rows[1][k], jet.rows[2][k]];
                     if w != [0.0; 3] {
@@ -632,7 +671,7 @@ impl LimitSurface {
                     a = compose(&ak, &a);
                     node = children[k];
                 }
-                Node::Deep => return Located::Deep,
+                Node::Deep(i) => return Located::Deep { entry: i, u, v, a },
             }
         }
     }
@@ -661,8 +700,8 @@ impl LimitSurface {
                 }
                 out = jet_of(&b, &cp[..kind.len()], &j);
             }
-            Located::Deep => {
-                let (ids, jet) = self.general(d, u, v)?;
+            Located::Deep { entry, u: du, v: dv, a } => {
+                let (ids, jet) = self.resume(d, u, v, entry, du, dv, a)?;
                 for (r, o) in jet.rows.iter().zip(out.iter_mut()) {
                     *o = ids.iter().zip(r).fold(DVec3::ZERO, |acc, (&i, &w)| acc + w * positions[i as usize]);
                 }
@@ -697,17 +736,34 @@ impl LimitSurface {
         }
     }
 
-    fn build_tree(&self, d: Domain) -> Result<Tree, EvalError> {
+    fn build_tree(&self, d: Domain, sharp: &LevelSharpness) -> Result<Tree, EvalError> {
         let index = self.domain_index(d)?;
-        let (ids, local, face) = self.domain_start(index)?;
         let mut tree = Tree::default();
-        self.build_node(&ids, &local, face, 0, &mut tree)?;
+        // Most faces are regular on the control mesh itself: their patch
+        // points are control vertices (or phantom combinations of them),
+        // found without building the face's ring.
+        let spec = self.kind.spec();
+        if self.kind != Kind::DooSabin {
+            if let Some(points) = regular_points(spec, &self.topology, sharp, FaceId(d.face)) {
+                tree.kinds.push(spec.kind);
+                for slot in 0..16 {
+                    tree.points.push(points.get(slot).map_or_else(Vec::new, |combo| {
+                        let dense: Vec<(u32, f64)> = combo.clone();
+                        to_global_pairs(dense)
+                    }));
+                }
+                tree.nodes.push(Node::Patch(0));
+                return Ok(tree);
+            }
+        }
+        let (ids, local, face) = self.domain_start(index)?;
+        self.build_node(&std::sync::Arc::new(ids), &local, face, 0, &mut tree)?;
         Ok(tree)
     }
 
     fn build_node(
         &self,
-        ids: &[u32],
+        ids: &std::sync::Arc<Vec<u32>>,
         local: &Local,
         face: FaceId,
         depth: usize,
@@ -715,7 +771,7 @@ impl LimitSurface {
     ) -> Result<u32, EvalError> {
         let spec = self.kind.spec();
         let id = tree.nodes.len() as u32;
-        if let Some(points) = regular_points(spec, &local.t, &local.sharp, face) {
+        if let Some(points) = self.kind.regular(&local.t, &local.sharp, face) {
             let patch = tree.kinds.len() as u32;
             tree.kinds.push(spec.kind);
             let mut dense = vec![0.0; local.root];
@@ -732,16 +788,17 @@ impl LimitSurface {
             return Ok(id);
         }
         if depth >= TABLE_DEPTH {
-            tree.nodes.push(Node::Deep);
+            tree.nodes.push(Node::Deep(tree.deep.len() as u32));
+            tree.deep.push(DeepEntry { local: local.clone(), cell: face, ids: ids.clone() });
             return Ok(id);
         }
-        tree.nodes.push(Node::Deep); // placeholder, replaced below
+        tree.nodes.push(Node::Deep(u32::MAX)); // placeholder, replaced below
         let refined = local.refine(&self.options)?;
         let mut children = [0u32; 4];
         for (k, c) in children.iter_mut().enumerate() {
-            let child = self.kind.child_face(local, &refined, face, k);
-            let (next, next_face) = refined.ring(&self.options, child)?;
-            *c = self.build_node(ids, &next, next_face, depth + 1, tree)?;
+            let (child, cell) = self.kind.child_cell(local, &refined, face, k);
+            let (next, _) = refined.ring(&self.options, child)?;
+            *c = self.build_node(ids, &next, FaceId(cell), depth + 1, tree)?;
         }
         tree.nodes[id as usize] = Node::Split(children);
         Ok(id)
@@ -749,12 +806,51 @@ impl LimitSurface {
 
     /// The general path: refine on demand until (u, v) lies in a regular
     /// patch or is an irregular vertex; dense weights on the domain's root.
-    fn general(&self, d: usize, mut u: f64, mut v: f64) -> Result<(Vec<u32>, DenseJet), EvalError> {
-        let (ids, mut local, mut face) = self.domain_start(d)?;
+    /// [`Self::general_from`] at a deep node of the table (from the
+    /// domain's root when the entry is the building placeholder).
+    #[allow(clippy::too_many_arguments)]
+    fn resume(
+        &self,
+        d: usize,
+        u0: f64,
+        v0: f64,
+        entry: u32,
+        u: f64,
+        v: f64,
+        a: [[f64; 2]; 2],
+    ) -> Result<(std::sync::Arc<Vec<u32>>, DenseJet), EvalError> {
+        // The local plans use rayon inside (joins, parallel row builds):
+        // run the whole refinement on one worker, so that a caller outside
+        // the pool pays one hand-over rather than one per plan.
+        match self.deep.get(entry as usize) {
+            Some(e) => {
+                let jet = rayon::scope(|_| self.general_from(e.local.clone(), e.cell, u, v, a, TABLE_DEPTH))?;
+                Ok((e.ids.clone(), jet))
+            }
+            None => {
+                let (ids, local, face) = self.domain_start(d)?;
+                let jet = rayon::scope(|_| self.general_from(local, face, u0, v0, [[1.0, 0.0], [0.0, 1.0]], 0))?;
+                Ok((std::sync::Arc::new(ids), jet))
+            }
+        }
+    }
+
+    /// The general path from a local level `start` levels below the domain
+    /// ((u, v) its parameters, `a` = ∂(u,v)/∂(domain u, v)): refine on
+    /// demand until (u, v) lies in a regular patch or is an irregular
+    /// vertex; dense weights on the domain's root.
+    fn general_from(
+        &self,
+        mut local: Local,
+        mut face: FaceId,
+        mut u: f64,
+        mut v: f64,
+        mut a: [[f64; 2]; 2],
+        start: usize,
+    ) -> Result<DenseJet, EvalError> {
         let spec = self.kind.spec();
-        let mut a = [[1.0, 0.0], [0.0, 1.0]];
-        for depth in 0..=MAX_DEPTH {
-            if let Some(points) = regular_points(spec, &local.t, &local.sharp, face) {
+        for depth in start..=MAX_DEPTH {
+            if let Some(points) = self.kind.regular(&local.t, &local.sharp, face) {
                 let (p, q) = self.kind.patch_frame();
                 let (s, t) = (p[0][0] * u + p[0][1] * v + q[0], p[1][0] * u + p[1][1] * v + q[1]);
                 let b = basis(spec.kind, s, t);
@@ -772,7 +868,7 @@ impl LimitSurface {
                         r.iter_mut().zip(&dense).for_each(|(o, x)| *o += w * x);
                     }
                 }
-                return Ok((ids, DenseJet { rows }));
+                return Ok(DenseJet { rows });
             }
             let corner = match self.kind.corner_at(u, v) {
                 Some(k) => Some(k),
@@ -784,8 +880,11 @@ impl LimitSurface {
                 None => None,
             };
             if let Some(k) = corner {
-                let c = VertexId(local.t.face(face)[k]);
-                if patch_vertex::ready(&local, &self.options, c) || depth == MAX_DEPTH {
+                let ready = match self.kind {
+                    Kind::DooSabin => true,
+                    _ => patch_vertex::ready(&local, &self.options, VertexId(local.t.face(face)[k])),
+                };
+                if ready || depth == MAX_DEPTH {
                     let [pos, ta, tb] = self.vertex_limit(&local, face, k)?;
                     // [T_a T_b] = [∂u' ∂v']·D, D = [d_a d_b]; then ·A to the domain.
                     let (da, db) = self.kind.frames()[k];
@@ -797,15 +896,16 @@ impl LimitSurface {
                     let du: Vec<f64> = ta.iter().zip(&tb).map(|(x, y)| x * j[0][0] + y * j[1][0]).collect();
                     let dv: Vec<f64> = ta.iter().zip(&tb).map(|(x, y)| x * j[0][1] + y * j[1][1]).collect();
                     let zero = vec![0.0; local.root];
-                    return Ok((ids, DenseJet { rows: [pos, du, dv, zero.clone(), zero.clone(), zero] }));
+                    return Ok(DenseJet { rows: [pos, du, dv, zero.clone(), zero.clone(), zero] });
                 }
             }
             let refined = local.refine(&self.options)?;
             let (k, ak, bk) = self.kind.child(u, v);
-            let child = self.kind.child_face(&local, &refined, face, k);
+            let (child, cell) = self.kind.child_cell(&local, &refined, face, k);
             (u, v) = apply_affine(&(ak, bk), u, v);
             a = compose(&ak, &a);
-            (local, face) = refined.ring(&self.options, child)?;
+            (local, _) = refined.ring(&self.options, child)?;
+            face = FaceId(cell);
         }
         Err(EvalError::Internal("no regular patch or vertex limit within the depth cap".into()))
     }
@@ -819,13 +919,28 @@ impl LimitSurface {
 }
 
 enum Located {
-    Patch { patch: u32, s: f64, t: f64, j: [[f64; 2]; 2] },
-    Deep,
+    Patch {
+        patch: u32,
+        s: f64,
+        t: f64,
+        j: [[f64; 2]; 2],
+    },
+    /// Below the table: the deep entry, the parameters there and ∂(u′,v′)/∂(u,v).
+    Deep {
+        entry: u32,
+        u: f64,
+        v: f64,
+        a: [[f64; 2]; 2],
+    },
 }
 
 /// Dense weights over a root as merged (vertex, weight) pairs of the control mesh.
 fn to_global(ids: &[u32], dense: &[f64]) -> Vec<(u32, f64)> {
-    let mut out: Vec<(u32, f64)> = ids.iter().zip(dense).filter(|(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)).collect();
+    to_global_pairs(ids.iter().zip(dense).filter(|(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)).collect())
+}
+
+/// (vertex, weight) pairs sorted by vertex, repeated vertices merged.
+fn to_global_pairs(mut out: Vec<(u32, f64)>) -> Vec<(u32, f64)> {
     out.sort_by_key(|p| p.0);
     out.dedup_by(|b, a| {
         if a.0 == b.0 {
@@ -922,6 +1037,51 @@ impl BoundSurface<'_> {
     /// As [`LimitSurface::evaluate`].
     pub fn evaluate(&self, param: SurfaceParam) -> Result<LimitSample, EvalError> {
         Ok(self.evaluate_jet(param)?.sample)
+    }
+
+    /// An axis-aligned box holding the limit surface over `domain`: the
+    /// bounds of its regular patches' control points (each patch lies in
+    /// their convex hull, phantom points included: the bases are
+    /// non-negative) and, below the table, of the refined points around the
+    /// irregular vertex (the surface there is a convex combination of them).
+    /// Much tighter than the hull of [`LimitSurface::domain_support`];
+    /// `None` for a domain the mesh does not have.
+    pub fn domain_bounds(&self, domain: Domain) -> Option<(DVec3, DVec3)> {
+        let s = self.surface;
+        let d = s.domain_index(domain).ok()?;
+        let first = s.roots[d] as usize;
+        let end = s.roots.get(d + 1).map_or(s.nodes.len(), |&r| r as usize);
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        let mut add = |p: DVec3| {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        };
+        for node in &s.nodes[first..end] {
+            match node.0 {
+                Node::Patch(p) => {
+                    let n = s.patch_kinds[p as usize].len();
+                    self.points[p as usize * 16..][..n].iter().for_each(|&q| add(q));
+                }
+                Node::Deep(i) => {
+                    if let Some(e) = s.deep.get(i as usize) {
+                        let root = e.local.root;
+                        for row in e.local.rows.chunks(root) {
+                            add(e
+                                .ids
+                                .iter()
+                                .zip(row)
+                                .fold(DVec3::ZERO, |acc, (&v, &w)| acc + w * self.positions[v as usize]));
+                        }
+                    } else {
+                        for &v in s.domain_support(domain)? {
+                            add(self.positions[v as usize]);
+                        }
+                    }
+                }
+                Node::Split(_) => {}
+            }
+        }
+        Some((lo, hi))
     }
 
     /// [`Self::evaluate`] with the second derivatives (zero at an irregular

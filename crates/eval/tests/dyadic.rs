@@ -55,6 +55,8 @@ fn catmull_clark_boundaries_and_corners() {
     let edge_only = cc().with_boundary(BoundaryInterpolation::EdgeOnly);
     assert_dyadic("grid edge-only", &shapes::quad_grid(3, 3), edge_only);
     assert_dyadic("plate", &shapes::plate_with_holes(4, 4, &[(1, 1)], false), cc());
+    let none = cc().with_boundary(BoundaryInterpolation::None);
+    assert_dyadic("grid none", &shapes::quad_grid(3, 3), none);
 }
 
 #[test]
@@ -99,6 +101,8 @@ fn loop_closed_and_open() {
     assert_dyadic("triangle grid", &shapes::triangle_grid(3, 3), lp());
     let edge_only = lp().with_boundary(BoundaryInterpolation::EdgeOnly);
     assert_dyadic("triangle grid edge-only", &shapes::triangle_grid(3, 2), edge_only);
+    let none = lp().with_boundary(BoundaryInterpolation::None);
+    assert_dyadic("triangle grid none", &shapes::triangle_grid(3, 2), none);
     let loop_beta = Options::new(Scheme::Loop(LoopBeta::Loop));
     assert_dyadic("icosahedron loop beta", &shapes::icosahedron(), loop_beta);
 }

@@ -12,11 +12,14 @@ use subdiv_stencil::{Options, Scheme};
 /// A point of a domain: (face, corner, u, v).
 pub type At = (u32, u32, f64, f64);
 
+/// A refined quad's domain (face, corner) and its corners' parameters.
+pub type QuadParams = (u32, u32, [(f64, f64); 4]);
+
 /// For every face of `levels` quad splits of `t` (Catmull-Clark), the
 /// domain and the parameters of its four corners.
-pub fn quad_corner_params(t: &Topology, levels: usize) -> Vec<(u32, u32, [(f64, f64); 4])> {
+pub fn quad_corner_params(t: &Topology, levels: usize) -> Vec<QuadParams> {
     // Level 1: quad split face h = corner h of old face f: (v_k, e(k,k+1), f, e(k-1,k)).
-    let mut current: Vec<(u32, u32, [(f64, f64); 4])> = Vec::new();
+    let mut current: Vec<QuadParams> = Vec::new();
     let mut topo = t.clone();
     for f in t.face_ids() {
         let n = t.face_size(f);
