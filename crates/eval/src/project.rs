@@ -468,7 +468,13 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
         };
         let slope = dir[0] * g[0] + dir[1] * g[1];
         if !(slope < 0.0) || dir[0].abs().max(dir[1].abs()) < PARAM_TOLERANCE {
-            break;
+            match probe_corner(eval, &at, shape, &on, (u, v), q, f)? {
+                Some((nu, nv, ns, nf)) => {
+                    (u, v, s, f) = (nu, nv, ns, nf);
+                    continue;
+                }
+                None => break,
+            }
         }
         // Longest step inside the domain.
         let mut max_step: f64 = 1.0;
@@ -490,10 +496,17 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
             }
             step *= 0.5;
         }
-        let Some((nu, nv, ns, nf)) = accepted else { break };
-        if !(max_step > 0.0) {
-            break;
-        }
+        let accepted = accepted.filter(|_| max_step > 0.0);
+        let Some((nu, nv, ns, nf)) = accepted else {
+            // No progress along the direction; in a corner, by values instead.
+            match probe_corner(eval, &at, shape, &on, (u, v), q, f)? {
+                Some((nu, nv, ns, nf)) => {
+                    (u, v, s, f) = (nu, nv, ns, nf);
+                    continue;
+                }
+                None => break,
+            }
+        };
         let moved = (nu - u).abs().max((nv - v).abs());
         (u, v, s, f) = (nu, nv, ns, nf);
         if moved < PARAM_TOLERANCE {

@@ -143,11 +143,15 @@ fn refined_bounds_contain_their_patches() {
 /// The acceptance check on the library's evaluator (`projector`, with the
 /// refined bounds and the smooth-edge exits) for one mesh.
 fn check_limit_surface(what: &str, mesh: &Mesh, options: Options, count: usize) {
+    check_limit_surface_seeded(what, mesh, options, count, 21);
+}
+
+fn check_limit_surface_seeded(what: &str, mesh: &Mesh, options: Options, count: usize, seed: u64) {
     let d = mesh.bbox_diagonal();
     let surface = subdiv_eval::LimitSurface::new(mesh, &options).unwrap();
     let projector = subdiv_eval::project::projector(&surface, mesh, &options, &ProjectOptions::default()).unwrap();
     let tessellation = subdiv_stencil::subdivide(mesh, options, 4, true).unwrap();
-    let qs = queries(mesh, count, 21);
+    let qs = queries(mesh, count, seed);
     check_projections(&projector, &qs, tessellation.positions(), d);
     // project_points is the same computation.
     let again = subdiv_eval::project_points(mesh, &options, &qs[..20], &ProjectOptions::default()).unwrap();
@@ -209,4 +213,25 @@ fn catmull_clark_spot_fixture() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/quad/spot_control_mesh.obj");
     let spot = subdiv_io::load_mesh(path).unwrap();
     check_limit_surface("spot", &spot, Options::new(Scheme::CatmullClark), 600);
+}
+
+#[test]
+fn boundary_corners_over_many_seeds() {
+    let loop_options = Options::new(Scheme::Loop(Default::default()));
+    for seed in 30..36 {
+        check_limit_surface_seeded(
+            "loop grid",
+            &bumped(shapes::triangle_grid(3, 4), 0.8, seed),
+            loop_options,
+            300,
+            seed,
+        );
+        check_limit_surface_seeded(
+            "quad grid",
+            &bumped(shapes::quad_grid(3, 3), 0.8, seed),
+            Options::new(Scheme::CatmullClark),
+            300,
+            seed,
+        );
+    }
 }
