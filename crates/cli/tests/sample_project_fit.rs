@@ -61,7 +61,7 @@ fn fitting_a_limit_surface_keeps_it() {
     run_ok(&["subdivide", s(&mesh), "--scheme", "catmull-clark", "--levels", "2", "--limit", "-o", s(&target)]);
     let fitted = out_path("spf", "cube-fitted.obj");
     let report = out_path("spf", "cube-fit.json");
-    let stderr = run_ok(&[
+    let run = subdiv(&[
         "fit",
         s(&target),
         "--control",
@@ -75,7 +75,10 @@ fn fitting_a_limit_surface_keeps_it() {
         "--report",
         s(&report),
     ]);
-    assert!(stderr.contains("fit:"), "{stderr}");
+    assert_no_panic(&run);
+    assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("fit:"), "{stdout}");
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     let rounds = json["iterations"].as_array().unwrap();
     assert!(!rounds.is_empty());
