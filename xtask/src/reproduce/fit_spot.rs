@@ -12,7 +12,7 @@ use subdiv_stencil::{Options, Scheme};
 
 const PANEL: u32 = 420;
 /// Distances at or above this fraction of d are drawn fully red.
-const RED_AT: f64 = 4e-3;
+const RED_AT: f64 = 2e-3;
 
 /// Blue (0) → white (½) → red (1).
 fn ramp(t: f64) -> [u8; 3] {
@@ -54,7 +54,7 @@ pub fn figure(target_mesh: &Mesh, designed: &Mesh) -> Result<(Image, String)> {
         &[
             (target_img, "target (2,930 vertices)"),
             (control_img, "fitted control mesh (188 vertices)"),
-            (coloured, "limit surface: distance to target, 0 (blue) to 4e-3·d (red)"),
+            (coloured, "limit surface: distance to target, 0 (blue) to 2e-3·d (red)"),
         ],
         "Fitting Spot's control mesh to the scan from a naive start",
     );
@@ -72,4 +72,25 @@ pub fn figure(target_mesh: &Mesh, designed: &Mesh) -> Result<(Image, String)> {
         last.max_surface_to_target / d,
     );
     Ok((img, caption))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_fit_figure_renders_three_panels_and_reports_the_acceptance() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
+        let target = subdiv_io::load_mesh(root.join("tri/spot_triangulated.obj")).unwrap();
+        let control = subdiv_io::load_mesh(root.join("quad/spot_control_mesh.obj")).unwrap();
+        let (img, caption) = figure(&target, &control).unwrap();
+        assert!(img.width > 3 * PANEL && img.height > PANEL);
+        // Mostly not background: three models drawn.
+        assert!(img.count_pixels_not([255, 255, 255]) > (3 * PANEL * PANEL / 10) as usize);
+        assert!(caption.contains("Target → surface RMS"), "{caption}");
+        if std::env::var_os("SUBDIV_FIG_OUT").is_some() {
+            img.save_png(&std::path::PathBuf::from(std::env::var_os("SUBDIV_FIG_OUT").unwrap())).unwrap();
+            eprintln!("{caption}");
+        }
+    }
 }
