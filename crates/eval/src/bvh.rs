@@ -1,6 +1,6 @@
 //! A bounding-volume hierarchy of axis-aligned boxes for nearest-item
 //! queries: the patch bounds of [`crate::project`] and the triangles of a
-//! fitting target ([`crate::fit`]).
+//! fitting target ([`mod@crate::fit`]).
 //!
 //! Built top-down by a median split of the box centres along the longest
 //! axis of their extent (leaves of at most [`LEAF_SIZE`] items), stored as a

@@ -11,32 +11,46 @@
 //!    refined face's ring gives the box of one piece of its ancestor's
 //!    domain ([`refined_bounds`]); a regular Catmull-Clark face of an
 //!    untagged mesh (four interior valence-4 corners) is a bicubic B-spline
-//!    patch, bounded tighter by the box of its Bézier control points; for other schemes the boxes are the hulls
-//!    of [`LimitSurface::domain_support`] ([`support_bounds`]). The boxes
-//!    are inflated by [`BOUND_INFLATION`]·d for rounding.
+//!    patch, bounded tighter by the box of its Bézier control points. For
+//!    other schemes the boxes are the hulls of
+//!    [`LimitSurface::domain_support`] ([`support_bounds`]). The boxes are
+//!    inflated by [`BOUND_INFLATION`]·d for rounding.
 //! 2. **BVH.** The boxes go into a [`Bvh`]; a query walks it nearest box
 //!    first and prunes every box farther than the best distance so far (a
 //!    box distance is a lower bound of the distance to what it holds).
 //! 3. **Local solve.** The first time a box of a domain is reached, the
 //!    whole domain is solved: start at the nearest of precomputed samples
-//!    of the domain (cell centres, [`ProjectOptions::grid`]), then a projected
-//!    Newton iteration on f(u, v) = ½‖S(u, v) − q‖² (exact gradient
-//!    (S_u·r, S_v·r), Hessian with the second-derivative terms r·S_uu …, the
-//!    Gauss-Newton matrix JᵀJ when that is not positive definite), an active
-//!    set on the domain's edges (a constraint is held when the descent
-//!    direction leaves the domain through it: the iteration continues along
-//!    the edge, and stops at a corner that is a constrained minimum), steps
-//!    clipped to the domain and an Armijo backtracking line search. A
-//!    minimum on an edge shared with a neighbouring domain is found from the
-//!    neighbour too: its boxes are at the same distance, so it is solved
-//!    before the search stops.
+//!    of the domain (cell centres, [`ProjectOptions::grid`]), then a
+//!    projected Newton iteration on f(u, v) = ½‖S(u, v) − q‖² (exact
+//!    gradient (S_u·r, S_v·r), Hessian with the second-derivative terms
+//!    r·S_uu …, the Gauss-Newton matrix JᵀJ when that is not positive
+//!    definite), an active set on the domain's edges (a constraint is held
+//!    when the descent direction leaves the domain through it: the iteration
+//!    slides along the edge), steps clipped to the domain, an Armijo
+//!    backtracking line search, and value probes ([`CORNER_PROBE`] along both
+//!    edges) where it stalls in a corner — the evaluator's derivatives at a
+//!    corner come from tangent masks and need not be the patch's.
+//! 4. **Hand-over at smooth edges** ([`Projector::with_smooth_edges`]): where
+//!    the descent leaves through an edge the surface crosses C¹, the domain
+//!    stops and leaves the rest to the neighbour, whose boxes are as near.
+//!    This saves slides along edges into extraordinary corners, where the
+//!    evaluation refines on demand and costs ~100× a regular patch. When a
+//!    hand-over point is the best of all, its domain is finished from there
+//!    without hand-overs.
 //!
-//! The result is at least as close as the nearest grid sample of every domain
-//! whose boxes were reached, and as the nearest vertex of any tessellation
-//! whose vertices lie on the surface inside pruned-in domains.
+//! Exactness: the pruning never drops a domain that could hold a closer
+//! point; each domain's solve is a local method started from its nearest
+//! sample. The tests (`tests/project.rs`) check the acceptance — every
+//! result evaluates back to itself and is never farther than the nearest
+//! vertex of the level-4 limit tessellation plus 1e-9·d — on thousands of
+//! queries near, inside and far from extraordinary vertices, n-gons,
+//! boundaries, creases and corners, Loop surfaces and the Spot fixture.
 //!
 //! Queries run in parallel with rayon; the output keeps the input order and
 //! does not depend on the thread count (each query is independent).
+//! Throughput (benches/project.rs, 11,712-face Catmull-Clark mesh, 2
+//! threads): ~1.2·10⁵ queries/s, 9 in 10 queries within 1 % of d of the
+//! surface.
 
 use crate::bvh::{union, Bvh};
 use crate::surface::{BoundSurface, Domain, EvalError, LimitJet, LimitSample, LimitSurface, SurfaceParam};
@@ -467,7 +481,7 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
             }
         };
         let slope = dir[0] * g[0] + dir[1] * g[1];
-        if !(slope < 0.0) || dir[0].abs().max(dir[1].abs()) < PARAM_TOLERANCE {
+        if slope.is_nan() || slope >= 0.0 || dir[0].abs().max(dir[1].abs()) < PARAM_TOLERANCE {
             match probe_corner(eval, &at, shape, &on, (u, v), q, f)? {
                 Some((nu, nv, ns, nf)) => {
                     (u, v, s, f) = (nu, nv, ns, nf);

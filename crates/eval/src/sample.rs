@@ -123,7 +123,7 @@ pub fn sample_by_area<E: PatchEvaluator>(eval: &E, count: usize, seed: u64) -> R
         total += a;
         cumulative.push(total);
     }
-    if domains.is_empty() || !(total > 0.0) {
+    if domains.is_empty() || total.is_nan() || total <= 0.0 {
         return Err(EvalError::NoSurface);
     }
     let mut rng = SplitMix64(seed);
