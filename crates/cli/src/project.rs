@@ -25,7 +25,7 @@ pub struct ProjectArgs {
     /// vertices of a mesh or point cloud file (.ply, .obj, .off, …).
     #[arg(long)]
     points: PathBuf,
-    /// Output text file, one `FACE U V x y z distance` line per query.
+    /// Output text file, one `FACE U V x y z distance` line per query (shortest round-trip decimals).
     #[arg(short, long)]
     output: PathBuf,
 }
@@ -98,7 +98,7 @@ pub fn run(args: &ProjectArgs) -> Result<(), Failure> {
         let x = p.position;
         let _ = writeln!(
             text,
-            "{} {} {} {} {} {} {}",
+            "{} {:?} {:?} {:?} {:?} {:?} {:?}",
             domain_name(d, &counts),
             p.param.u,
             p.param.v,

@@ -235,3 +235,10 @@ fn boundary_corners_over_many_seeds() {
         );
     }
 }
+
+#[test]
+fn doo_sabin_with_support_bounds() {
+    check_limit_surface("doo-sabin cube", &bumped(shapes::cube(), 0.2, 6), Options::new(Scheme::DooSabin), 600);
+    let mix = shapes::polygon_mix(&shapes::torus(6, 5), 7, 0.2, 0.1, 0.05);
+    check_limit_surface("doo-sabin mix", &mix, Options::new(Scheme::DooSabin), 600);
+}
