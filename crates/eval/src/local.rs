@@ -254,3 +254,65 @@ pub(crate) fn compose(r: &SparseMatrix, x: &[f64], width: usize) -> Vec<f64> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+    use subdiv_mesh::{shapes, EdgeId, Mesh};
+    use subdiv_stencil::Scheme;
+
+    /// The module's claim: a face's ring refined once gives every vertex of
+    /// its children's rings as global subdivision does (Catmull-Clark, with
+    /// semi-sharp and sharp tags, n-gons and boundaries).
+    fn check(mesh: &Mesh, options: Options) {
+        let t = mesh.topology();
+        let global = subdiv_stencil::subdivide(mesh, options, 1, false).unwrap();
+        let (nv, nf) = (t.vertex_count(), t.face_count());
+        for f in t.face_ids() {
+            let faces = ring_faces(t, f);
+            let root = Root::new(t, mesh.tags(), &options, f).unwrap();
+            let refined = root.local.refine(&options).unwrap();
+            let (lv, lf) = (root.local.t.vertex_count(), root.local.t.face_count());
+            let position = |r: usize| -> DVec3 {
+                let row = &refined.rows[r * refined.root..(r + 1) * refined.root];
+                root.ids.iter().zip(row).fold(DVec3::ZERO, |acc, (&v, &w)| acc + w * mesh.positions()[v as usize])
+            };
+            // The refined vertex r of the ring as a vertex of the global level 1.
+            let global_id = |r: usize| -> usize {
+                if r < lv {
+                    root.ids[r] as usize
+                } else if r < lv + lf {
+                    nv + faces[r - lv].index()
+                } else {
+                    let (a, b) = root.local.t.edge_vertices(EdgeId((r - lv - lf) as u32));
+                    let (a, b) = (VertexId(root.ids[a.index()]), VertexId(root.ids[b.index()]));
+                    nv + nf + t.find_edge(a, b).expect("a ring edge is a mesh edge").index()
+                }
+            };
+            let h0 = root.local.t.faces().offsets()[0];
+            for k in 0..t.face_size(f) as u32 {
+                let child = FaceId(h0 + k);
+                for g in ring_faces(&refined.t, child) {
+                    for &r in refined.t.face(g) {
+                        let (got, want) = (position(r as usize), global.positions()[global_id(r as usize)]);
+                        assert!((got - want).length() < 1e-12, "face {f:?}, child {k}, vertex {r}: {got} vs {want}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_refined_ring_holds_its_childrens_rings() {
+        let options = Options::new(Scheme::CatmullClark);
+        check(&shapes::polygon_mix(&shapes::torus(6, 5), 3, 0.25, 0.25, 0.1), options);
+        check(&shapes::polygon_mix(&shapes::quad_grid(4, 3), 5, 0.25, 0.25, 0.1), options);
+        let cube = shapes::cube();
+        let mut e = vec![0f32; cube.topology().edge_count()];
+        (e[0], e[1], e[4]) = (1.5, 10.0, 0.5);
+        let tagged = cube.clone().with_tags(Tags::from_arrays(cube.topology(), e, Vec::new()).unwrap());
+        check(&tagged, options);
+        check(&tagged, options.with_crease_method(subdiv_stencil::CreaseMethod::Chaikin));
+    }
+}

@@ -128,15 +128,6 @@ const BOX_COEFFICIENTS: [[f64; 15]; 12] = [
 pub(crate) const BOX_POINTS: [(i32, i32); 12] =
     [(0, -1), (1, -1), (2, -1), (-1, 0), (0, 0), (1, 0), (2, 0), (-1, 1), (0, 1), (1, 1), (-1, 2), (0, 2)];
 
-/// `x^k` for small non-negative k, 0 for negative k.
-fn power(x: f64, k: i32) -> f64 {
-    if k < 0 {
-        0.0
-    } else {
-        x.powi(k)
-    }
-}
-
 /// The basis of `kind` at (s, t).
 pub(crate) fn basis(kind: PatchKind, s: f64, t: f64) -> Basis {
     let mut b = Basis { w: [0.0; 16], ds: [0.0; 16], dt: [0.0; 16], dss: [0.0; 16], dst: [0.0; 16], dtt: [0.0; 16] };
@@ -173,14 +164,25 @@ pub(crate) fn basis(kind: PatchKind, s: f64, t: f64) -> Basis {
         }
         PatchKind::BoxSpline => {
             let mut m = [[0.0; 15]; 6]; // value, ∂s, ∂t, ∂ss, ∂st, ∂tt of each monomial
+                                        // Powers x^(k-2) for k = 0..=6 (index k): 0 below the zeroth power.
+            let powers = |x: f64| {
+                let mut p = [0.0; 7];
+                p[2] = 1.0;
+                for k in 3..7 {
+                    p[k] = p[k - 1] * x;
+                }
+                p
+            };
+            let (ps, pt) = (powers(s), powers(t));
+            let pw = |p: &[f64; 7], k: i32| p[(k + 2) as usize];
             for (c, &(a, e)) in MONOMIALS.iter().enumerate() {
                 let (af, ef) = (a as f64, e as f64);
-                m[0][c] = power(s, a) * power(t, e);
-                m[1][c] = af * power(s, a - 1) * power(t, e);
-                m[2][c] = ef * power(s, a) * power(t, e - 1);
-                m[3][c] = af * (af - 1.0) * power(s, a - 2) * power(t, e);
-                m[4][c] = af * ef * power(s, a - 1) * power(t, e - 1);
-                m[5][c] = ef * (ef - 1.0) * power(s, a) * power(t, e - 2);
+                m[0][c] = pw(&ps, a) * pw(&pt, e);
+                m[1][c] = af * pw(&ps, a - 1) * pw(&pt, e);
+                m[2][c] = ef * pw(&ps, a) * pw(&pt, e - 1);
+                m[3][c] = af * (af - 1.0) * pw(&ps, a - 2) * pw(&pt, e);
+                m[4][c] = af * ef * pw(&ps, a - 1) * pw(&pt, e - 1);
+                m[5][c] = ef * (ef - 1.0) * pw(&ps, a) * pw(&pt, e - 2);
             }
             for (k, row) in BOX_COEFFICIENTS.iter().enumerate() {
                 let dot = |m: &[f64; 15]| row.iter().zip(m).map(|(a, b)| a * b).sum::<f64>() / 12.0;

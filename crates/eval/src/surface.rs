@@ -27,7 +27,8 @@
 //! Derivatives are with respect to the domain's (u, v). At an irregular
 //! vertex itself (a parameter at the corner of a domain whose corner vertex
 //! is extraordinary, a dart, or an irregular crease or corner) they are the
-//! tangent masks' tangents (the `patch_vertex` module docs: the
+//! tangent masks' tangents at the coarsest level of the domain's
+//! refinement where the limit masks are exact (the `patch_vertex` module docs: the
 //! spectral projection of the star's points, equal to the parametric
 //! derivatives wherever those exist); the second
 //! derivatives there are reported as zero.
@@ -666,6 +667,13 @@ impl LimitSurface {
                     return Located::Patch { patch, s, t, j: compose(&p, &a) };
                 }
                 Node::Split(children) => {
+                    // A corner of an irregular domain (where the irregular
+                    // vertices are): the general path evaluates it at the
+                    // coarsest level whose masks are exact, so the tangents
+                    // there do not depend on the table's depth.
+                    if node == self.roots[d] && self.kind != Kind::DooSabin && self.kind.corner_at(u, v).is_some() {
+                        return Located::Deep { entry: u32::MAX, u, v, a };
+                    }
                     let (k, ak, bk) = self.kind.child(u, v);
                     (u, v) = apply_affine(&(ak, bk), u, v);
                     a = compose(&ak, &a);

@@ -316,3 +316,28 @@ proptest! {
         check_properties("generated", &mesh, options, 1);
     }
 }
+
+/// At an extraordinary vertex the derivatives are one definite pair per
+/// domain: the unbound, the bound and the stencil evaluation agree, and
+/// they are the tangent masks of the coarsest exact level (equal to the
+/// parametric derivatives at a regular vertex: checked against a regular
+/// corner's central differences elsewhere).
+#[test]
+fn derivatives_at_an_extraordinary_vertex_are_one_definite_pair() {
+    for (mesh, options) in [(shapes::cube(), cc()), (shapes::icosahedron(), lp()), (shapes::pyramid(5), cc())] {
+        let surface = LimitSurface::new(&mesh, &options).unwrap();
+        let x = mesh.positions();
+        let bound = surface.bind(x).unwrap();
+        for d in surface.domains() {
+            let p = SurfaceParam::new(d.face, d.corner, 0.0, 0.0);
+            let a = surface.evaluate(x, p).unwrap();
+            let b = bound.evaluate(p).unwrap();
+            let (pos, du, dv) = surface.stencil(p).unwrap().apply(x);
+            assert_eq!(a, b);
+            assert!(
+                (pos - a.position).length() < 1e-12 && (du - a.du).length() < 1e-12 && (dv - a.dv).length() < 1e-12
+            );
+            assert!(a.du.length() > 1e-3 && a.dv.length() > 1e-3 && a.du.cross(a.dv).length() > 1e-6, "{d:?}");
+        }
+    }
+}
