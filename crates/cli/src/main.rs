@@ -14,11 +14,14 @@ mod batch;
 mod budget;
 mod evaluate;
 mod failure;
+mod fit;
 mod info;
 mod interpolate;
 mod load;
 mod outputs;
 mod progress;
+mod project;
+mod sample;
 mod stdout;
 mod subdivide;
 
@@ -68,6 +71,12 @@ enum Command {
     /// Run info, interpolate or subdivide over many meshes (files, directories, globs) in
     /// parallel: one JSON record per input on stdout, resumable; exit 5 when some failed.
     Batch(Box<batch::BatchArgs>),
+    /// Sample points with normals on the limit surface (per domain or by area).
+    Sample(Box<sample::SampleArgs>),
+    /// Closest points on the limit surface to query points: `FACE U V x y z distance` per line.
+    Project(Box<project::ProjectArgs>),
+    /// Move a control mesh's points so that its limit surface fits a target mesh or point cloud.
+    Fit(Box<fit::FitArgs>),
 }
 
 fn main() -> ExitCode {
@@ -79,6 +88,9 @@ fn main() -> ExitCode {
         Command::Subdivide(args) => subdivide::run(&args),
         Command::Evaluate(args) => evaluate::run(&args),
         Command::Interpolate(args) => interpolate::run(&args),
+        Command::Sample(args) => sample::run(&args),
+        Command::Project(args) => project::run(&args),
+        Command::Fit(args) => fit::run(&args),
         Command::Batch(args) => match batch::run(&args) {
             Ok(code) => return code,
             Err(failure) => Err(failure),

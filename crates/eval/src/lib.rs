@@ -60,6 +60,35 @@
 //! let jet = bound.evaluate_jet(SurfaceParam::new(0, 0, 0.25, 0.75)).unwrap();
 //! assert!(jet.duu.is_finite());
 //! ```
+//!
+//! # Sampling, projection, fitting
+//! On top of the evaluator, over plain slices and vectors:
+//! [`sample_per_domain`] and [`sample_by_area`] ([`mod@sample`]: points with
+//! normals); [`Projector`] and [`project_points`] ([`mod@project`]: closest
+//! points, a BVH over conservative patch bounds and a projected Newton
+//! iteration); [`fit()`] ([`mod@fit`]: control points moved so that the limit
+//! surface fits a mesh or point cloud, foot points re-projected every round,
+//! distances both ways per round); [`bvh`] (the boxes, and nearest points on
+//! a triangle mesh or cloud).
+//!
+//! ```
+//! use subdiv_eval::{fit, project_points, FitOptions, FitTarget, ProjectOptions};
+//! use subdiv_mesh::{shapes, DVec3};
+//! use subdiv_stencil::{Options, Scheme};
+//!
+//! let cube = shapes::cube();
+//! let options = Options::new(Scheme::CatmullClark);
+//! // Limit points of the level-2 mesh lie on the surface: they project onto it at distance 0.
+//! let target = subdiv_stencil::subdivide(&cube, options, 2, true).unwrap();
+//! let feet = project_points(&cube, &options, target.positions(), &ProjectOptions::default()).unwrap();
+//! assert!(feet.iter().all(|f| f.distance < 1e-12));
+//! // A dented copy of the cube fitted back to them.
+//! let mut dented = cube.clone();
+//! dented.positions_mut()[0] += DVec3::splat(0.05);
+//! let fitted = fit(&FitTarget::from_mesh(&target), &dented, &FitOptions { surface: options, ..FitOptions::default() }).unwrap();
+//! let last = fitted.iterations.last().unwrap();
+//! assert!(last.max_target_to_surface < 1e-9 * last.scale);
+//! ```
 #![warn(missing_docs)]
 
 mod catmull_clark;
@@ -70,4 +99,12 @@ mod patch;
 mod patch_vertex;
 pub mod surface;
 
+pub mod bvh;
+pub mod fit;
+pub mod project;
+pub mod sample;
+
+pub use fit::{fit, FitIteration, FitOptions, FitResult, FitTarget};
+pub use project::{project_points, DomainShape, PatchEvaluator, ProjectOptions, Projection, Projector};
+pub use sample::{sample_by_area, sample_per_domain, SurfaceSample};
 pub use surface::{BoundSurface, Domain, EvalError, EvalStencil, LimitJet, LimitSample, LimitSurface, SurfaceParam};

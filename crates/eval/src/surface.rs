@@ -183,6 +183,21 @@ pub enum EvalError {
     /// An internal invariant failed (a bug: please report it with the mesh).
     #[error("internal error in limit evaluation: {0}")]
     Internal(String),
+    /// The surface has no domain (an empty mesh).
+    #[error("the surface has no domain")]
+    NoSurface,
+    /// Bad input data for sampling, projection or fitting.
+    #[error("{what}")]
+    InvalidInput {
+        /// What is wrong, naming the offending element.
+        what: String,
+    },
+    /// Fitting could not solve its least-squares system.
+    #[error("fitting: {what}")]
+    Solve {
+        /// The solver's message.
+        what: String,
+    },
 }
 
 /// Levels of the patch table below a domain: deeper parameters (within

@@ -23,6 +23,7 @@ mod doo_sabin_creases;
 mod fairness;
 mod fan_cheng_lai;
 mod figures;
+mod fit_spot;
 mod meshes;
 mod methods;
 mod zheng_cai;
