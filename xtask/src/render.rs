@@ -532,6 +532,11 @@ impl Canvas {
     /// mesh's orientation, reversed when its signed volume about the centroid is negative, so
     /// inward-oriented files look right.
     pub fn draw_surface(&mut self, mesh: &Mesh, fill: [u8; 3], smooth: bool) {
+        self.draw_surface_coloured(mesh, |_| fill, smooth);
+    }
+
+    /// [`Self::draw_surface`] with a colour per face (`fill(face)`), e.g. a distance map.
+    pub fn draw_surface_coloured(&mut self, mesh: &Mesh, fill: impl Fn(subdiv_mesh::FaceId) -> [u8; 3], smooth: bool) {
         let t = mesh.topology();
         let flip = if outward_sign(mesh) < 0.0 { -1.0 } else { 1.0 };
         let screen: Vec<DVec3> = mesh.positions().iter().map(|&p| self.camera.raster(p)).collect();
@@ -540,11 +545,13 @@ impl Canvas {
         } else {
             Vec::new()
         };
-        let front = fill.map(to_linear);
-        // On a closed mesh the inside shows only through folded or non-planar faces: no tint.
-        let back = if t.is_closed() { front } else { mix(fill, BACK_TINT, 0.5).map(to_linear) };
+        let closed = t.is_closed();
         let (mut corners, mut triangles) = (Vec::new(), Vec::new());
         for f in t.face_ids() {
+            let colour = fill(f);
+            let front = colour.map(to_linear);
+            // On a closed mesh the inside shows only through folded or non-planar faces: no tint.
+            let back = if closed { front } else { mix(colour, BACK_TINT, 0.5).map(to_linear) };
             let face = t.face(f);
             let face_normal = flip * self.camera.direction(mesh.face_normal(f));
             // Flat faces are front or back as a whole (a fan over a non-planar or non-convex

@@ -12,12 +12,16 @@
 
 mod batch;
 mod budget;
+mod evaluate;
 mod failure;
+mod fit;
 mod info;
 mod interpolate;
 mod load;
 mod outputs;
 mod progress;
+mod project;
+mod sample;
 mod stdout;
 mod subdivide;
 
@@ -60,11 +64,19 @@ enum Command {
     Info(info::InfoArgs),
     /// Subdivide a mesh N levels with Doo-Sabin, Catmull-Clark, Loop or Deng-Ma.
     Subdivide(subdivide::SubdivideArgs),
+    /// Evaluate the limit surface (position, normal, derivatives) at given (face, u, v).
+    Evaluate(Box<evaluate::EvaluateArgs>),
     /// Find a control mesh whose subdivision surface passes through the mesh's vertices.
     Interpolate(Box<interpolate::InterpolateArgs>),
     /// Run info, interpolate or subdivide over many meshes (files, directories, globs) in
     /// parallel: one JSON record per input on stdout, resumable; exit 5 when some failed.
     Batch(Box<batch::BatchArgs>),
+    /// Sample points with normals on the limit surface (per domain or by area).
+    Sample(Box<sample::SampleArgs>),
+    /// Closest points on the limit surface to query points: `FACE U V x y z distance` per line.
+    Project(Box<project::ProjectArgs>),
+    /// Move a control mesh's points so that its limit surface fits a target mesh or point cloud.
+    Fit(Box<fit::FitArgs>),
 }
 
 fn main() -> ExitCode {
@@ -74,7 +86,11 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Subdivide(args) => subdivide::run(&args),
+        Command::Evaluate(args) => evaluate::run(&args),
         Command::Interpolate(args) => interpolate::run(&args),
+        Command::Sample(args) => sample::run(&args),
+        Command::Project(args) => project::run(&args),
+        Command::Fit(args) => fit::run(&args),
         Command::Batch(args) => match batch::run(&args) {
             Ok(code) => return code,
             Err(failure) => Err(failure),

@@ -76,6 +76,7 @@ pub mod batch;
 pub mod budget;
 pub mod info;
 
+pub use subdiv_eval as eval;
 pub use subdiv_interp as interp;
 pub use subdiv_io as io;
 pub use subdiv_mesh as mesh;

@@ -80,6 +80,8 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     let spot = ctx.fixture("quad/spot_control_mesh.obj")?;
     let r = cheng::interpolate(&spot, &ChengOptions::default())?;
     save(ctx, &mut table, "fig-cheng-spot.png", model_figure("Cheng: Catmull-Clark interpolation of Spot", &spot, &r, "control mesh M̂ (Catmull-Clark)", &View::yawed(-120.0))?, "Cheng, Catmull-Clark: Spot's control mesh as data; the solved control mesh M̂ bulges outward so the limit surface passes through every vertex (cf. Cheng Fig. 3-4).")?;
+    let (img, caption) = super::fit_spot::figure(&ctx.fixture("tri/spot_triangulated.obj")?, &spot)?;
+    save(ctx, &mut table, "fig-fit-spot.png", img, &caption)?;
     let knight = ctx.fixture("tri/decimated-knight.off")?;
     let r = zheng_cai::interpolate(&knight, &ZhengCaiOptions::default())?;
     save(

@@ -22,6 +22,7 @@ mod deng_ma_open;
 mod doo_sabin_creases;
 mod fan_cheng_lai;
 mod figures;
+mod fit_spot;
 mod meshes;
 mod methods;
 mod zheng_cai;

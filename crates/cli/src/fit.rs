@@ -1,0 +1,144 @@
+//! `subdiv fit TARGET --control COARSE --scheme S -o FITTED [--report R.json]
+//! [--iterations N] [--smoothness w]`: moves COARSE's control points
+//! (topology and tags kept) so that its limit surface fits TARGET, a mesh or
+//! a point cloud (a file without faces).
+
+use crate::failure::{bad_input, Failure};
+use crate::outputs::Outputs;
+use crate::sample::LimitArgs;
+use anyhow::anyhow;
+use clap::ValueEnum;
+use std::path::PathBuf;
+use std::time::Instant;
+use subdiv_eval::fit::FitDistance;
+use subdiv_eval::{fit, FitIteration, FitOptions, FitTarget};
+
+/// `--distance`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DistanceArg {
+    /// Tangent distance: (n·r)² + λ‖r‖² (point-to-plane plus a little point-to-point; fast).
+    Tangent,
+    /// Point-to-point ‖r‖² (the least-squares PIA fixed point; slow near convergence).
+    Point,
+}
+
+/// Arguments of `subdiv fit`.
+#[derive(clap::Args, Debug)]
+pub struct FitArgs {
+    /// The target: a mesh (its faces as triangles) or a point cloud (a file without faces).
+    target: PathBuf,
+    /// The control mesh to fit (its topology and tags are kept).
+    #[arg(long)]
+    control: PathBuf,
+    /// The limit surface.
+    #[command(flatten)]
+    limit: LimitArgs,
+    /// Rounds of foot-point projection and least-squares solve at most.
+    #[arg(long, default_value_t = 30)]
+    iterations: usize,
+    /// Weight of an umbrella-Laplacian smoothness term on the control points.
+    #[arg(long, default_value_t = 0.0)]
+    smoothness: f64,
+    /// Stop when the RMS target→surface distance is at most this times d (target bbox diagonal).
+    #[arg(long, default_value_t = 0.0)]
+    tolerance: f64,
+    /// The error term.
+    #[arg(long, value_enum, default_value = "tangent")]
+    distance: DistanceArg,
+    /// λ of the tangent distance.
+    #[arg(long, default_value_t = 0.05)]
+    lambda: f64,
+    /// The fitted control mesh (format by extension).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// JSON report: distances in both directions per round, absolute and relative to d.
+    #[arg(long)]
+    report: Option<PathBuf>,
+}
+
+fn iteration_json(it: &FitIteration) -> serde_json::Value {
+    let d = it.scale.max(f64::MIN_POSITIVE);
+    serde_json::json!({
+        "iteration": it.iteration,
+        "rms_target_to_surface": it.rms_target_to_surface,
+        "max_target_to_surface": it.max_target_to_surface,
+        "rms_surface_to_target": it.rms_surface_to_target,
+        "max_surface_to_target": it.max_surface_to_target,
+        "rms_target_to_surface_rel": it.rms_target_to_surface / d,
+        "max_target_to_surface_rel": it.max_target_to_surface / d,
+        "rms_surface_to_target_rel": it.rms_surface_to_target / d,
+        "max_surface_to_target_rel": it.max_surface_to_target / d,
+    })
+}
+
+/// Runs `subdiv fit`.
+pub fn run(args: &FitArgs) -> Result<(), Failure> {
+    let start = Instant::now();
+    let inputs = [args.target.as_path(), args.control.as_path()];
+    let mut outputs = Outputs::new(inputs.into_iter().chain(args.limit.tags.files()));
+    outputs.mesh("--output", &args.output)?;
+    if let Some(path) = &args.report {
+        outputs.other("--report", path)?;
+    }
+    let soup = crate::load::read_soup(&args.target)?;
+    let mut triangles = Vec::new();
+    for (k, f) in soup.faces.iter().enumerate() {
+        if let Some(&v) = f.iter().find(|&&v| v as usize >= soup.positions.len()) {
+            return Err(bad_input(anyhow!(
+                "{}: face {k} names vertex {v}, which does not exist",
+                args.target.display()
+            )));
+        }
+        for i in 1..f.len().saturating_sub(1) {
+            triangles.push([f[0], f[i], f[i + 1]]);
+        }
+    }
+    let target = FitTarget { points: soup.positions, triangles };
+    let (control, options, _) = args.limit.load(&args.control)?;
+    let distance = match args.distance {
+        DistanceArg::Tangent => FitDistance::TangentDistance { lambda: args.lambda },
+        DistanceArg::Point => FitDistance::PointToPoint,
+    };
+    let fit_options = FitOptions {
+        surface: options,
+        iterations: args.iterations,
+        smoothness: args.smoothness,
+        tolerance: args.tolerance,
+        distance,
+        ..FitOptions::default()
+    };
+    let bar = crate::progress::spinner(format!("fitting {}", args.control.display()));
+    let result = fit(&target, &control, &fit_options);
+    bar.finish_and_clear();
+    let result = result.map_err(|e| bad_input(anyhow!("fit: {e}")))?;
+    outputs.stage_mesh("--output", &args.output, &result.mesh, false)?;
+    if let Some(path) = &args.report {
+        let report = serde_json::json!({
+            "target": args.target.display().to_string(),
+            "control": args.control.display().to_string(),
+            "scheme": options.scheme.name(),
+            "target_points": target.points.len(),
+            "target_triangles": target.triangles.len(),
+            "scale": result.iterations.first().map_or(0.0, |i| i.scale),
+            "iterations": result.iterations.iter().map(iteration_json).collect::<Vec<_>>(),
+            "total_ms": start.elapsed().as_secs_f64() * 1e3,
+        });
+        let text = serde_json::to_string_pretty(&report).map_err(|e| Failure::Other(e.into()))?;
+        outputs.stage_bytes(path, (text + "\n").as_bytes())?;
+    }
+    outputs.commit()?;
+    if let (Some(first), Some(last)) = (result.iterations.first(), result.iterations.last()) {
+        let d = first.scale.max(f64::MIN_POSITIVE);
+        crate::progress::summary(format!(
+            "fit: {} rounds, target→surface RMS {:.3e}·d max {:.3e}·d (start {:.3e}·d, {:.3e}·d), surface→target RMS {:.3e}·d max {:.3e}·d",
+            last.iteration,
+            last.rms_target_to_surface / d,
+            last.max_target_to_surface / d,
+            first.rms_target_to_surface / d,
+            first.max_target_to_surface / d,
+            last.rms_surface_to_target / d,
+            last.max_surface_to_target / d,
+        ));
+    }
+    Ok(())
+}

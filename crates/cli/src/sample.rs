@@ -1,0 +1,136 @@
+//! `subdiv sample MESH --scheme S (--per-face N | --count N) [--seed K] -o POINTS.ply`:
+//! points with normals on the limit surface (a point cloud: PLY, OBJ or OFF
+//! vertices with normals, no faces).
+
+use crate::failure::{bad_input, Failure};
+use crate::load::{load_tagged_mesh, TagArgs};
+use crate::outputs::Outputs;
+use crate::subdivide::{BetaArg, SchemeArg, SurfaceArgs};
+use anyhow::anyhow;
+use std::path::{Path, PathBuf};
+use subdiv_eval::project::BoundLimitSurface;
+use subdiv_eval::{sample_by_area, sample_per_domain, LimitSurface};
+use subdiv_mesh::{FaceList, Mesh};
+use subdiv_stencil::{Options, Scheme};
+
+/// The limit surface on the command line (`sample`, `project`, `fit`): the
+/// scheme, its options and the tags.
+#[derive(clap::Args, Debug)]
+pub struct LimitArgs {
+    /// Subdivision scheme of the limit surface (deng-ma is interpolatory: no limit evaluation).
+    #[arg(long, value_enum)]
+    pub scheme: SchemeArg,
+    /// Loop's β.
+    #[arg(long, value_enum, default_value = "warren")]
+    pub beta: BetaArg,
+    /// Boundary and crease options.
+    #[command(flatten)]
+    pub surface: SurfaceArgs,
+    /// Tags besides the file's own.
+    #[command(flatten)]
+    pub tags: TagArgs,
+}
+
+impl LimitArgs {
+    /// The surface options; Deng-Ma is refused.
+    pub fn options(&self) -> Result<Options, Failure> {
+        let scheme = match self.scheme {
+            SchemeArg::DooSabin => Scheme::DooSabin,
+            SchemeArg::CatmullClark => Scheme::CatmullClark,
+            SchemeArg::Loop => Scheme::Loop(self.beta.into()),
+            SchemeArg::DengMa => {
+                return Err(bad_input(anyhow!(
+                    "--scheme deng-ma: the scheme is interpolatory and has no limit evaluation; \
+                     use subdivide for its refined vertices"
+                )))
+            }
+        };
+        Ok(self.surface.options(scheme))
+    }
+
+    /// Loads `path` with these tags and builds its limit surface.
+    pub fn load(&self, path: &Path) -> Result<(Mesh, Options, LimitSurface), Failure> {
+        let options = self.options()?;
+        let mesh = load_tagged_mesh(path, &self.tags)?;
+        let surface = LimitSurface::new(&mesh, &options).map_err(|e| bad_input(anyhow!("{}: {e}", path.display())))?;
+        Ok((mesh, options, surface))
+    }
+}
+
+/// Arguments of `subdiv sample`.
+#[derive(clap::Args, Debug)]
+pub struct SampleArgs {
+    /// Control mesh.
+    mesh: PathBuf,
+    /// The limit surface.
+    #[command(flatten)]
+    limit: LimitArgs,
+    /// Uniform in every domain: an N×N grid of cell centres per quad domain (the centroids of
+    /// the N² sub-triangles of a Loop triangle).
+    #[arg(long, value_name = "N", conflicts_with = "count", required_unless_present = "count")]
+    per_face: Option<usize>,
+    /// N points by area: the area is estimated from a tessellation (8×8 per domain), the
+    /// tessellation's triangles drawn by systematic sampling of their cumulative area, each
+    /// point uniform in its triangle; reproducible from --seed.
+    #[arg(long, value_name = "N")]
+    count: Option<usize>,
+    /// Seed of --count's random stream.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Output point cloud with normals (.ply, .obj or .off).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+/// Runs `subdiv sample`.
+pub fn run(args: &SampleArgs) -> Result<(), Failure> {
+    let mut outputs = Outputs::new(std::iter::once(args.mesh.as_path()).chain(args.limit.tags.files()));
+    let format = outputs.mesh("--output", &args.output)?;
+    if !matches!(
+        format,
+        subdiv_io::Format::PlyAscii | subdiv_io::Format::PlyBinary | subdiv_io::Format::Obj | subdiv_io::Format::Off
+    ) {
+        return Err(bad_input(anyhow!(
+            "--output {}: {format} cannot store a point cloud with normals; use .ply, .obj or .off",
+            args.output.display()
+        )));
+    }
+    let (mesh, _, surface) = args.limit.load(&args.mesh)?;
+    let bound = BoundLimitSurface::new(&surface, mesh.positions()).map_err(|e| bad_input(anyhow!("{e}")))?;
+    let samples = match (args.per_face, args.count) {
+        (Some(n), _) => sample_per_domain(&bound, n),
+        (None, Some(n)) => sample_by_area(&bound, n, args.seed),
+        (None, None) => unreachable!("clap requires one"),
+    }
+    .map_err(|e| bad_input(anyhow!("{}: {e}", args.mesh.display())))?;
+    let positions: Vec<_> = samples.iter().map(|s| s.position).collect();
+    let normals: Vec<_> = samples.iter().map(|s| s.normal).collect();
+    stage_cloud(&mut outputs, &args.output, format, &positions, &normals)?;
+    outputs.commit()?;
+    crate::progress::summary(format!("sample: {} points on {} domains", positions.len(), surface.domains().len()));
+    Ok(())
+}
+
+/// Stages a point cloud with normals (a mesh file without faces).
+pub fn stage_cloud(
+    outputs: &mut Outputs,
+    path: &Path,
+    format: subdiv_io::Format,
+    positions: &[glam::DVec3],
+    normals: &[glam::DVec3],
+) -> Result<(), Failure> {
+    if positions.iter().chain(normals).any(|p| !p.is_finite()) {
+        return Err(Failure::NotConverged(anyhow!(
+            "{}: a point or normal is not finite; nothing written",
+            path.display()
+        )));
+    }
+    let faces = FaceList::new();
+    let view = subdiv_io::MeshView::new(positions, &faces).with_normals(normals);
+    let staged = subdiv_io::stage_mesh(path, view, format, &mut |_| {}).map_err(|e| match e {
+        subdiv_io::IoError::Io { .. } => crate::failure::write_failed(e),
+        other => bad_input(other),
+    })?;
+    outputs.stage(staged);
+    Ok(())
+}

@@ -1,0 +1,81 @@
+//! Exact evaluation of a subdivision limit surface between the data points,
+//! and what builds on it: sampling, closest-point projection and fitting a
+//! control mesh to dense data.
+//!
+//! The limit surface of a control mesh is parameterised per *domain*
+//! ([`Domain`]): a quad face of a Catmull-Clark mesh is one domain with
+//! (u, v) ∈ \[0,1\]², corner 0 at (0,0), corner 1 at (1,0), corner 3 at
+//! (0,1); an n-gon (n ≠ 4) is split as OpenSubdiv's ptex faces into n
+//! sub-quads, domain `(face, K)` with (0,0) at corner K. A Loop triangle is
+//! one domain with barycentric (u, v), corner 0 at (0,0), 1 at (1,0), 2 at
+//! (0,1). Doo-Sabin: one domain per face corner (`doo_sabin` module docs,
+//! summarised in [`surface`]).
+//!
+//! Topology and geometry are separate, as everywhere in subdiv: a
+//! [`LimitSurface`] is built once from the topology, tags and options;
+//! evaluating needs the control positions, and [`LimitSurface::stencil`]
+//! gives the limit point and derivatives at a parameter as weights on the
+//! control points (what fitting solves for). [`LimitSurface::bind`] fixes
+//! the positions for many fast evaluations ([`BoundSurface`], with second
+//! derivatives for Newton steps).
+//!
+//! # How it is exact
+//! Feature-adaptive refinement (Nießner et al. 2012, OpenSubdiv's
+//! `Far::PatchTable`): each domain's face ring is refined with the
+//! workspace's own [`subdiv_stencil::SubdivisionPlan`] (the schemes' rules
+//! and tags, nothing re-derived) until the sub-domain holding the parameter
+//! is a regular patch — bicubic B-spline (Catmull-Clark), quartic box spline
+//! (Loop, Stam 1998), biquadratic B-spline (Doo-Sabin), with boundaries and
+//! infinitely sharp creases as reflected phantom points, which is what the
+//! crease rules are — and evaluated there. A table of these patches (each
+//! point a sparse stencil on the control points) is built down to 2⁻⁸ of an
+//! irregular vertex; deeper parameters are refined on demand, and at an
+//! irregular vertex itself the position and tangents come from the dominant
+//! eigenvectors of the local subdivision matrix (`patch_vertex` module docs:
+//! the limit mask — also at darts, where `subdivide --limit` uses
+//! OpenSubdiv's smooth-mask approximation — and tangent masks that equal the
+//! parametric derivatives wherever those exist).
+//!
+//! Not done: Deng-Ma (interpolatory, no limit masks), Doo-Sabin with
+//! boundaries, tags or valence-2 vertices ([`EvalError::Unsupported`]).
+//!
+//! ```
+//! use subdiv_eval::{LimitSurface, SurfaceParam};
+//! use subdiv_mesh::shapes;
+//! use subdiv_stencil::{Options, Scheme};
+//!
+//! let cube = shapes::cube();
+//! let options = Options::new(Scheme::CatmullClark);
+//! let surface = LimitSurface::new(&cube, &options).unwrap();
+//! // The centre of face 0 is the limit of its level-1 face point.
+//! let s = surface.evaluate(cube.positions(), SurfaceParam::new(0, 0, 0.5, 0.5)).unwrap();
+//! let refined = subdiv_stencil::subdivide(&cube, options, 1, true).unwrap();
+//! assert!((s.position - refined.positions()[8]).length() < 1e-12);
+//! assert!((s.normal.length() - 1.0).abs() < 1e-12);
+//! // The same point as weights on the control points.
+//! let stencil = surface.stencil(SurfaceParam::new(0, 0, 0.5, 0.5)).unwrap();
+//! assert!((stencil.position.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+//! // Many evaluations with fixed positions.
+//! let bound = surface.bind(cube.positions()).unwrap();
+//! let jet = bound.evaluate_jet(SurfaceParam::new(0, 0, 0.25, 0.75)).unwrap();
+//! assert!(jet.duu.is_finite());
+//! ```
+#![warn(missing_docs)]
+
+mod catmull_clark;
+mod doo_sabin;
+mod local;
+mod loop_scheme;
+mod patch;
+mod patch_vertex;
+pub mod surface;
+
+pub mod bvh;
+pub mod fit;
+pub mod project;
+pub mod sample;
+
+pub use fit::{fit, FitIteration, FitOptions, FitResult, FitTarget};
+pub use project::{project_points, DomainShape, PatchEvaluator, ProjectOptions, Projection, Projector};
+pub use sample::{sample_by_area, sample_per_domain, SurfaceSample};
+pub use surface::{BoundSurface, Domain, EvalError, EvalStencil, LimitJet, LimitSample, LimitSurface, SurfaceParam};

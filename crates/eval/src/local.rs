@@ -1,0 +1,256 @@
+//! Local refinement: a small submesh around one face, refined with the
+//! workspace's own [`SubdivisionPlan`] (the scheme's rules and tags, nothing
+//! re-derived here), every vertex of it carried as weights on the vertices
+//! of the *root* submesh (so on the control points).
+//!
+//! The claim this rests on (tested in `tests/local.rs`): the vertices of a
+//! face's *ring* — every face sharing a vertex with it — refined once give
+//! every vertex of the rings of the face's children exactly as global
+//! subdivision does. The points of a child's ring are vertex points of the
+//! parent face's corners (whose faces are all in the ring), edge points of
+//! edges at those corners (both faces in the ring) and face points of ring
+//! faces; the submesh's own artificial boundary changes only points that are
+//! not used. Sharpness decays the same way: the child edges of a child ring
+//! are halves of edges at the parent's corners (whose incident edges are
+//! complete) or new edges inside faces.
+//!
+//! A submesh can touch a vertex in two separate fans of faces (a bowtie,
+//! which [`Topology`] refuses): such a vertex gets one local copy per fan,
+//! each carrying the same weights.
+
+use crate::surface::EvalError;
+use std::collections::HashMap;
+use subdiv_mesh::{FaceId, FaceList, HalfEdgeId, Tags, Topology, VertexId};
+use subdiv_stencil::{LevelSharpness, Options, SparseMatrix, SubdivisionPlan};
+
+/// A submesh at some level with each vertex as weights on the root's vertices.
+#[derive(Clone, Debug)]
+pub(crate) struct Local {
+    /// The submesh's connectivity.
+    pub t: Topology,
+    /// Its tags at this level (decayed), with the options' boundary rule.
+    pub sharp: LevelSharpness,
+    /// `vertex_count × root` weights, row-major: local vertex i is
+    /// Σ_j rows\[i·root + j\]·(root vertex j).
+    pub rows: Vec<f64>,
+    /// Vertex count of the root submesh (the width of `rows`).
+    pub root: usize,
+    /// Whether this is the control mesh's own level (tags on the base level
+    /// need one step before the limit masks are exact).
+    pub is_base: bool,
+}
+
+/// The face ring of a face in the control mesh as a root [`Local`]: its
+/// vertices are the columns of every later stencil, `ids` maps them to the
+/// control mesh.
+#[derive(Clone, Debug)]
+pub(crate) struct Root {
+    /// The ring itself (identity weights).
+    pub local: Local,
+    /// Control-mesh vertex of every root vertex.
+    pub ids: Vec<u32>,
+    /// The face the ring is built around, in the ring's numbering.
+    pub face: FaceId,
+}
+
+/// A submesh picked from a bigger topology: faces (in local numbering),
+/// the parent vertex of every local vertex, the local id of each picked face.
+struct Picked {
+    faces: FaceList,
+    parent_vertex: Vec<u32>,
+    /// Local half-edge → parent half-edge.
+    parent_half_edge: Vec<u32>,
+}
+
+/// Picks `faces` of `t` (distinct), giving one local vertex per fan of
+/// picked faces around each vertex (bowties split).
+fn pick(t: &Topology, faces: &[FaceId]) -> Picked {
+    let picked: HashMap<u32, u32> = faces.iter().enumerate().map(|(i, f)| (f.0, i as u32)).collect();
+    // Local vertex of each picked corner (parent half-edge leaving the corner).
+    let mut corner_vertex: HashMap<u32, u32> = HashMap::new();
+    let mut parent_vertex = Vec::new();
+    for &f in faces {
+        for h in t.face_half_edges(f) {
+            if corner_vertex.contains_key(&h.0) {
+                continue;
+            }
+            // Walk the fan of picked faces containing this corner, both ways,
+            // and give every corner of it the same new local vertex.
+            let v = t.he_from(h);
+            let id = parent_vertex.len() as u32;
+            parent_vertex.push(v.0);
+            let mut run = vec![h];
+            // Counter-clockwise: twin(prev(h)) leaves v in the next face.
+            let mut g = h;
+            loop {
+                match t.he_twin(t.he_prev(g)) {
+                    Some(n) if picked.contains_key(&t.he_face(n).0) && n != h => {
+                        run.push(n);
+                        g = n;
+                    }
+                    _ => break,
+                }
+            }
+            let closed = t.he_twin(t.he_prev(g)) == Some(h);
+            if !closed {
+                let mut g = h;
+                while let Some(tw) = t.he_twin(g) {
+                    let n = t.he_next(tw);
+                    if !picked.contains_key(&t.he_face(n).0) || n == h {
+                        break;
+                    }
+                    run.push(n);
+                    g = n;
+                }
+            }
+            for c in run {
+                corner_vertex.insert(c.0, id);
+            }
+        }
+    }
+    let mut list = FaceList::with_capacity(faces.len(), faces.len() * 4);
+    let mut parent_half_edge = Vec::new();
+    let mut buf = Vec::new();
+    for &f in faces {
+        buf.clear();
+        for h in t.face_half_edges(f) {
+            buf.push(corner_vertex[&h.0]);
+            parent_half_edge.push(h.0);
+        }
+        list.push(&buf);
+    }
+    Picked { faces: list, parent_vertex, parent_half_edge }
+}
+
+/// The faces sharing a vertex with `face` (it first), each once.
+pub(crate) fn ring_faces(t: &Topology, face: FaceId) -> Vec<FaceId> {
+    let mut out = vec![face];
+    for &v in t.face(face) {
+        for h in t.vertex_fan(VertexId(v)) {
+            let g = t.he_face(*h);
+            if !out.contains(&g) {
+                out.push(g);
+            }
+        }
+    }
+    out
+}
+
+/// The faces around vertex `v`, in fan order.
+pub(crate) fn star_faces(t: &Topology, v: VertexId) -> Vec<FaceId> {
+    t.vertex_fan(v).iter().map(|&h| t.he_face(h)).collect()
+}
+
+/// The submesh of `faces` of a level (`t`, `tags`), each local vertex
+/// carrying its parent's row of `rows` (`width` wide), or the identity on
+/// the submesh's own vertices when `rows` is `None` (a root); returns it and
+/// the map local vertex → parent vertex.
+pub(crate) fn submesh(
+    t: &Topology,
+    tags: &Tags,
+    options: &Options,
+    rows: Option<(&[f64], usize)>,
+    faces: &[FaceId],
+    is_base: bool,
+) -> Result<(Local, Vec<u32>), EvalError> {
+    let picked = pick(t, faces);
+    let n = picked.parent_vertex.len();
+    let topo = Topology::new(picked.faces, n).map_err(|e| EvalError::Internal(format!("local submesh: {e}")))?;
+    let mut edges = vec![0f32; topo.edge_count()];
+    for (local_h, &parent_h) in picked.parent_half_edge.iter().enumerate() {
+        let e = topo.he_edge(HalfEdgeId(local_h as u32));
+        edges[e.index()] = tags.edge_sharpness(t.he_edge(HalfEdgeId(parent_h)));
+    }
+    let vertices: Vec<f32> = picked.parent_vertex.iter().map(|&v| tags.vertex_sharpness(VertexId(v))).collect();
+    let local_tags =
+        Tags::from_arrays(&topo, edges, vertices).map_err(|e| EvalError::Internal(format!("local tags: {e}")))?;
+    let sharp = LevelSharpness::new(&local_tags, options.boundary, options.crease_method);
+    let (out, root) = match rows {
+        Some((rows, width)) => {
+            let mut out = vec![0.0; n * width];
+            for (i, &p) in picked.parent_vertex.iter().enumerate() {
+                let p = p as usize;
+                out[i * width..(i + 1) * width].copy_from_slice(&rows[p * width..(p + 1) * width]);
+            }
+            (out, width)
+        }
+        None => {
+            let mut out = vec![0.0; n * n];
+            (0..n).for_each(|i| out[i * n + i] = 1.0);
+            (out, n)
+        }
+    };
+    Ok((Local { t: topo, sharp, rows: out, root, is_base }, picked.parent_vertex))
+}
+
+impl Root {
+    /// The ring of `face` in the control mesh (`t` with `tags`).
+    pub fn new(t: &Topology, tags: &Tags, options: &Options, face: FaceId) -> Result<Self, EvalError> {
+        let faces = ring_faces(t, face);
+        let (local, ids) = submesh(t, tags, options, None, &faces, true)?;
+        Ok(Self { local, ids, face: FaceId(0) })
+    }
+}
+
+/// One level of the scheme on a local submesh: the refined connectivity,
+/// its tags and the composed rows.
+pub(crate) struct Refined {
+    /// The refined connectivity.
+    pub t: Topology,
+    /// Its tags.
+    pub tags: Tags,
+    /// Composed rows (new vertices × root).
+    pub rows: Vec<f64>,
+    /// Width of the rows.
+    pub root: usize,
+    /// Doo-Sabin provenance.
+    pub dual: Option<subdiv_mesh::refine::DualProvenance>,
+}
+
+impl Local {
+    /// Refines the submesh once with `options`' scheme.
+    pub fn refine(&self, options: &Options) -> Result<Refined, EvalError> {
+        let tags = self.sharp.tags(&self.t);
+        let plan = SubdivisionPlan::with_tags(&self.t, &tags, *options, 1)?;
+        let level = &plan.levels()[0];
+        let r = level.stencil.as_ref().ok_or(EvalError::Internal("the scheme has no refinement stencil".into()))?;
+        let rows = compose(r, &self.rows, self.root);
+        Ok(Refined {
+            t: level.topology.clone(),
+            tags: level.sharpness.tags(&level.topology),
+            rows,
+            root: self.root,
+            dual: level.dual.clone(),
+        })
+    }
+
+    /// The weights on the root of a combination of local vertices.
+    pub fn combine(&self, combo: &[(u32, f64)], out: &mut [f64]) {
+        for &(v, w) in combo {
+            let row = &self.rows[v as usize * self.root..(v as usize + 1) * self.root];
+            out.iter_mut().zip(row).for_each(|(o, r)| *o += w * r);
+        }
+    }
+}
+
+impl Refined {
+    /// The ring of `face` of the refined level as the next [`Local`].
+    pub fn ring(&self, options: &Options, face: FaceId) -> Result<(Local, FaceId), EvalError> {
+        let faces = ring_faces(&self.t, face);
+        let (local, _) = submesh(&self.t, &self.tags, options, Some((&self.rows, self.root)), &faces, false)?;
+        Ok((local, FaceId(0)))
+    }
+}
+
+/// `R · X` for a sparse R (n' × n) and dense X (n × width, row-major).
+pub(crate) fn compose(r: &SparseMatrix, x: &[f64], width: usize) -> Vec<f64> {
+    let mut out = vec![0.0; r.rows() * width];
+    for (i, row) in r.outer_iterator().enumerate() {
+        let o = &mut out[i * width..(i + 1) * width];
+        for (j, &w) in row.iter() {
+            let src = &x[j * width..(j + 1) * width];
+            o.iter_mut().zip(src).for_each(|(a, b)| *a += w * b);
+        }
+    }
+    out
+}

@@ -1,0 +1,1095 @@
+//! The evaluation API: [`LimitSurface`] (topology, tags, options and the
+//! patch table built from them), [`LimitSurface::evaluate`] and
+//! [`LimitSurface::stencil`] at a [`SurfaceParam`], and [`BoundSurface`]
+//! (the patch table's control points for fixed positions, for many fast
+//! evaluations with second derivatives).
+//!
+//! # Parameterisation
+//! * **Catmull-Clark**: a quad is one domain `(face, 0)`, (u, v) ∈ \[0,1\]²,
+//!   corner 0 at (0,0), corner 1 at (1,0), corner 3 at (0,1). An n-gon
+//!   (n ≠ 4, triangles included) has n domains `(face, K)`, OpenSubdiv's
+//!   ptex faces: the level-1 quad at corner K, (0,0) at corner K, (1,0) at the
+//!   midpoint of edge K → K+1, (0,1) at the midpoint of edge K−1 → K, (1,1)
+//!   at the face's centroid point (`Far::PtexIndices` numbers them in this
+//!   order, one ptex face per corner, after the quads' single ones).
+//! * **Loop**: a triangle is one domain `(face, 0)`, barycentric (u, v) with
+//!   u, v ≥ 0, u + v ≤ 1, corner 0 at (0,0), 1 at (1,0), 2 at (0,1).
+//! * **Doo-Sabin**: one domain per face corner `(face, K)`: the quarter of the face at
+//!   corner K, (0,0) at the vertex's limit point, (1,0) toward the midpoint
+//!   of edge K → K+1, (0,1) toward the midpoint of edge K−1 → K, (1,1) at the
+//!   face's centroid (the biquadratic B-spline's own parameterisation on a
+//!   regular lattice; the `doo_sabin` module docs give the refinement).
+//!
+//! Boundaries follow the options' boundary interpolation as `subdivide
+//! --limit` does; under `none`, the faces OpenSubdiv leaves out as holes
+//! are evaluated like the others.
+//!
+//! Derivatives are with respect to the domain's (u, v). At an irregular
+//! vertex itself (a parameter at the corner of a domain whose corner vertex
+//! is extraordinary, a dart, or an irregular crease or corner) they are the
+//! tangent masks' tangents (the `patch_vertex` module docs: the
+//! spectral projection of the star's points, equal to the parametric
+//! derivatives wherever those exist); the second
+//! derivatives there are reported as zero.
+
+use crate::local::{ring_faces, Local, Root};
+use crate::patch::{basis, regular_points, Basis, PatchKind, RegularSpec};
+use crate::{catmull_clark, doo_sabin, loop_scheme, patch_vertex};
+use glam::DVec3;
+use rayon::prelude::*;
+use subdiv_mesh::{FaceId, Mesh, Tags, Topology, VertexId};
+use subdiv_stencil::{LevelSharpness, Options, Scheme, StencilError};
+
+/// A parameter on the limit surface: a domain (`face`, and for a ptex-split
+/// n-gon the sub-quad `corner` K; 0 otherwise) and (u, v) in it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceParam {
+    /// Face of the control mesh.
+    pub face: u32,
+    /// Sub-domain of the face (the corner K of an n-gon's ptex sub-quad); 0 for a single domain.
+    pub corner: u32,
+    /// First parameter.
+    pub u: f64,
+    /// Second parameter.
+    pub v: f64,
+}
+
+impl SurfaceParam {
+    /// `(face, corner)` at (u, v).
+    pub fn new(face: u32, corner: u32, u: f64, v: f64) -> Self {
+        Self { face, corner, u, v }
+    }
+
+    /// The domain.
+    pub fn domain(&self) -> Domain {
+        Domain { face: self.face, corner: self.corner }
+    }
+}
+
+/// One parametric domain of the surface: `(face, corner)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Domain {
+    /// Face of the control mesh.
+    pub face: u32,
+    /// Sub-domain index within the face.
+    pub corner: u32,
+}
+
+/// The limit surface and its first derivatives at one parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LimitSample {
+    /// Limit position.
+    pub position: DVec3,
+    /// ∂S/∂u.
+    pub du: DVec3,
+    /// ∂S/∂v.
+    pub dv: DVec3,
+    /// Unit normal, oriented like the faces (du × dv normalised; zero where
+    /// du × dv vanishes, on degenerate geometry).
+    pub normal: DVec3,
+}
+
+/// A [`LimitSample`] with the second derivatives (for Newton steps).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LimitJet {
+    /// Position, first derivatives and normal.
+    pub sample: LimitSample,
+    /// ∂²S/∂u².
+    pub duu: DVec3,
+    /// ∂²S/∂u∂v.
+    pub duv: DVec3,
+    /// ∂²S/∂v².
+    pub dvv: DVec3,
+}
+
+/// A limit point and its derivatives as weights on the control points:
+/// `position = Σ weights[i]·P[indices[i]]`, likewise `du`, `dv`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EvalStencil {
+    /// Control vertices with a nonzero weight.
+    pub indices: Vec<u32>,
+    /// Weights of the position.
+    pub position: Vec<f64>,
+    /// Weights of ∂S/∂u.
+    pub du: Vec<f64>,
+    /// Weights of ∂S/∂v.
+    pub dv: Vec<f64>,
+}
+
+impl EvalStencil {
+    /// The stencil applied to `positions`: (position, du, dv).
+    ///
+    /// # Panics
+    /// If an index is out of range for `positions` (a caller bug).
+    pub fn apply(&self, positions: &[DVec3]) -> (DVec3, DVec3, DVec3) {
+        let mut out = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+        for (k, &i) in self.indices.iter().enumerate() {
+            let p = positions[i as usize];
+            out.0 += self.position[k] * p;
+            out.1 += self.du[k] * p;
+            out.2 += self.dv[k] * p;
+        }
+        out
+    }
+}
+
+/// Why a surface cannot be built or evaluated.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EvalError {
+    /// A parameter names no domain of the mesh.
+    #[error("no domain {face}.{corner} in this mesh")]
+    NoSuchDomain {
+        /// Face given.
+        face: u32,
+        /// Corner given.
+        corner: u32,
+    },
+    /// A parameter outside its domain (or not finite).
+    #[error("parameter ({u}, {v}) outside the domain of face {face}")]
+    OutOfDomain {
+        /// Face given.
+        face: u32,
+        /// u given.
+        u: f64,
+        /// v given.
+        v: f64,
+    },
+    /// Not implemented yet (kept for compatibility; no longer returned).
+    #[error("limit evaluation is not implemented yet")]
+    Unimplemented,
+    /// The scheme or its options cannot take this mesh (Loop on a
+    /// non-triangle, a bad parameter), as the subdivision says.
+    #[error(transparent)]
+    Stencil(#[from] StencilError),
+    /// The scheme has no limit surface to evaluate here (Deng-Ma, an
+    /// interpolatory scheme without limit masks).
+    #[error("{scheme}: {reason}")]
+    Unsupported {
+        /// Scheme name.
+        scheme: &'static str,
+        /// Why.
+        reason: String,
+    },
+    /// The positions passed in do not have one point per control vertex.
+    #[error("{found} positions given for a surface of {expected} control vertices")]
+    PositionCount {
+        /// Control vertices of the surface.
+        expected: usize,
+        /// Positions given.
+        found: usize,
+    },
+    /// An internal invariant failed (a bug: please report it with the mesh).
+    #[error("internal error in limit evaluation: {0}")]
+    Internal(String),
+    /// The surface has no domain (an empty mesh).
+    #[error("the surface has no domain")]
+    NoSurface,
+    /// Bad input data for sampling, projection or fitting.
+    #[error("{what}")]
+    InvalidInput {
+        /// What is wrong, naming the offending element.
+        what: String,
+    },
+    /// Fitting could not solve its least-squares system.
+    #[error("fitting: {what}")]
+    Solve {
+        /// The solver's message.
+        what: String,
+    },
+}
+
+/// Levels of the patch table below a domain: deeper parameters (within
+/// 2⁻⁸ of an irregular vertex) are evaluated by refining on demand.
+const TABLE_DEPTH: usize = 8;
+/// Levels of on-demand refinement: below 2⁻⁶⁰ of an irregular vertex the
+/// parameter is taken as the vertex (the surface moves by ~λ⁶⁰·size there,
+/// far below the rounding of any coordinate).
+const MAX_DEPTH: usize = 60;
+/// How far u + v may exceed 1 on a Loop triangle by rounding (then scaled back).
+const BARYCENTRIC_SLACK: f64 = 1e-12;
+
+/// The schemes with a limit surface here.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Kind {
+    CatmullClark,
+    Loop,
+    DooSabin,
+}
+
+impl Kind {
+    fn spec(self) -> &'static RegularSpec {
+        match self {
+            Kind::CatmullClark => &catmull_clark::SPEC,
+            Kind::Loop => &loop_scheme::SPEC,
+            Kind::DooSabin => &doo_sabin::SPEC,
+        }
+    }
+
+    fn child(self, u: f64, v: f64) -> (usize, [[f64; 2]; 2], [f64; 2]) {
+        match self {
+            Kind::CatmullClark => catmull_clark::child(u, v),
+            Kind::Loop => loop_scheme::child(u, v),
+            Kind::DooSabin => doo_sabin::child(u, v),
+        }
+    }
+
+    fn corner_at(self, u: f64, v: f64) -> Option<usize> {
+        match self {
+            Kind::CatmullClark => catmull_clark::corner_at(u, v),
+            Kind::Loop => loop_scheme::corner_at(u, v),
+            Kind::DooSabin => doo_sabin::corner_at(u, v),
+        }
+    }
+
+    fn nearest_corner(self, u: f64, v: f64) -> (usize, f64, f64) {
+        let k = match self {
+            Kind::CatmullClark => catmull_clark::nearest_corner(u, v),
+            Kind::Loop => loop_scheme::nearest_corner(u, v),
+            Kind::DooSabin => doo_sabin::nearest_corner(u, v),
+        };
+        let corners: &[(f64, f64)] = match self {
+            Kind::Loop => &[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],
+            _ => &[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
+        };
+        (k, corners[k].0, corners[k].1)
+    }
+
+    fn frames(self) -> &'static [crate::patch::Frame] {
+        match self {
+            Kind::CatmullClark => &catmull_clark::FRAMES,
+            Kind::Loop => &loop_scheme::FRAMES,
+            Kind::DooSabin => &doo_sabin::FRAMES,
+        }
+    }
+
+    /// Child `k` of the cell `face` after one step of the scheme: the
+    /// refined face, and the cell within that face's ring (the face itself,
+    /// 0, for Catmull-Clark and Loop; its corner for a Doo-Sabin cell).
+    fn child_cell(self, local: &Local, refined: &crate::local::Refined, face: FaceId, k: usize) -> (FaceId, u32) {
+        match self {
+            Kind::CatmullClark => (FaceId(local.t.faces().offsets()[face.index()] + k as u32), 0),
+            Kind::Loop => (FaceId(4 * face.0 + k as u32), 0),
+            Kind::DooSabin => doo_sabin::child_cell(local, refined, face, k),
+        }
+    }
+
+    /// The control points of the regular patch of a cell (a face; a
+    /// Doo-Sabin face corner), if it is one.
+    fn regular(self, t: &Topology, sharp: &LevelSharpness, cell: FaceId) -> Option<Vec<crate::patch::Combo>> {
+        match self {
+            Kind::DooSabin => doo_sabin::regular(t, cell),
+            _ => regular_points(self.spec(), t, sharp, cell),
+        }
+    }
+
+    /// The patch parameters (s, t) = P·(u, v) + q of a regular patch of the level.
+    fn patch_frame(self) -> ([[f64; 2]; 2], [f64; 2]) {
+        match self {
+            Kind::DooSabin => ([[0.5, 0.0], [0.0, 0.5]], [0.5, 0.5]),
+            _ => ([[1.0, 0.0], [0.0, 1.0]], [0.0, 0.0]),
+        }
+    }
+}
+
+/// A node of a domain's patch tree.
+#[derive(Clone, Copy, Debug)]
+enum Node {
+    /// A regular patch (index into the patch arrays).
+    Patch(u32),
+    /// Four children in the scheme's child order (node indices).
+    Split([u32; 4]),
+    /// Not regular within the table's depth: evaluated by refining on
+    /// demand from the level kept in the deep entry (index), or from the
+    /// domain's root (`u32::MAX`: the placeholder while building).
+    Deep(u32),
+}
+
+/// Where on-demand refinement resumes below the table: the local level of
+/// a deep node, its cell, and the domain's root vertices.
+#[derive(Clone, Debug)]
+struct DeepEntry {
+    local: Local,
+    cell: FaceId,
+    ids: std::sync::Arc<Vec<u32>>,
+}
+
+/// Affine map (u', v') = A·(u, v) + b.
+type Affine = ([[f64; 2]; 2], [f64; 2]);
+
+fn compose(a: &[[f64; 2]; 2], b: &[[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    let mut c = [[0.0; 2]; 2];
+    for i in 0..2 {
+        for j in 0..2 {
+            c[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j];
+        }
+    }
+    c
+}
+
+fn apply_affine((a, b): &Affine, u: f64, v: f64) -> (f64, f64) {
+    let cl = |x: f64| x.clamp(0.0, 1.0);
+    (cl(a[0][0] * u + a[0][1] * v + b[0]), cl(a[1][0] * u + a[1][1] * v + b[1]))
+}
+
+/// One domain's patch tree, as built (merged into the surface's arrays).
+#[derive(Default)]
+struct Tree {
+    nodes: Vec<Node>,
+    deep: Vec<DeepEntry>,
+    kinds: Vec<PatchKind>,
+    /// Per patch point: (control vertex, weight) lists.
+    points: Vec<Vec<(u32, f64)>>,
+}
+
+/// Dense weights on a root (6 rows: position, du, dv, duu, duv, dvv).
+struct DenseJet {
+    rows: [Vec<f64>; 6],
+}
+
+/// The limit surface of a control mesh's topology, tags and options, ready
+/// to evaluate (built once; positions are given per call).
+#[derive(Clone, Debug)]
+pub struct LimitSurface {
+    vertex_count: usize,
+    options: Options,
+    kind: Kind,
+    topology: Topology,
+    tags: Tags,
+    domains: Vec<Domain>,
+    /// First domain of every face (and the total at the end).
+    face_domains: Vec<u32>,
+    /// Root node of every domain.
+    roots: Vec<u32>,
+    nodes: Vec<NodeRepr>,
+    /// The levels where on-demand refinement resumes.
+    deep: Vec<DeepEntry>,
+    /// Kind of every patch.
+    patch_kinds: Vec<PatchKind>,
+    /// First point of every patch (16 slots per patch).
+    /// CSR of the patch points' weights: point p is
+    /// `point_offsets[p]..point_offsets[p+1]` of `point_vertices`/`point_weights`.
+    point_offsets: Vec<u32>,
+    point_vertices: Vec<u32>,
+    point_weights: Vec<f64>,
+    /// The face ring of every face (CSR): the domain supports.
+    ring_offsets: Vec<u32>,
+    ring_vertices: Vec<u32>,
+}
+
+/// [`Node`] as stored (public derive-friendly copy).
+#[derive(Clone, Copy, Debug)]
+struct NodeRepr(Node);
+
+impl LimitSurface {
+    /// Builds the surface of `mesh`'s topology and tags under `options`.
+    ///
+    /// # Errors
+    /// [`EvalError::Stencil`] when the scheme refuses the mesh (Loop on a
+    /// non-triangle, semi-sharp tags on Doo-Sabin), [`EvalError::Unsupported`]
+    /// for Deng-Ma (interpolatory, no limit masks) and the Doo-Sabin cases
+    /// `doo_sabin` module lists (boundaries, tags, valence-2 vertices).
+    pub fn new(mesh: &Mesh, options: &Options) -> Result<Self, EvalError> {
+        options.validate()?;
+        let kind = match options.scheme {
+            Scheme::CatmullClark => Kind::CatmullClark,
+            Scheme::Loop(_) => Kind::Loop,
+            Scheme::DooSabin => Kind::DooSabin,
+            Scheme::DengMa(_) => {
+                return Err(EvalError::Unsupported {
+                    scheme: "deng-ma",
+                    reason: "an interpolatory scheme without limit masks; evaluate a refined mesh instead".into(),
+                })
+            }
+        };
+        let t = mesh.topology();
+        let tags = mesh.tags().clone();
+        let sharp = LevelSharpness::new(&tags, options.boundary, options.crease_method);
+        options.scheme.rules().check(t, &sharp)?;
+        if kind == Kind::DooSabin {
+            doo_sabin::check(mesh, options)?;
+        }
+        let mut domains = Vec::new();
+        let mut face_domains = Vec::with_capacity(t.face_count() + 1);
+        for f in t.face_ids() {
+            face_domains.push(domains.len() as u32);
+            let n = match kind {
+                Kind::CatmullClark if t.face_size(f) != 4 => t.face_size(f),
+                Kind::DooSabin => t.face_size(f),
+                _ => 1,
+            };
+            domains.extend((0..n as u32).map(|corner| Domain { face: f.0, corner }));
+        }
+        face_domains.push(domains.len() as u32);
+        let mut surface = Self {
+            vertex_count: mesh.positions().len(),
+            options: *options,
+            kind,
+            topology: t.clone(),
+            tags,
+            domains,
+            face_domains,
+            roots: Vec::new(),
+            nodes: Vec::new(),
+            deep: Vec::new(),
+            patch_kinds: Vec::new(),
+            point_offsets: vec![0],
+            point_vertices: Vec::new(),
+            point_weights: Vec::new(),
+            ring_offsets: vec![0],
+            ring_vertices: Vec::new(),
+        };
+        // Face rings (the supports).
+        for f in t.face_ids() {
+            let mut ring: Vec<u32> = ring_faces(t, f).iter().flat_map(|&g| t.face(g).iter().copied()).collect();
+            ring.sort_unstable();
+            ring.dedup();
+            surface.ring_vertices.extend(ring);
+            surface.ring_offsets.push(surface.ring_vertices.len() as u32);
+        }
+        // Patch trees, a domain per task.
+        let trees: Vec<Result<Tree, EvalError>> =
+            surface.domains.par_iter().map(|&d| surface.build_tree(d, &sharp)).collect();
+        for tree in trees {
+            let tree = tree?;
+            let (node_base, patch_base) = (surface.nodes.len() as u32, surface.patch_kinds.len() as u32);
+            let deep_base = surface.deep.len() as u32;
+            surface.roots.push(node_base);
+            surface.nodes.extend(tree.nodes.iter().map(|n| {
+                NodeRepr(match *n {
+                    Node::Patch(p) => Node::Patch(p + patch_base),
+                    Node::Split(c) => Node::Split(c.map(|c| c + node_base)),
+                    Node::Deep(i) => Node::Deep(if i == u32::MAX { i } else { i + deep_base }),
+                })
+            }));
+            surface.deep.extend(tree.deep);
+            surface.patch_kinds.extend(&tree.kinds);
+            for (k, kind) in tree.kinds.iter().enumerate() {
+                for slot in 0..16 {
+                    if slot < kind.len() {
+                        for &(v, w) in &tree.points[k * 16 + slot] {
+                            surface.point_vertices.push(v);
+                            surface.point_weights.push(w);
+                        }
+                    }
+                    surface.point_offsets.push(surface.point_vertices.len() as u32);
+                }
+            }
+        }
+        Ok(surface)
+    }
+
+    /// The control vertex count the positions passed in must have.
+    pub fn vertex_count(&self) -> usize {
+        self.vertex_count
+    }
+
+    /// The options the surface was built with.
+    pub fn options(&self) -> &Options {
+        &self.options
+    }
+
+    /// Every parametric domain, in face order.
+    pub fn domains(&self) -> &[Domain] {
+        &self.domains
+    }
+
+    /// The domains of `face` (empty for a face the mesh does not have).
+    pub fn face_domains(&self, face: u32) -> &[Domain] {
+        let f = face as usize;
+        if f + 1 >= self.face_domains.len() {
+            return &[];
+        }
+        &self.domains[self.face_domains[f] as usize..self.face_domains[f + 1] as usize]
+    }
+
+    /// Number of regular patches in the table (a measure of its size).
+    pub fn patch_count(&self) -> usize {
+        self.patch_kinds.len()
+    }
+
+    /// The control vertices whose convex hull contains the limit patch of
+    /// `domain` (for conservative bounds; `None` when the rules have
+    /// negative weights and the hull property does not hold).
+    ///
+    /// Every rule here has non-negative weights (the schemes' masks and
+    /// their semi-sharp blends), so the surface over a domain lies in the
+    /// hull of its face's ring: the vertices of every face sharing a vertex
+    /// with the face. `None` only for a domain the mesh does not have.
+    pub fn domain_support(&self, domain: Domain) -> Option<&[u32]> {
+        self.domain_index(domain).ok()?;
+        let f = domain.face as usize;
+        Some(&self.ring_vertices[self.ring_offsets[f] as usize..self.ring_offsets[f + 1] as usize])
+    }
+
+    /// Position, derivatives and normal at `param`.
+    ///
+    /// # Errors
+    /// [`EvalError::NoSuchDomain`], [`EvalError::OutOfDomain`] (NaN, outside
+    /// \[0,1\]², u + v > 1 on a Loop triangle), [`EvalError::PositionCount`].
+    pub fn evaluate(&self, positions: &[DVec3], param: SurfaceParam) -> Result<LimitSample, EvalError> {
+        self.check_positions(positions)?;
+        Ok(self.evaluate_jet_with(positions, param, None)?.sample)
+    }
+
+    /// [`Self::evaluate`] with the second derivatives.
+    ///
+    /// # Errors
+    /// As [`Self::evaluate`].
+    pub fn evaluate_jet(&self, positions: &[DVec3], param: SurfaceParam) -> Result<LimitJet, EvalError> {
+        self.check_positions(positions)?;
+        self.evaluate_jet_with(positions, param, None)
+    }
+
+    /// The same as weights on the control points.
+    ///
+    /// # Errors
+    /// As [`Self::evaluate`] (but no positions).
+    pub fn stencil(&self, param: SurfaceParam) -> Result<EvalStencil, EvalError> {
+        let (d, u, v) = self.check_param(param)?;
+        let mut acc: Vec<(u32, [f64; 3])> = Vec::new();
+        match self.locate(d, u, v) {
+            Located::Patch { patch, s, t, j } => {
+                let b = basis(self.patch_kinds[patch as usize], s, t);
+                let (bu, bv) = first_derivatives(&b, &j);
+                for slot in 0..self.patch_kinds[patch as usize].len() {
+                    let (vs, ws) = self.point(patch, slot);
+                    for (&i, &w) in vs.iter().zip(ws) {
+                        acc.push((i, [w * b.w[slot], w * bu[slot], w * bv[slot]]));
+                    }
+                }
+            }
+            Located::Deep { entry, u: du, v: dv, a } => {
+                let (ids, jet) = self.resume(d, u, v, entry, du, dv, a)?;
+                for (k, &i) in ids.iter().enumerate() {
+                    let w = [jet.rows[0][k], jet.rows[1][k], jet.rows[2][k]];
+                    if w != [0.0; 3] {
+                        acc.push((i, w));
+                    }
+                }
+            }
+        }
+        acc.sort_by_key(|a| a.0);
+        let mut out = EvalStencil::default();
+        for (i, w) in acc {
+            if out.indices.last() == Some(&i) {
+                let k = out.indices.len() - 1;
+                out.position[k] += w[0];
+                out.du[k] += w[1];
+                out.dv[k] += w[2];
+            } else {
+                out.indices.push(i);
+                out.position.push(w[0]);
+                out.du.push(w[1]);
+                out.dv.push(w[2]);
+            }
+        }
+        Ok(out)
+    }
+
+    /// The patch table's control points for `positions`, for fast repeated
+    /// evaluation (one sparse product over the table).
+    ///
+    /// # Errors
+    /// [`EvalError::PositionCount`].
+    pub fn bind<'a>(&'a self, positions: &'a [DVec3]) -> Result<BoundSurface<'a>, EvalError> {
+        self.check_positions(positions)?;
+        let n = self.point_offsets.len() - 1;
+        let mut points = vec![DVec3::ZERO; n];
+        points.par_chunks_mut(1024).enumerate().for_each(|(c, chunk)| {
+            for (j, p) in chunk.iter_mut().enumerate() {
+                let k = c * 1024 + j;
+                let (s, e) = (self.point_offsets[k] as usize, self.point_offsets[k + 1] as usize);
+                *p = (s..e).fold(DVec3::ZERO, |acc, q| {
+                    acc + self.point_weights[q] * positions[self.point_vertices[q] as usize]
+                });
+            }
+        });
+        Ok(BoundSurface { surface: self, positions, points })
+    }
+
+    fn check_positions(&self, positions: &[DVec3]) -> Result<(), EvalError> {
+        if positions.len() != self.vertex_count {
+            return Err(EvalError::PositionCount { expected: self.vertex_count, found: positions.len() });
+        }
+        Ok(())
+    }
+
+    fn domain_index(&self, d: Domain) -> Result<usize, EvalError> {
+        let f = d.face as usize;
+        let err = EvalError::NoSuchDomain { face: d.face, corner: d.corner };
+        if f + 1 >= self.face_domains.len() {
+            return Err(err);
+        }
+        let (s, e) = (self.face_domains[f], self.face_domains[f + 1]);
+        if d.corner >= e - s {
+            return Err(err);
+        }
+        Ok((s + d.corner) as usize)
+    }
+
+    /// The domain index and the (checked, clamped) parameters.
+    fn check_param(&self, p: SurfaceParam) -> Result<(usize, f64, f64), EvalError> {
+        let d = self.domain_index(p.domain())?;
+        let bad = EvalError::OutOfDomain { face: p.face, u: p.u, v: p.v };
+        let (mut u, mut v) = (p.u, p.v);
+        if !((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
+            return Err(bad);
+        }
+        if self.kind == Kind::Loop && u + v > 1.0 {
+            if u + v > 1.0 + BARYCENTRIC_SLACK {
+                return Err(bad);
+            }
+            let s = u + v;
+            (u, v) = (u / s, v / s);
+        }
+        Ok((d, u, v))
+    }
+
+    fn point(&self, patch: u32, slot: usize) -> (&[u32], &[f64]) {
+        let k = patch as usize * 16 + slot;
+        let (s, e) = (self.point_offsets[k] as usize, self.point_offsets[k + 1] as usize);
+        (&self.point_vertices[s..e], &self.point_weights[s..e])
+    }
+
+    /// The table's patch holding (u, v) of domain `d`, with the patch
+    /// parameters and the Jacobian ∂(s,t)/∂(u,v).
+    fn locate(&self, d: usize, mut u: f64, mut v: f64) -> Located {
+        let mut node = self.roots[d];
+        let mut a = [[1.0, 0.0], [0.0, 1.0]];
+        loop {
+            match self.nodes[node as usize].0 {
+                Node::Patch(patch) => {
+                    let (p, q) = self.kind.patch_frame();
+                    let s = p[0][0] * u + p[0][1] * v + q[0];
+                    let t = p[1][0] * u + p[1][1] * v + q[1];
+                    return Located::Patch { patch, s, t, j: compose(&p, &a) };
+                }
+                Node::Split(children) => {
+                    let (k, ak, bk) = self.kind.child(u, v);
+                    (u, v) = apply_affine(&(ak, bk), u, v);
+                    a = compose(&ak, &a);
+                    node = children[k];
+                }
+                Node::Deep(i) => return Located::Deep { entry: i, u, v, a },
+            }
+        }
+    }
+
+    fn evaluate_jet_with(
+        &self,
+        positions: &[DVec3],
+        param: SurfaceParam,
+        points: Option<&[DVec3]>,
+    ) -> Result<LimitJet, EvalError> {
+        let (d, u, v) = self.check_param(param)?;
+        let mut out = [DVec3::ZERO; 6];
+        match self.locate(d, u, v) {
+            Located::Patch { patch, s, t, j } => {
+                let kind = self.patch_kinds[patch as usize];
+                let b = basis(kind, s, t);
+                let mut cp = [DVec3::ZERO; 16];
+                match points {
+                    Some(points) => cp[..kind.len()].copy_from_slice(&points[patch as usize * 16..][..kind.len()]),
+                    None => {
+                        for (slot, c) in cp.iter_mut().enumerate().take(kind.len()) {
+                            let (vs, ws) = self.point(patch, slot);
+                            *c = vs.iter().zip(ws).fold(DVec3::ZERO, |acc, (&i, &w)| acc + w * positions[i as usize]);
+                        }
+                    }
+                }
+                out = jet_of(&b, &cp[..kind.len()], &j);
+            }
+            Located::Deep { entry, u: du, v: dv, a } => {
+                let (ids, jet) = self.resume(d, u, v, entry, du, dv, a)?;
+                for (r, o) in jet.rows.iter().zip(out.iter_mut()) {
+                    *o = ids.iter().zip(r).fold(DVec3::ZERO, |acc, (&i, &w)| acc + w * positions[i as usize]);
+                }
+            }
+        }
+        Ok(LimitJet {
+            sample: LimitSample { position: out[0], du: out[1], dv: out[2], normal: unit_normal(out[1], out[2]) },
+            duu: out[3],
+            duv: out[4],
+            dvv: out[5],
+        })
+    }
+
+    /// The root of domain `d` and the first local level its (u, v) refer to
+    /// (a Catmull-Clark n-gon's ptex quad is a level-1 face).
+    fn domain_start(&self, d: usize) -> Result<(Vec<u32>, Local, FaceId), EvalError> {
+        let dom = self.domains[d];
+        let root = Root::new(&self.topology, &self.tags, &self.options, FaceId(dom.face))?;
+        let (ids, local, face) = (root.ids, root.local, root.face);
+        match self.kind {
+            Kind::CatmullClark if self.topology.face_size(FaceId(dom.face)) != 4 => {
+                let refined = local.refine(&self.options)?;
+                let child = FaceId(local.t.faces().offsets()[face.index()] + dom.corner);
+                let (local, face) = refined.ring(&self.options, child)?;
+                Ok((ids, local, face))
+            }
+            Kind::DooSabin => {
+                let (local, face) = doo_sabin::domain_start(&local, &self.options, face, dom.corner as usize)?;
+                Ok((ids, local, face))
+            }
+            _ => Ok((ids, local, face)),
+        }
+    }
+
+    fn build_tree(&self, d: Domain, sharp: &LevelSharpness) -> Result<Tree, EvalError> {
+        let index = self.domain_index(d)?;
+        let mut tree = Tree::default();
+        // Most faces are regular on the control mesh itself: their patch
+        // points are control vertices (or phantom combinations of them),
+        // found without building the face's ring.
+        let spec = self.kind.spec();
+        if self.kind != Kind::DooSabin {
+            if let Some(points) = regular_points(spec, &self.topology, sharp, FaceId(d.face)) {
+                tree.kinds.push(spec.kind);
+                for slot in 0..16 {
+                    tree.points.push(points.get(slot).map_or_else(Vec::new, |combo| {
+                        let dense: Vec<(u32, f64)> = combo.clone();
+                        to_global_pairs(dense)
+                    }));
+                }
+                tree.nodes.push(Node::Patch(0));
+                return Ok(tree);
+            }
+        }
+        let (ids, local, face) = self.domain_start(index)?;
+        self.build_node(&std::sync::Arc::new(ids), &local, face, 0, &mut tree)?;
+        Ok(tree)
+    }
+
+    fn build_node(
+        &self,
+        ids: &std::sync::Arc<Vec<u32>>,
+        local: &Local,
+        face: FaceId,
+        depth: usize,
+        tree: &mut Tree,
+    ) -> Result<u32, EvalError> {
+        let spec = self.kind.spec();
+        let id = tree.nodes.len() as u32;
+        if let Some(points) = self.kind.regular(&local.t, &local.sharp, face) {
+            let patch = tree.kinds.len() as u32;
+            tree.kinds.push(spec.kind);
+            let mut dense = vec![0.0; local.root];
+            for slot in 0..16 {
+                if slot < points.len() {
+                    dense.iter_mut().for_each(|x| *x = 0.0);
+                    local.combine(&points[slot], &mut dense);
+                    tree.points.push(to_global(ids, &dense));
+                } else {
+                    tree.points.push(Vec::new());
+                }
+            }
+            tree.nodes.push(Node::Patch(patch));
+            return Ok(id);
+        }
+        if depth >= TABLE_DEPTH {
+            tree.nodes.push(Node::Deep(tree.deep.len() as u32));
+            tree.deep.push(DeepEntry { local: local.clone(), cell: face, ids: ids.clone() });
+            return Ok(id);
+        }
+        tree.nodes.push(Node::Deep(u32::MAX)); // placeholder, replaced below
+        let refined = local.refine(&self.options)?;
+        let mut children = [0u32; 4];
+        for (k, c) in children.iter_mut().enumerate() {
+            let (child, cell) = self.kind.child_cell(local, &refined, face, k);
+            let (next, _) = refined.ring(&self.options, child)?;
+            *c = self.build_node(ids, &next, FaceId(cell), depth + 1, tree)?;
+        }
+        tree.nodes[id as usize] = Node::Split(children);
+        Ok(id)
+    }
+
+    /// The general path: refine on demand until (u, v) lies in a regular
+    /// patch or is an irregular vertex; dense weights on the domain's root.
+    /// [`Self::general_from`] at a deep node of the table (from the
+    /// domain's root when the entry is the building placeholder).
+    #[allow(clippy::too_many_arguments)]
+    fn resume(
+        &self,
+        d: usize,
+        u0: f64,
+        v0: f64,
+        entry: u32,
+        u: f64,
+        v: f64,
+        a: [[f64; 2]; 2],
+    ) -> Result<(std::sync::Arc<Vec<u32>>, DenseJet), EvalError> {
+        // The local plans use rayon inside (joins, parallel row builds):
+        // run the whole refinement on one worker, so that a caller outside
+        // the pool pays one hand-over rather than one per plan.
+        match self.deep.get(entry as usize) {
+            Some(e) => {
+                let jet = rayon::scope(|_| self.general_from(e.local.clone(), e.cell, u, v, a, TABLE_DEPTH))?;
+                Ok((e.ids.clone(), jet))
+            }
+            None => {
+                let (ids, local, face) = self.domain_start(d)?;
+                let jet = rayon::scope(|_| self.general_from(local, face, u0, v0, [[1.0, 0.0], [0.0, 1.0]], 0))?;
+                Ok((std::sync::Arc::new(ids), jet))
+            }
+        }
+    }
+
+    /// The general path from a local level `start` levels below the domain
+    /// ((u, v) its parameters, `a` = ∂(u,v)/∂(domain u, v)): refine on
+    /// demand until (u, v) lies in a regular patch or is an irregular
+    /// vertex; dense weights on the domain's root.
+    fn general_from(
+        &self,
+        mut local: Local,
+        mut face: FaceId,
+        mut u: f64,
+        mut v: f64,
+        mut a: [[f64; 2]; 2],
+        start: usize,
+    ) -> Result<DenseJet, EvalError> {
+        let spec = self.kind.spec();
+        for depth in start..=MAX_DEPTH {
+            if let Some(points) = self.kind.regular(&local.t, &local.sharp, face) {
+                let (p, q) = self.kind.patch_frame();
+                let (s, t) = (p[0][0] * u + p[0][1] * v + q[0], p[1][0] * u + p[1][1] * v + q[1]);
+                let b = basis(spec.kind, s, t);
+                let j = compose(&p, &a);
+                let n = points.len();
+                let (bu, bv) = first_derivatives(&b, &j);
+                let (buu, buv, bvv) = second_derivatives(&b, &j);
+                let mut rows: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; local.root]);
+                let mut dense = vec![0.0; local.root];
+                for (slot, combo) in points.iter().enumerate().take(n) {
+                    dense.iter_mut().for_each(|x| *x = 0.0);
+                    local.combine(combo, &mut dense);
+                    for (r, w) in rows.iter_mut().zip([b.w[slot], bu[slot], bv[slot], buu[slot], buv[slot], bvv[slot]])
+                    {
+                        r.iter_mut().zip(&dense).for_each(|(o, x)| *o += w * x);
+                    }
+                }
+                return Ok(DenseJet { rows });
+            }
+            let corner = match self.kind.corner_at(u, v) {
+                Some(k) => Some(k),
+                None if depth == MAX_DEPTH => {
+                    let (k, cu, cv) = self.kind.nearest_corner(u, v);
+                    (u, v) = (cu, cv);
+                    Some(k)
+                }
+                None => None,
+            };
+            if let Some(k) = corner {
+                let ready = match self.kind {
+                    Kind::DooSabin => true,
+                    _ => patch_vertex::ready(&local, &self.options, VertexId(local.t.face(face)[k])),
+                };
+                if ready || depth == MAX_DEPTH {
+                    let [pos, ta, tb] = self.vertex_limit(&local, face, k)?;
+                    // [T_a T_b] = [∂u' ∂v']·D, D = [d_a d_b]; then ·A to the domain.
+                    let (da, db) = self.kind.frames()[k];
+                    let dm = [[da.0 as f64, db.0 as f64], [da.1 as f64, db.1 as f64]];
+                    let det = dm[0][0] * dm[1][1] - dm[0][1] * dm[1][0];
+                    let inv = [[dm[1][1] / det, -dm[0][1] / det], [-dm[1][0] / det, dm[0][0] / det]];
+                    let j = compose(&inv, &a);
+                    // ∂/∂u = T_a·j[0][0] + T_b·j[1][0]; ∂/∂v = T_a·j[0][1] + T_b·j[1][1].
+                    let du: Vec<f64> = ta.iter().zip(&tb).map(|(x, y)| x * j[0][0] + y * j[1][0]).collect();
+                    let dv: Vec<f64> = ta.iter().zip(&tb).map(|(x, y)| x * j[0][1] + y * j[1][1]).collect();
+                    let zero = vec![0.0; local.root];
+                    return Ok(DenseJet { rows: [pos, du, dv, zero.clone(), zero.clone(), zero] });
+                }
+            }
+            let refined = local.refine(&self.options)?;
+            let (k, ak, bk) = self.kind.child(u, v);
+            let (child, cell) = self.kind.child_cell(&local, &refined, face, k);
+            (u, v) = apply_affine(&(ak, bk), u, v);
+            a = compose(&ak, &a);
+            (local, _) = refined.ring(&self.options, child)?;
+            face = FaceId(cell);
+        }
+        Err(EvalError::Internal("no regular patch or vertex limit within the depth cap".into()))
+    }
+
+    fn vertex_limit(&self, local: &Local, face: FaceId, k: usize) -> Result<[Vec<f64>; 3], EvalError> {
+        match self.kind {
+            Kind::DooSabin => doo_sabin::vertex_limit(local, &self.options, face, k),
+            _ => patch_vertex::vertex_limit(local, &self.options, face, k),
+        }
+    }
+}
+
+enum Located {
+    Patch {
+        patch: u32,
+        s: f64,
+        t: f64,
+        j: [[f64; 2]; 2],
+    },
+    /// Below the table: the deep entry, the parameters there and ∂(u′,v′)/∂(u,v).
+    Deep {
+        entry: u32,
+        u: f64,
+        v: f64,
+        a: [[f64; 2]; 2],
+    },
+}
+
+/// Dense weights over a root as merged (vertex, weight) pairs of the control mesh.
+fn to_global(ids: &[u32], dense: &[f64]) -> Vec<(u32, f64)> {
+    to_global_pairs(ids.iter().zip(dense).filter(|(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)).collect())
+}
+
+/// (vertex, weight) pairs sorted by vertex, repeated vertices merged.
+fn to_global_pairs(mut out: Vec<(u32, f64)>) -> Vec<(u32, f64)> {
+    out.sort_by_key(|p| p.0);
+    out.dedup_by(|b, a| {
+        if a.0 == b.0 {
+            a.1 += b.1;
+            true
+        } else {
+            false
+        }
+    });
+    out
+}
+
+/// Basis derivatives with respect to (u, v) from those in (s, t), J = ∂(s,t)/∂(u,v).
+fn first_derivatives(b: &Basis, j: &[[f64; 2]; 2]) -> ([f64; 16], [f64; 16]) {
+    let mut du = [0.0; 16];
+    let mut dv = [0.0; 16];
+    for k in 0..16 {
+        du[k] = b.ds[k] * j[0][0] + b.dt[k] * j[1][0];
+        dv[k] = b.ds[k] * j[0][1] + b.dt[k] * j[1][1];
+    }
+    (du, dv)
+}
+
+/// Second derivatives with respect to (u, v) (the map is affine).
+fn second_derivatives(b: &Basis, j: &[[f64; 2]; 2]) -> ([f64; 16], [f64; 16], [f64; 16]) {
+    let mut out = ([0.0; 16], [0.0; 16], [0.0; 16]);
+    let h = |k: usize, x: usize, y: usize| {
+        // Σ_ab H_ab J[a][x] J[b][y]
+        b.dss[k] * j[0][x] * j[0][y] + b.dst[k] * (j[0][x] * j[1][y] + j[1][x] * j[0][y]) + b.dtt[k] * j[1][x] * j[1][y]
+    };
+    for k in 0..16 {
+        out.0[k] = h(k, 0, 0);
+        out.1[k] = h(k, 0, 1);
+        out.2[k] = h(k, 1, 1);
+    }
+    out
+}
+
+/// Position, du, dv, duu, duv, dvv of a patch.
+#[inline]
+fn jet_of(b: &Basis, points: &[DVec3], j: &[[f64; 2]; 2]) -> [DVec3; 6] {
+    let mut st = [DVec3::ZERO; 6]; // value, s, t, ss, st, tt
+    for (k, &p) in points.iter().enumerate() {
+        st[0] += b.w[k] * p;
+        st[1] += b.ds[k] * p;
+        st[2] += b.dt[k] * p;
+        st[3] += b.dss[k] * p;
+        st[4] += b.dst[k] * p;
+        st[5] += b.dtt[k] * p;
+    }
+    let du = st[1] * j[0][0] + st[2] * j[1][0];
+    let dv = st[1] * j[0][1] + st[2] * j[1][1];
+    let h = |x: usize, y: usize| {
+        st[3] * (j[0][x] * j[0][y]) + st[4] * (j[0][x] * j[1][y] + j[1][x] * j[0][y]) + st[5] * (j[1][x] * j[1][y])
+    };
+    [st[0], du, dv, h(0, 0), h(0, 1), h(1, 1)]
+}
+
+fn unit_normal(du: DVec3, dv: DVec3) -> DVec3 {
+    let n = du.cross(dv);
+    let l = n.length();
+    if l > 0.0 && l.is_finite() {
+        n / l
+    } else {
+        DVec3::ZERO
+    }
+}
+
+/// A [`LimitSurface`] with its patch table's control points computed for
+/// fixed positions ([`LimitSurface::bind`]): an evaluation on a regular
+/// patch is a descent of the domain's patch tree and one basis evaluation.
+#[derive(Clone, Debug)]
+pub struct BoundSurface<'a> {
+    surface: &'a LimitSurface,
+    positions: &'a [DVec3],
+    /// 16 slots per patch.
+    points: Vec<DVec3>,
+}
+
+impl BoundSurface<'_> {
+    /// The surface.
+    pub fn surface(&self) -> &LimitSurface {
+        self.surface
+    }
+
+    /// The positions bound.
+    pub fn positions(&self) -> &[DVec3] {
+        self.positions
+    }
+
+    /// Position, derivatives and normal at `param`.
+    ///
+    /// # Errors
+    /// As [`LimitSurface::evaluate`].
+    pub fn evaluate(&self, param: SurfaceParam) -> Result<LimitSample, EvalError> {
+        Ok(self.evaluate_jet(param)?.sample)
+    }
+
+    /// An axis-aligned box holding the limit surface over `domain`: the
+    /// bounds of its regular patches' control points (each patch lies in
+    /// their convex hull, phantom points included: the bases are
+    /// non-negative) and, below the table, of the refined points around the
+    /// irregular vertex (the surface there is a convex combination of them).
+    /// Much tighter than the hull of [`LimitSurface::domain_support`];
+    /// `None` for a domain the mesh does not have.
+    pub fn domain_bounds(&self, domain: Domain) -> Option<(DVec3, DVec3)> {
+        let s = self.surface;
+        let d = s.domain_index(domain).ok()?;
+        let first = s.roots[d] as usize;
+        let end = s.roots.get(d + 1).map_or(s.nodes.len(), |&r| r as usize);
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        let mut add = |p: DVec3| {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        };
+        for node in &s.nodes[first..end] {
+            match node.0 {
+                Node::Patch(p) => {
+                    let n = s.patch_kinds[p as usize].len();
+                    self.points[p as usize * 16..][..n].iter().for_each(|&q| add(q));
+                }
+                Node::Deep(i) => {
+                    if let Some(e) = s.deep.get(i as usize) {
+                        let root = e.local.root;
+                        for row in e.local.rows.chunks(root) {
+                            add(e
+                                .ids
+                                .iter()
+                                .zip(row)
+                                .fold(DVec3::ZERO, |acc, (&v, &w)| acc + w * self.positions[v as usize]));
+                        }
+                    } else {
+                        for &v in s.domain_support(domain)? {
+                            add(self.positions[v as usize]);
+                        }
+                    }
+                }
+                Node::Split(_) => {}
+            }
+        }
+        Some((lo, hi))
+    }
+
+    /// [`Self::evaluate`] with the second derivatives (zero at an irregular
+    /// vertex itself).
+    ///
+    /// # Errors
+    /// As [`LimitSurface::evaluate`].
+    pub fn evaluate_jet(&self, param: SurfaceParam) -> Result<LimitJet, EvalError> {
+        self.surface.evaluate_jet_with(self.positions, param, Some(&self.points))
+    }
+}
