@@ -19,6 +19,7 @@
 
 mod batch;
 mod errors;
+mod eval;
 mod interpolation;
 mod mesh;
 mod options;
@@ -35,6 +36,10 @@ fn _subdiv(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(interpolation::subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(interpolation::interpolate, m)?)?;
     m.add_function(wrap_pyfunction!(interpolation::methods, m)?)?;
+    m.add_function(wrap_pyfunction!(eval::evaluate, m)?)?;
+    m.add_function(wrap_pyfunction!(eval::sample, m)?)?;
+    m.add_function(wrap_pyfunction!(eval::project, m)?)?;
+    m.add_function(wrap_pyfunction!(eval::fit, m)?)?;
     m.add_function(wrap_pyfunction!(batch::info, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::expand_inputs, m)?)?;

@@ -36,9 +36,12 @@ impl PyMesh {
     }
 }
 
-/// The vertex positions as `[[f64; 3]]`: borrowed from a C-contiguous
+/// Points as `[[f64; 3]]` (vertices, query points): borrowed from a C-contiguous
 /// float64 `(n, 3)` array, else copied.
-fn with_positions<R>(vertices: &Bound<'_, PyAny>, f: impl FnOnce(&[[f64; 3]]) -> Result<R, Error>) -> PyResult<R> {
+pub(crate) fn with_positions<R>(
+    vertices: &Bound<'_, PyAny>,
+    f: impl FnOnce(&[[f64; 3]]) -> Result<R, Error>,
+) -> PyResult<R> {
     let py = vertices.py();
     let array: PyArrayLike2<'_, f64, AllowTypeChange> = vertices.extract().map_err(|_| {
         input(format!("vertices must be an (n, 3) array of numbers, got {}", type_name(vertices))).into_pyerr(py)

@@ -37,6 +37,10 @@ __all__ = [
     "methods",
     "info",
     "batch",
+    "evaluate",
+    "sample",
+    "project",
+    "fit",
     "SubdivError",
     "InputError",
     "NotConvergedError",
@@ -120,6 +124,107 @@ def subdivide(mesh: Mesh, scheme: str = "catmull-clark", levels: int = 1, limit:
         InputError: an unknown scheme or option value, a mesh the scheme cannot take.
     """
     return _subdiv.subdivide(mesh, scheme, levels, limit, **options)
+
+
+_SURFACE_OPTIONS = """scheme: ``"catmull-clark"`` (default), ``"loop"`` (triangles) or ``"doo-sabin"``.
+        **options: the surface options of :func:`subdivide` (``boundary``, ``crease_method``,
+            ``fvar``; loop: ``beta``); the mesh's crease/corner tags are honoured."""
+
+
+def evaluate(mesh: Mesh, params: Any, scheme: str = "catmull-clark", **options: Any) -> "dict[str, Any]":
+    """The exact limit surface of ``mesh`` (as a control mesh) at given parameters.
+
+    The command line's ``evaluate``. Parameters are per domain: a Catmull-Clark quad face is one
+    domain, (u, v) in [0, 1]² with corner 0 at (0, 0), corner 1 at (1, 0), corner 3 at (0, 1);
+    an n-gon (n ≠ 4) has n sub-quad domains (OpenSubdiv's ptex faces), ``corner`` K with (0, 0)
+    at corner K; a Loop triangle is one domain, barycentric (u, v) with corner 1 at (1, 0) and
+    corner 2 at (0, 1). Doo-Sabin: see the crate documentation of ``subdiv-eval``.
+
+    Args:
+        mesh: the control mesh.
+        params: an ``(n, 3)`` array of rows ``[face, u, v]`` or ``(n, 4)`` of
+            ``[face, corner, u, v]``.
+        {surface}
+
+    Returns:
+        ``{{"position", "normal", "du", "dv"}}``: ``(n, 3)`` float64 arrays (unit normals oriented
+        like the faces; derivatives with respect to the domain's u and v).
+
+    Raises:
+        InputError: a bad parameter (no such face or corner, outside the domain, not finite), a
+            mesh the scheme cannot take, a bad option.
+    """
+    return _subdiv.evaluate(mesh, params, scheme, **options)
+
+
+def sample(
+    mesh: Mesh,
+    scheme: str = "catmull-clark",
+    per_face: Optional[int] = None,
+    count: Optional[int] = None,
+    seed: int = 0,
+    **options: Any,
+) -> "dict[str, Any]":
+    """Points with normals on the limit surface of ``mesh`` (the command line's ``sample``).
+
+    Args:
+        mesh: the control mesh.
+        per_face: an N×N grid of cell centres per domain; or
+        count: about ``count`` points spread by area (deterministic for a ``seed``).
+        {surface}
+
+    Returns:
+        ``{{"face", "corner", "u", "v"}}`` (1-D arrays: where each point is) and
+        ``{{"position", "normal"}}`` (``(n, 3)`` arrays).
+    """
+    return _subdiv.sample(mesh, scheme, per_face, count, seed, **options)
+
+
+def project(mesh: Mesh, points: Any, scheme: str = "catmull-clark", **options: Any) -> "dict[str, Any]":
+    """The closest point of the limit surface of ``mesh`` to each query point (``project``).
+
+    Args:
+        mesh: the control mesh.
+        points: an ``(n, 3)`` array of query points.
+        {surface}
+
+    Returns:
+        ``{{"face", "corner", "u", "v", "distance"}}`` (1-D arrays) and ``{{"position",
+        "normal"}}`` (``(n, 3)`` arrays), one row per query, in order.
+    """
+    return _subdiv.project(mesh, points, scheme, **options)
+
+
+def fit(
+    target: Any,
+    control: Mesh,
+    scheme: str = "catmull-clark",
+    iterations: int = 30,
+    smoothness: float = 0.0,
+    **options: Any,
+) -> "tuple[Mesh, list[dict[str, float]]]":
+    """Move the control points of ``control`` so that its limit surface fits ``target``.
+
+    The command line's ``fit``: least-squares fitting with foot points re-projected every round
+    (tangent-distance steps); ``control``'s topology and tags are kept.
+
+    Args:
+        target: a :class:`Mesh` (distances to its triangles) or an ``(n, 3)`` point cloud.
+        control: the starting control mesh.
+        iterations: rounds at most.
+        smoothness: weight of an umbrella-Laplacian term on the control points (0: none).
+        {surface}
+
+    Returns:
+        ``(fitted_mesh, history)``: ``history`` has one dict per round with the RMS and maximum
+        distances target→surface and surface→target (``rms_target_to_surface``, …) and the
+        target's bounding-box diagonal ``scale``.
+    """
+    return _subdiv.fit(target, control, scheme, iterations, smoothness, **options)
+
+
+for _f in (evaluate, sample, project, fit):
+    _f.__doc__ = (_f.__doc__ or "").format(surface=_SURFACE_OPTIONS)
 
 
 def interpolate(

@@ -99,6 +99,24 @@ def write(mesh: Mesh, path: PathLike, normals: bool = False) -> None:
 def methods() -> Dict[str, str]:
     """The interpolation methods: {name: one-line summary}."""
 
+def evaluate(mesh: Mesh, params: Any, scheme: str = ..., **options: Any) -> Dict[str, Any]: ...
+def sample(
+    mesh: Mesh,
+    scheme: str = ...,
+    per_face: Optional[int] = ...,
+    count: Optional[int] = ...,
+    seed: int = ...,
+    **options: Any,
+) -> Dict[str, Any]: ...
+def project(mesh: Mesh, points: Any, scheme: str = ..., **options: Any) -> Dict[str, Any]: ...
+def fit(
+    target: Any,
+    control: Mesh,
+    scheme: str = ...,
+    iterations: int = ...,
+    smoothness: float = ...,
+    **options: Any,
+) -> Tuple[Mesh, List[Dict[str, float]]]: ...
 def subdivide(
     mesh: Mesh,
     scheme: str = "catmull-clark",

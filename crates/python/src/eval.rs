@@ -1,0 +1,216 @@
+//! The limit surface between the data points: `evaluate`, `sample`, `project`, `fit`
+//! (the library's `subdiv::eval`), NumPy in and out, the GIL released while they run.
+
+use crate::errors::{detached, input, Error, RaiseExt};
+use crate::mesh::{array2, with_positions, PyMesh};
+use crate::options::{self, Kwargs};
+use numpy::{AllowTypeChange, PyArray1, PyArrayLike2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use subdiv::eval::{
+    fit as fit_surface, project_points, sample_by_area, sample_per_domain, EvalError, FitOptions, FitTarget,
+    LimitSurface, ProjectOptions, Projection, SurfaceParam, SurfaceSample,
+};
+use subdiv::mesh::DVec3;
+use subdiv::Options;
+
+impl From<EvalError> for Error {
+    fn from(e: EvalError) -> Self {
+        // Bad parameters, unsupported meshes and options: the command line's exit 2.
+        Error::Input(e.to_string())
+    }
+}
+
+/// The surface options of `scheme` and the keyword arguments (as `subdivide` takes them).
+fn surface_options(
+    py: Python<'_>,
+    function: &'static str,
+    scheme: &str,
+    kwargs: Option<Bound<'_, PyDict>>,
+) -> PyResult<Options> {
+    let mut kw = Kwargs::new(function, kwargs.map(|d| d.copy()).transpose()?);
+    let plan = options::subdivide(scheme, false, &mut kw)?;
+    kw.finish()?;
+    let plan = plan.raise(py)?;
+    if plan.triangulate {
+        return Err(
+            input(format!("{function}: triangulate does not apply (triangulate the mesh first)")).into_pyerr(py)
+        );
+    }
+    Ok(plan.options)
+}
+
+/// `(n, 3)` rows `[face, u, v]` or `(n, 4)` rows `[face, corner, u, v]` as parameters.
+fn parameters(params: &Bound<'_, PyAny>) -> Result<Vec<SurfaceParam>, Error> {
+    let array: PyArrayLike2<'_, f64, AllowTypeChange> = params
+        .extract()
+        .map_err(|_| input("params must be an (n, 3) array of [face, u, v] or (n, 4) of [face, corner, u, v]"))?;
+    let view = array.as_array();
+    let cols = view.ncols();
+    if cols != 3 && cols != 4 {
+        return Err(input(format!("params must have 3 or 4 columns, got {cols}")));
+    }
+    let id = |x: f64, what: &str, row: usize| -> Result<u32, Error> {
+        (x >= 0.0 && x.fract() == 0.0 && x <= f64::from(u32::MAX))
+            .then_some(x as u32)
+            .ok_or_else(|| input(format!("params row {row}: {what} {x} is not a non-negative integer")))
+    };
+    view.rows()
+        .into_iter()
+        .enumerate()
+        .map(|(row, r)| {
+            let face = id(r[0], "face", row)?;
+            let corner = if cols == 4 { id(r[1], "corner", row)? } else { 0 };
+            Ok(SurfaceParam::new(face, corner, r[cols - 2], r[cols - 1]))
+        })
+        .collect()
+}
+
+fn points(values: &[DVec3]) -> Vec<f64> {
+    values.iter().flat_map(|p| p.to_array()).collect()
+}
+
+/// `evaluate` (docstring in the Python wrapper).
+#[pyfunction]
+#[pyo3(signature = (mesh, params, scheme = "catmull-clark", **options))]
+pub fn evaluate<'py>(
+    py: Python<'py>,
+    mesh: &PyMesh,
+    params: &Bound<'py, PyAny>,
+    scheme: &str,
+    options: Option<Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let surface_options = surface_options(py, "evaluate", scheme, options)?;
+    let params = parameters(params).raise(py)?;
+    let input_mesh = mesh.inner.clone();
+    let samples = detached(py, move || {
+        let surface = LimitSurface::new(&input_mesh, &surface_options)?;
+        let bound = surface.bind(input_mesh.positions())?;
+        params.iter().map(|&p| bound.evaluate(p).map_err(Error::from)).collect::<Result<Vec<_>, Error>>()
+    })?;
+    let n = samples.len();
+    let out = PyDict::new(py);
+    let column = |f: &dyn Fn(&subdiv::eval::LimitSample) -> DVec3| points(&samples.iter().map(f).collect::<Vec<_>>());
+    out.set_item("position", array2(py, column(&|s| s.position), n, 3))?;
+    out.set_item("normal", array2(py, column(&|s| s.normal), n, 3))?;
+    out.set_item("du", array2(py, column(&|s| s.du), n, 3))?;
+    out.set_item("dv", array2(py, column(&|s| s.dv), n, 3))?;
+    Ok(out)
+}
+
+/// Parameters, positions and normals of samples or projections, as a dict of arrays.
+fn located<'py>(
+    py: Python<'py>,
+    params: impl Iterator<Item = SurfaceParam> + Clone,
+    position: Vec<DVec3>,
+    normal: Vec<DVec3>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = position.len();
+    let out = PyDict::new(py);
+    out.set_item("face", PyArray1::from_vec(py, params.clone().map(|p| i64::from(p.face)).collect()))?;
+    out.set_item("corner", PyArray1::from_vec(py, params.clone().map(|p| i64::from(p.corner)).collect()))?;
+    out.set_item("u", PyArray1::from_vec(py, params.clone().map(|p| p.u).collect()))?;
+    out.set_item("v", PyArray1::from_vec(py, params.map(|p| p.v).collect()))?;
+    out.set_item("position", array2(py, points(&position), n, 3))?;
+    out.set_item("normal", array2(py, points(&normal), n, 3))?;
+    Ok(out)
+}
+
+/// `sample` (docstring in the Python wrapper).
+#[pyfunction]
+#[pyo3(signature = (mesh, scheme = "catmull-clark", per_face = None, count = None, seed = 0, **options))]
+pub fn sample<'py>(
+    py: Python<'py>,
+    mesh: &PyMesh,
+    scheme: &str,
+    per_face: Option<usize>,
+    count: Option<usize>,
+    seed: u64,
+    options: Option<Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let surface_options = surface_options(py, "sample", scheme, options)?;
+    let how = match (per_face, count) {
+        (Some(n), None) => Ok(Err(n)),
+        (None, Some(n)) => Ok(Ok(n)),
+        _ => Err(input("sample: give exactly one of per_face (an N×N grid per domain) and count (by area)")),
+    };
+    let how = how.raise(py)?;
+    let input_mesh = mesh.inner.clone();
+    let samples: Vec<SurfaceSample> = detached(py, move || {
+        let surface = LimitSurface::new(&input_mesh, &surface_options)?;
+        let projector =
+            subdiv::eval::project::projector(&surface, &input_mesh, &surface_options, &ProjectOptions::default())?;
+        Ok(match how {
+            Err(n) => sample_per_domain(projector.evaluator(), n)?,
+            Ok(n) => sample_by_area(projector.evaluator(), n, seed)?,
+        })
+    })?;
+    located(
+        py,
+        samples.iter().map(|s| s.param),
+        samples.iter().map(|s| s.position).collect(),
+        samples.iter().map(|s| s.normal).collect(),
+    )
+}
+
+/// `project` (docstring in the Python wrapper).
+#[pyfunction]
+#[pyo3(signature = (mesh, points, scheme = "catmull-clark", **options))]
+pub fn project<'py>(
+    py: Python<'py>,
+    mesh: &PyMesh,
+    points: &Bound<'py, PyAny>,
+    scheme: &str,
+    options: Option<Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let surface_options = surface_options(py, "project", scheme, options)?;
+    let queries: Vec<DVec3> = with_positions(points, |p| Ok(p.iter().map(|&q| DVec3::from_array(q)).collect()))?;
+    let input_mesh = mesh.inner.clone();
+    let found: Vec<Projection> =
+        detached(py, move || Ok(project_points(&input_mesh, &surface_options, &queries, &ProjectOptions::default())?))?;
+    let out = located(
+        py,
+        found.iter().map(|p| p.param),
+        found.iter().map(|p| p.position).collect(),
+        found.iter().map(|p| p.normal).collect(),
+    )?;
+    out.set_item("distance", PyArray1::from_vec(py, found.iter().map(|p| p.distance).collect()))?;
+    Ok(out)
+}
+
+/// `fit` (docstring in the Python wrapper): the fitted mesh and one dict per iteration.
+#[pyfunction]
+#[pyo3(signature = (target, control, scheme = "catmull-clark", iterations = 30, smoothness = 0.0, **options))]
+pub fn fit<'py>(
+    py: Python<'py>,
+    target: &Bound<'py, PyAny>,
+    control: &PyMesh,
+    scheme: &str,
+    iterations: usize,
+    smoothness: f64,
+    options: Option<Bound<'py, PyDict>>,
+) -> PyResult<(PyMesh, Vec<Bound<'py, PyDict>>)> {
+    let surface_options = surface_options(py, "fit", scheme, options)?;
+    let target = match target.extract::<PyRef<'_, PyMesh>>() {
+        Ok(mesh) => FitTarget::from_mesh(&mesh.inner),
+        Err(_) => FitTarget::cloud(with_positions(target, |p| Ok(p.iter().map(|&q| DVec3::from_array(q)).collect()))?),
+    };
+    let fit_options = FitOptions { surface: surface_options, iterations, smoothness, ..FitOptions::default() };
+    let control_mesh = control.inner.clone();
+    let result = detached(py, move || Ok(fit_surface(&target, &control_mesh, &fit_options)?))?;
+    let history = result
+        .iterations
+        .iter()
+        .map(|it| {
+            let d = PyDict::new(py);
+            d.set_item("iteration", it.iteration)?;
+            d.set_item("rms_target_to_surface", it.rms_target_to_surface)?;
+            d.set_item("max_target_to_surface", it.max_target_to_surface)?;
+            d.set_item("rms_surface_to_target", it.rms_surface_to_target)?;
+            d.set_item("max_surface_to_target", it.max_surface_to_target)?;
+            d.set_item("scale", it.scale)?;
+            Ok(d)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok((PyMesh::new(result.mesh), history))
+}
