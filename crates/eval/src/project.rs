@@ -49,7 +49,7 @@
 //! Queries run in parallel with rayon; the output keeps the input order and
 //! does not depend on the thread count (each query is independent).
 //! Throughput (benches/project.rs, 11,712-face Catmull-Clark mesh, 2
-//! threads): ~1.2·10⁵ queries/s, 9 in 10 queries within 1 % of d of the
+//! threads, a loaded machine): 1.2-1.5·10⁵ queries/s, 9 in 10 queries within 1 % of d of the
 //! surface.
 
 use crate::bvh::{union, Bvh};
