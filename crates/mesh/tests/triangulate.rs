@@ -281,6 +281,13 @@ proptest! {
     fn polygon_mixes_triangulate_into_valid_meshes(base in base_mesh(), seed in any::<u64>(), merge in 0.0..0.45f64, split in 0.0..0.5f64, jitter in prop_oneof![Just(0.0), 0.0..0.3f64]) {
         let m = shapes::polygon_mix(&base, seed, merge, split, jitter);
         let tri = triangulate(&m);
+        // Jittered corners can make a face (on a coarse base such as the
+        // 3 × 3 torus) have no split into triangles of its orientation whose
+        // diagonals are free: then the typed refusal is the right answer, as
+        // for the random polygons above. Unjittered mixes must always split.
+        if jitter > 0.0 && matches!(tri, Err(MeshError::NoTriangulation { .. })) {
+            return Ok(());
+        }
         prop_assert!(tri.is_ok(), "{:?}", tri.err());
         let checked = check(&m, &tri.unwrap()).map_err(TestCaseError::fail)?;
         if jitter == 0.0 {
