@@ -128,40 +128,31 @@ const BOX_COEFFICIENTS: [[f64; 15]; 12] = [
 pub(crate) const BOX_POINTS: [(i32, i32); 12] =
     [(0, -1), (1, -1), (2, -1), (-1, 0), (0, 0), (1, 0), (2, 0), (-1, 1), (0, 1), (1, 1), (-1, 2), (0, 2)];
 
+/// One direction's values and first and second derivatives.
+type Univariate<const N: usize> = ([f64; N], [f64; N], [f64; N]);
+
+/// The N × N tensor-product basis (weight k = N·j + i) of one direction's
+/// values and derivatives in s and the other's in t.
+fn tensor_product<const N: usize>(b: &mut Basis, (bu, du, duu): Univariate<N>, (bv, dv, dvv): Univariate<N>) {
+    for j in 0..N {
+        for i in 0..N {
+            let k = N * j + i;
+            b.w[k] = bu[i] * bv[j];
+            b.ds[k] = du[i] * bv[j];
+            b.dt[k] = bu[i] * dv[j];
+            b.dss[k] = duu[i] * bv[j];
+            b.dst[k] = du[i] * dv[j];
+            b.dtt[k] = bu[i] * dvv[j];
+        }
+    }
+}
+
 /// The basis of `kind` at (s, t).
 pub(crate) fn basis(kind: PatchKind, s: f64, t: f64) -> Basis {
     let mut b = Basis { w: [0.0; 16], ds: [0.0; 16], dt: [0.0; 16], dss: [0.0; 16], dst: [0.0; 16], dtt: [0.0; 16] };
     match kind {
-        PatchKind::Bicubic => {
-            let (bu, du, duu) = cubic(s);
-            let (bv, dv, dvv) = cubic(t);
-            for j in 0..4 {
-                for i in 0..4 {
-                    let k = 4 * j + i;
-                    b.w[k] = bu[i] * bv[j];
-                    b.ds[k] = du[i] * bv[j];
-                    b.dt[k] = bu[i] * dv[j];
-                    b.dss[k] = duu[i] * bv[j];
-                    b.dst[k] = du[i] * dv[j];
-                    b.dtt[k] = bu[i] * dvv[j];
-                }
-            }
-        }
-        PatchKind::Biquadratic => {
-            let (bu, du, duu) = quadratic(s);
-            let (bv, dv, dvv) = quadratic(t);
-            for j in 0..3 {
-                for i in 0..3 {
-                    let k = 3 * j + i;
-                    b.w[k] = bu[i] * bv[j];
-                    b.ds[k] = du[i] * bv[j];
-                    b.dt[k] = bu[i] * dv[j];
-                    b.dss[k] = duu[i] * bv[j];
-                    b.dst[k] = du[i] * dv[j];
-                    b.dtt[k] = bu[i] * dvv[j];
-                }
-            }
-        }
+        PatchKind::Bicubic => tensor_product(&mut b, cubic(s), cubic(t)),
+        PatchKind::Biquadratic => tensor_product(&mut b, quadratic(s), quadratic(t)),
         PatchKind::BoxSpline => {
             let mut m = [[0.0; 15]; 6]; // value, ∂s, ∂t, ∂ss, ∂st, ∂tt of each monomial
                                         // Powers x^(k-2) for k = 0..=6 (index k): 0 below the zeroth power.
