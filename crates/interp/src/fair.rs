@@ -545,39 +545,21 @@ fn fair(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Result<Inte
         x = xp;
         summary = merge(summary, penalty);
     }
-    if !summary.converged {
-        warnings.push(format!(
-            "the fairness minimisation stopped after {} iterations at relative residual {:.1e} (max_iter): the \
-             surface is not the fairest of its kind{}",
-            summary.iterations,
-            summary.residual,
-            if opts.fairness_weight.is_none() { ", but it interpolates" } else { "" }
-        ));
-    }
     let energy = scale * b.apply(&x).iter().map(|p| p.length_squared()).sum::<f64>();
     let d = mesh.bbox_diagonal();
     let solve_seconds = seconds_since(solve_start);
-    let parameters = crate::Parameters {
-        solver: Some(summary.solver.clone()),
-        tol: Some(opts.common.tol),
-        energy: Some(energy / (d * d)),
-        ..Default::default()
-    };
     let control = refined.with_positions(x);
-    Ok(Interpolant {
-        method: Method::Fair,
+    Ok(Solved {
         control,
-        scheme: opts.scheme.control_scheme(),
-        surface_options: opts.common.surface,
         interpolated,
         association,
-        solve: Some(summary),
+        summary,
+        warnings,
+        energy: energy / (d * d),
         setup_seconds,
         solve_seconds,
-        warnings,
-        parameters,
-        measured_error: None,
-    })
+    }
+    .into_interpolant(opts))
 }
 
 /// The limit-points algorithm (module docs): the fairest limit points Y of
@@ -636,38 +618,14 @@ fn by_limit_points_path(
     summary.solver = format!("fair-cg+{}", exact.parameters.solver.as_deref().unwrap_or("none"));
     let mut warnings = warnings;
     warnings.extend(exact.warnings);
-    if !summary.converged {
-        warnings.push(format!(
-            "the fairness minimisation stopped after {} iterations at relative residual {:.1e} (max_iter): the \
-             surface is not the fairest of its kind, but it interpolates",
-            summary.iterations, summary.residual
-        ));
-    }
     let control = fine.with_positions(x);
     let limits = subdiv_stencil::limit_points_with_options(tk, control.tags(), options, control.positions())?
         .expect("the fair schemes have limit masks");
     let d = mesh.bbox_diagonal();
     let energy = 4f64.powi(k as i32) * energy::umbrella_sum(tk, &sharp_k, &limits) / (d * d);
-    let parameters = crate::Parameters {
-        solver: Some(summary.solver.clone()),
-        tol: Some(opts.common.tol),
-        energy: Some(energy),
-        ..Default::default()
-    };
-    Ok(Interpolant {
-        method: Method::Fair,
-        control,
-        scheme: opts.scheme.control_scheme(),
-        surface_options: opts.common.surface,
-        interpolated,
-        association,
-        solve: Some(summary),
-        setup_seconds,
-        solve_seconds: seconds_since(solve_start),
-        warnings,
-        parameters,
-        measured_error: None,
-    })
+    let solve_seconds = seconds_since(solve_start);
+    Ok(Solved { control, interpolated, association, summary, warnings, energy, setup_seconds, solve_seconds }
+        .into_interpolant(opts))
 }
 
 /// A product of sparse matrices M_r ⋯ M_1, applied factor by factor (never
@@ -774,6 +732,56 @@ impl Chain {
 struct Scratch {
     forward: Vec<Vec<DVec3>>,
     backward: Vec<Vec<DVec3>>,
+}
+
+/// What either algorithm ends with, before it becomes the [`Interpolant`].
+struct Solved {
+    control: Mesh,
+    interpolated: Vec<bool>,
+    association: LimitAssociation,
+    summary: SolveSummary,
+    warnings: Vec<String>,
+    /// The thin-plate energy over d².
+    energy: f64,
+    setup_seconds: f64,
+    solve_seconds: f64,
+}
+
+impl Solved {
+    /// The interpolant, with a warning when the fairness minimisation stopped early.
+    fn into_interpolant(self, opts: &FairOptions) -> Interpolant {
+        let Solved { control, interpolated, association, summary, mut warnings, energy, setup_seconds, solve_seconds } =
+            self;
+        if !summary.converged {
+            warnings.push(format!(
+                "the fairness minimisation stopped after {} iterations at relative residual {:.1e} (max_iter): the \
+                 surface is not the fairest of its kind{}",
+                summary.iterations,
+                summary.residual,
+                if opts.fairness_weight.is_none() { ", but it interpolates" } else { "" }
+            ));
+        }
+        let parameters = crate::Parameters {
+            solver: Some(summary.solver.clone()),
+            tol: Some(opts.common.tol),
+            energy: Some(energy),
+            ..Default::default()
+        };
+        Interpolant {
+            method: Method::Fair,
+            control,
+            scheme: opts.scheme.control_scheme(),
+            surface_options: opts.common.surface,
+            interpolated,
+            association,
+            solve: Some(summary),
+            setup_seconds,
+            solve_seconds,
+            warnings,
+            parameters,
+            measured_error: None,
+        }
+    }
 }
 
 /// M·x into `out` (rows in parallel chunks).
