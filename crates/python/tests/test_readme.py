@@ -19,8 +19,20 @@ def test_readme_quickstart(tmp_path, monkeypatch):
     assert blocks, "the Python section has a python code block"
     monkeypatch.chdir(REPO)
     code = blocks[0].replace('"spot-surface.ply"', repr(str(tmp_path / "spot-surface.ply")))
-    exec(compile(code, "README.md", "exec"), {})
+    scope = {}
+    exec(compile(code, "README.md", "exec"), scope)
     assert (tmp_path / "spot-surface.ply").exists()
+    # The limit-surface block goes on from the quickstart's `mesh`.
+    surface = [b for b in blocks if "subdiv.fit(" in b]
+    assert surface, "the Python section shows evaluate/sample/project/fit"
+    exec(compile(surface[0], "README.md", "exec"), scope)
+    assert scope["at"]["position"].shape == (2, 3)
+    assert (scope["near"]["distance"] > 0).all()
+    # The fit it shows reaches the bar from the designer's mesh (RMS ≤ 1e-3·d).
+    vertices = scope["target"].vertices
+    d = float(((vertices.max(0) - vertices.min(0)) ** 2).sum() ** 0.5)
+    assert abs(scope["last"]["scale"] - d) <= 1e-12 * d
+    assert scope["last"]["rms_target_to_surface"] <= 1e-3 * d
 
 
 def test_readme_collections(tmp_path, monkeypatch):
@@ -30,9 +42,10 @@ def test_readme_collections(tmp_path, monkeypatch):
         pytest.skip("no README (not a checkout)")
     section = readme.read_text().split("\n## Python\n", 1)[1].split("\n## ", 1)[0]
     blocks = re.findall(r"```python\n(.*?)```", section, re.S)
-    assert len(blocks) >= 2, "the Python section shows collections"
+    local = [b for b in blocks if "subdiv.batch(" in b]
+    assert local, "the Python section shows collections"
     monkeypatch.chdir(REPO)
-    code = blocks[1].replace('"scans/*.obj"', '"fixtures/quad/*.obj"').replace('"out"', repr(str(tmp_path)))
+    code = local[0].replace('"scans/*.obj"', '"fixtures/quad/*.obj"').replace('"out"', repr(str(tmp_path)))
     scope = {}
     exec(compile(code, "README.md", "exec"), scope)
     assert scope["records"] and not scope["failed"]
