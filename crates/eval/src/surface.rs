@@ -207,6 +207,9 @@ const TABLE_DEPTH: usize = 8;
 /// parameter is taken as the vertex (the surface moves by ~λ⁶⁰·size there,
 /// far below the rounding of any coordinate).
 const MAX_DEPTH: usize = 60;
+/// A first derivative this small against the other is zero to rounding (a
+/// Doo-Sabin boundary curve): the normal comes from the second derivative.
+const DEGENERATE_DERIVATIVE: f64 = 1e-10;
 /// How far u + v may exceed 1 on a Loop triangle by rounding (then scaled back).
 const BARYCENTRIC_SLACK: f64 = 1e-12;
 
@@ -267,10 +270,16 @@ impl Kind {
     /// Child `k` of the cell `face` after one step of the scheme: the
     /// refined face, and the cell within that face's ring (the face itself,
     /// 0, for Catmull-Clark and Loop; its corner for a Doo-Sabin cell).
-    fn child_cell(self, local: &Local, refined: &crate::local::Refined, face: FaceId, k: usize) -> (FaceId, u32) {
+    fn child_cell(
+        self,
+        local: &Local,
+        refined: &crate::local::Refined,
+        face: FaceId,
+        k: usize,
+    ) -> Result<(FaceId, u32), EvalError> {
         match self {
-            Kind::CatmullClark => (FaceId(local.t.faces().offsets()[face.index()] + k as u32), 0),
-            Kind::Loop => (FaceId(4 * face.0 + k as u32), 0),
+            Kind::CatmullClark => Ok((FaceId(local.t.faces().offsets()[face.index()] + k as u32), 0)),
+            Kind::Loop => Ok((FaceId(4 * face.0 + k as u32), 0)),
             Kind::DooSabin => doo_sabin::child_cell(local, refined, face, k),
         }
     }
@@ -279,7 +288,7 @@ impl Kind {
     /// Doo-Sabin face corner), if it is one.
     fn regular(self, t: &Topology, sharp: &LevelSharpness, cell: FaceId) -> Option<Vec<crate::patch::Combo>> {
         match self {
-            Kind::DooSabin => doo_sabin::regular(t, cell),
+            Kind::DooSabin => doo_sabin::regular(t, sharp, cell),
             _ => regular_points(self.spec(), t, sharp, cell),
         }
     }
@@ -416,7 +425,11 @@ impl LimitSurface {
             face_domains.push(domains.len() as u32);
             let n = match kind {
                 Kind::CatmullClark if t.face_size(f) != 4 => t.face_size(f),
-                Kind::DooSabin => t.face_size(f),
+                Kind::DooSabin => {
+                    let corners = doo_sabin::face_domains(t, &sharp, f);
+                    domains.extend(corners.into_iter().map(|corner| Domain { face: f.0, corner }));
+                    continue;
+                }
                 _ => 1,
             };
             domains.extend((0..n as u32).map(|corner| Domain { face: f.0, corner }));
@@ -622,11 +635,16 @@ impl LimitSurface {
         if f + 1 >= self.face_domains.len() {
             return Err(err);
         }
-        let (s, e) = (self.face_domains[f], self.face_domains[f + 1]);
-        if d.corner >= e - s {
-            return Err(err);
+        let (s, e) = (self.face_domains[f] as usize, self.face_domains[f + 1] as usize);
+        let k = d.corner as usize;
+        if s + k < e && self.domains[s + k].corner == d.corner {
+            return Ok(s + k);
         }
-        Ok((s + d.corner) as usize)
+        // Doo-Sabin's phantom quarters are numbered after the corners, sparsely.
+        match self.domains[s..e].iter().position(|x| x.corner == d.corner) {
+            Some(k) => Ok(s + k),
+            None => Err(err),
+        }
     }
 
     /// The domain index and the (checked, clamped) parameters.
@@ -715,8 +733,9 @@ impl LimitSurface {
                 }
             }
         }
+        let normal = degenerate_normal(&out, u, v).unwrap_or_else(|| unit_normal(out[1], out[2]));
         Ok(LimitJet {
-            sample: LimitSample { position: out[0], du: out[1], dv: out[2], normal: unit_normal(out[1], out[2]) },
+            sample: LimitSample { position: out[0], du: out[1], dv: out[2], normal },
             duu: out[3],
             duv: out[4],
             dvv: out[5],
@@ -804,7 +823,7 @@ impl LimitSurface {
         let refined = local.refine(&self.options)?;
         let mut children = [0u32; 4];
         for (k, c) in children.iter_mut().enumerate() {
-            let (child, cell) = self.kind.child_cell(local, &refined, face, k);
+            let (child, cell) = self.kind.child_cell(local, &refined, face, k)?;
             let (next, _) = refined.ring(&self.options, child)?;
             *c = self.build_node(ids, &next, FaceId(cell), depth + 1, tree)?;
         }
@@ -909,7 +928,7 @@ impl LimitSurface {
             }
             let refined = local.refine(&self.options)?;
             let (k, ak, bk) = self.kind.child(u, v);
-            let (child, cell) = self.kind.child_cell(&local, &refined, face, k);
+            let (child, cell) = self.kind.child_cell(&local, &refined, face, k)?;
             (u, v) = apply_affine(&(ak, bk), u, v);
             a = compose(&ak, &a);
             (local, _) = refined.ring(&self.options, child)?;
@@ -1005,6 +1024,24 @@ fn jet_of(b: &Basis, points: &[DVec3], j: &[[f64; 2]; 2]) -> [DVec3; 6] {
         st[3] * (j[0][x] * j[0][y]) + st[4] * (j[0][x] * j[1][y] + j[1][x] * j[0][y]) + st[5] * (j[1][x] * j[1][y])
     };
     [st[0], du, dv, h(0, 0), h(0, 1), h(1, 1)]
+}
+
+/// The normal where one first derivative vanishes: on a Doo-Sabin
+/// boundary curve the derivative across it is zero (the boundary rule
+/// repeats the boundary row, `doo_sabin` module docs), while the surface is
+/// smooth up to it. There S_u(u) ≈ (u − u₀)·S_uu toward the inside, so the
+/// normal is the limit of (u − u₀)·S_uu × S_v, and likewise in v. `None`
+/// where neither derivative vanishes (to rounding, [`DEGENERATE_DERIVATIVE`]).
+fn degenerate_normal(jet: &[DVec3; 6], u: f64, v: f64) -> Option<DVec3> {
+    let [_, du, dv, duu, _, dvv] = *jet;
+    let inward = |x: f64| if x > 0.5 { -1.0 } else { 1.0 };
+    if du.length() <= DEGENERATE_DERIVATIVE * dv.length() {
+        Some(unit_normal(inward(u) * duu, dv))
+    } else if dv.length() <= DEGENERATE_DERIVATIVE * du.length() {
+        Some(unit_normal(du, inward(v) * dvv))
+    } else {
+        None
+    }
 }
 
 fn unit_normal(du: DVec3, dv: DVec3) -> DVec3 {

@@ -242,3 +242,12 @@ fn doo_sabin_with_support_bounds() {
     let mix = shapes::polygon_mix(&shapes::torus(6, 5), 7, 0.2, 0.1, 0.05);
     check_limit_surface("doo-sabin mix", &mix, Options::new(Scheme::DooSabin), 600);
 }
+
+#[test]
+fn doo_sabin_open_meshes() {
+    // The strips between the face corners and the boundary curve are domains too.
+    let options = Options::new(Scheme::DooSabin);
+    check_limit_surface("doo-sabin grid", &bumped(shapes::quad_grid(5, 4), 1.0, 2), options, 600);
+    let open_mix = shapes::polygon_mix(&bumped(shapes::quad_grid(5, 4), 0.8, 3), 5, 0.2, 0.2, 0.1);
+    check_limit_surface("doo-sabin open mix", &open_mix, options, 600);
+}
