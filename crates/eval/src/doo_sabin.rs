@@ -49,7 +49,7 @@ use crate::local::{Local, Refined};
 use crate::patch::{sector, Combo, Lattice, PatchKind, RegularSpec};
 use crate::surface::EvalError;
 use subdiv_mesh::refine::DualFeatures;
-use subdiv_mesh::{FaceId, HalfEdgeId, Mesh, Topology, VertexId, SHARPNESS_INFINITE};
+use subdiv_mesh::{FaceId, FaceList, HalfEdgeId, Mesh, Topology, VertexId, SHARPNESS_INFINITE};
 use subdiv_stencil::{LevelSharpness, Options};
 
 /// The regular Doo-Sabin patch (its kind and lattice; the points are
@@ -141,6 +141,49 @@ pub(crate) fn check(mesh: &Mesh, _options: &Options) -> Result<(), EvalError> {
         }
     }
     Ok(())
+}
+
+/// The mesh cut along its creases: every vertex gets one copy per sector
+/// (its faces between two consecutive crease edges), so the creases become
+/// boundaries. With no corner and no dart ([`check`]) the tagged Doo-Sabin
+/// step is exactly the boundary rule on the cut mesh (`subdiv-stencil`'s
+/// Doo-Sabin module, "Creases and corners": the sharp points depend only on
+/// the edge's ends, corner images are untouched, a V-face per sector), so
+/// the two limit surfaces are one. Faces keep their ids and corner order.
+/// Returns the cut connectivity and the original vertex of every copy;
+/// `None` without creases.
+pub(crate) fn cut_along_creases(mesh: &Mesh) -> Result<Option<(Topology, Vec<u32>)>, EvalError> {
+    let t = mesh.topology();
+    let features = DualFeatures::new(t, mesh.tags());
+    if !t.edges().any(|e| features.is_crease(e)) {
+        return Ok(None);
+    }
+    let crease = |h: HalfEdgeId| features.is_crease(t.he_edge(h));
+    let mut copy = vec![u32::MAX; t.half_edge_count()];
+    let mut original = Vec::with_capacity(t.vertex_count());
+    for v in t.vertices() {
+        let fan = t.vertex_fan(v);
+        let k = fan.len();
+        // Counter-clockwise, face i + 1 follows face i across the edge of fan[i + 1].
+        let start = (0..k).find(|&i| crease(fan[i])).unwrap_or(0);
+        for j in 0..k {
+            let h = fan[(start + j) % k];
+            if j == 0 || crease(h) {
+                original.push(v.0);
+            }
+            copy[h.index()] = original.len() as u32 - 1;
+        }
+    }
+    let mut faces = FaceList::with_capacity(t.face_count(), t.half_edge_count());
+    let mut buf = Vec::new();
+    for f in t.face_ids() {
+        buf.clear();
+        buf.extend(t.face_half_edges(f).map(|h| copy[h.index()]));
+        faces.push(&buf);
+    }
+    let cut =
+        Topology::new(faces, original.len()).map_err(|e| EvalError::Internal(format!("cut along creases: {e}")))?;
+    Ok(Some((cut, original)))
 }
 
 /// The domains of face `f` (module docs): its corners `0..n`, then per

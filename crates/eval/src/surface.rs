@@ -364,8 +364,12 @@ pub struct LimitSurface {
     vertex_count: usize,
     options: Options,
     kind: Kind,
+    /// The connectivity the domains are refined on: the mesh's, or for
+    /// Doo-Sabin with creases the mesh cut along them (`vertex_map` then
+    /// gives the control vertex of every copy).
     topology: Topology,
     tags: Tags,
+    vertex_map: Option<std::sync::Arc<Vec<u32>>>,
     domains: Vec<Domain>,
     /// First domain of every face (and the total at the end).
     face_domains: Vec<u32>,
@@ -416,8 +420,12 @@ impl LimitSurface {
         let tags = mesh.tags().clone();
         let sharp = LevelSharpness::new(&tags, options.boundary, options.crease_method);
         options.scheme.rules().check(t, &sharp)?;
+        let (mut topology, mut local_tags, mut vertex_map) = (t.clone(), tags.clone(), None);
         if kind == Kind::DooSabin {
             doo_sabin::check(mesh, options)?;
+            if let Some((cut, original)) = doo_sabin::cut_along_creases(mesh)? {
+                (topology, local_tags, vertex_map) = (cut, Tags::none(), Some(std::sync::Arc::new(original)));
+            }
         }
         let mut domains = Vec::new();
         let mut face_domains = Vec::with_capacity(t.face_count() + 1);
@@ -439,8 +447,9 @@ impl LimitSurface {
             vertex_count: mesh.positions().len(),
             options: *options,
             kind,
-            topology: t.clone(),
-            tags,
+            topology,
+            tags: local_tags,
+            vertex_map,
             domains,
             face_domains,
             roots: Vec::new(),
@@ -747,7 +756,10 @@ impl LimitSurface {
     fn domain_start(&self, d: usize) -> Result<(Vec<u32>, Local, FaceId), EvalError> {
         let dom = self.domains[d];
         let root = Root::new(&self.topology, &self.tags, &self.options, FaceId(dom.face))?;
-        let (ids, local, face) = (root.ids, root.local, root.face);
+        let (mut ids, local, face) = (root.ids, root.local, root.face);
+        if let Some(map) = &self.vertex_map {
+            ids.iter_mut().for_each(|i| *i = map[*i as usize]);
+        }
         match self.kind {
             Kind::CatmullClark if self.topology.face_size(FaceId(dom.face)) != 4 => {
                 let refined = local.refine(&self.options)?;
