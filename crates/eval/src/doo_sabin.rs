@@ -136,9 +136,6 @@ pub(crate) fn check(mesh: &Mesh, _options: &Options) -> Result<(), EvalError> {
                 v.0
             ));
         }
-        if t.vertex_face_count(v) == 2 && !t.is_boundary_vertex(v) {
-            return unsupported(format!("vertex {} has valence 2 (no V-face): not handled", v.0));
-        }
     }
     Ok(())
 }
@@ -295,6 +292,21 @@ pub(crate) fn child_cell(
         }
     };
     Ok(in_ring(r, h, phantom))
+}
+
+/// Whether the image of a corner cell has a V-face after one step (not at
+/// an interior vertex of valence 2: the E-faces of its two edges meet there).
+pub(crate) fn has_v_face(refined: &Refined, cell: FaceId) -> bool {
+    let r = &refined.t;
+    match Cell::of(cell.0) {
+        Cell::Corner(h) => {
+            let next_e = r.he_twin(h).map(|e| r.he_next(e));
+            let prev_e = r.he_twin(r.he_prev(h));
+            let v = prev_e.and_then(|p| r.he_twin(r.he_prev(p)));
+            v.is_some() && v != next_e
+        }
+        Cell::Phantom { .. } => true,
+    }
 }
 
 /// The domain `(face 0 of the root, corner)`: its cell.

@@ -370,6 +370,9 @@ pub struct LimitSurface {
     topology: Topology,
     tags: Tags,
     vertex_map: Option<std::sync::Arc<Vec<u32>>>,
+    /// Per domain: a Doo-Sabin corner domain at an interior vertex of
+    /// valence 2, whose quarter toward the vertex is folded.
+    folded: Vec<bool>,
     domains: Vec<Domain>,
     /// First domain of every face (and the total at the end).
     face_domains: Vec<u32>,
@@ -450,6 +453,7 @@ impl LimitSurface {
             topology,
             tags: local_tags,
             vertex_map,
+            folded: Vec::new(),
             domains,
             face_domains,
             roots: Vec::new(),
@@ -462,6 +466,19 @@ impl LimitSurface {
             ring_offsets: vec![0],
             ring_vertices: Vec::new(),
         };
+        if kind == Kind::DooSabin {
+            let t = &surface.topology;
+            surface.folded = (surface.domains.iter())
+                .map(|d| {
+                    let f = FaceId(d.face);
+                    let n = t.face_size(f) as u32;
+                    d.corner < n && {
+                        let v = VertexId(t.face(f)[d.corner as usize]);
+                        !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2
+                    }
+                })
+                .collect();
+        }
         // Face rings (the supports).
         for f in t.face_ids() {
             let mut ring: Vec<u32> = ring_faces(t, f).iter().flat_map(|&g| t.face(g).iter().copied()).collect();
@@ -500,6 +517,24 @@ impl LimitSurface {
             }
         }
         Ok(surface)
+    }
+
+    /// Where a parameter in a folded quarter continues on the surface: a
+    /// Doo-Sabin domain at an interior vertex of valence 2 has no surface
+    /// toward the vertex, and its quarter (u, v) < (½, ½) is folded onto the
+    /// edge (½, s) ≡ (s, ½) between the two E-faces' quarters (`doo_sabin`
+    /// module docs). A point a little past that edge on one side is the point
+    /// as far past it on the other, so the quarter is turned a quarter turn
+    /// about (½, ½): (u, v) ↦ (v, 1 − u) for v ≤ u, (1 − v, u) otherwise.
+    /// Projection moves its iterates there (so Newton steps cross the fold
+    /// instead of stalling on it); every other parameter is returned as it is.
+    pub fn unfold(&self, param: SurfaceParam) -> SurfaceParam {
+        let (u, v) = (param.u, param.v);
+        match self.domain_index(param.domain()).ok().and_then(|d| self.fold(d, u, v)) {
+            Some(_) if v <= u => SurfaceParam { u: v, v: 1.0 - u, ..param },
+            Some(_) => SurfaceParam { u: 1.0 - v, v: u, ..param },
+            None => param,
+        }
     }
 
     /// The control vertex count the positions passed in must have.
@@ -570,6 +605,19 @@ impl LimitSurface {
     /// As [`Self::evaluate`] (but no positions).
     pub fn stencil(&self, param: SurfaceParam) -> Result<EvalStencil, EvalError> {
         let (d, u, v) = self.check_param(param)?;
+        let folded = self.fold(d, u, v);
+        let (u, v) = folded.map_or((u, v), |(fu, fv, _)| (fu, fv));
+        let mut out = self.stencil_at(d, u, v)?;
+        if let Some((_, _, along_u)) = folded {
+            // As in evaluate: only ∂/∂v of the folded point survives, in one direction.
+            let g_v = std::mem::take(&mut out.dv);
+            out.du = if along_u { g_v.clone() } else { vec![0.0; g_v.len()] };
+            out.dv = if along_u { vec![0.0; g_v.len()] } else { g_v };
+        }
+        Ok(out)
+    }
+
+    fn stencil_at(&self, d: usize, u: f64, v: f64) -> Result<EvalStencil, EvalError> {
         let mut acc: Vec<(u32, [f64; 3])> = Vec::new();
         match self.locate(d, u, v) {
             Located::Patch { patch, s, t, j } => {
@@ -718,6 +766,42 @@ impl LimitSurface {
         points: Option<&[DVec3]>,
     ) -> Result<LimitJet, EvalError> {
         let (d, u, v) = self.check_param(param)?;
+        let Some((fu, fv, along_u)) = self.fold(d, u, v) else {
+            return self.jet_at(positions, d, u, v, points);
+        };
+        // S(u, v) = G(½, min(u, v)): only the derivatives in the direction
+        // of the minimum survive; the normal is the surface's, G_u × G_v.
+        let jet = self.jet_at(positions, d, fu, fv, points)?;
+        let (g_v, g_vv) = (jet.sample.dv, jet.dvv);
+        let pick = |x: DVec3, here: bool| if here { x } else { DVec3::ZERO };
+        Ok(LimitJet {
+            sample: LimitSample { du: pick(g_v, along_u), dv: pick(g_v, !along_u), ..jet.sample },
+            duu: pick(g_vv, along_u),
+            duv: DVec3::ZERO,
+            dvv: pick(g_vv, !along_u),
+        })
+    }
+
+    /// Where an interior vertex of valence 2 of the control mesh has no
+    /// V-face, the quarter (u, v) < (½, ½) of its domains has no surface: it
+    /// is folded onto the edge between the two E-faces, (½, min(u, v))
+    /// (`doo_sabin` module docs). The folded parameters and whether the
+    /// minimum is u.
+    fn fold(&self, d: usize, u: f64, v: f64) -> Option<(f64, f64, bool)> {
+        if self.kind != Kind::DooSabin || u >= 0.5 || v >= 0.5 || !self.folded[d] {
+            return None;
+        }
+        Some((0.5, u.min(v), u <= v))
+    }
+
+    fn jet_at(
+        &self,
+        positions: &[DVec3],
+        d: usize,
+        u: f64,
+        v: f64,
+        points: Option<&[DVec3]>,
+    ) -> Result<LimitJet, EvalError> {
         let mut out = [DVec3::ZERO; 6];
         match self.locate(d, u, v) {
             Located::Patch { patch, s, t, j } => {
@@ -835,9 +919,15 @@ impl LimitSurface {
         let refined = local.refine(&self.options)?;
         let mut children = [0u32; 4];
         for (k, c) in children.iter_mut().enumerate() {
+            if k == 0 && self.kind == Kind::DooSabin && !doo_sabin::has_v_face(&refined, face) {
+                continue; // folded away (Self::fold): never descended into; filled below
+            }
             let (child, cell) = self.kind.child_cell(local, &refined, face, k)?;
             let (next, _) = refined.ring(&self.options, child)?;
             *c = self.build_node(ids, &next, FaceId(cell), depth + 1, tree)?;
+        }
+        if self.kind == Kind::DooSabin && !doo_sabin::has_v_face(&refined, face) {
+            children[0] = children[1];
         }
         tree.nodes[id as usize] = Node::Split(children);
         Ok(id)

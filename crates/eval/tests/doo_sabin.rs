@@ -13,7 +13,7 @@ use common::At;
 use glam::DVec3;
 use subdiv_eval::{EvalError, LimitSurface, SurfaceParam};
 use subdiv_mesh::refine::{dual_split_tagged, DualFace, DualFeatures, SharpPoint};
-use subdiv_mesh::{shapes, EdgeTag, FaceId, HalfEdgeId, Mesh, TagList, Tags, Topology, VertexTag};
+use subdiv_mesh::{shapes, EdgeTag, FaceId, HalfEdgeId, Mesh, TagList, Tags, Topology, VertexId, VertexTag};
 use subdiv_stencil::{Options, Scheme};
 
 fn ds() -> Options {
@@ -310,6 +310,62 @@ fn creased_torus() -> Mesh {
 fn dyadic_points_with_creases() {
     check("creased cube", &creased_cube());
     check("creased torus", &creased_torus());
+}
+
+/// A cube with two edges split (two interior vertices of valence 2, four pentagons).
+fn split_cube() -> Mesh {
+    let cube = shapes::cube();
+    shapes::split_edges(&cube, &[subdiv_mesh::EdgeId(0), subdiv_mesh::EdgeId(7)], 0.1)
+}
+
+#[test]
+fn dyadic_points_at_valence_two() {
+    check("pillow", &shapes::pillow());
+    check("split cube", &split_cube());
+    let grid = shapes::quad_grid(4, 3);
+    let interior: Vec<_> = grid.topology().edges().filter(|&e| !grid.topology().is_boundary_edge(e)).take(2).collect();
+    check("split grid", &shapes::split_edges(&grid, &interior[1..], 0.2));
+}
+
+#[test]
+fn derivatives_normals_and_continuity_at_valence_two() {
+    // (Not the pillow: its two faces are one quad both ways round, its
+    // surface a doubly covered sheet without a normal.)
+    check_smooth("split cube", &split_cube());
+    let grid = bumped(shapes::quad_grid(4, 3));
+    let interior: Vec<_> = grid.topology().edges().filter(|&e| !grid.topology().is_boundary_edge(e)).collect();
+    check_smooth("split grid", &shapes::split_edges(&grid, &interior[1..3], 0.2));
+}
+
+/// An open polygon mix with an interior valence-2 vertex and a crease loop
+/// round an interior face: boundaries, n-gons, extraordinary vertices,
+/// valence 2 and creases at once.
+fn everything() -> Mesh {
+    let mix = bumped(shapes::polygon_mix(&shapes::quad_grid(6, 5), 5, 0.2, 0.2, 0.1));
+    let t = mix.topology();
+    let inside = |f: FaceId| t.face(f).iter().all(|&v| !t.is_boundary_vertex(VertexId(v)));
+    let f = t.face_ids().find(|&f| inside(f) && t.face_size(f) != 4).expect("an interior n-gon");
+    let ring = t.face(f).to_vec();
+    let far = t
+        .edges()
+        .find(|&e| {
+            let (a, b) = t.edge_vertices(e);
+            let touches = |v: VertexId| ring.contains(&v.0) || t.is_boundary_vertex(v);
+            !t.is_boundary_edge(e) && !touches(a) && !touches(b)
+        })
+        .expect("an interior edge away from the face");
+    let split = shapes::split_edges(&mix, &[far], 0.2);
+    let n = ring.len();
+    creased(split, &(0..n).map(|k| (ring[k], ring[(k + 1) % n])).collect::<Vec<_>>())
+}
+
+#[test]
+fn everything_at_once() {
+    let mesh = everything();
+    let t = mesh.topology();
+    assert!(t.vertices().any(|v| !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2));
+    check("everything", &mesh);
+    check_smooth("everything", &mesh);
 }
 
 #[test]
