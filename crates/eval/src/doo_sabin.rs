@@ -1,6 +1,7 @@
 //! Doo-Sabin: the parameterisation and the regular patches.
 //!
-//! **Domains.** One domain per face corner: `(face, K)` is the quarter of
+//! **Domains.** One domain per face corner, and on open or creased meshes
+//! two per side of every sharp edge (the strips below). Corner domains: `(face, K)` is the quarter of
 //! the face at corner K, (u, v) ∈ \[0,1\]², (0,0) at corner K's vertex V,
 //! (1,0) toward the midpoint of edge K → K+1, (0,1) toward the midpoint of
 //! edge K−1 → K, (1,1) at the face's centre. On a regular quad lattice this
@@ -41,9 +42,64 @@
 //! per unit of the level's lattice — the exact derivative at a regular
 //! face's centre, and the tangent masks' value at an extraordinary one.
 //!
-//! Not handled here (typed [`EvalError::Unsupported`]): boundaries (the
-//! Chaikin boundary rule), creases and corners, and interior vertices of
-//! valence 2 (no V-face).
+//! **Boundaries: strip domains.** On an open mesh the face corners do not
+//! reach the boundary curve (the quadratic B-spline of the boundary
+//! polygon, `subdiv_rules::doo_sabin`, "Boundary rule"): after one step the
+//! Chaikin points and their quarters lie outside every corner domain. The
+//! boundary rule is exactly the closed rule on the mesh extended by a
+//! degenerate quad q = (B, A, A′, B′) beyond every boundary half-edge
+//! A → B of a face f, with A′ = A and B′ = B (the repeated boundary row:
+//! Eq. 1 on q gives A's Chaikin point ¾A + ¼B, the V-face of A is its
+//! images closed by its two Chaikin points, the E-face of A → B its two
+//! images and Chaikin points, and the images of q's corners are again such
+//! a strip one level down). The two quarters of q at its real corners are
+//! domains too:
+//! * `(f, n + 2K)`: the quarter of q at A = corner K (half-edge K → K+1 a
+//!   boundary), (0,0) at A, u outward (toward A′), v along the edge toward B;
+//! * `(f, n + 2K + 1)`: the quarter at B = corner K+1, u along the edge
+//!   toward A, v outward (toward B′);
+//!
+//! (n the face's size), parameterised and refined as any domain (q's corner
+//! order gives the frames). Where the points are: the boundary curve is
+//! u = 1 of the first and v = 1 of the second; (1,1) of both is the curve's
+//! point at the edge's midpoint, (A + B)/2; A's point of the curve,
+//! (B₋ + 6A + B₊)/8 (what `subdivide --limit` gives for a boundary vertex),
+//! is (1,0) of the strip at the start of A's outgoing boundary half-edge and
+//! (0,1) of the strip at the end of its incoming one; A's level-1 Chaikin
+//! point on A → B is (1,½) of the first strip, B's is (½,1) of the second.
+//! The strip at A meets the corner domain (f, K) along u = 0 ≡ v = 0 of
+//! (f, K), the strip at B meets (f, K+1) along v = 0 ≡ u = 0, the two strips
+//! of an edge meet along v = 1 ≡ u = 1, and consecutive boundary edges'
+//! strips meet along v = 0 of the next one's start strip ≡ u = 0 of the end
+//! strip. Across the boundary curve the derivative is zero (a repeated
+//! row): the normal there is the limit of the normals inside, from the
+//! second derivative (`surface` module). Regular patches: a vertex with two
+//! sharp edges and two quads on a side is the biquadratic patch whose row
+//! beyond the curve repeats the row on it.
+//!
+//! **Creases.** An infinitely sharp crease is a boundary for the faces on
+//! each side (`subdiv-stencil`'s Doo-Sabin module): without corners and
+//! darts the tagged step is exactly the boundary rule on the mesh cut along
+//! its creases, so the surface is evaluated on that cut mesh
+//! ([`cut_along_creases`]), each side of a crease with its strips; the two
+//! sides' strips meet on the sharp curve (G⁰ there).
+//!
+//! **Interior vertices of valence 2.** They have no V-face: after one step
+//! the E-faces of their two edges meet along the edge between the two
+//! images, and the quarter u, v < ½ of each of their domains has no surface.
+//! It is folded onto that edge: S(u, v) = S(½, min(u, v)), so (0,0) is the
+//! vertex's limit point (the valence-2 mask of `subdivide --limit`, the
+//! centroid of the next level's E-face of that edge), the derivatives are
+//! those of the fold (one of them zero) and the normal is the surface's.
+//! The points of such a quarter have other parameters too: projection
+//! continues its iterates across the fold (`LimitSurface::unfold`).
+//!
+//! Not handled (typed [`EvalError::Unsupported`], from [`check`]): corners
+//! (a corner tag, or three or more boundary and crease edges at a vertex, as
+//! where a crease meets the boundary) and darts (one crease edge). There the
+//! sharp curve is clamped or fades, the refined mesh is not a strip of
+//! repeated rows, and the cut-mesh identity above fails; they need their own
+//! cells (the corner point's sectors, the dart's single Chaikin point).
 
 use crate::local::{Local, Refined};
 use crate::patch::{sector, Combo, Lattice, PatchKind, RegularSpec};

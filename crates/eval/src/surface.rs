@@ -19,6 +19,14 @@
 //!   of edge K → K+1, (0,1) toward the midpoint of edge K−1 → K, (1,1) at the
 //!   face's centroid (the biquadratic B-spline's own parameterisation on a
 //!   regular lattice; the `doo_sabin` module docs give the refinement).
+//!   Beyond every boundary edge and on each side of every crease edge
+//!   K → K+1 (n the face's size), two *strip* domains reach the sharp curve:
+//!   `(face, n + 2K)` at corner K (u outward, v along the edge; the curve at
+//!   u = 1) and `(face, n + 2K + 1)` at corner K+1 (u along the edge, v
+//!   outward; the curve at v = 1), the quarters of the degenerate quad that
+//!   the boundary rule amounts to. At an interior vertex of valence 2 the
+//!   quarter u, v < ½ of its domains is folded onto (½, min(u, v))
+//!   ([`LimitSurface::unfold`]). Corners and darts are not evaluated.
 //!
 //! Boundaries follow the options' boundary interpolation as `subdivide
 //! --limit` does; under `none`, the faces OpenSubdiv leaves out as holes
@@ -404,8 +412,9 @@ impl LimitSurface {
     /// # Errors
     /// [`EvalError::Stencil`] when the scheme refuses the mesh (Loop on a
     /// non-triangle, semi-sharp tags on Doo-Sabin), [`EvalError::Unsupported`]
-    /// for Deng-Ma (interpolatory, no limit masks) and the Doo-Sabin cases
-    /// `doo_sabin` module lists (boundaries, tags, valence-2 vertices).
+    /// for Deng-Ma (interpolatory, no limit masks) and for Doo-Sabin meshes
+    /// with a corner (a corner tag, or three or more boundary and crease
+    /// edges at a vertex) or a dart (a vertex with one crease edge).
     pub fn new(mesh: &Mesh, options: &Options) -> Result<Self, EvalError> {
         options.validate()?;
         let kind = match options.scheme {
