@@ -55,7 +55,9 @@ use subdiv_stencil::{LevelSharpness, Options, Scheme, StencilError};
 pub struct SurfaceParam {
     /// Face of the control mesh.
     pub face: u32,
-    /// Sub-domain of the face (the corner K of an n-gon's ptex sub-quad); 0 for a single domain.
+    /// Sub-domain of the face: the corner K of a Catmull-Clark n-gon's ptex
+    /// sub-quad or of a Doo-Sabin face (n + 2K, n + 2K + 1: the Doo-Sabin
+    /// strips beyond its sharp edge K → K+1); 0 for a single domain.
     pub corner: u32,
     /// First parameter.
     pub u: f64,
