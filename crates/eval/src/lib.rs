@@ -8,8 +8,9 @@
 //! (0,1); an n-gon (n ≠ 4) is split as OpenSubdiv's ptex faces into n
 //! sub-quads, domain `(face, K)` with (0,0) at corner K. A Loop triangle is
 //! one domain with barycentric (u, v), corner 0 at (0,0), 1 at (1,0), 2 at
-//! (0,1). Doo-Sabin: one domain per face corner (`doo_sabin` module docs,
-//! summarised in [`surface`]).
+//! (0,1). Doo-Sabin: one domain per face corner, and two strip domains per
+//! side of every boundary or crease edge that reach the sharp curve
+//! (`doo_sabin` module docs, summarised in [`surface`]).
 //!
 //! Topology and geometry are separate, as everywhere in subdiv: a
 //! [`LimitSurface`] is built once from the topology, tags and options;
@@ -36,8 +37,12 @@
 //! OpenSubdiv's smooth-mask approximation — and tangent masks that equal the
 //! parametric derivatives wherever those exist).
 //!
-//! Not done: Deng-Ma (interpolatory, no limit masks), Doo-Sabin with
-//! boundaries, tags or valence-2 vertices ([`EvalError::Unsupported`]).
+//! Doo-Sabin is evaluated on closed and open meshes, with infinitely sharp
+//! creases (the boundary rule on each side) and at interior vertices of
+//! valence 2 (a folded quarter). Not done ([`EvalError::Unsupported`]):
+//! Deng-Ma (interpolatory, no limit masks), Doo-Sabin corners (a corner
+//! tag, or three or more boundary and crease edges at a vertex, as where a
+//! crease meets the boundary) and darts (a crease ending inside the mesh).
 //!
 //! ```
 //! use subdiv_eval::{LimitSurface, SurfaceParam};

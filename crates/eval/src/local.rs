@@ -203,8 +203,6 @@ pub(crate) struct Refined {
     pub rows: Vec<f64>,
     /// Width of the rows.
     pub root: usize,
-    /// Doo-Sabin provenance.
-    pub dual: Option<subdiv_mesh::refine::DualProvenance>,
 }
 
 impl Local {
@@ -215,13 +213,7 @@ impl Local {
         let level = &plan.levels()[0];
         let r = level.stencil.as_ref().ok_or(EvalError::Internal("the scheme has no refinement stencil".into()))?;
         let rows = compose(r, &self.rows, self.root);
-        Ok(Refined {
-            t: level.topology.clone(),
-            tags: level.sharpness.tags(&level.topology),
-            rows,
-            root: self.root,
-            dual: level.dual.clone(),
-        })
+        Ok(Refined { t: level.topology.clone(), tags: level.sharpness.tags(&level.topology), rows, root: self.root })
     }
 
     /// The weights on the root of a combination of local vertices.

@@ -166,6 +166,14 @@ pub trait PatchEvaluator: Sync {
     fn domains(&self) -> &[Domain];
     /// Position, first derivatives and normal at `param`.
     fn evaluate(&self, param: SurfaceParam) -> Result<LimitSample, EvalError>;
+    /// Where an iterate at `param` continues when `param` lies in a part of
+    /// a domain without surface of its own (the default: `param` itself;
+    /// [`LimitSurface::unfold`] for a Doo-Sabin quarter folded at a
+    /// valence-2 vertex). Projection moves its iterates there, so that Newton
+    /// steps do not stall where a derivative is zero.
+    fn canonical(&self, param: SurfaceParam) -> SurfaceParam {
+        param
+    }
     /// Also the second derivatives. The default differentiates
     /// [`Self::evaluate`]'s first derivatives (forward differences of step
     /// [`HESSIAN_STEP`], backward where the forward point leaves the domain):
@@ -226,6 +234,9 @@ impl PatchEvaluator for BoundLimitSurface<'_> {
     }
     fn evaluate(&self, param: SurfaceParam) -> Result<LimitSample, EvalError> {
         self.bound.evaluate(param)
+    }
+    fn canonical(&self, param: SurfaceParam) -> SurfaceParam {
+        self.bound.surface().unfold(param)
     }
     fn evaluate_second(&self, param: SurfaceParam) -> Result<LimitJet, EvalError> {
         self.bound.evaluate_jet(param)
@@ -428,7 +439,11 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
     let shape = eval.shape();
     let constraints = shape.constraints();
     let at = |u: f64, v: f64| SurfaceParam { face: domain.face, corner: domain.corner, u, v };
-    let (mut u, mut v) = start;
+    let unfold = |u: f64, v: f64| {
+        let p = eval.canonical(at(u, v));
+        (p.u, p.v)
+    };
+    let (mut u, mut v) = unfold(start.0, start.1);
     let mut s = eval.evaluate_second(at(u, v))?;
     let mut f = 0.5 * (s.sample.position - q).length_squared();
     let mut exited = false;
@@ -502,6 +517,7 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
         let mut accepted = None;
         for _ in 0..LINE_SEARCH_STEPS {
             let (nu, nv) = shape.clamp(u + step * dir[0], v + step * dir[1]);
+            let (nu, nv) = unfold(nu, nv);
             let ns = eval.evaluate_second(at(nu, nv))?;
             let nf = 0.5 * (ns.sample.position - q).length_squared();
             if nf <= f + 1e-4 * step * slope || nf < f {

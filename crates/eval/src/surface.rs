@@ -19,6 +19,14 @@
 //!   of edge K → K+1, (0,1) toward the midpoint of edge K−1 → K, (1,1) at the
 //!   face's centroid (the biquadratic B-spline's own parameterisation on a
 //!   regular lattice; the `doo_sabin` module docs give the refinement).
+//!   Beyond every boundary edge and on each side of every crease edge
+//!   K → K+1 (n the face's size), two *strip* domains reach the sharp curve:
+//!   `(face, n + 2K)` at corner K (u outward, v along the edge; the curve at
+//!   u = 1) and `(face, n + 2K + 1)` at corner K+1 (u along the edge, v
+//!   outward; the curve at v = 1), the quarters of the degenerate quad that
+//!   the boundary rule amounts to. At an interior vertex of valence 2 the
+//!   quarter u, v < ½ of its domains is folded onto (½, min(u, v))
+//!   ([`LimitSurface::unfold`]). Corners and darts are not evaluated.
 //!
 //! Boundaries follow the options' boundary interpolation as `subdivide
 //! --limit` does; under `none`, the faces OpenSubdiv leaves out as holes
@@ -47,7 +55,9 @@ use subdiv_stencil::{LevelSharpness, Options, Scheme, StencilError};
 pub struct SurfaceParam {
     /// Face of the control mesh.
     pub face: u32,
-    /// Sub-domain of the face (the corner K of an n-gon's ptex sub-quad); 0 for a single domain.
+    /// Sub-domain of the face: the corner K of a Catmull-Clark n-gon's ptex
+    /// sub-quad or of a Doo-Sabin face (n + 2K, n + 2K + 1: the Doo-Sabin
+    /// strips beyond its sharp edge K → K+1); 0 for a single domain.
     pub corner: u32,
     /// First parameter.
     pub u: f64,
@@ -207,6 +217,9 @@ const TABLE_DEPTH: usize = 8;
 /// parameter is taken as the vertex (the surface moves by ~λ⁶⁰·size there,
 /// far below the rounding of any coordinate).
 const MAX_DEPTH: usize = 60;
+/// A first derivative this small against the other is zero to rounding (a
+/// Doo-Sabin boundary curve): the normal comes from the second derivative.
+const DEGENERATE_DERIVATIVE: f64 = 1e-10;
 /// How far u + v may exceed 1 on a Loop triangle by rounding (then scaled back).
 const BARYCENTRIC_SLACK: f64 = 1e-12;
 
@@ -267,10 +280,16 @@ impl Kind {
     /// Child `k` of the cell `face` after one step of the scheme: the
     /// refined face, and the cell within that face's ring (the face itself,
     /// 0, for Catmull-Clark and Loop; its corner for a Doo-Sabin cell).
-    fn child_cell(self, local: &Local, refined: &crate::local::Refined, face: FaceId, k: usize) -> (FaceId, u32) {
+    fn child_cell(
+        self,
+        local: &Local,
+        refined: &crate::local::Refined,
+        face: FaceId,
+        k: usize,
+    ) -> Result<(FaceId, u32), EvalError> {
         match self {
-            Kind::CatmullClark => (FaceId(local.t.faces().offsets()[face.index()] + k as u32), 0),
-            Kind::Loop => (FaceId(4 * face.0 + k as u32), 0),
+            Kind::CatmullClark => Ok((FaceId(local.t.faces().offsets()[face.index()] + k as u32), 0)),
+            Kind::Loop => Ok((FaceId(4 * face.0 + k as u32), 0)),
             Kind::DooSabin => doo_sabin::child_cell(local, refined, face, k),
         }
     }
@@ -279,7 +298,7 @@ impl Kind {
     /// Doo-Sabin face corner), if it is one.
     fn regular(self, t: &Topology, sharp: &LevelSharpness, cell: FaceId) -> Option<Vec<crate::patch::Combo>> {
         match self {
-            Kind::DooSabin => doo_sabin::regular(t, cell),
+            Kind::DooSabin => doo_sabin::regular(t, sharp, cell),
             _ => regular_points(self.spec(), t, sharp, cell),
         }
     }
@@ -355,8 +374,15 @@ pub struct LimitSurface {
     vertex_count: usize,
     options: Options,
     kind: Kind,
+    /// The connectivity the domains are refined on: the mesh's, or for
+    /// Doo-Sabin with creases the mesh cut along them (`vertex_map` then
+    /// gives the control vertex of every copy).
     topology: Topology,
     tags: Tags,
+    vertex_map: Option<std::sync::Arc<Vec<u32>>>,
+    /// Per domain: a Doo-Sabin corner domain at an interior vertex of
+    /// valence 2, whose quarter toward the vertex is folded.
+    folded: Vec<bool>,
     domains: Vec<Domain>,
     /// First domain of every face (and the total at the end).
     face_domains: Vec<u32>,
@@ -388,8 +414,9 @@ impl LimitSurface {
     /// # Errors
     /// [`EvalError::Stencil`] when the scheme refuses the mesh (Loop on a
     /// non-triangle, semi-sharp tags on Doo-Sabin), [`EvalError::Unsupported`]
-    /// for Deng-Ma (interpolatory, no limit masks) and the Doo-Sabin cases
-    /// `doo_sabin` module lists (boundaries, tags, valence-2 vertices).
+    /// for Deng-Ma (interpolatory, no limit masks) and for Doo-Sabin meshes
+    /// with a corner (a corner tag, or three or more boundary and crease
+    /// edges at a vertex) or a dart (a vertex with one crease edge).
     pub fn new(mesh: &Mesh, options: &Options) -> Result<Self, EvalError> {
         options.validate()?;
         let kind = match options.scheme {
@@ -407,8 +434,12 @@ impl LimitSurface {
         let tags = mesh.tags().clone();
         let sharp = LevelSharpness::new(&tags, options.boundary, options.crease_method);
         options.scheme.rules().check(t, &sharp)?;
+        let (mut topology, mut local_tags, mut vertex_map) = (t.clone(), tags.clone(), None);
         if kind == Kind::DooSabin {
             doo_sabin::check(mesh, options)?;
+            if let Some((cut, original)) = doo_sabin::cut_along_creases(mesh)? {
+                (topology, local_tags, vertex_map) = (cut, Tags::none(), Some(std::sync::Arc::new(original)));
+            }
         }
         let mut domains = Vec::new();
         let mut face_domains = Vec::with_capacity(t.face_count() + 1);
@@ -416,7 +447,11 @@ impl LimitSurface {
             face_domains.push(domains.len() as u32);
             let n = match kind {
                 Kind::CatmullClark if t.face_size(f) != 4 => t.face_size(f),
-                Kind::DooSabin => t.face_size(f),
+                Kind::DooSabin => {
+                    let corners = doo_sabin::face_domains(t, &sharp, f);
+                    domains.extend(corners.into_iter().map(|corner| Domain { face: f.0, corner }));
+                    continue;
+                }
                 _ => 1,
             };
             domains.extend((0..n as u32).map(|corner| Domain { face: f.0, corner }));
@@ -426,8 +461,10 @@ impl LimitSurface {
             vertex_count: mesh.positions().len(),
             options: *options,
             kind,
-            topology: t.clone(),
-            tags,
+            topology,
+            tags: local_tags,
+            vertex_map,
+            folded: Vec::new(),
             domains,
             face_domains,
             roots: Vec::new(),
@@ -440,6 +477,19 @@ impl LimitSurface {
             ring_offsets: vec![0],
             ring_vertices: Vec::new(),
         };
+        if kind == Kind::DooSabin {
+            let t = &surface.topology;
+            surface.folded = (surface.domains.iter())
+                .map(|d| {
+                    let f = FaceId(d.face);
+                    let n = t.face_size(f) as u32;
+                    d.corner < n && {
+                        let v = VertexId(t.face(f)[d.corner as usize]);
+                        !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2
+                    }
+                })
+                .collect();
+        }
         // Face rings (the supports).
         for f in t.face_ids() {
             let mut ring: Vec<u32> = ring_faces(t, f).iter().flat_map(|&g| t.face(g).iter().copied()).collect();
@@ -478,6 +528,24 @@ impl LimitSurface {
             }
         }
         Ok(surface)
+    }
+
+    /// Where a parameter in a folded quarter continues on the surface: a
+    /// Doo-Sabin domain at an interior vertex of valence 2 has no surface
+    /// toward the vertex, and its quarter (u, v) < (½, ½) is folded onto the
+    /// edge (½, s) ≡ (s, ½) between the two E-faces' quarters (`doo_sabin`
+    /// module docs). A point a little past that edge on one side is the point
+    /// as far past it on the other, so the quarter is turned a quarter turn
+    /// about (½, ½): (u, v) ↦ (v, 1 − u) for v ≤ u, (1 − v, u) otherwise.
+    /// Projection moves its iterates there (so Newton steps cross the fold
+    /// instead of stalling on it); every other parameter is returned as it is.
+    pub fn unfold(&self, param: SurfaceParam) -> SurfaceParam {
+        let (u, v) = (param.u, param.v);
+        match self.domain_index(param.domain()).ok().and_then(|d| self.fold(d, u, v)) {
+            Some(_) if v <= u => SurfaceParam { u: v, v: 1.0 - u, ..param },
+            Some(_) => SurfaceParam { u: 1.0 - v, v: u, ..param },
+            None => param,
+        }
     }
 
     /// The control vertex count the positions passed in must have.
@@ -548,6 +616,19 @@ impl LimitSurface {
     /// As [`Self::evaluate`] (but no positions).
     pub fn stencil(&self, param: SurfaceParam) -> Result<EvalStencil, EvalError> {
         let (d, u, v) = self.check_param(param)?;
+        let folded = self.fold(d, u, v);
+        let (u, v) = folded.map_or((u, v), |(fu, fv, _)| (fu, fv));
+        let mut out = self.stencil_at(d, u, v)?;
+        if let Some((_, _, along_u)) = folded {
+            // As in evaluate: only ∂/∂v of the folded point survives, in one direction.
+            let g_v = std::mem::take(&mut out.dv);
+            out.du = if along_u { g_v.clone() } else { vec![0.0; g_v.len()] };
+            out.dv = if along_u { vec![0.0; g_v.len()] } else { g_v };
+        }
+        Ok(out)
+    }
+
+    fn stencil_at(&self, d: usize, u: f64, v: f64) -> Result<EvalStencil, EvalError> {
         let mut acc: Vec<(u32, [f64; 3])> = Vec::new();
         match self.locate(d, u, v) {
             Located::Patch { patch, s, t, j } => {
@@ -622,11 +703,16 @@ impl LimitSurface {
         if f + 1 >= self.face_domains.len() {
             return Err(err);
         }
-        let (s, e) = (self.face_domains[f], self.face_domains[f + 1]);
-        if d.corner >= e - s {
-            return Err(err);
+        let (s, e) = (self.face_domains[f] as usize, self.face_domains[f + 1] as usize);
+        let k = d.corner as usize;
+        if s + k < e && self.domains[s + k].corner == d.corner {
+            return Ok(s + k);
         }
-        Ok((s + d.corner) as usize)
+        // Doo-Sabin's phantom quarters are numbered after the corners, sparsely.
+        match self.domains[s..e].iter().position(|x| x.corner == d.corner) {
+            Some(k) => Ok(s + k),
+            None => Err(err),
+        }
     }
 
     /// The domain index and the (checked, clamped) parameters.
@@ -691,6 +777,42 @@ impl LimitSurface {
         points: Option<&[DVec3]>,
     ) -> Result<LimitJet, EvalError> {
         let (d, u, v) = self.check_param(param)?;
+        let Some((fu, fv, along_u)) = self.fold(d, u, v) else {
+            return self.jet_at(positions, d, u, v, points);
+        };
+        // S(u, v) = G(½, min(u, v)): only the derivatives in the direction
+        // of the minimum survive; the normal is the surface's, G_u × G_v.
+        let jet = self.jet_at(positions, d, fu, fv, points)?;
+        let (g_v, g_vv) = (jet.sample.dv, jet.dvv);
+        let pick = |x: DVec3, here: bool| if here { x } else { DVec3::ZERO };
+        Ok(LimitJet {
+            sample: LimitSample { du: pick(g_v, along_u), dv: pick(g_v, !along_u), ..jet.sample },
+            duu: pick(g_vv, along_u),
+            duv: DVec3::ZERO,
+            dvv: pick(g_vv, !along_u),
+        })
+    }
+
+    /// Where an interior vertex of valence 2 of the control mesh has no
+    /// V-face, the quarter (u, v) < (½, ½) of its domains has no surface: it
+    /// is folded onto the edge between the two E-faces, (½, min(u, v))
+    /// (`doo_sabin` module docs). The folded parameters and whether the
+    /// minimum is u.
+    fn fold(&self, d: usize, u: f64, v: f64) -> Option<(f64, f64, bool)> {
+        if self.kind != Kind::DooSabin || u >= 0.5 || v >= 0.5 || !self.folded[d] {
+            return None;
+        }
+        Some((0.5, u.min(v), u <= v))
+    }
+
+    fn jet_at(
+        &self,
+        positions: &[DVec3],
+        d: usize,
+        u: f64,
+        v: f64,
+        points: Option<&[DVec3]>,
+    ) -> Result<LimitJet, EvalError> {
         let mut out = [DVec3::ZERO; 6];
         match self.locate(d, u, v) {
             Located::Patch { patch, s, t, j } => {
@@ -715,8 +837,9 @@ impl LimitSurface {
                 }
             }
         }
+        let normal = degenerate_normal(&out, u, v).unwrap_or_else(|| unit_normal(out[1], out[2]));
         Ok(LimitJet {
-            sample: LimitSample { position: out[0], du: out[1], dv: out[2], normal: unit_normal(out[1], out[2]) },
+            sample: LimitSample { position: out[0], du: out[1], dv: out[2], normal },
             duu: out[3],
             duv: out[4],
             dvv: out[5],
@@ -728,7 +851,10 @@ impl LimitSurface {
     fn domain_start(&self, d: usize) -> Result<(Vec<u32>, Local, FaceId), EvalError> {
         let dom = self.domains[d];
         let root = Root::new(&self.topology, &self.tags, &self.options, FaceId(dom.face))?;
-        let (ids, local, face) = (root.ids, root.local, root.face);
+        let (mut ids, local, face) = (root.ids, root.local, root.face);
+        if let Some(map) = &self.vertex_map {
+            ids.iter_mut().for_each(|i| *i = map[*i as usize]);
+        }
         match self.kind {
             Kind::CatmullClark if self.topology.face_size(FaceId(dom.face)) != 4 => {
                 let refined = local.refine(&self.options)?;
@@ -804,9 +930,15 @@ impl LimitSurface {
         let refined = local.refine(&self.options)?;
         let mut children = [0u32; 4];
         for (k, c) in children.iter_mut().enumerate() {
-            let (child, cell) = self.kind.child_cell(local, &refined, face, k);
+            if k == 0 && self.kind == Kind::DooSabin && !doo_sabin::has_v_face(&refined, face) {
+                continue; // folded away (Self::fold): never descended into; filled below
+            }
+            let (child, cell) = self.kind.child_cell(local, &refined, face, k)?;
             let (next, _) = refined.ring(&self.options, child)?;
             *c = self.build_node(ids, &next, FaceId(cell), depth + 1, tree)?;
+        }
+        if self.kind == Kind::DooSabin && !doo_sabin::has_v_face(&refined, face) {
+            children[0] = children[1];
         }
         tree.nodes[id as usize] = Node::Split(children);
         Ok(id)
@@ -909,7 +1041,7 @@ impl LimitSurface {
             }
             let refined = local.refine(&self.options)?;
             let (k, ak, bk) = self.kind.child(u, v);
-            let (child, cell) = self.kind.child_cell(&local, &refined, face, k);
+            let (child, cell) = self.kind.child_cell(&local, &refined, face, k)?;
             (u, v) = apply_affine(&(ak, bk), u, v);
             a = compose(&ak, &a);
             (local, _) = refined.ring(&self.options, child)?;
@@ -1005,6 +1137,24 @@ fn jet_of(b: &Basis, points: &[DVec3], j: &[[f64; 2]; 2]) -> [DVec3; 6] {
         st[3] * (j[0][x] * j[0][y]) + st[4] * (j[0][x] * j[1][y] + j[1][x] * j[0][y]) + st[5] * (j[1][x] * j[1][y])
     };
     [st[0], du, dv, h(0, 0), h(0, 1), h(1, 1)]
+}
+
+/// The normal where one first derivative vanishes: on a Doo-Sabin
+/// boundary curve the derivative across it is zero (the boundary rule
+/// repeats the boundary row, `doo_sabin` module docs), while the surface is
+/// smooth up to it. There S_u(u) ≈ (u − u₀)·S_uu toward the inside, so the
+/// normal is the limit of (u − u₀)·S_uu × S_v, and likewise in v. `None`
+/// where neither derivative vanishes (to rounding, [`DEGENERATE_DERIVATIVE`]).
+fn degenerate_normal(jet: &[DVec3; 6], u: f64, v: f64) -> Option<DVec3> {
+    let [_, du, dv, duu, _, dvv] = *jet;
+    let inward = |x: f64| if x > 0.5 { -1.0 } else { 1.0 };
+    if du.length() <= DEGENERATE_DERIVATIVE * dv.length() {
+        Some(unit_normal(inward(u) * duu, dv))
+    } else if dv.length() <= DEGENERATE_DERIVATIVE * du.length() {
+        Some(unit_normal(du, inward(v) * dvv))
+    } else {
+        None
+    }
 }
 
 fn unit_normal(du: DVec3, dv: DVec3) -> DVec3 {

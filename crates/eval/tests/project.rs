@@ -242,3 +242,24 @@ fn doo_sabin_with_support_bounds() {
     let mix = shapes::polygon_mix(&shapes::torus(6, 5), 7, 0.2, 0.1, 0.05);
     check_limit_surface("doo-sabin mix", &mix, Options::new(Scheme::DooSabin), 600);
 }
+
+#[test]
+fn doo_sabin_open_meshes() {
+    // The strips between the face corners and the boundary curve are domains too.
+    let options = Options::new(Scheme::DooSabin);
+    check_limit_surface("doo-sabin grid", &bumped(shapes::quad_grid(5, 4), 1.0, 2), options, 600);
+    let open_mix = shapes::polygon_mix(&bumped(shapes::quad_grid(5, 4), 0.8, 3), 5, 0.2, 0.2, 0.1);
+    check_limit_surface("doo-sabin open mix", &open_mix, options, 600);
+}
+
+#[test]
+fn doo_sabin_creases_and_valence_two() {
+    // A crease loop round face 0 of a cube with a split edge (a valence-2 vertex).
+    let cube = shapes::split_edges(&bumped(shapes::cube(), 0.2, 7), &[subdiv_mesh::EdgeId(7)], 0.1);
+    let f0 = cube.topology().face(subdiv_mesh::FaceId(0)).to_vec();
+    let n = f0.len();
+    let creases = (0..n).map(|k| subdiv_mesh::EdgeTag { a: f0[k], b: f0[(k + 1) % n], sharpness: 10.0 }).collect();
+    let tags = subdiv_mesh::Tags::from_list(cube.topology(), &subdiv_mesh::TagList { creases, corners: vec![] });
+    let creased = cube.clone().with_tags(tags.unwrap());
+    check_limit_surface("doo-sabin creased cube", &creased, Options::new(Scheme::DooSabin), 400);
+}

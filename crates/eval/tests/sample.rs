@@ -73,3 +73,25 @@ fn area_samples_follow_the_area() {
     let outer = per_domain[0];
     assert!(inner < outer, "{inner} {outer}");
 }
+
+#[test]
+fn doo_sabin_open_mesh_samples_are_on_the_surface() {
+    // Strips (the domains between the face corners and the boundary curve) included.
+    use subdiv_eval::{project::BoundLimitSurface, LimitSurface};
+    use subdiv_stencil::{Options, Scheme};
+    let mesh = shapes::polygon_mix(&shapes::quad_grid(4, 3), 2, 0.2, 0.2, 0.1);
+    let surface = LimitSurface::new(&mesh, &Options::new(Scheme::DooSabin)).unwrap();
+    assert!(surface
+        .domains()
+        .iter()
+        .any(|d| d.corner >= mesh.topology().face_size(subdiv_mesh::FaceId(d.face)) as u32));
+    let bound = BoundLimitSurface::new(&surface, mesh.positions()).unwrap();
+    let samples = sample_per_domain(&bound, 3).unwrap();
+    assert_eq!(samples.len(), surface.domains().len() * 9);
+    let by_area = sample_by_area(&bound, 2000, 1).unwrap();
+    for s in samples.iter().chain(&by_area) {
+        assert!((s.normal.length() - 1.0).abs() < 1e-12);
+        let e = surface.evaluate(mesh.positions(), s.param).unwrap();
+        assert!((e.position - s.position).length() < 1e-12);
+    }
+}
