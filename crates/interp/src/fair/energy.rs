@@ -54,36 +54,56 @@ fn row_kind(t: &Topology, sharp: &LevelSharpness, v: VertexId) -> LaplacianRow {
 /// the boundary or crease for a vertex on one, and there is no row (zero) at
 /// a corner.
 pub(crate) fn umbrella(t: &Topology, sharp: &LevelSharpness) -> SparseMatrix {
+    use rayon::prelude::*;
     let n = t.vertex_count();
+    // Rows in parallel over fixed ranges of vertices, concatenated in order
+    // (the same matrix whatever the thread count).
+    const CHUNK: usize = 8192;
+    let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let range = c * CHUNK..((c + 1) * CHUNK).min(n);
+            let mut ends = Vec::with_capacity(range.len());
+            let (mut indices, mut data) = (Vec::with_capacity(6 * range.len()), Vec::with_capacity(6 * range.len()));
+            let mut row: Vec<(u32, f64)> = Vec::new();
+            for v in range.map(|v| VertexId(v as u32)) {
+                row.clear();
+                match row_kind(t, sharp, v) {
+                    LaplacianRow::None => {}
+                    LaplacianRow::Curve(a, b) => row.extend([(a.0, 0.5), (b.0, 0.5), (v.0, -1.0)]),
+                    LaplacianRow::Surface => {
+                        let k = t.valence(v);
+                        let w = 1.0 / k as f64;
+                        row.extend(t.vertex_neighbors(v).map(|u| (u.0, w)));
+                        row.push((v.0, -1.0));
+                    }
+                }
+                // Sorted columns, repeated ones summed (a neighbour twice on coarse meshes).
+                row.sort_unstable_by_key(|e| e.0);
+                let mut last = u32::MAX;
+                for &(j, w) in &row {
+                    if j == last {
+                        *data.last_mut().expect("a previous entry") += w;
+                    } else {
+                        indices.push(j);
+                        data.push(w);
+                        last = j;
+                    }
+                }
+                ends.push(indices.len() as u32);
+            }
+            (ends, indices, data)
+        })
+        .collect();
+    let nnz: usize = chunks.iter().map(|c| c.1.len()).sum();
     let mut indptr = Vec::with_capacity(n + 1);
-    let (mut indices, mut data) = (Vec::with_capacity(6 * n), Vec::with_capacity(6 * n));
+    let (mut indices, mut data) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
     indptr.push(0u32);
-    let mut row: Vec<(u32, f64)> = Vec::new();
-    for v in t.vertices() {
-        row.clear();
-        match row_kind(t, sharp, v) {
-            LaplacianRow::None => {}
-            LaplacianRow::Curve(a, b) => row.extend([(a.0, 0.5), (b.0, 0.5), (v.0, -1.0)]),
-            LaplacianRow::Surface => {
-                let k = t.valence(v);
-                let w = 1.0 / k as f64;
-                row.extend(t.vertex_neighbors(v).map(|u| (u.0, w)));
-                row.push((v.0, -1.0));
-            }
-        }
-        // Sorted columns, repeated ones summed (a neighbour twice on coarse meshes).
-        row.sort_unstable_by_key(|e| e.0);
-        let mut last = u32::MAX;
-        for &(j, w) in &row {
-            if j == last {
-                *data.last_mut().expect("a previous entry") += w;
-            } else {
-                indices.push(j);
-                data.push(w);
-                last = j;
-            }
-        }
-        indptr.push(indices.len() as u32);
+    for (ends, i, d) in chunks {
+        let base = indices.len() as u32;
+        indptr.extend(ends.iter().map(|e| base + e));
+        indices.extend(i);
+        data.extend(d);
     }
     SparseMatrix::new((n, n), indptr, indices, data)
 }

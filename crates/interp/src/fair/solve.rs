@@ -14,6 +14,7 @@
 //! eliminated exactly), only how close the energy is to its minimum.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// The end of a CG run.
 pub(crate) struct CgRun {
@@ -31,8 +32,18 @@ pub(crate) struct CgRun {
     pub converged: bool,
 }
 
+/// The rows of one parallel task in the vector operations: sums are taken
+/// per fixed chunk and the partial sums added in order, so every result is
+/// the same bit for bit whatever the thread count.
+const CHUNK: usize = 8192;
+
 fn dot(a: &[DVec3], b: &[DVec3]) -> DVec3 {
-    a.iter().zip(b).fold(DVec3::ZERO, |acc, (u, v)| acc + *u * *v)
+    let partials: Vec<DVec3> = a
+        .par_chunks(CHUNK)
+        .zip(b.par_chunks(CHUNK))
+        .map(|(a, b)| a.iter().zip(b).fold(DVec3::ZERO, |acc, (u, v)| acc + *u * *v))
+        .collect();
+    partials.into_iter().fold(DVec3::ZERO, |acc, p| acc + p)
 }
 
 /// Per column: a / b, 0 where b is 0 (a column that is already solved).
@@ -82,19 +93,15 @@ pub(crate) fn pcg(
     while residual > rtol && iterations < max_iter {
         apply(&p, &mut q);
         let alpha = ratio(rz, dot(&p, &q));
-        for ((x, r), (p, q)) in x.iter_mut().zip(r.iter_mut()).zip(p.iter().zip(&q)) {
+        x.par_iter_mut().zip(r.par_iter_mut()).zip(p.par_iter().zip(&q)).for_each(|((x, r), (p, q))| {
             *x += alpha * *p;
             *r -= alpha * *q;
-        }
-        for ((z, r), w) in z.iter_mut().zip(&r).zip(&inv) {
-            *z = *r * *w;
-        }
+        });
+        z.par_iter_mut().zip(&r).zip(&inv).for_each(|((z, r), w)| *z = *r * *w);
         let rz_next = dot(&r, &z);
         let beta = ratio(rz_next, rz);
         rz = rz_next;
-        for (p, z) in p.iter_mut().zip(&z) {
-            *p = *z + beta * *p;
-        }
+        p.par_iter_mut().zip(&z).for_each(|(p, z)| *p = *z + beta * *p);
         iterations += 1;
         residual = rel(&r);
         history.push(residual);
