@@ -5,7 +5,6 @@
 //! at refine 0; and a property test on generated meshes.
 
 mod support;
-use glam::DVec3;
 use proptest::prelude::*;
 use subdiv_interp::fair::{self, thin_plate_energy, FairAlgorithm, FairOptions, FairScheme};
 use subdiv_interp::{
@@ -13,7 +12,7 @@ use subdiv_interp::{
     SurfaceOptions,
 };
 use subdiv_mesh::{shapes, Mesh};
-use support::{candidate_limit_points, fixture, nearest_gap, Plain};
+use support::{bumpy, candidate_limit_points, fixture, nearest_gap, Plain};
 
 const TOL: f64 = 1e-6;
 
@@ -34,17 +33,6 @@ fn check(name: &str, mesh: &Mesh, result: &Interpolant, scheme: FairScheme) -> f
     let independent = nearest_gap(mesh.positions(), &candidate_limit_points(&result.control, plain(scheme)), d);
     assert!(independent <= TOL, "{name}: independent error {independent:e}");
     reported
-}
-
-fn bumpy(mesh: Mesh, amount: f64, seed: u64) -> Mesh {
-    let mut rng = shapes::SplitMix64(seed);
-    let d = mesh.bbox_diagonal();
-    let p = mesh
-        .positions()
-        .iter()
-        .map(|&p| p + amount * d * DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5))
-        .collect();
-    mesh.with_positions(p)
 }
 
 fn cases() -> Vec<(&'static str, Mesh, FairScheme)> {

@@ -19,19 +19,9 @@ use glam::DVec3;
 use subdiv_interp::fair::{self, thin_plate_energy, FairOptions};
 use subdiv_interp::{cheng, ChengOptions, Interpolant, SurfaceOptions};
 use subdiv_mesh::{shapes, Mesh};
+use support::bumpy;
 
 const LEVEL: usize = 3;
-
-fn bumpy(mesh: Mesh, amount: f64, seed: u64) -> Mesh {
-    let mut rng = shapes::SplitMix64(seed);
-    let d = mesh.bbox_diagonal();
-    let p = mesh
-        .positions()
-        .iter()
-        .map(|&p| p + amount * d * DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5))
-        .collect();
-    mesh.with_positions(p)
-}
 
 /// The level-3 limit surface of a result whose control mesh is at `control_level`.
 fn level3(r: &Interpolant, control_level: usize) -> Mesh {

@@ -2,20 +2,10 @@
 //! parallel products, reductions and matrix builds work on fixed chunks
 //! whose partial results are combined in order.
 
-use glam::DVec3;
+mod support;
 use subdiv_interp::fair::{self, FairAlgorithm, FairOptions};
 use subdiv_mesh::{shapes, Mesh};
-
-fn bumpy(mesh: Mesh, amount: f64, seed: u64) -> Mesh {
-    let mut rng = shapes::SplitMix64(seed);
-    let d = mesh.bbox_diagonal();
-    let p = mesh
-        .positions()
-        .iter()
-        .map(|&p| p + amount * d * DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5))
-        .collect();
-    mesh.with_positions(p)
-}
+use support::bumpy;
 
 fn bits(m: &Mesh) -> Vec<[u64; 3]> {
     m.positions().iter().map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]).collect()

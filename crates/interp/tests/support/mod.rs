@@ -10,6 +10,24 @@ use std::path::{Path, PathBuf};
 pub use subdiv_interp::verify::{nearest_gap, Plain};
 use subdiv_mesh::Mesh;
 
+/// `mesh` with every vertex moved by a deterministic offset drawn uniformly
+/// from [−amount/2, amount/2]³ (seeded: the same mesh every run).
+pub fn perturbed(mesh: Mesh, amount: f64, seed: u64) -> Mesh {
+    let mut rng = subdiv_mesh::shapes::SplitMix64(seed);
+    let p = mesh
+        .positions()
+        .iter()
+        .map(|&p| p + amount * DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5))
+        .collect();
+    mesh.with_positions(p)
+}
+
+/// [`perturbed`] by `amount` × the bounding-box diagonal.
+pub fn bumpy(mesh: Mesh, amount: f64, seed: u64) -> Mesh {
+    let d = mesh.bbox_diagonal();
+    perturbed(mesh, amount * d, seed)
+}
+
 /// The repository's `fixtures/` folder.
 pub fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")

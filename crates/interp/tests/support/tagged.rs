@@ -19,13 +19,7 @@ pub fn tagged(mesh: &Mesh, creases: &[(u32, u32, f32)], corners: &[(u32, f32)]) 
 
 /// Moves every vertex by a small deterministic offset (no symmetry left).
 pub fn jittered(mesh: &Mesh, amount: f64) -> Mesh {
-    let mut rng = shapes::SplitMix64(17);
-    let p = mesh
-        .positions()
-        .iter()
-        .map(|&p| p + amount * DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5))
-        .collect();
-    mesh.with_positions(p)
+    super::perturbed(mesh.clone(), amount, 17)
 }
 
 /// The cube's top loop (z = 1: vertices 4, 5, 7, 6).
