@@ -1372,14 +1372,21 @@ pub fn catmull_clark_kernel(t: &Topology) -> Vec<Vec<(VertexId, f64)>> {
     // Per component: closed, all valence 3, 2-colourable. One pass marks the
     // components with a boundary or a valence other than 3 (almost all); only
     // the others are walked to test the colouring.
+    // The scan stops once no candidate is left (at the first vertex of
+    // valence 4 in a one-component mesh).
     let mut candidate = vec![true; t.component_count()];
+    let mut left = candidate.len();
     for v in t.vertices().filter(|&v| !t.is_isolated(v)) {
         if t.is_boundary_vertex(v) || t.valence(v) != 3 {
-            candidate[t.face_component(t.he_face(t.vertex_fan(v)[0])) as usize] = false;
+            let c = &mut candidate[t.face_component(t.he_face(t.vertex_fan(v)[0])) as usize];
+            left -= usize::from(std::mem::replace(c, false));
+            if left == 0 {
+                break;
+            }
         }
     }
     let mut kernel = Vec::new();
-    if !candidate.contains(&true) {
+    if left == 0 {
         return kernel;
     }
     let mut colour = vec![u8::MAX; t.vertex_count()];

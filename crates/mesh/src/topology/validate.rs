@@ -37,7 +37,7 @@ impl Topology {
         if faces.is_empty() {
             return Err(MeshError::NoFaces);
         }
-        check_faces(faces, vertex_count)?;
+        let fan_offsets = check_and_count_corners(faces, vertex_count)?;
         let nv = vertex_count;
         let nh = faces.corner_count();
         if nh >= NONE as usize {
@@ -45,18 +45,17 @@ impl Topology {
         }
         let offsets = faces.offsets();
         let idx = faces.indices();
-        let nf = faces.len();
 
         // Outgoing half-edges per vertex by counting sort (CSR, in half-edge
-        // order), each with its end vertex and its face's previous half-edge
-        // (which ends at the vertex): `link[2k]` and `link[2k + 1]` for slot
-        // k. The fan is this CSR reordered in place: everything a vertex
+        // order), each with its end vertex and the start vertex of its face's
+        // previous half-edge (which ends at the vertex): `link[2k]` and
+        // `link[2k + 1]` for slot k, both read from the face being scattered
+        // (no gather at random later). The fan is this CSR reordered in place: everything a vertex
         // needs is in its own bucket. (`link`'s memory becomes he_edge, so
         // that fewer fresh pages are touched.) Big meshes are split into
         // vertex ranges of about equal corner counts, one per thread: each
         // owns its buckets' slots, so the result is the same whatever the
         // split (every bucket in half-edge order).
-        let fan_offsets = csr_offsets(nv, idx.iter().copied());
         let parts = if nh < PARALLEL_CORNERS { 1 } else { rayon::current_num_threads().max(1) };
         let vertex_parts = balanced_ranges(&fan_offsets, parts);
         let he_face = face_of_half_edges(faces, parts);
@@ -94,7 +93,7 @@ impl Topology {
             .into_par_iter()
             .zip(split_at_ranges(&vertex_parts, &mut vertex_on_boundary))
             .map(|((vertices, fan, _), on_boundary)| {
-                order_fans(vertices, &fan_offsets, &link, idx, &he_face, fan, on_boundary)
+                order_fans(vertices, &fan_offsets, &link, &he_face, fan, on_boundary)
             })
             .collect();
         if let Some(e) = verdicts.iter().find_map(|v| v.edge_error.clone()) {
@@ -130,7 +129,7 @@ impl Topology {
             loop_offsets.push(loop_he.len() as u32);
         }
 
-        let (face_component, component_count) = components(&he_twin, &he_face, nf);
+        let (face_component, component_count) = components(faces, &he_twin, &he_face, parts);
 
         Ok(Self {
             vertex_count: nv as u32,
@@ -150,31 +149,55 @@ impl Topology {
     }
 }
 
-/// Per-face checks that need no connectivity: size, index range, repeats.
-/// One pass over the corners, whatever the face sizes (a face of 10⁶
-/// corners costs 10⁶ steps, not 10¹²/2).
-fn check_faces(faces: &FaceList, vertex_count: usize) -> Result<(), MeshError> {
+/// Per-face checks that need no connectivity (size, index range, repeats)
+/// and, in the same pass, the CSR offsets of every vertex's corners: one
+/// scan of the face list for both. Errors name the first offending face and,
+/// in it, the first offending corner (range before repeat). A repeat is
+/// found by comparing with the face's earlier corners for faces of at most
+/// [`SMALL_FACE`] corners (no vertex-sized array touched at random), by
+/// marking vertices for bigger ones (a face of 10⁶ corners costs 10⁶ steps,
+/// not 10¹²/2).
+fn check_and_count_corners(faces: &FaceList, vertex_count: usize) -> Result<Vec<u32>, MeshError> {
     if vertex_count >= NONE as usize {
         return Err(MeshError::TooLarge { what: "more than 2³² − 2 vertices" });
     }
-    // The last face each vertex was seen in: a second sighting in the same face is a repeat.
-    let mut seen_in = vec![NONE; vertex_count];
+    let mut offsets = vec![0u32; vertex_count + 1];
+    // The last big face each vertex was seen in, allocated at the first big face.
+    let mut seen_in: Vec<u32> = Vec::new();
     for (f, face) in faces.iter().enumerate() {
         if face.len() < 3 {
             return Err(MeshError::FaceTooSmall { face: f as u32, size: face.len() });
         }
-        for &v in face {
-            let Some(seen) = seen_in.get_mut(v as usize) else {
+        let small = face.len() <= SMALL_FACE;
+        if !small && seen_in.is_empty() {
+            seen_in = vec![NONE; vertex_count];
+        }
+        for (j, &v) in face.iter().enumerate() {
+            let Some(count) = offsets.get_mut(v as usize + 1) else {
                 return Err(MeshError::IndexOutOfRange { face: f as u32, vertex: v, vertex_count });
             };
-            if *seen == f as u32 {
+            // Wrapping: past 2³² − 2 corners the counts are discarded
+            // (`TooLarge`, after these checks).
+            *count = count.wrapping_add(1);
+            let repeated = if small {
+                face[..j].contains(&v)
+            } else {
+                std::mem::replace(&mut seen_in[v as usize], f as u32) == f as u32
+            };
+            if repeated {
                 return Err(MeshError::RepeatedIndex { face: f as u32, vertex: v });
             }
-            *seen = f as u32;
         }
     }
-    Ok(())
+    for i in 0..vertex_count {
+        offsets[i + 1] = offsets[i + 1].wrapping_add(offsets[i]);
+    }
+    Ok(offsets)
 }
+
+/// Faces of at most this many corners are checked for repeated indices by
+/// comparing their corners (see [`check_and_count_corners`]).
+const SMALL_FACE: usize = 16;
 
 /// Below this many corners the construction runs on one thread.
 const PARALLEL_CORNERS: usize = 1 << 16;
@@ -268,7 +291,7 @@ fn scatter_corners(
                 *slot += 1;
                 fan[k] = HalfEdgeId(h);
                 link[2 * k] = idx[next as usize];
-                link[2 * k + 1] = prev;
+                link[2 * k + 1] = idx[prev as usize];
             }
             prev = h;
         }
@@ -288,7 +311,6 @@ fn order_fans(
     vertices: Range<usize>,
     fan_offsets: &[u32],
     link: &[u32],
-    idx: &[u32],
     he_face: &[u32],
     fan: &mut [HalfEdgeId],
     on_boundary: &mut [bool],
@@ -304,9 +326,9 @@ fn order_fans(
         let links = &link[2 * range.start..2 * range.end];
         let local = range.start - base..range.end - base;
         let corners = if range.len() <= SMALL_BUCKET {
-            small_bucket(links, idx, &mut fan[local.clone()])
+            small_bucket(links, &mut fan[local.clone()])
         } else {
-            bucket.load(links, idx);
+            bucket.load(links);
             bucket.fan(&mut fan[local.clone()])
         };
         match corners {
@@ -333,7 +355,7 @@ fn order_fans(
             }
             Verdict::SeveralFans => {
                 if verdict.fan_error.is_none() {
-                    bucket.load(links, idx);
+                    bucket.load(links);
                     verdict.fan_error =
                         Some(MeshError::NonManifoldVertex { vertex: a as u32, fans: bucket.count_fans() });
                 }
@@ -343,39 +365,46 @@ fn order_fans(
     verdict
 }
 
-/// CSR offsets of a bucket count: `keys` yields the bucket of every item.
-fn csr_offsets(buckets: usize, keys: impl Iterator<Item = u32>) -> Vec<u32> {
-    let mut offsets = vec![0u32; buckets + 1];
-    for k in keys {
-        offsets[k as usize + 1] += 1;
-    }
-    for i in 0..buckets {
-        offsets[i + 1] += offsets[i];
-    }
-    offsets
-}
-
 /// Connected components of faces through twins, numbered in order of
 /// their first face: union-find whose roots are the smallest face of their
 /// set (so `parent[f] ≤ f`), then one ascending pass that labels each face
 /// from its parent's label. Returns (component of every face, count).
-fn components(he_twin: &[u32], he_face: &[u32], face_count: usize) -> (Vec<u32>, u32) {
+///
+/// Big meshes are split into face ranges of about equal corner counts, one
+/// per thread: each joins the twin pairs inside its range in its own slice
+/// of `parent` and lists the pairs that leave it, which are joined after,
+/// on the whole array. The partition, hence the labelling, is the same
+/// whatever the split.
+fn components(faces: &FaceList, he_twin: &[u32], he_face: &[u32], parts: usize) -> (Vec<u32>, u32) {
+    let offsets = faces.offsets();
+    let face_count = faces.len();
     let mut parent: Vec<u32> = (0..face_count as u32).collect();
-    let find = |parent: &mut [u32], mut x: u32| {
-        while parent[x as usize] != x {
-            let grand = parent[parent[x as usize] as usize];
-            parent[x as usize] = grand;
-            x = grand;
-        }
-        x
-    };
-    for (h, &t) in he_twin.iter().enumerate() {
-        if t != NONE && (h as u32) < t {
-            let (a, b) = (find(&mut parent, he_face[h]), find(&mut parent, he_face[t as usize]));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
+    let face_parts = balanced_ranges(offsets, parts);
+    let crossing: Vec<Vec<(u32, u32)>> = split_at_ranges(&face_parts, &mut parent)
+        .into_par_iter()
+        .zip(face_parts.par_iter())
+        .map(|(parent, range)| {
+            let base = range.start as u32;
+            // Roots are the smallest face of their set: within the range,
+            // parents stay in it.
+            let mut crossing = Vec::new();
+            for h in offsets[range.start] as usize..offsets[range.end] as usize {
+                let t = he_twin[h];
+                if t == NONE || (h as u32) > t {
+                    continue;
+                }
+                let (a, b) = (he_face[h], he_face[t as usize]);
+                if (b as usize) < range.end {
+                    union(parent, base, a, b);
+                } else {
+                    crossing.push((a, b));
+                }
             }
-        }
+            crossing
+        })
+        .collect();
+    for &(a, b) in crossing.iter().flatten() {
+        union(&mut parent, 0, a, b);
     }
     // parent[f] < f was labelled before f, with its root's label.
     let mut count = 0u32;
@@ -389,6 +418,25 @@ fn components(he_twin: &[u32], he_face: &[u32], face_count: usize) -> (Vec<u32>,
         };
     }
     (parent, count)
+}
+
+/// Joins the sets of faces `a` and `b` in a union-find forest whose roots
+/// are the smallest face of their set (path halving on the way); `parent`
+/// holds the parents of faces `base..`.
+#[inline]
+fn union(parent: &mut [u32], base: u32, a: u32, b: u32) {
+    let find = |parent: &mut [u32], mut x: u32| {
+        while parent[(x - base) as usize] != x {
+            let grand = parent[(parent[(x - base) as usize] - base) as usize];
+            parent[(x - base) as usize] = grand;
+            x = grand;
+        }
+        x
+    };
+    let (a, b) = (find(parent, a), find(parent, b));
+    if a != b {
+        parent[(a.max(b) - base) as usize] = a.min(b);
+    }
 }
 
 /// Buckets larger than this are searched through hash maps, smaller ones
@@ -407,18 +455,18 @@ enum Verdict {
 }
 
 /// [`Bucket::fan`] for a bucket of at most [`SMALL_BUCKET`] corners, on the
-/// stack: `links` are the corners' end vertices and previous half-edges
-/// (interleaved), `fan` their half-edges, reordered into the fan on
+/// stack: `links` are the corners' end vertices and the start vertices of
+/// their previous half-edges (interleaved), `fan` their half-edges, reordered into the fan on
 /// success.
 #[inline]
-fn small_bucket(links: &[u32], idx: &[u32], fan: &mut [HalfEdgeId]) -> Verdict {
+fn small_bucket(links: &[u32], fan: &mut [HalfEdgeId]) -> Verdict {
     const NO: u8 = u8::MAX;
     let k = fan.len();
     let mut to = [0u32; SMALL_BUCKET];
     let mut prev_from = [0u32; SMALL_BUCKET];
     for i in 0..k {
         to[i] = links[2 * i];
-        prev_from[i] = idx[links[2 * i + 1] as usize];
+        prev_from[i] = links[2 * i + 1];
     }
     for j in 1..k {
         if let Some(i) = to[..j].iter().position(|&t| t == to[j]) {
@@ -473,14 +521,14 @@ struct Bucket {
 }
 
 impl Bucket {
-    /// The bucket of `links` (end vertex and previous half-edge of every
-    /// corner, interleaved); `idx` gives the start vertex of every half-edge.
-    fn load(&mut self, links: &[u32], idx: &[u32]) {
+    /// The bucket of `links` (end vertex and start vertex of the previous
+    /// half-edge of every corner, interleaved).
+    fn load(&mut self, links: &[u32]) {
         self.to.clear();
         self.prev_from.clear();
         for pair in links.chunks_exact(2) {
             self.to.push(pair[0]);
-            self.prev_from.push(idx[pair[1] as usize]);
+            self.prev_from.push(pair[1]);
         }
         if self.big() {
             self.by_to.clear();

@@ -12,7 +12,7 @@ pub(super) fn build(faces: FaceList, vertex_count: usize) -> Result<Topology, Me
     if faces.is_empty() {
         return Err(MeshError::NoFaces);
     }
-    super::check_faces(&faces, vertex_count)?;
+    check_faces(&faces, vertex_count)?;
     let nv = vertex_count;
     let nh = faces.corner_count();
     if nh >= NONE as usize {
@@ -252,4 +252,30 @@ fn count_fans(outs: &[u32], he_twin: &[u32], prev: &dyn Fn(usize) -> usize, half
         }
     }
     fans
+}
+
+/// Per-face checks that need no connectivity: size, index range, repeats.
+/// One pass over the corners, whatever the face sizes (a face of 10⁶
+/// corners costs 10⁶ steps, not 10¹²/2).
+fn check_faces(faces: &FaceList, vertex_count: usize) -> Result<(), MeshError> {
+    if vertex_count >= NONE as usize {
+        return Err(MeshError::TooLarge { what: "more than 2³² − 2 vertices" });
+    }
+    // The last face each vertex was seen in: a second sighting in the same face is a repeat.
+    let mut seen_in = vec![NONE; vertex_count];
+    for (f, face) in faces.iter().enumerate() {
+        if face.len() < 3 {
+            return Err(MeshError::FaceTooSmall { face: f as u32, size: face.len() });
+        }
+        for &v in face {
+            let Some(seen) = seen_in.get_mut(v as usize) else {
+                return Err(MeshError::IndexOutOfRange { face: f as u32, vertex: v, vertex_count });
+            };
+            if *seen == f as u32 {
+                return Err(MeshError::RepeatedIndex { face: f as u32, vertex: v });
+            }
+            *seen = f as u32;
+        }
+    }
+    Ok(())
 }
