@@ -134,7 +134,7 @@ mod text;
 mod validated;
 
 use glam::DVec3;
-use std::io::Read;
+use std::io::{Read, Seek};
 use std::path::Path;
 
 pub use atomic::{commit_all, remove_staged_files, stage_bytes, StagedFile};
@@ -184,6 +184,18 @@ pub fn read_mesh_with_warnings(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<(PolygonSoup, Vec<ReadWarning>), IoError> {
     let format = Format::from_path(path)?;
+    if matches!(format, Format::PlyAscii | Format::PlyBinary) {
+        // Binary PLY is decoded as it is read (no copy of the whole file);
+        // what that path does not take is read whole, from the start.
+        let ctx = Ctx::new(path);
+        let (mut file, size) = open_regular_file(path)?;
+        if let Some(soup) = ply::read_streamed(&mut file, size, ctx, progress).map_err(|e| ctx.io(e))? {
+            return checked(soup, Vec::new(), ctx);
+        }
+        file.rewind().map_err(|e| ctx.io(e))?;
+        let bytes = read_open_file(file, size, None, READ_CHUNK, ctx, progress)?;
+        return read_bytes(&bytes, format, path, None);
+    }
     let bytes = read_file(path, None, progress)?;
     read_bytes(&bytes, format, path, Some(path.parent().unwrap_or(Path::new("."))))
 }
@@ -213,6 +225,12 @@ fn read_file_in_chunks(
     chunk: u64,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Vec<u8>, IoError> {
+    let (file, size) = open_regular_file(path)?;
+    read_open_file(file, size, limit, chunk, Ctx::new(path), progress)
+}
+
+/// Opens a regular file (see [`read_file`]); returns it with its size.
+fn open_regular_file(path: &Path) -> Result<(std::fs::File, u64), IoError> {
     let ctx = Ctx::new(path);
     let regular = |metadata: std::fs::Metadata| {
         if metadata.is_file() {
@@ -224,6 +242,19 @@ fn read_file_in_chunks(
     regular(std::fs::metadata(path).map_err(|e| ctx.io(e))?)?;
     let file = std::fs::File::open(path).map_err(|e| ctx.io(e))?;
     let size = regular(file.metadata().map_err(|e| ctx.io(e))?)?.len();
+    Ok((file, size))
+}
+
+/// Reads the opened file of `size` bytes (at most `limit` of them) into
+/// memory, `chunk` bytes between two progress reports.
+fn read_open_file(
+    file: std::fs::File,
+    size: u64,
+    limit: Option<u64>,
+    chunk: u64,
+    ctx: Ctx<'_>,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Vec<u8>, IoError> {
     let limit = limit.unwrap_or(u64::MAX);
     let total = size.min(limit);
     let mut bytes = Vec::new();
@@ -306,6 +337,16 @@ fn read_bytes(
         Format::StlAscii | Format::StlBinary => (stl::read(bytes, ctx)?, Vec::new()),
         Format::Gltf | Format::Glb => gltf::read(bytes, ctx, base_dir)?,
     };
+    checked(soup, warnings, ctx)
+}
+
+/// What every reader's soup must be besides: not empty, and within
+/// `FaceList`'s `u32` offsets.
+fn checked(
+    soup: PolygonSoup,
+    warnings: Vec<ReadWarning>,
+    ctx: Ctx<'_>,
+) -> Result<(PolygonSoup, Vec<ReadWarning>), IoError> {
     if soup.positions.is_empty() && soup.faces.is_empty() {
         return Err(ctx.empty());
     }

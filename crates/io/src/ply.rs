@@ -35,8 +35,10 @@
 //! 127 corners).
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::{self, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
 use subdiv_mesh::{FaceList, FaceVarying, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
@@ -45,6 +47,9 @@ use crate::text::{
     TextOut,
 };
 use crate::{Format, MeshView};
+
+mod stream;
+pub(crate) use stream::read_streamed;
 
 /// A PLY scalar type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -321,13 +326,21 @@ fn decode(ty: Scalar, big_endian: bool, b: &[u8]) -> f64 {
 /// reports).
 #[inline(always)]
 fn decode_index(ty: Scalar, big_endian: bool, b: &[u8]) -> Option<u32> {
+    let word = |b: &[u8]| {
+        let mut a = [0u8; 4];
+        a.copy_from_slice(&b[..4]);
+        if big_endian {
+            u32::from_be_bytes(a)
+        } else {
+            u32::from_le_bytes(a)
+        }
+    };
     let x = match ty {
         Scalar::F32 | Scalar::F64 => return None,
-        Scalar::U32 => {
-            let mut a = [0u8; 4];
-            a.copy_from_slice(&b[..4]);
-            return Some(if big_endian { u32::from_be_bytes(a) } else { u32::from_le_bytes(a) });
-        }
+        Scalar::U8 => return Some(u32::from(b[0])),
+        Scalar::U32 => return Some(word(b)),
+        // A negative `int` has the top bit set.
+        Scalar::I32 => return Some(word(b)).filter(|&w| w <= i32::MAX as u32),
         _ => decode(ty, big_endian, b),
     };
     (x >= 0.0).then_some(x as u32)
@@ -388,62 +401,223 @@ impl Values for Binary<'_> {
     }
 
     fn fast_vertices(&mut self, element: &Element, positions: &mut Vec<DVec3>, uvs: Option<&mut Vec<DVec2>>) -> bool {
-        if element.properties.iter().any(|p| p.list.is_some()) {
-            return false;
-        }
-        let stride: usize = element.properties.iter().map(|p| p.ty.size()).sum();
+        let Some(layout) = VertexLayout::of(element, self.big_endian) else { return false };
         let rest = &self.data[self.pos..];
-        let Some(bytes) = element.count.checked_mul(stride).filter(|&n| n <= rest.len()) else { return false };
-        let mut at = [(0usize, Scalar::F64); 5];
-        let mut offset = 0;
-        for p in &element.properties {
-            match p.role {
-                Role::Coordinate(axis) => at[axis] = (offset, p.ty),
-                Role::Uv(k) => at[3 + k] = (offset, p.ty),
-                _ => {}
-            }
-            offset += p.ty.size();
-        }
-        let big = self.big_endian;
-        let records = rest[..bytes].chunks_exact(stride.max(1)).take(element.count);
-        let value = |r: &[u8], (o, ty): (usize, Scalar)| decode(ty, big, &r[o..]);
-        positions.extend(records.clone().map(|r| DVec3::new(value(r, at[0]), value(r, at[1]), value(r, at[2]))));
-        if let Some(uvs) = uvs {
-            uvs.extend(records.map(|r| DVec2::new(value(r, at[3]), value(r, at[4]))));
-        }
+        let Some(bytes) = element.count.checked_mul(layout.stride).filter(|&n| n <= rest.len()) else { return false };
+        layout.decode(&rest[..bytes], positions, uvs);
         self.pos += bytes;
         true
     }
 
     fn fast_faces(&mut self, element: &Element, faces: &mut FaceList) -> bool {
-        let [Property { list: Some(count_ty), ty, role: Role::Indices, .. }] = element.properties.as_slice() else {
-            return false;
-        };
-        let (count_ty, ty, big) = (*count_ty, *ty, self.big_endian);
-        let (count_size, size) = (count_ty.size(), ty.size());
+        let Some(layout) = FaceLayout::of(element, self.big_endian) else { return false };
         let data = &self.data[self.pos..];
-        let mut offsets = Vec::with_capacity(element.count.min(data.len() / count_size) + 1);
-        let mut indices = Vec::with_capacity(data.len() / size);
-        offsets.push(0u32);
-        let mut pos = 0;
-        for _ in 0..element.count {
-            let Some(n) = data.get(pos..pos + count_size).and_then(|b| decode_index(count_ty, big, b)) else {
-                return false;
-            };
-            pos += count_size;
-            let end = (n as usize).checked_mul(size).and_then(|b| b.checked_add(pos)).filter(|&e| e <= data.len());
-            let Some(end) = end else { return false };
-            for b in data[pos..end].chunks_exact(size) {
-                let Some(v) = decode_index(ty, big, b) else { return false };
-                indices.push(v);
+        let (count_size, size) = (layout.count_ty.size(), layout.ty.size());
+        let mut out = FaceArrays::with_capacity(element.count.min(data.len() / count_size), data.len() / size);
+        let (mut done, mut pos) = (0, 0);
+        while done < element.count {
+            match layout.decode(&data[pos..], element.count - done, &mut out) {
+                Some((records, bytes)) if records > 0 => (done, pos) = (done + records, pos + bytes),
+                _ => return false,
             }
-            pos = end;
-            let Ok(corners) = u32::try_from(indices.len()) else { return false };
-            offsets.push(corners);
         }
-        *faces = FaceList::from_raw(offsets, indices);
+        *faces = out.into_face_list();
         self.pos += pos;
         true
+    }
+}
+
+/// Where a vertex record of fixed layout keeps its coordinates and texture
+/// coordinates: the byte offset and type of x, y, z, u, v.
+#[derive(Clone, Copy, Debug)]
+struct VertexLayout {
+    stride: usize,
+    at: [(usize, Scalar); 5],
+    big_endian: bool,
+}
+
+impl VertexLayout {
+    /// The layout of `element`'s records; `None` when a list property makes
+    /// their size vary.
+    fn of(element: &Element, big_endian: bool) -> Option<Self> {
+        if element.properties.iter().any(|p| p.list.is_some()) {
+            return None;
+        }
+        let mut at = [(0usize, Scalar::F64); 5];
+        let mut stride = 0;
+        for p in &element.properties {
+            match p.role {
+                Role::Coordinate(axis) => at[axis] = (stride, p.ty),
+                Role::Uv(k) => at[3 + k] = (stride, p.ty),
+                _ => {}
+            }
+            stride += p.ty.size();
+        }
+        Some(Self { stride: stride.max(1), at, big_endian })
+    }
+
+    #[inline(always)]
+    fn value(&self, record: &[u8], (offset, ty): (usize, Scalar)) -> f64 {
+        decode(ty, self.big_endian, &record[offset..])
+    }
+
+    /// Decodes whole records (`bytes.len()` a multiple of the stride), in
+    /// parallel, appending to `positions` (and `uvs`).
+    fn decode(&self, bytes: &[u8], positions: &mut Vec<DVec3>, uvs: Option<&mut Vec<DVec2>>) {
+        let records = bytes.par_chunks_exact(self.stride).with_min_len(DECODE_MIN_RECORDS);
+        let at = self.at;
+        positions.par_extend(
+            records.clone().map(|r| DVec3::new(self.value(r, at[0]), self.value(r, at[1]), self.value(r, at[2]))),
+        );
+        if let Some(uvs) = uvs {
+            uvs.par_extend(records.map(|r| DVec2::new(self.value(r, at[3]), self.value(r, at[4]))));
+        }
+    }
+}
+
+/// Records decoded per task at the least: below this, splitting costs more
+/// than it saves.
+const DECODE_MIN_RECORDS: usize = 1 << 12;
+
+/// The layout of a face element that holds nothing but its index list, of
+/// integer types.
+#[derive(Clone, Copy, Debug)]
+struct FaceLayout {
+    count_ty: Scalar,
+    ty: Scalar,
+    big_endian: bool,
+}
+
+impl FaceLayout {
+    fn of(element: &Element, big_endian: bool) -> Option<Self> {
+        let [Property { list: Some(count_ty), ty, role: Role::Indices, .. }] = element.properties.as_slice() else {
+            return None;
+        };
+        let integer = |t: &Scalar| !matches!(t, Scalar::F32 | Scalar::F64);
+        (integer(count_ty) && integer(ty)).then_some(Self { count_ty: *count_ty, ty: *ty, big_endian })
+    }
+
+    /// The corner count of the record starting `bytes` (`None`: too short).
+    #[inline(always)]
+    fn count(&self, bytes: &[u8]) -> Option<usize> {
+        bytes
+            .get(..self.count_ty.size())
+            .and_then(|b| decode_index(self.count_ty, self.big_endian, b))
+            .map(|n| n as usize)
+    }
+
+    /// Decodes up to `records` whole records from the start of `bytes` into
+    /// `faces`: returns how many, and the bytes they took. A run of records
+    /// with the first one's corner count is decoded in parallel, the rest one
+    /// by one. `None` for a negative index or past 2³² − 1 corners (the
+    /// record loop reports those).
+    fn decode(&self, bytes: &[u8], records: usize, faces: &mut FaceArrays) -> Option<(usize, usize)> {
+        let (count_size, size) = (self.count_ty.size(), self.ty.size());
+        let uniform = self.count(bytes).filter(|&n| n > 0).and_then(|n| {
+            let stride = count_size + n * size;
+            let k = records.min(bytes.len() / stride);
+            let run = &bytes[..k * stride];
+            let same = k >= DECODE_MIN_RECORDS
+                && run.par_chunks_exact(stride).with_min_len(DECODE_MIN_RECORDS).all(|r| self.count(r) == Some(n));
+            same.then_some((n, k, stride))
+        });
+        if let Some((n, k, stride)) = uniform {
+            let ok = match n {
+                3 => self.decode_uniform::<3>(&bytes[..k * stride], faces),
+                4 => self.decode_uniform::<4>(&bytes[..k * stride], faces),
+                _ => self.decode_uniform_any(n, &bytes[..k * stride], faces),
+            };
+            return ok.then_some((k, k * stride));
+        }
+        let mut pos = 0;
+        let mut done = 0;
+        while done < records {
+            let Some(n) = self.count(&bytes[pos..]) else { break };
+            let end = n.checked_mul(size).and_then(|b| b.checked_add(pos + count_size)).filter(|&e| e <= bytes.len());
+            let Some(end) = end else { break };
+            for b in bytes[pos + count_size..end].chunks_exact(size) {
+                faces.indices.push(decode_index(self.ty, self.big_endian, b)?);
+            }
+            faces.offsets.push(u32::try_from(faces.indices.len()).ok()?);
+            pos = end;
+            done += 1;
+        }
+        Some((done, pos))
+    }
+
+    /// Records of `N` corners each, in parallel; false on a negative index
+    /// or too many corners.
+    fn decode_uniform<const N: usize>(&self, run: &[u8], faces: &mut FaceArrays) -> bool {
+        let stride = self.count_ty.size() + N * self.ty.size();
+        let (offset, size) = (self.count_ty.size(), self.ty.size());
+        let k = run.len() / stride;
+        self.append_offsets(N, k, faces)
+            && self.append_indices(
+                faces,
+                (0..k * N).into_par_iter().map(|c| (c / N) * stride + offset + (c % N) * size),
+                run,
+            )
+    }
+
+    /// [`FaceLayout::decode_uniform`] for any corner count `n`.
+    fn decode_uniform_any(&self, n: usize, run: &[u8], faces: &mut FaceArrays) -> bool {
+        let stride = self.count_ty.size() + n * self.ty.size();
+        let (offset, size) = (self.count_ty.size(), self.ty.size());
+        let k = run.len() / stride;
+        self.append_offsets(n, k, faces)
+            && self.append_indices(
+                faces,
+                (0..k * n).into_par_iter().map(|c| (c / n) * stride + offset + (c % n) * size),
+                run,
+            )
+    }
+
+    /// The offsets of `k` more faces of `n` corners; false past 2³² − 1 corners.
+    fn append_offsets(&self, n: usize, k: usize, faces: &mut FaceArrays) -> bool {
+        let base = faces.indices.len();
+        if u32::try_from(base + n * k).is_err() {
+            return false;
+        }
+        faces
+            .offsets
+            .par_extend((1..k + 1).into_par_iter().with_min_len(DECODE_MIN_RECORDS).map(|f| (base + f * n) as u32));
+        true
+    }
+
+    /// Appends the index at each byte position of `at` in `run`; false if one
+    /// is negative.
+    fn append_indices(
+        &self,
+        faces: &mut FaceArrays,
+        at: impl IndexedParallelIterator<Item = usize>,
+        run: &[u8],
+    ) -> bool {
+        let negative = AtomicBool::new(false);
+        faces.indices.par_extend(at.with_min_len(DECODE_MIN_RECORDS).map(|p| {
+            decode_index(self.ty, self.big_endian, &run[p..]).unwrap_or_else(|| {
+                negative.store(true, Ordering::Relaxed);
+                0
+            })
+        }));
+        !negative.into_inner()
+    }
+}
+
+/// A face list being decoded: CSR offsets (from 0) and indices.
+struct FaceArrays {
+    offsets: Vec<u32>,
+    indices: Vec<u32>,
+}
+
+impl FaceArrays {
+    fn with_capacity(faces: usize, corners: usize) -> Self {
+        let mut offsets = Vec::with_capacity(faces + 1);
+        offsets.push(0);
+        Self { offsets, indices: Vec::with_capacity(corners) }
+    }
+
+    fn into_face_list(self) -> FaceList {
+        FaceList::from_raw(self.offsets, self.indices)
     }
 }
 
@@ -668,6 +842,12 @@ fn read_body(
             }
         }
     }
+    Ok(soup_of(positions, vertex_uvs, faces, corner_uvs))
+}
+
+/// The soup of what the elements held: texture coordinates per corner when
+/// every face had them, else per vertex when every vertex had them.
+fn soup_of(positions: Vec<DVec3>, vertex_uvs: Vec<DVec2>, faces: FaceList, corner_uvs: CornerUvs) -> PolygonSoup {
     let uvs = if corner_uvs.faces > 0 && corner_uvs.faces == faces.len() {
         Some(FaceVarying { values: corner_uvs.values, indices: corner_uvs.indices })
     } else if !vertex_uvs.is_empty() && vertex_uvs.len() == positions.len() {
@@ -675,7 +855,7 @@ fn read_body(
     } else {
         None
     };
-    Ok(PolygonSoup { uvs, ..PolygonSoup::new(positions, faces) })
+    PolygonSoup { uvs, ..PolygonSoup::new(positions, faces) }
 }
 
 pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {

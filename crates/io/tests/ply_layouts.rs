@@ -3,10 +3,13 @@
 //! layout take a fast path; ASCII always takes the record loop, so this
 //! compares the two on random layouts (scalar types of x, y, z and of the
 //! list count and indices, extra properties and elements, both byte orders)
-//! and on damaged data (negative indices, truncation).
+//! and on damaged data (negative indices, truncation). A binary file read
+//! from disk (decoded as it streams, `read_mesh`) reads as its bytes in
+//! memory do, on the same layouts and on files of several read chunks.
 
 use proptest::prelude::*;
-use subdiv_io::{read_mesh_from_bytes, Format, IoError};
+use std::path::PathBuf;
+use subdiv_io::{read_mesh, read_mesh_from_bytes, Format, IoError, PolygonSoup};
 
 /// A PLY scalar type: (name, size, integer range or None for floats).
 type Scalar = (&'static str, usize, Option<(i64, i64)>);
@@ -169,6 +172,7 @@ proptest! {
         let (binary, ascii) = files(&l);
         let from_binary = read_mesh_from_bytes(&binary, Format::PlyBinary, "t.ply");
         let from_ascii = read_mesh_from_bytes(&ascii, Format::PlyAscii, "t.ply");
+        same_from_disk(&binary, &from_binary);
         match (&from_binary, &from_ascii) {
             (Ok(b), Ok(a)) => {
                 prop_assert_eq!(&b.faces, &a.faces);
@@ -185,4 +189,104 @@ proptest! {
             (b, a) => prop_assert!(false, "binary {:?} vs ascii {:?}", b.as_ref().map(|_| ()), a.as_ref().map(|_| ())),
         }
     }
+}
+
+/// A scratch file in a directory of its own (removed on drop).
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(tag: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("subdiv-ply-stream-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// `bytes` written to a file and read back by path gives `expected` (the
+/// in-memory read): the same soup bit for bit, or the same error.
+fn same_from_disk(bytes: &[u8], expected: &Result<PolygonSoup, IoError>) {
+    thread_local!(static DIR: Scratch = Scratch::new(&format!("{:?}", std::thread::current().id()).replace(|c: char| !c.is_ascii_alphanumeric(), "")));
+    DIR.with(|dir| {
+        let path = dir.0.join("t.ply");
+        std::fs::write(&path, bytes).unwrap();
+        let from_disk = read_mesh(&path);
+        match (&from_disk, expected) {
+            (Ok(d), Ok(m)) => {
+                assert_eq!(d.faces, m.faces);
+                assert_eq!(d.uvs, m.uvs);
+                let bits =
+                    |p: &[subdiv_mesh::DVec3]| p.iter().map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+                assert_eq!(bits(&d.positions), bits(&m.positions));
+            }
+            (Err(d), Err(m)) => assert_eq!(d.to_string().replace(&path.display().to_string(), "t.ply"), m.to_string()),
+            (d, m) => panic!("from disk {:?} vs in memory {:?}", d.as_ref().map(|_| ()), m.as_ref().map(|_| ())),
+        }
+    });
+}
+
+/// A binary PLY of `faces` (corner counts from `sizes`, cycled) over `n`
+/// vertices, `uchar`/`uint` counts and `int` indices, with per-vertex `u v`.
+fn big_file(n: usize, faces: usize, sizes: &[usize], uint_counts: bool) -> Vec<u8> {
+    let count = if uint_counts { "uint" } else { "uchar" };
+    let mut out = format!(
+        "ply\nformat binary_little_endian 1.0\nelement vertex {n}\nproperty float x\nproperty double y\nproperty double z\n\
+         property float u\nproperty float v\nelement face {faces}\nproperty list {count} int vertex_indices\nend_header\n"
+    )
+    .into_bytes();
+    for i in 0..n {
+        let t = i as f64;
+        out.extend((t.sin() as f32).to_le_bytes());
+        out.extend((t * 0.5).to_le_bytes());
+        out.extend((t.cos() * 1e-3).to_le_bytes());
+        out.extend(((t * 0.25) as f32).to_le_bytes());
+        out.extend((-(t as f32)).to_le_bytes());
+    }
+    for f in 0..faces {
+        let k = sizes[f % sizes.len()];
+        if uint_counts {
+            out.extend((k as u32).to_le_bytes());
+        } else {
+            out.push(k as u8);
+        }
+        for j in 0..k {
+            out.extend((((f * 7 + j * 13) % n) as i32).to_le_bytes());
+        }
+    }
+    out
+}
+
+#[test]
+fn files_of_many_read_chunks_read_as_their_bytes_do() {
+    // Quads only (the parallel run), mixed sizes (record by record, records
+    // across chunk ends), and faces longer than a chunk (2²⁰ + 1 corners).
+    let cases = [
+        big_file(300_000, 400_000, &[4], false),
+        big_file(200_000, 500_000, &[3, 3, 4, 5, 3, 9], false),
+        big_file(2_000_000, 3, &[1 << 20, 1, (1 << 20) + 1], true),
+    ];
+    for bytes in &cases {
+        let in_memory = read_mesh_from_bytes(bytes, Format::PlyBinary, "t.ply");
+        assert!(in_memory.is_ok());
+        same_from_disk(bytes, &in_memory);
+        // Cut inside the faces and inside the vertices: the same errors.
+        for cut in [bytes.len() - 3, bytes.len() / 3] {
+            let cut = &bytes[..cut];
+            let in_memory = read_mesh_from_bytes(cut, Format::PlyBinary, "t.ply");
+            assert!(in_memory.is_err());
+            same_from_disk(cut, &in_memory);
+        }
+    }
+    // A negative index far into the file: the record loop's message.
+    let mut bad = cases[0].clone();
+    let at = bad.len() - 2 * 17 + 1;
+    bad[at..at + 4].copy_from_slice(&(-5i32).to_le_bytes());
+    let in_memory = read_mesh_from_bytes(&bad, Format::PlyBinary, "t.ply");
+    assert!(message(in_memory.as_ref().unwrap_err()).contains("negative"), "{:?}", in_memory.err());
+    same_from_disk(&bad, &in_memory);
 }
