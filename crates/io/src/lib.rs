@@ -163,7 +163,9 @@ pub fn read_mesh(path: &Path) -> Result<PolygonSoup, IoError> {
 /// read: once with 0 before the first byte, then after every chunk of 4 MiB
 /// (and the last, shorter one). `total_bytes` is the file's size when it was
 /// opened (or the bytes read, should the file have grown since). Parsing,
-/// which follows the reading, reports nothing.
+/// which follows the reading, reports nothing; a binary PLY is decoded as
+/// its chunks arrive, and one that path does not take (see the PLY reader)
+/// is read again from the start, its reports again from 0.
 ///
 /// # Errors
 /// Those of [`read_mesh`].

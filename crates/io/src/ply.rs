@@ -522,10 +522,12 @@ impl FaceLayout {
             same.then_some((n, k, stride))
         });
         if let Some((n, k, stride)) = uniform {
+            // Division by a constant for the common sizes.
+            let run = &bytes[..k * stride];
             let ok = match n {
-                3 => self.decode_uniform::<3>(&bytes[..k * stride], faces),
-                4 => self.decode_uniform::<4>(&bytes[..k * stride], faces),
-                _ => self.decode_uniform_any(n, &bytes[..k * stride], faces),
+                3 => self.decode_uniform(3, run, faces, |c| (c / 3, c % 3)),
+                4 => self.decode_uniform(4, run, faces, |c| (c / 4, c % 4)),
+                _ => self.decode_uniform(n, run, faces, move |c| (c / n, c % n)),
             };
             return ok.then_some((k, k * stride));
         }
@@ -545,29 +547,26 @@ impl FaceLayout {
         Some((done, pos))
     }
 
-    /// Records of `N` corners each, in parallel; false on a negative index
-    /// or too many corners.
-    fn decode_uniform<const N: usize>(&self, run: &[u8], faces: &mut FaceArrays) -> bool {
-        let stride = self.count_ty.size() + N * self.ty.size();
+    /// Records of `n` corners each, in parallel; `split(c)` is corner `c`'s
+    /// (record, position in it). False on a negative index or too many
+    /// corners.
+    fn decode_uniform(
+        &self,
+        n: usize,
+        run: &[u8],
+        faces: &mut FaceArrays,
+        split: impl Fn(usize) -> (usize, usize) + Sync + Send,
+    ) -> bool {
         let (offset, size) = (self.count_ty.size(), self.ty.size());
-        let k = run.len() / stride;
-        self.append_offsets(N, k, faces)
-            && self.append_indices(
-                faces,
-                (0..k * N).into_par_iter().map(|c| (c / N) * stride + offset + (c % N) * size),
-                run,
-            )
-    }
-
-    /// [`FaceLayout::decode_uniform`] for any corner count `n`.
-    fn decode_uniform_any(&self, n: usize, run: &[u8], faces: &mut FaceArrays) -> bool {
-        let stride = self.count_ty.size() + n * self.ty.size();
-        let (offset, size) = (self.count_ty.size(), self.ty.size());
+        let stride = offset + n * size;
         let k = run.len() / stride;
         self.append_offsets(n, k, faces)
             && self.append_indices(
                 faces,
-                (0..k * n).into_par_iter().map(|c| (c / n) * stride + offset + (c % n) * size),
+                (0..k * n).into_par_iter().map(|c| {
+                    let (record, corner) = split(c);
+                    record * stride + offset + corner * size
+                }),
                 run,
             )
     }

@@ -202,7 +202,7 @@ impl<R: Read> Body<'_, R> {
                 let Some(n) = layout.count(self.data()) else { return Ok(None) };
                 let needed = n.checked_mul(size).and_then(|b| b.checked_add(count_size));
                 match needed {
-                    Some(needed) if available == want && needed > available && needed <= self.bound(1) => want = needed,
+                    Some(needed) if available >= want && needed > available && needed <= self.bound(1) => want = needed,
                     _ => return Ok(None),
                 }
                 continue;
