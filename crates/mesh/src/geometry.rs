@@ -277,15 +277,17 @@ pub(crate) fn scaled_newell(corners: impl Iterator<Item = DVec3> + Clone) -> (DV
 /// summed unscaled, when the offsets' largest |component| lies in
 /// [2^-250, 2^250] (see [`in_safe_range`]); `None` otherwise (and for no
 /// corners).
-pub(crate) fn unscaled_newell(corners: impl Iterator<Item = DVec3> + Clone) -> Option<DVec3> {
-    let first = corners.clone().next()?;
+pub(crate) fn unscaled_newell(mut corners: impl Iterator<Item = DVec3>) -> Option<DVec3> {
+    let first = corners.next()?;
     let mut reach = 0.0_f64;
-    let next = corners.clone().skip(1).chain(std::iter::once(first));
-    let naive = corners.zip(next).fold(DVec3::ZERO, |acc, (a, b)| {
+    // One pass over the pairs (Vᵢ, Vᵢ₊₁), the last closing on V₀.
+    let (mut naive, mut a) = (DVec3::ZERO, first);
+    for b in corners.chain(std::iter::once(first)) {
         let (da, db) = (a - first, b - first);
         reach = reach.max(da.abs().max_element());
-        acc + da.cross(db)
-    });
+        naive += da.cross(db);
+        a = b;
+    }
     in_safe_range(reach).then_some(naive)
 }
 

@@ -117,6 +117,11 @@ impl FaceList {
         self.indices.len()
     }
 
+    /// Histogram face size → number of faces.
+    pub fn size_histogram(&self) -> std::collections::BTreeMap<usize, usize> {
+        crate::topology::histogram(self.len(), |f| self.face_size(f))
+    }
+
     /// True when every face has exactly `size` corners.
     pub fn all_of_size(&self, size: usize) -> bool {
         self.offsets.windows(2).all(|w| (w[1] - w[0]) as usize == size)

@@ -306,40 +306,49 @@ impl ConflictScan<'_> {
         let t = self.t;
         let idx = t.faces().indices();
         let fan = t.vertex_fan(a);
-        if !fan.iter().any(|&h| self.corner(h).2 > 3) {
-            return;
-        }
         // Small fans compare their corners on the stack; others stamp vertices.
         const SMALL: usize = 16;
-        let far_count: usize = fan.iter().map(|&h| self.corner(h).2 - 3).sum();
-        if fan.len() <= SMALL && far_count <= 2 * SMALL {
-            // Neighbours: the corners before and after a in each of its faces
-            // (on the boundary, that includes the closing neighbour).
-            let mut neighbours = [0u32; 2 * SMALL];
-            let mut far = [(0u32, 0u32); 2 * SMALL];
-            let (mut n, mut nf) = (0, 0);
-            for &h in fan {
-                let (f, start, m, k) = self.corner(h);
-                let face = &idx[start..start + m];
-                neighbours[n] = face[wrap(k + 1, m)];
-                neighbours[n + 1] = face[wrap(k + m - 1, m)];
-                n += 2;
-                for j in 2..m.saturating_sub(1) {
-                    far[nf] = (face[wrap(k + j, m)], f as u32);
-                    nf += 1;
-                }
+        if fan.len() <= SMALL {
+            // Each face's corners once: (face, first corner, size, position of a).
+            let mut corners = [(0, 0, 0, 0); SMALL];
+            for (c, &h) in corners.iter_mut().zip(fan) {
+                *c = self.corner(h);
             }
-            for i in 0..nf {
-                let (w, f) = far[i];
-                if neighbours[..n].contains(&w) {
-                    marks.push(f);
-                }
-                for &(x, g) in &far[i + 1..nf] {
-                    if x == w {
-                        marks.extend([f, g]);
+            let corners = &corners[..fan.len()];
+            if !corners.iter().any(|c| c.2 > 3) {
+                return;
+            }
+            let far_count: usize = corners.iter().map(|c| c.2 - 3).sum();
+            if far_count <= 2 * SMALL {
+                // Neighbours: the corners before and after a in each of its faces
+                // (on the boundary, that includes the closing neighbour).
+                let mut neighbours = [0u32; 2 * SMALL];
+                let mut far = [(0u32, 0u32); 2 * SMALL];
+                let (mut n, mut nf) = (0, 0);
+                for &(f, start, m, k) in corners {
+                    let face = &idx[start..start + m];
+                    neighbours[n] = face[wrap(k + 1, m)];
+                    neighbours[n + 1] = face[wrap(k + m - 1, m)];
+                    n += 2;
+                    for j in 2..m.saturating_sub(1) {
+                        far[nf] = (face[wrap(k + j, m)], f as u32);
+                        nf += 1;
                     }
                 }
+                for i in 0..nf {
+                    let (w, f) = far[i];
+                    if neighbours[..n].contains(&w) {
+                        marks.push(f);
+                    }
+                    for &(x, g) in &far[i + 1..nf] {
+                        if x == w {
+                            marks.extend([f, g]);
+                        }
+                    }
+                }
+                return;
             }
+        } else if !fan.iter().any(|&h| self.corner(h).2 > 3) {
             return;
         }
         let Stamps { stamp, owner } = stamps;

@@ -528,3 +528,64 @@ proptest! {
         assert_dual_split_matches(with_vertex_on_edge(&mesh, e).topology());
     }
 }
+
+/// The counts `subdiv info` prints, each against a count made here from
+/// the face list alone: undirected edges as distinct vertex pairs, boundary
+/// edges as pairs used once, valences as distinct neighbours, face sizes
+/// one by one.
+fn counts_match_brute_force(t: &Topology) -> Result<(), TestCaseError> {
+    use std::collections::{BTreeMap, BTreeSet, HashMap};
+    let mut uses: HashMap<(u32, u32), usize> = HashMap::new();
+    let mut neighbours: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); t.vertex_count()];
+    let mut sizes = BTreeMap::new();
+    for face in t.faces().iter() {
+        *sizes.entry(face.len()).or_insert(0) += 1;
+        for (k, &a) in face.iter().enumerate() {
+            let b = face[(k + 1) % face.len()];
+            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            neighbours[a as usize].insert(b);
+            neighbours[b as usize].insert(a);
+        }
+    }
+    let mut valences = BTreeMap::new();
+    for n in &neighbours {
+        *valences.entry(n.len()).or_insert(0) += 1;
+    }
+    prop_assert_eq!(t.edge_count(), uses.len());
+    prop_assert_eq!(t.edges().count(), uses.len());
+    prop_assert_eq!(t.boundary_edge_count(), uses.values().filter(|&&n| n == 1).count());
+    prop_assert_eq!(t.boundary_edge_count(), t.edges().filter(|&e| t.is_boundary_edge(e)).count());
+    prop_assert_eq!(t.valence_histogram(), valences);
+    prop_assert_eq!(t.faces().size_histogram(), sizes);
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn counts_equal_brute_force_counts(mesh in generated_mesh()) {
+        counts_match_brute_force(mesh.topology())?;
+    }
+}
+
+#[test]
+fn counts_of_a_big_mixed_mesh_equal_brute_force_counts() {
+    // Past the thresholds where construction and counting run across
+    // threads (2¹⁶ corners, blocks of 2¹⁴ faces and 2¹⁶ vertices), open and
+    // closed, with faces of many sizes.
+    let plate = shapes::plate_with_holes(300, 260, &[(5, 5), (40, 9)], false);
+    // (shape, merge, split): all quads (the face of a half-edge by
+    // arithmetic), then mixed sizes (by table).
+    for (base, merge, split) in
+        [(shapes::torus(320, 240), 0.0, 0.0), (shapes::torus(320, 240), 0.3, 0.2), (plate, 0.3, 0.2)]
+    {
+        let mixed = polygon_mix(&base, 7, merge, split, 0.0);
+        assert!(mixed.topology().vertex_count() > 1 << 16);
+        counts_match_brute_force(mixed.topology()).unwrap();
+        // The same topology rebuilt from its faces: the lazily numbered
+        // edges and the face of every half-edge agree with a fresh build.
+        let t = mixed.topology();
+        let rebuilt = Topology::new(t.faces().clone(), t.vertex_count()).unwrap();
+        assert_eq!(format!("{rebuilt:?}"), format!("{t:?}"));
+    }
+}

@@ -173,19 +173,14 @@ pub fn summarize_with_warnings(mesh: &Mesh, file: Option<&str>, warnings: &[Warn
 /// Everything of a valid mesh's [`Summary`] but the method verdicts (left empty).
 fn counts(mesh: &Mesh, file: Option<&str>, warnings: &[Warning]) -> Summary {
     let t = mesh.topology();
-    let boundary_edges = t.edges().filter(|&e| t.is_boundary_edge(e)).count();
-    let face_sizes = t.faces().iter().fold(BTreeMap::new(), |mut h, f| {
-        *h.entry(f.len()).or_insert(0) += 1;
-        h
-    });
     Summary {
         file: file.map(str::to_string),
         vertices: t.vertex_count(),
         faces: t.face_count(),
         edges: t.edge_count(),
-        face_sizes,
+        face_sizes: t.faces().size_histogram(),
         valences: Some(t.valence_histogram()),
-        boundary_edges: Some(boundary_edges),
+        boundary_edges: Some(t.boundary_edge_count()),
         boundary_loops: Some(t.boundary_loop_count()),
         components: t.component_count(),
         euler_characteristic: Some(t.euler_characteristic()),

@@ -8,6 +8,12 @@
 //! cyclic order (a CSR "fan"), which is exactly the neighbourhood of the
 //! papers' Fig. 2: faces f₀…f_{k−1} around V where face fᵢ = (V, Eᵢ, …, Eᵢ₊₁).
 //!
+//! What can be derived is not stored: the face of a half-edge is `h / m`
+//! when every face has m corners (a table only for mixed faces), and the
+//! undirected edge numbering (edge of every half-edge, a half-edge of every
+//! edge) is built from the twins at the first query that needs it, so that
+//! a caller who only counts (`subdiv info`) never pays for it.
+//!
 //! Construction and its checks live in `validate`, the three refinements
 //! built by index arithmetic (quad, triangle and dual split) in `refine`;
 //! this module holds the type and its queries.
@@ -20,6 +26,7 @@ pub(crate) use refine::{SharpDualSplit, SharpPointIds};
 use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 use crate::soup::FaceList;
 use std::collections::BTreeMap;
+use std::sync::OnceLock;
 
 /// Marker for "no half-edge" (boundary twin).
 const NONE: u32 = u32::MAX;
@@ -36,14 +43,17 @@ pub struct Corner {
 /// Validated connectivity: every edge has one or two faces, two faces traverse a
 /// shared edge in opposite directions, and the faces around every vertex form a
 /// single fan. Isolated vertices (in no face) are allowed and have valence 0.
-#[derive(Clone, Debug)]
+///
+/// `Debug` prints what the queries see, not how it is stored (the face of
+/// every half-edge, the edge numbering): two topologies with the same
+/// connectivity print the same.
+#[derive(Clone)]
 pub struct Topology {
     vertex_count: u32,
     faces: FaceList,
-    he_face: Vec<u32>,
+    he_face: HalfEdgeFaces,
     he_twin: Vec<u32>,
-    he_edge: Vec<u32>,
-    edge_he: Vec<u32>,
+    edges: OnceLock<EdgeNumbering>,
     fan_offsets: Vec<u32>,
     fan: Vec<HalfEdgeId>,
     vertex_on_boundary: Vec<bool>,
@@ -51,6 +61,28 @@ pub struct Topology {
     loop_he: Vec<HalfEdgeId>,
     face_component: Vec<u32>,
     component_count: u32,
+}
+
+impl std::fmt::Debug for Topology {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let he_face: Vec<u32> = (0..self.half_edge_count()).map(|h| self.he_face.get(h)).collect();
+        let edges = self.edge_numbering();
+        f.debug_struct("Topology")
+            .field("vertex_count", &self.vertex_count)
+            .field("faces", &self.faces)
+            .field("he_face", &he_face)
+            .field("he_twin", &self.he_twin)
+            .field("he_edge", &edges.he_edge)
+            .field("edge_he", &edges.edge_he)
+            .field("fan_offsets", &self.fan_offsets)
+            .field("fan", &self.fan)
+            .field("vertex_on_boundary", &self.vertex_on_boundary)
+            .field("loop_offsets", &self.loop_offsets)
+            .field("loop_he", &self.loop_he)
+            .field("face_component", &self.face_component)
+            .field("component_count", &self.component_count)
+            .finish()
+    }
 }
 
 impl Topology {
@@ -66,11 +98,16 @@ impl Topology {
     }
     /// Number of undirected edges.
     pub fn edge_count(&self) -> usize {
-        self.edge_he.len()
+        // One per twin pair, one per boundary half-edge (each in one loop).
+        (self.half_edge_count() + self.loop_he.len()) / 2
+    }
+    /// Number of edges with a single face.
+    pub fn boundary_edge_count(&self) -> usize {
+        self.loop_he.len()
     }
     /// Number of half-edges (= face corners).
     pub fn half_edge_count(&self) -> usize {
-        self.he_face.len()
+        self.he_twin.len()
     }
     /// All vertex ids.
     pub fn vertices(&self) -> impl ExactSizeIterator<Item = VertexId> {
@@ -82,7 +119,7 @@ impl Topology {
     }
     /// All edge ids.
     pub fn edges(&self) -> impl ExactSizeIterator<Item = EdgeId> {
-        (0..self.edge_he.len() as u32).map(EdgeId)
+        (0..self.edge_count() as u32).map(EdgeId)
     }
 
     // ---- faces -------------------------------------------------------------
@@ -120,12 +157,12 @@ impl Topology {
     /// The face a half-edge belongs to.
     #[inline]
     pub fn he_face(&self, h: HalfEdgeId) -> FaceId {
-        FaceId(self.he_face[h.index()])
+        FaceId(self.he_face.get(h.index()))
     }
     /// The corner a half-edge starts at.
     #[inline]
     pub fn he_corner(&self, h: HalfEdgeId) -> Corner {
-        let f = self.he_face[h.index()];
+        let f = self.he_face.get(h.index());
         Corner { face: FaceId(f), index: h.0 - self.faces.offsets()[f as usize] }
     }
     /// Start vertex.
@@ -141,14 +178,14 @@ impl Topology {
     /// Next half-edge in the same face.
     #[inline]
     pub fn he_next(&self, h: HalfEdgeId) -> HalfEdgeId {
-        let f = self.he_face[h.index()] as usize;
+        let f = self.he_face.get(h.index()) as usize;
         let o = self.faces.offsets();
         HalfEdgeId(if h.0 + 1 == o[f + 1] { o[f] } else { h.0 + 1 })
     }
     /// Previous half-edge in the same face.
     #[inline]
     pub fn he_prev(&self, h: HalfEdgeId) -> HalfEdgeId {
-        let f = self.he_face[h.index()] as usize;
+        let f = self.he_face.get(h.index()) as usize;
         let o = self.faces.offsets();
         HalfEdgeId(if h.0 == o[f] { o[f + 1] - 1 } else { h.0 - 1 })
     }
@@ -161,7 +198,7 @@ impl Topology {
     /// The undirected edge of a half-edge.
     #[inline]
     pub fn he_edge(&self, h: HalfEdgeId) -> EdgeId {
-        EdgeId(self.he_edge[h.index()])
+        EdgeId(self.edge_numbering().he_edge[h.index()])
     }
 
     // ---- edges -------------------------------------------------------------
@@ -169,7 +206,7 @@ impl Topology {
     /// A half-edge of edge `e`; for a boundary edge, its only one.
     #[inline]
     pub fn edge_half_edge(&self, e: EdgeId) -> HalfEdgeId {
-        HalfEdgeId(self.edge_he[e.index()])
+        HalfEdgeId(self.edge_numbering().edge_he[e.index()])
     }
     /// The two end vertices of edge `e` (in the direction of [`Self::edge_half_edge`]).
     pub fn edge_vertices(&self, e: EdgeId) -> (VertexId, VertexId) {
@@ -183,7 +220,13 @@ impl Topology {
     }
     /// True when edge `e` has a single face.
     pub fn is_boundary_edge(&self, e: EdgeId) -> bool {
-        self.he_twin[self.edge_he[e.index()] as usize] == NONE
+        self.he_twin[self.edge_numbering().edge_he[e.index()] as usize] == NONE
+    }
+
+    /// The undirected edge numbering, built from the twins at the first call.
+    #[inline]
+    fn edge_numbering(&self) -> &EdgeNumbering {
+        self.edges.get_or_init(|| EdgeNumbering::from_twins(&self.he_twin))
     }
 
     // ---- vertices ----------------------------------------------------------
@@ -289,8 +332,11 @@ impl Topology {
                 chi[self.face_component(self.he_face(h)) as usize] += 1;
             }
         }
-        for e in self.edges() {
-            chi[self.face_component(self.he_face(self.edge_half_edge(e))) as usize] -= 1;
+        // One edge per twin pair (at its smaller half-edge) and per boundary half-edge.
+        for (h, &t) in self.he_twin.iter().enumerate() {
+            if t == NONE || (h as u32) < t {
+                chi[self.face_component(self.he_face(HalfEdgeId(h as u32))) as usize] -= 1;
+            }
         }
         for f in self.face_ids() {
             chi[self.face_component(f) as usize] += 1;
@@ -310,37 +356,91 @@ impl Topology {
     }
     /// Histogram valence → number of vertices (isolated vertices under 0).
     pub fn valence_histogram(&self) -> BTreeMap<usize, usize> {
-        let mut hist = BTreeMap::new();
-        for v in self.vertices() {
-            *hist.entry(self.valence(v)).or_insert(0) += 1;
-        }
-        hist
+        histogram(self.vertex_count(), |v| self.valence(VertexId(v as u32)))
     }
 }
 
-/// Undirected edges from twins, in half-edge order: one per twin pair (at its
-/// smaller half-edge), one per boundary half-edge. Returns (edge of every
-/// half-edge, a half-edge of every edge).
-fn number_edges(he_twin: &[u32]) -> (Vec<u32>, Vec<u32>) {
-    let mut he_edge = vec![NONE; he_twin.len()];
-    let edge_he = number_edges_into(he_twin, &mut he_edge);
-    (he_edge, edge_he)
-}
-
-/// [`number_edges`] into a buffer the caller reuses: writes the edge of
-/// every half-edge into `he_edge` (every entry, whatever it held; one per
-/// half-edge) and returns a half-edge of every edge.
-fn number_edges_into(he_twin: &[u32], he_edge: &mut [u32]) -> Vec<u32> {
-    debug_assert_eq!(he_edge.len(), he_twin.len());
-    let mut edge_he = Vec::with_capacity(he_twin.len() / 2 + 1);
-    for (h, &t) in he_twin.iter().enumerate() {
-        if t == NONE || (h as u32) < t {
-            he_edge[h] = edge_he.len() as u32;
-            if t != NONE {
-                he_edge[t as usize] = edge_he.len() as u32;
+/// Histogram value → count of `value(i)` over `0..n`, counted across
+/// threads (sums: the same whatever the split). Values below 64 are
+/// counted in an array, the rare others in a map.
+pub(crate) fn histogram(n: usize, value: impl Fn(usize) -> usize + Sync) -> BTreeMap<usize, usize> {
+    use rayon::prelude::*;
+    const DENSE: usize = 64;
+    type Counts = ([usize; DENSE], BTreeMap<usize, usize>);
+    let add = |(mut dense, mut sparse): Counts, (other_dense, other_sparse): Counts| {
+        dense.iter_mut().zip(other_dense).for_each(|(a, b)| *a += b);
+        for (k, c) in other_sparse {
+            *sparse.entry(k).or_insert(0) += c;
+        }
+        (dense, sparse)
+    };
+    const BLOCK: usize = 1 << 16;
+    let (dense, mut sparse) = (0..n.div_ceil(BLOCK))
+        .into_par_iter()
+        .map(|block| {
+            let (mut dense, mut sparse): Counts = ([0usize; DENSE], BTreeMap::new());
+            for i in block * BLOCK..((block + 1) * BLOCK).min(n) {
+                match value(i) {
+                    k if k < DENSE => dense[k] += 1,
+                    k => *sparse.entry(k).or_insert(0) += 1,
+                }
             }
-            edge_he.push(h as u32);
+            (dense, sparse)
+        })
+        .reduce(|| ([0usize; DENSE], BTreeMap::new()), add);
+    sparse.extend(dense.iter().enumerate().filter(|&(_, &c)| c > 0).map(|(k, &c)| (k, c)));
+    sparse
+}
+
+/// The face of every half-edge: `h / m` when every face has m corners,
+/// else looked up in a table (one entry per half-edge).
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum HalfEdgeFaces {
+    /// Every face has this many corners.
+    Uniform(u32),
+    /// The face of every half-edge.
+    Table(Vec<u32>),
+}
+
+impl HalfEdgeFaces {
+    /// The face of half-edge `h`.
+    #[inline]
+    fn get(&self, h: usize) -> u32 {
+        // Division by a constant for the usual sizes (a `div` per half-edge
+        // costs more than the table's load).
+        match self {
+            HalfEdgeFaces::Uniform(4) => (h / 4) as u32,
+            HalfEdgeFaces::Uniform(3) => (h / 3) as u32,
+            HalfEdgeFaces::Uniform(m) => (h / *m as usize) as u32,
+            HalfEdgeFaces::Table(table) => table[h],
         }
     }
-    edge_he
+}
+
+/// Undirected edges from twins, in half-edge order: one per twin pair (at
+/// its smaller half-edge), one per boundary half-edge.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct EdgeNumbering {
+    /// The edge of every half-edge.
+    he_edge: Vec<u32>,
+    /// A half-edge of every edge: its smaller one (its only one on the boundary).
+    edge_he: Vec<u32>,
+}
+
+impl EdgeNumbering {
+    #[cold]
+    fn from_twins(he_twin: &[u32]) -> Self {
+        let mut he_edge = vec![NONE; he_twin.len()];
+        let mut edge_he = Vec::with_capacity(he_twin.len() / 2 + 1);
+        for (h, &t) in he_twin.iter().enumerate() {
+            if t == NONE || (h as u32) < t {
+                he_edge[h] = edge_he.len() as u32;
+                if t != NONE {
+                    he_edge[t as usize] = edge_he.len() as u32;
+                }
+                edge_he.push(h as u32);
+            }
+        }
+        Self { he_edge, edge_he }
+    }
 }

@@ -2,10 +2,11 @@
 //! (quad split, triangle split, Doo-Sabin dual split), instead of re-deriving
 //! connectivity from the refined face list with [`Topology::new`].
 
-use super::{number_edges, Topology, NONE};
+use super::{EdgeNumbering, HalfEdgeFaces, Topology, NONE};
 use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 use crate::refine::DualFace;
 use crate::soup::FaceList;
+use std::sync::OnceLock;
 
 impl Topology {
     /// The Catmull-Clark quad split of `self`, built directly by index
@@ -16,9 +17,10 @@ impl Topology {
     /// quad h; its twin follows from the coarse twins:
     /// 4h+0 ↔ 4·next(twin h)+3, 4h+1 ↔ 4·next(h)+2, 4h+3 ↔ 4·twin(prev h)+0.
     pub(crate) fn quad_split(&self) -> Topology {
+        let EdgeNumbering { he_edge, edge_he } = self.edge_numbering();
         let (nv, nf) = (self.vertex_count as usize, self.faces.len());
-        let nh = self.he_face.len();
-        let new_vertices = nv + nf + self.edge_he.len();
+        let nh = self.half_edge_count();
+        let new_vertices = nv + nf + edge_he.len();
         let face_point = |f: u32| (nv + f as usize) as u32;
         let edge_point = |e: u32| (nv + nf + e as usize) as u32;
         let next = |h: usize| self.he_next(HalfEdgeId(h as u32)).index();
@@ -29,9 +31,9 @@ impl Topology {
             let p = prev(h);
             quads.extend_from_slice(&[
                 self.faces.indices()[h],
-                edge_point(self.he_edge[h]),
-                face_point(self.he_face[h]),
-                edge_point(self.he_edge[p]),
+                edge_point(he_edge[h]),
+                face_point(self.he_face.get(h)),
+                edge_point(he_edge[p]),
             ]);
             let g = self.he_twin[h];
             he_twin[4 * h] = if g == NONE { NONE } else { 4 * next(g as usize) as u32 + 3 };
@@ -40,8 +42,7 @@ impl Topology {
             let q = self.he_twin[p];
             he_twin[4 * h + 3] = if q == NONE { NONE } else { 4 * q };
         }
-        let he_face: Vec<u32> = (0..4 * nh).map(|k| (k / 4) as u32).collect();
-        let (he_edge, edge_he) = number_edges(&he_twin);
+        let he_face = HalfEdgeFaces::Uniform(4);
         // Fans: old vertices keep their fan order, face points go round their
         // face, edge points visit their (one or) two faces.
         let mut fan = Vec::with_capacity(4 * nh);
@@ -60,7 +61,7 @@ impl Topology {
             fan_offsets.push(fan.len() as u32);
             vertex_on_boundary.push(false);
         }
-        for &h in &self.edge_he {
+        for &h in edge_he {
             let h = h as usize;
             let nh_ = next(h) as u32;
             match self.he_twin[h] {
@@ -91,14 +92,13 @@ impl Topology {
             }
             loop_offsets.push(loop_he.len() as u32);
         }
-        let face_component = self.he_face.iter().map(|&f| self.face_component[f as usize]).collect();
+        let face_component = (0..nh).map(|h| self.face_component[self.he_face.get(h) as usize]).collect();
         Topology {
             vertex_count: new_vertices as u32,
             faces: FaceList::from_uniform(4, quads),
             he_face,
             he_twin,
-            he_edge,
-            edge_he,
+            edges: OnceLock::new(),
             fan_offsets,
             fan,
             vertex_on_boundary,
@@ -119,14 +119,15 @@ impl Topology {
     ///
     /// The caller guarantees every face is a triangle.
     pub(crate) fn triangle_split(&self) -> Topology {
+        let EdgeNumbering { he_edge, edge_he } = self.edge_numbering();
         let nv = self.vertex_count as usize;
         let nf = self.faces.len();
-        let new_vertices = nv + self.edge_he.len();
+        let new_vertices = nv + edge_he.len();
         let corner = |h: usize| 4 * (h / 3) + h % 3; // T(h)
         let centre = |h: usize| 4 * (h / 3) + 3; // centre triangle of h's face
         let next = |h: usize| 3 * (h / 3) + (h + 1) % 3;
         let prev = |h: usize| 3 * (h / 3) + (h + 2) % 3;
-        let edge_point = |h: usize| (nv + self.he_edge[h] as usize) as u32;
+        let edge_point = |h: usize| (nv + he_edge[h] as usize) as u32;
         let mut tris = Vec::with_capacity(12 * nf);
         let mut he_twin = vec![NONE; 12 * nf];
         for f in 0..nf {
@@ -146,8 +147,7 @@ impl Topology {
                 he_twin[3 * (4 * f + 3) + j] = (3 * corner(next(3 * f + j)) + 1) as u32;
             }
         }
-        let he_face: Vec<u32> = (0..12 * nf).map(|x| (x / 3) as u32).collect();
-        let (he_edge, edge_he) = number_edges(&he_twin);
+        let he_face = HalfEdgeFaces::Uniform(3);
         let id = |x: usize| HalfEdgeId(x as u32);
         let mut fan = Vec::with_capacity(12 * nf);
         let mut fan_offsets = Vec::with_capacity(new_vertices + 1);
@@ -159,7 +159,7 @@ impl Topology {
             fan_offsets.push(fan.len() as u32);
             vertex_on_boundary.push(self.vertex_on_boundary[v]);
         }
-        for &h in &self.edge_he {
+        for &h in edge_he {
             let h = h as usize;
             let nh_ = next(h);
             match self.he_twin[h] {
@@ -197,8 +197,7 @@ impl Topology {
             faces: FaceList::from_uniform(3, tris),
             he_face,
             he_twin,
-            he_edge,
-            edge_he,
+            edges: OnceLock::new(),
             fan_offsets,
             fan,
             vertex_on_boundary,
@@ -247,7 +246,8 @@ impl Topology {
     /// c(h) + 1 → next(h)). Loops and components are ordered as `new` finds them
     /// (see the comments below), whatever order `self` lists its own in.
     pub(crate) fn dual_split(&self, boundary_point: &[u32]) -> Topology {
-        let (nv, nf, nh, ne) = (self.vertex_count as usize, self.faces.len(), self.he_face.len(), self.edge_he.len());
+        let EdgeNumbering { he_edge, edge_he } = self.edge_numbering();
+        let (nv, nf, nh, ne) = (self.vertex_count as usize, self.faces.len(), self.half_edge_count(), edge_he.len());
         let from = self.faces.indices();
         let next = |h: usize| self.he_next(HalfEdgeId(h as u32)).index();
         let prev = |h: usize| self.he_prev(HalfEdgeId(h as u32)).index();
@@ -255,8 +255,8 @@ impl Topology {
         // E-face half-edge k of the edge of x: `if_first` when x is the edge's
         // first half-edge (its only one on the boundary), else `if_second`.
         let e_half = |x: usize, if_first: usize, if_second: usize| -> u32 {
-            let e = self.he_edge[x] as usize;
-            (nh + 4 * e + if self.edge_he[e] as usize == x { if_first } else { if_second }) as u32
+            let e = he_edge[x] as usize;
+            (nh + 4 * e + if edge_he[e] as usize == x { if_first } else { if_second }) as u32
         };
         let leaving = |x: usize| e_half(x, 1, 3); // A(x): corner x → next(twin x), or → c(x)
         let entering = |x: usize| e_half(x, 0, 2); // corner next(x) → corner x
@@ -302,8 +302,8 @@ impl Topology {
         let mut he_face = Vec::with_capacity(new_nh);
         indices.extend(0..nh as u32);
         he_twin.extend((0..nh).map(entering));
-        he_face.extend_from_slice(&self.he_face);
-        for (e, &h) in self.edge_he.iter().enumerate() {
+        he_face.extend((0..nh).map(|h| self.he_face.get(h)));
+        for (e, &h) in edge_he.iter().enumerate() {
             let h = h as usize;
             match self.he_twin[h] {
                 NONE => {
@@ -338,7 +338,6 @@ impl Topology {
                 he_face.extend(std::iter::repeat_n(face, k));
             }
         }
-        let (he_edge, edge_he) = number_edges(&he_twin);
 
         let nb = self.loop_he.len();
         let new_nv = nh + 2 * nb;
@@ -359,7 +358,7 @@ impl Topology {
         for (i, &h) in self.loop_he.iter().enumerate() {
             let h = h.index();
             debug_assert_eq!(boundary_point[h] as usize, nh + 2 * i, "Chaikin points in boundary-loop order");
-            let e_face = (nh + 4 * self.he_edge[h] as usize) as u32;
+            let e_face = (nh + 4 * he_edge[h] as usize) as u32;
             fan.extend_from_slice(&[HalfEdgeId(e_face + 2), HalfEdgeId(v_first[from[h] as usize])]);
             fan_offsets.push(fan.len() as u32);
             fan.extend_from_slice(&[closing(from[next(h)] as usize), HalfEdgeId(e_face + 3)]);
@@ -381,7 +380,7 @@ impl Topology {
             let start = lp.iter().position(|&h| h == min).expect("the minimum is in its loop");
             for h in lp[start..].iter().chain(&lp[..start]) {
                 let h = h.index();
-                loop_he.push(HalfEdgeId((nh + 4 * self.he_edge[h] as usize + 2) as u32));
+                loop_he.push(HalfEdgeId((nh + 4 * he_edge[h] as usize + 2) as u32));
                 loop_he.push(closing(from[next(h)] as usize));
             }
             loop_offsets.push(loop_he.len() as u32);
@@ -397,19 +396,18 @@ impl Topology {
                 count += 1;
             }
         }
-        let component_of = |h: usize| renumber[self.face_component[self.he_face[h] as usize] as usize];
+        let component_of = |h: usize| renumber[self.face_component[self.he_face.get(h) as usize] as usize];
         let mut face_component = Vec::with_capacity(face_offsets.len() - 1);
         face_component.extend(self.face_component.iter().map(|&c| renumber[c as usize]));
-        face_component.extend(self.edge_he.iter().map(|&h| component_of(h as usize)));
+        face_component.extend(edge_he.iter().map(|&h| component_of(h as usize)));
         face_component.extend((0..nv).filter(|&v| v_first[v] != NONE).map(|v| component_of(fan_of(v)[0].index())));
 
         Topology {
             vertex_count: new_nv as u32,
             faces: FaceList::from_raw(face_offsets, indices),
-            he_face,
+            he_face: HalfEdgeFaces::Table(he_face),
             he_twin,
-            he_edge,
-            edge_he,
+            edges: OnceLock::new(),
             fan_offsets,
             fan,
             vertex_on_boundary,
@@ -506,17 +504,18 @@ impl Topology {
     ///
     /// With no crease and no corner this is exactly [`Self::dual_split`].
     pub(crate) fn dual_split_sharp(&self, ids: &SharpPointIds<'_>) -> SharpDualSplit {
-        let (nv, nf, nh, ne) = (self.vertex_count as usize, self.faces.len(), self.he_face.len(), self.edge_he.len());
+        let EdgeNumbering { he_edge, edge_he } = self.edge_numbering();
+        let (nv, nf, nh, ne) = (self.vertex_count as usize, self.faces.len(), self.half_edge_count(), edge_he.len());
         let from = self.faces.indices();
         let next = |h: usize| self.he_next(HalfEdgeId(h as u32)).index();
         let prev = |h: usize| self.he_prev(HalfEdgeId(h as u32)).index();
         let fan_of = |v: usize| &self.fan[self.fan_offsets[v] as usize..self.fan_offsets[v + 1] as usize];
-        let is_sharp = |h: usize| ids.sharp[self.he_edge[h] as usize];
+        let is_sharp = |h: usize| ids.sharp[he_edge[h] as usize];
         // The point of the refined sharp polygon near `v` on the edge of `h`.
         let near = |v: usize, h: usize| -> u32 {
-            let e = self.he_edge[h] as usize;
+            let e = he_edge[h] as usize;
             let [at_start, _, at_end] = ids.edge_points[e];
-            if from[self.edge_he[e] as usize] as usize == v {
+            if from[edge_he[e] as usize] as usize == v {
                 at_start
             } else {
                 at_end
@@ -552,9 +551,9 @@ impl Topology {
         let mut corners = Vec::new();
 
         for e in 0..ne {
-            let h = self.edge_he[e] as usize;
+            let h = edge_he[e] as usize;
             let g = self.he_twin[h];
-            let face = self.he_face[h];
+            let face = self.he_face.get(h);
             if !ids.sharp[e] {
                 let g = g as usize; // boundary edges are sharp
                 let first = sink.push(
@@ -602,7 +601,7 @@ impl Topology {
                 continue;
             }
             let origin = DualFace::V(VertexId(v as u32));
-            let face = self.he_face[fan[0].index()];
+            let face = self.he_face.get(fan[0].index());
             let at = |i: usize| fan[i % k].index();
             starts.clear();
             if (ids.touches_sharp)(v) {
@@ -671,7 +670,7 @@ impl Topology {
                         None => open_closing = Some((closing, s)),
                         Some((other, other_start)) => {
                             sink.pair(closing, other);
-                            let creases = [EdgeId(self.he_edge[at(other_start)]), EdgeId(self.he_edge[at(s)])];
+                            let creases = [EdgeId(he_edge[at(other_start)]), EdgeId(he_edge[at(s)])];
                             crease_segments.push((HalfEdgeId(other as u32), creases));
                         }
                     }
@@ -796,7 +795,6 @@ impl Topology {
                 known + i
             );
         }
-        let (he_edge, edge_he) = number_edges(&he_twin);
         // Boundary loops as `new` finds them: from the smallest unseen
         // boundary half-edge, each followed by its end's boundary half-edge.
         let next_of = |h: usize| {
@@ -825,10 +823,9 @@ impl Topology {
         Topology {
             vertex_count: vertex_count as u32,
             faces,
-            he_face,
+            he_face: HalfEdgeFaces::Table(he_face),
             he_twin,
-            he_edge,
-            edge_he,
+            edges: OnceLock::new(),
             fan_offsets,
             fan,
             vertex_on_boundary,

@@ -2,13 +2,14 @@
 //! it trustworthy: face sizes and indices, manifold edges, consistent
 //! orientation, one fan per vertex.
 
-use super::{Topology, NONE};
+use super::{HalfEdgeFaces, Topology, NONE};
 use crate::error::MeshError;
 use crate::ids::HalfEdgeId;
 use crate::soup::FaceList;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::ops::Range;
+use std::sync::OnceLock;
 
 impl Topology {
     /// Builds and validates the connectivity of `faces` over `vertex_count`
@@ -37,7 +38,7 @@ impl Topology {
         if faces.is_empty() {
             return Err(MeshError::NoFaces);
         }
-        let fan_offsets = check_and_count_corners(faces, vertex_count)?;
+        let (fan_offsets, uniform_size) = check_and_count_corners(faces, vertex_count)?;
         let nv = vertex_count;
         let nh = faces.corner_count();
         if nh >= NONE as usize {
@@ -47,29 +48,30 @@ impl Topology {
         let idx = faces.indices();
 
         // Outgoing half-edges per vertex by counting sort (CSR, in half-edge
-        // order), each with its end vertex and the start vertex of its face's
-        // previous half-edge (which ends at the vertex): `link[2k]` and
-        // `link[2k + 1]` for slot k, both read from the face being scattered
-        // (no gather at random later). The fan is this CSR reordered in place: everything a vertex
-        // needs is in its own bucket. (`link`'s memory becomes he_edge, so
-        // that fewer fresh pages are touched.) Big meshes are split into
-        // vertex ranges of about equal corner counts, one per thread: each
-        // owns its buckets' slots, so the result is the same whatever the
-        // split (every bucket in half-edge order).
+        // order), each with its end vertex (`ends[k]` for slot k, read from
+        // the face being scattered: no gather at random later). The fan is
+        // this CSR reordered in place: everything a vertex needs is in its
+        // own bucket. Big meshes are split into vertex ranges of about equal
+        // corner counts, one per thread: each owns its buckets' slots, so
+        // the result is the same whatever the split (every bucket in
+        // half-edge order).
         let parts = if nh < PARALLEL_CORNERS { 1 } else { rayon::current_num_threads().max(1) };
         let vertex_parts = balanced_ranges(&fan_offsets, parts);
-        let he_face = face_of_half_edges(faces, parts);
+        let he_face = match uniform_size {
+            Some(m) => HalfEdgeFaces::Uniform(m as u32),
+            None => HalfEdgeFaces::Table(face_of_half_edges(faces, parts)),
+        };
         let mut fan = vec![HalfEdgeId(0); nh];
-        let mut link = vec![0u32; 2 * nh];
-        split_by_buckets(&vertex_parts, &fan_offsets, &mut fan, &mut link)
+        let mut ends = vec![0u32; nh];
+        split_by_buckets(&vertex_parts, &fan_offsets, &mut fan, &mut ends)
             .into_par_iter()
-            .for_each(|(vertices, fan, link)| scatter_corners(faces, &fan_offsets, vertices, fan, link));
+            .for_each(|(vertices, fan, ends)| scatter_corners(faces, &fan_offsets, vertices, fan, ends));
 
         // The twin of a→b is the half-edge b→a: the corner of b's bucket that
         // ends at a (read in parallel; a repeated end is an error below).
         let mut he_twin = vec![NONE; nh];
         let to = |h: usize| -> u32 {
-            let f = he_face[h] as usize;
+            let f = he_face.get(h) as usize;
             idx[if h + 1 == offsets[f + 1] as usize { offsets[f] as usize } else { h + 1 }]
         };
         he_twin.par_chunks_mut(1 << 14).enumerate().for_each(|(chunk, twins)| {
@@ -77,7 +79,7 @@ impl Topology {
                 let h = (chunk << 14) + i;
                 let (a, b) = (idx[h], to(h) as usize);
                 let bucket = fan_offsets[b] as usize..fan_offsets[b + 1] as usize;
-                if let Some(k) = bucket.clone().find(|&k| link[2 * k] == a) {
+                if let Some(k) = bucket.clone().find(|&k| ends[k] == a) {
                     *twin = fan[k].0;
                 }
             }
@@ -93,7 +95,7 @@ impl Topology {
             .into_par_iter()
             .zip(split_at_ranges(&vertex_parts, &mut vertex_on_boundary))
             .map(|((vertices, fan, _), on_boundary)| {
-                order_fans(vertices, &fan_offsets, &link, &he_face, fan, on_boundary)
+                order_fans(vertices, (faces, &he_face), &fan_offsets, &ends, fan, on_boundary)
             })
             .collect();
         if let Some(e) = verdicts.iter().find_map(|v| v.edge_error.clone()) {
@@ -103,11 +105,7 @@ impl Topology {
             return Err(e);
         }
 
-        // Undirected edges from twins, in half-edge order, into the bucket memory.
-        let mut he_edge = link;
-        he_edge.truncate(nh);
-        he_edge.shrink_to_fit();
-        let edge_he = super::number_edges_into(&he_twin, &mut he_edge);
+        drop(ends);
 
         // Boundary loops: after boundary half-edge a→b comes b's boundary half-edge.
         let mut loop_offsets = vec![0u32];
@@ -136,8 +134,7 @@ impl Topology {
             faces: FaceList::default(),
             he_face,
             he_twin,
-            he_edge,
-            edge_he,
+            edges: OnceLock::new(),
             fan_offsets,
             fan,
             vertex_on_boundary,
@@ -150,49 +147,99 @@ impl Topology {
 }
 
 /// Per-face checks that need no connectivity (size, index range, repeats)
-/// and, in the same pass, the CSR offsets of every vertex's corners: one
-/// scan of the face list for both. Errors name the first offending face and,
+/// and, in the same pass, the CSR offsets of every vertex's corners and
+/// the face size when all faces have the same: one scan of the face list. Errors name the first offending face and,
 /// in it, the first offending corner (range before repeat). A repeat is
 /// found by comparing with the face's earlier corners for faces of at most
 /// [`SMALL_FACE`] corners (no vertex-sized array touched at random), by
 /// marking vertices for bigger ones (a face of 10⁶ corners costs 10⁶ steps,
 /// not 10¹²/2).
-fn check_and_count_corners(faces: &FaceList, vertex_count: usize) -> Result<Vec<u32>, MeshError> {
+fn check_and_count_corners(faces: &FaceList, vertex_count: usize) -> Result<(Vec<u32>, Option<usize>), MeshError> {
     if vertex_count >= NONE as usize {
         return Err(MeshError::TooLarge { what: "more than 2³² − 2 vertices" });
     }
-    let mut offsets = vec![0u32; vertex_count + 1];
-    // The last big face each vertex was seen in, allocated at the first big face.
+    // Every face's verdict depends on that face alone: blocks of small
+    // faces are checked across threads (the first error of the first block
+    // that has one), big faces after, in order, with one mark array; the
+    // error of the smaller face wins.
+    const BLOCK: usize = 1 << 14;
+    let first_size = faces.face_size(0);
+    let blocks: Vec<(Option<(usize, MeshError)>, bool)> = (0..faces.len().div_ceil(BLOCK))
+        .into_par_iter()
+        .map(|block| {
+            let mut uniform = true;
+            for f in block * BLOCK..((block + 1) * BLOCK).min(faces.len()) {
+                let face = faces.face(f);
+                uniform &= face.len() == first_size;
+                if face.len() <= SMALL_FACE {
+                    if let Some(error) = small_face_error(f, face, vertex_count) {
+                        return (Some((f, error)), false);
+                    }
+                }
+            }
+            (None, uniform)
+        })
+        .collect();
+    let small_error = blocks.iter().find_map(|(error, _)| error.clone());
+    let before = small_error.as_ref().map_or(faces.len(), |&(f, _)| f);
     let mut seen_in: Vec<u32> = Vec::new();
-    for (f, face) in faces.iter().enumerate() {
-        if face.len() < 3 {
-            return Err(MeshError::FaceTooSmall { face: f as u32, size: face.len() });
-        }
-        let small = face.len() <= SMALL_FACE;
-        if !small && seen_in.is_empty() {
+    for f in (0..before).filter(|&f| faces.face_size(f) > SMALL_FACE) {
+        if seen_in.is_empty() {
             seen_in = vec![NONE; vertex_count];
         }
-        for (j, &v) in face.iter().enumerate() {
-            let Some(count) = offsets.get_mut(v as usize + 1) else {
+        let face = faces.face(f);
+        for &v in face {
+            let Some(seen) = seen_in.get_mut(v as usize) else {
                 return Err(MeshError::IndexOutOfRange { face: f as u32, vertex: v, vertex_count });
             };
-            // Wrapping: past 2³² − 2 corners the counts are discarded
-            // (`TooLarge`, after these checks).
-            *count = count.wrapping_add(1);
-            let repeated = if small {
-                face[..j].contains(&v)
-            } else {
-                std::mem::replace(&mut seen_in[v as usize], f as u32) == f as u32
-            };
-            if repeated {
+            if std::mem::replace(seen, f as u32) == f as u32 {
                 return Err(MeshError::RepeatedIndex { face: f as u32, vertex: v });
             }
         }
     }
+    if let Some((_, error)) = small_error {
+        return Err(error);
+    }
+    let uniform = blocks.iter().all(|&(_, uniform)| uniform).then_some(first_size);
+
+    // Corners per vertex (every index is in range now), counted by vertex
+    // ranges across threads, each scanning all corners; wrapping: past
+    // 2³² − 2 corners the counts are discarded (`TooLarge`, after these checks).
+    let mut offsets = vec![0u32; vertex_count + 1];
+    let idx = faces.indices();
+    let parts = if idx.len() < PARALLEL_CORNERS { 1 } else { rayon::current_num_threads().max(1) };
+    let chunk = vertex_count.div_ceil(parts).max(1);
+    offsets[1..].par_chunks_mut(chunk).enumerate().for_each(|(part, counts)| {
+        let (first, len) = ((part * chunk) as u32, counts.len() as u32);
+        for &v in idx {
+            let local = v.wrapping_sub(first);
+            if local < len {
+                counts[local as usize] = counts[local as usize].wrapping_add(1);
+            }
+        }
+    });
     for i in 0..vertex_count {
         offsets[i + 1] = offsets[i + 1].wrapping_add(offsets[i]);
     }
-    Ok(offsets)
+    Ok((offsets, uniform))
+}
+
+/// The error of face `f` of at most [`SMALL_FACE`] corners, if any: too
+/// few corners, else its first corner out of range or repeating an earlier one.
+#[inline]
+fn small_face_error(f: usize, face: &[u32], vertex_count: usize) -> Option<MeshError> {
+    if face.len() < 3 {
+        return Some(MeshError::FaceTooSmall { face: f as u32, size: face.len() });
+    }
+    for (j, &v) in face.iter().enumerate() {
+        if v as usize >= vertex_count {
+            return Some(MeshError::IndexOutOfRange { face: f as u32, vertex: v, vertex_count });
+        }
+        if face[..j].contains(&v) {
+            return Some(MeshError::RepeatedIndex { face: f as u32, vertex: v });
+        }
+    }
+    None
 }
 
 /// Faces of at most this many corners are checked for repeated indices by
@@ -243,37 +290,37 @@ fn split_at_ranges<'a, T>(ranges: &[Range<usize>], mut data: &'a mut [T]) -> Vec
     slices
 }
 
-/// Per vertex range: the range, its buckets' slots of `fan` and of `link`
-/// (two entries per slot; `link` may be empty).
+/// Per vertex range: the range, its buckets' slots of `fan` and of `ends`
+/// (`ends` may be empty).
 type BucketSlices<'a> = (Range<usize>, &'a mut [HalfEdgeId], &'a mut [u32]);
 
 fn split_by_buckets<'a>(
     vertex_parts: &[Range<usize>],
     fan_offsets: &[u32],
     fan: &'a mut [HalfEdgeId],
-    link: &'a mut [u32],
+    ends: &'a mut [u32],
 ) -> Vec<BucketSlices<'a>> {
     let slots: Vec<Range<usize>> =
         vertex_parts.iter().map(|r| fan_offsets[r.start] as usize..fan_offsets[r.end] as usize).collect();
     let fans = split_at_ranges(&slots, fan);
-    let links: Vec<&mut [u32]> = if link.is_empty() {
+    let ends: Vec<&mut [u32]> = if ends.is_empty() {
         slots.iter().map(|_| Default::default()).collect()
     } else {
-        let doubled: Vec<Range<usize>> = slots.iter().map(|r| 2 * r.start..2 * r.end).collect();
-        split_at_ranges(&doubled, link)
+        split_at_ranges(&slots, ends)
     };
-    vertex_parts.iter().cloned().zip(fans).zip(links).map(|((r, f), l)| (r, f, l)).collect()
+    vertex_parts.iter().cloned().zip(fans).zip(ends).map(|((r, f), e)| (r, f, e)).collect()
 }
 
 /// The counting sort's scatter for the buckets of `vertices` (whose slots
-/// `fan` and `link` are): every corner of every face, in half-edge order,
-/// into its start vertex's bucket when that is in the range.
+/// `fan` and `ends` are): every corner of every face, in half-edge order,
+/// into its start vertex's bucket when that is in the range, with its end
+/// vertex.
 fn scatter_corners(
     faces: &FaceList,
     fan_offsets: &[u32],
     vertices: Range<usize>,
     fan: &mut [HalfEdgeId],
-    link: &mut [u32],
+    ends: &mut [u32],
 ) {
     let (offsets, idx) = (faces.offsets(), faces.indices());
     let base = fan_offsets[vertices.start];
@@ -281,7 +328,6 @@ fn scatter_corners(
     let (first, count) = (vertices.start as u32, vertices.len() as u32);
     for f in 0..faces.len() {
         let (start, end) = (offsets[f], offsets[f + 1]);
-        let mut prev = end - 1;
         for h in start..end {
             let a = idx[h as usize].wrapping_sub(first);
             if a < count {
@@ -290,10 +336,8 @@ fn scatter_corners(
                 let k = *slot as usize;
                 *slot += 1;
                 fan[k] = HalfEdgeId(h);
-                link[2 * k] = idx[next as usize];
-                link[2 * k + 1] = idx[prev as usize];
+                ends[k] = idx[next as usize];
             }
-            prev = h;
         }
     }
 }
@@ -306,25 +350,39 @@ struct RangeVerdict {
 }
 
 /// Orders the fans of `vertices` (whose buckets' slots `fan` is) and marks
-/// the boundary ones, stopping at the first edge error.
+/// the boundary ones, stopping at the first edge error. `ends` holds the end
+/// vertex of every slot's half-edge; the start vertex of its previous
+/// half-edge is read from the faces, while the bucket is still in
+/// half-edge order.
 fn order_fans(
     vertices: Range<usize>,
+    (faces, he_face): (&FaceList, &HalfEdgeFaces),
     fan_offsets: &[u32],
-    link: &[u32],
-    he_face: &[u32],
+    ends: &[u32],
     fan: &mut [HalfEdgeId],
     on_boundary: &mut [bool],
 ) -> RangeVerdict {
+    let (offsets, idx) = (faces.offsets(), faces.indices());
+    let prev_from = |h: HalfEdgeId| -> u32 {
+        let f = he_face.get(h.index()) as usize;
+        idx[if h.0 == offsets[f] { offsets[f + 1] as usize - 1 } else { h.index() - 1 }]
+    };
     let base = fan_offsets[vertices.start] as usize;
     let mut verdict = RangeVerdict { edge_error: None, fan_error: None };
     let mut bucket = Bucket::default();
+    // The bucket's end vertices and previous vertices, interleaved.
+    let mut links = Vec::new();
     for a in vertices.clone() {
         let range = fan_offsets[a] as usize..fan_offsets[a + 1] as usize;
         if range.is_empty() {
             continue;
         }
-        let links = &link[2 * range.start..2 * range.end];
         let local = range.start - base..range.end - base;
+        links.clear();
+        for (&end, &h) in ends[range.clone()].iter().zip(&fan[local.clone()]) {
+            links.extend_from_slice(&[end, prev_from(h)]);
+        }
+        let links = &links[..];
         let corners = if range.len() <= SMALL_BUCKET {
             small_bucket(links, &mut fan[local.clone()])
         } else {
@@ -338,7 +396,7 @@ fn order_fans(
                 let b = links[2 * i];
                 let count = |from: u32, target: u32| {
                     let r = fan_offsets[from as usize] as usize..fan_offsets[from as usize + 1] as usize;
-                    link[2 * r.start..2 * r.end].iter().step_by(2).filter(|&&to| to == target).count()
+                    ends[r].iter().filter(|&&to| to == target).count()
                 };
                 let faces = count(a as u32, b) + count(b, a as u32);
                 verdict.edge_error = Some(if faces > 2 {
@@ -347,8 +405,8 @@ fn order_fans(
                     MeshError::InconsistentOrientation {
                         a: a as u32,
                         b,
-                        face_a: he_face[first as usize],
-                        face_b: he_face[second as usize],
+                        face_a: he_face.get(first as usize),
+                        face_b: he_face.get(second as usize),
                     }
                 });
                 return verdict;
@@ -375,7 +433,7 @@ fn order_fans(
 /// of `parent` and lists the pairs that leave it, which are joined after,
 /// on the whole array. The partition, hence the labelling, is the same
 /// whatever the split.
-fn components(faces: &FaceList, he_twin: &[u32], he_face: &[u32], parts: usize) -> (Vec<u32>, u32) {
+fn components(faces: &FaceList, he_twin: &[u32], he_face: &HalfEdgeFaces, parts: usize) -> (Vec<u32>, u32) {
     let offsets = faces.offsets();
     let face_count = faces.len();
     let mut parent: Vec<u32> = (0..face_count as u32).collect();
@@ -393,7 +451,7 @@ fn components(faces: &FaceList, he_twin: &[u32], he_face: &[u32], parts: usize) 
                 if t == NONE || (h as u32) > t {
                     continue;
                 }
-                let (a, b) = (he_face[h], he_face[t as usize]);
+                let (a, b) = (he_face.get(h), he_face.get(t as usize));
                 if (b as usize) < range.end {
                     union(parent, base, a, b);
                 } else {
@@ -656,10 +714,10 @@ mod tests {
     fn same(new: &Topology, old: &Topology) -> bool {
         new.vertex_count == old.vertex_count
             && new.faces == old.faces
-            && new.he_face == old.he_face
+            && (0..new.half_edge_count()).all(|h| new.he_face.get(h) == old.he_face.get(h))
             && new.he_twin == old.he_twin
-            && new.he_edge == old.he_edge
-            && new.edge_he == old.edge_he
+            && new.edge_numbering() == old.edge_numbering()
+            && new.edge_count() == old.edge_numbering().edge_he.len()
             && new.fan_offsets == old.fan_offsets
             && new.fan == old.fan
             && new.vertex_on_boundary == old.vertex_on_boundary

@@ -3,10 +3,11 @@
 //! stamps over all vertices): the reference its results and errors are
 //! compared with, on random valid and invalid face lists.
 
-use super::super::{number_edges, Topology, NONE};
+use super::super::{HalfEdgeFaces, Topology, NONE};
 use crate::error::MeshError;
 use crate::ids::HalfEdgeId;
 use crate::soup::FaceList;
+use std::sync::OnceLock;
 
 pub(super) fn build(faces: FaceList, vertex_count: usize) -> Result<Topology, MeshError> {
     if faces.is_empty() {
@@ -109,8 +110,6 @@ pub(super) fn build(faces: FaceList, vertex_count: usize) -> Result<Topology, Me
         fan_offsets.push(fan.len() as u32);
     }
 
-    let (he_edge, edge_he) = number_edges(&he_twin);
-
     // Boundary loops: after boundary half-edge a→b comes b's boundary half-edge.
     let mut loop_offsets = vec![0u32];
     let mut loop_he = Vec::new();
@@ -158,10 +157,9 @@ pub(super) fn build(faces: FaceList, vertex_count: usize) -> Result<Topology, Me
     Ok(Topology {
         vertex_count: nv as u32,
         faces,
-        he_face,
+        he_face: HalfEdgeFaces::Table(he_face),
         he_twin,
-        he_edge,
-        edge_he,
+        edges: OnceLock::new(),
         fan_offsets,
         fan,
         vertex_on_boundary,
