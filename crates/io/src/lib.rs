@@ -360,6 +360,32 @@ fn checked(
     Ok((soup, warnings))
 }
 
+/// The OBJ reader's two paths apart, for the crate's tests and benchmarks;
+/// not part of the API (no stability promised).
+#[doc(hidden)]
+pub mod internals {
+    use super::{Ctx, IoError, Path, PolygonSoup, ReadWarning};
+
+    /// The serial OBJ reader alone, as [`crate::read_mesh_from_bytes_with_warnings`]
+    /// runs it for small files (without the checks every reader's soup gets).
+    ///
+    /// # Errors
+    /// Those of the OBJ reader.
+    pub fn read_obj_serial(bytes: &[u8], name: &str) -> Result<(PolygonSoup, Vec<ReadWarning>), IoError> {
+        crate::obj::read_serial(bytes, Ctx::new(Path::new(name)))
+    }
+
+    /// The parallel OBJ path alone, in chunks of about `chunk_bytes` (at
+    /// least 1), whatever the file's size: `None` where it declines the
+    /// file (and the serial reader would read it).
+    pub fn read_obj_chunked(bytes: &[u8], name: &str, chunk_bytes: usize) -> Option<(PolygonSoup, Vec<ReadWarning>)> {
+        crate::obj::read_chunked(bytes, chunk_bytes, Ctx::new(Path::new(name)))
+    }
+
+    /// The size under which the OBJ reader does not try the parallel path.
+    pub const OBJ_CHUNKED_MIN_BYTES: usize = crate::obj::CHUNKED_MIN_BYTES;
+}
+
 /// A mesh to write: borrowed positions, faces and optional per-vertex
 /// normals, texture coordinates and sharpness tags.
 ///

@@ -12,6 +12,13 @@
 //! from any statement keyword holding a control character), not read as
 //! unknown statements.
 //!
+//! Files of 1 MiB or more are first cut at line ends into chunks parsed on
+//! every thread by the same statement functions ([`chunks`]); a file with
+//! what a chunk cannot read alone (relative indices, `t` lines, `\`
+//! continuations, faces with and without `vt`, any error) is read again
+//! from the start by the serial reader, so results, errors and warnings
+//! never depend on the path taken.
+//!
 //! Texture coordinates become [`PolygonSoup::uvs`]: the `vt` pool and, per
 //! face corner, its 0-based `vt` index, when every face gives them. A face
 //! that gives them for some corners only is a parse error; a file in which
@@ -63,6 +70,8 @@ use crate::text::{
 };
 use crate::{Format, MeshView};
 
+mod chunks;
+
 /// Group names interned in order of first appearance.
 #[derive(Default)]
 struct GroupTable {
@@ -79,6 +88,15 @@ impl GroupTable {
         self.groups.names.push(name.clone());
         self.index.insert(name, i);
         i
+    }
+
+    /// The group of a face when `current` was named last (`None`: no
+    /// `g`/`o` line yet, the face is in `default`, interned then).
+    fn face_group(&mut self, current: &mut Option<u32>) -> u32 {
+        match *current {
+            Some(g) => g,
+            None => *current.insert(self.intern("default".to_owned())),
+        }
     }
 }
 
@@ -177,7 +195,29 @@ impl IgnoredTags {
     }
 }
 
+/// Reads an OBJ file: large files through the parallel path ([`chunks`]),
+/// which declines whatever it does not read exactly as [`read_serial`]
+/// does; the rest, and everything it declines, through [`read_serial`]
+/// from the start, which gives every error and warning.
 pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<(PolygonSoup, Vec<ReadWarning>), IoError> {
+    if bytes.len() >= chunks::MIN_BYTES {
+        if let Some(read) = chunks::read(bytes, chunks::chunk_size(bytes.len()), ctx) {
+            return Ok(read);
+        }
+    }
+    read_serial(bytes, ctx)
+}
+
+/// The parallel path alone, in chunks of about `chunk` bytes (see [`chunks`]).
+pub(crate) fn read_chunked(bytes: &[u8], chunk: usize, ctx: Ctx<'_>) -> Option<(PolygonSoup, Vec<ReadWarning>)> {
+    chunks::read(bytes, chunk, ctx)
+}
+
+/// Files shorter than this are read by [`read_serial`] alone.
+pub(crate) const CHUNKED_MIN_BYTES: usize = chunks::MIN_BYTES;
+
+/// The reader of record: the file line by line, on one thread.
+pub(crate) fn read_serial(bytes: &[u8], ctx: Ctx<'_>) -> Result<(PolygonSoup, Vec<ReadWarning>), IoError> {
     let bytes = strip_bom(bytes);
     check_text(bytes, Format::Obj, ctx)?;
     let mut positions: Vec<DVec3> = Vec::new();
@@ -218,75 +258,29 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<(PolygonSoup, Vec<ReadW
 
         let mut toks = tokens(line);
         let Some(keyword) = toks.next() else { continue };
-        match keyword {
-            b"v" => {
-                let mut c = [0.0; 3];
-                for (i, slot) in c.iter_mut().enumerate() {
-                    let Some(t) = toks.next() else {
-                        return Err(ctx.truncated(n, format!("vertex has {i} coordinates, 3 needed")));
-                    };
-                    *slot = parse_f64(t)
-                        .ok_or_else(|| ctx.parse(n, format!("vertex coordinate '{}' is not a number", show(t))))?;
-                }
-                positions.push(DVec3::from(c));
-            }
-            b"vt" => {
-                let Some(u) = toks.next() else {
-                    return Err(ctx.truncated(n, "texture coordinate has no value"));
-                };
-                let number = |t: &[u8]| {
-                    parse_f64(t)
-                        .ok_or_else(|| ctx.parse(n, format!("texture coordinate '{}' is not a number", show(t))))
-                };
-                let u = number(u)?;
-                let v = toks.next().map_or(Ok(0.0), number)?;
-                uvs.values.push(DVec2::new(u, v));
-            }
-            b"f" | b"fo" => {
+        match Statement::of(keyword) {
+            Statement::Vertex => positions.push(vertex(toks, n, ctx)?),
+            Statement::TexCoord => uvs.values.push(tex_coord(toks, n, ctx)?),
+            Statement::Face => {
                 corners.clear();
                 corner_uvs.clear();
-                for t in toks {
-                    let mut parts = t.split(|&b| b == b'/');
-                    let v = parts.next().unwrap_or(t);
-                    corners.push(obj_index(v, t, Element::Vertex, positions.len(), n, ctx)?);
-                    if let Some(vt) = parts.next().filter(|vt| !vt.is_empty()) {
-                        corner_uvs.push(obj_index(vt, t, Element::Texture, uvs.values.len(), n, ctx)?);
-                    }
-                }
-                if !corner_uvs.is_empty() && corner_uvs.len() != corners.len() {
-                    return Err(ctx.parse(
-                        n,
-                        format!(
-                            "face {} gives texture coordinates for {} of its {} corners",
-                            faces.len(),
-                            corner_uvs.len(),
-                            corners.len()
-                        ),
-                    ));
-                }
+                let counts = (positions.len(), uvs.values.len());
+                face_corners(toks, counts, faces.len(), n, ctx, &mut corners, &mut corner_uvs)?;
                 // A face without corners (a defect the validator reports) has
                 // no corner to give a texture coordinate to.
                 if !corners.is_empty() {
                     uvs.face(faces.len(), n, &corner_uvs);
                 }
                 faces.push(&corners);
-                let g = match current_group {
-                    Some(g) => g,
-                    None => *current_group.insert(table.intern("default".to_owned())),
-                };
-                face_group.push(g);
+                face_group.push(table.face_group(&mut current_group));
             }
-            b"g" | b"o" => {
+            Statement::Group => {
                 saw_group_statement = true;
-                let name: Vec<_> = toks.map(String::from_utf8_lossy).collect();
-                let name = if name.is_empty() { "default".to_owned() } else { name.join(" ") };
-                current_group = Some(table.intern(name));
+                current_group = Some(table.intern(group_name(toks)));
             }
-            b"t" => read_tag(toks, n, ctx, &mut tags, &mut ignored)?,
-            // Unknown statements are ignored, but not binary data past the
-            // part `check_text` looked at (a text file with a binary tail).
-            _ if keyword.iter().any(|&b| is_control(b)) => return Err(ctx.binary(n, Format::Obj)),
-            _ => {}
+            Statement::Tag => read_tag(toks, n, ctx, &mut tags, &mut ignored)?,
+            Statement::Binary => return Err(ctx.binary(n, Format::Obj)),
+            Statement::Ignored => {}
         }
     }
 
@@ -298,6 +292,111 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<(PolygonSoup, Vec<ReadW
     let (uvs, uv_warning) = uvs.finish(ctx.path);
     let warnings = uv_warning.into_iter().chain(ignored.finish(ctx.path)).collect();
     Ok((PolygonSoup { positions, faces, groups, tags, uvs }, warnings))
+}
+
+/// What a statement is, from its keyword: the one dispatch of both readers.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Statement {
+    /// `v`: [`vertex`].
+    Vertex,
+    /// `vt`: [`tex_coord`].
+    TexCoord,
+    /// `f`, `fo`: [`face_corners`].
+    Face,
+    /// `g`, `o`: [`group_name`].
+    Group,
+    /// `t`: [`read_tag`].
+    Tag,
+    /// A keyword holding a control character: binary data past the part
+    /// [`check_text`] looked at (a text file with a binary tail).
+    Binary,
+    /// `vn` (normals are recomputed), `s`, `usemtl`, `mtllib`, `l`, `p` and
+    /// unknown statements.
+    Ignored,
+}
+
+impl Statement {
+    fn of(keyword: &[u8]) -> Self {
+        match keyword {
+            b"v" => Self::Vertex,
+            b"vt" => Self::TexCoord,
+            b"f" | b"fo" => Self::Face,
+            b"g" | b"o" => Self::Group,
+            b"t" => Self::Tag,
+            _ if keyword.iter().any(|&b| is_control(b)) => Self::Binary,
+            _ => Self::Ignored,
+        }
+    }
+}
+
+/// The position of a `v` line of number `line`, from the tokens after its
+/// keyword: the first three (a `w` and vertex colours after them are ignored).
+fn vertex<'a>(mut toks: impl Iterator<Item = &'a [u8]>, line: usize, ctx: Ctx<'_>) -> Result<DVec3, IoError> {
+    let mut c = [0.0; 3];
+    for (i, slot) in c.iter_mut().enumerate() {
+        let Some(t) = toks.next() else {
+            return Err(ctx.truncated(line, format!("vertex has {i} coordinates, 3 needed")));
+        };
+        *slot =
+            parse_f64(t).ok_or_else(|| ctx.parse(line, format!("vertex coordinate '{}' is not a number", show(t))))?;
+    }
+    Ok(DVec3::from(c))
+}
+
+/// The texture coordinate of a `vt` line: `u [v] [w]`, `v` 0 when absent,
+/// `w` and anything after it ignored.
+fn tex_coord<'a>(mut toks: impl Iterator<Item = &'a [u8]>, line: usize, ctx: Ctx<'_>) -> Result<DVec2, IoError> {
+    let Some(u) = toks.next() else {
+        return Err(ctx.truncated(line, "texture coordinate has no value"));
+    };
+    let number = |t: &[u8]| {
+        parse_f64(t).ok_or_else(|| ctx.parse(line, format!("texture coordinate '{}' is not a number", show(t))))
+    };
+    let u = number(u)?;
+    let v = toks.next().map_or(Ok(0.0), number)?;
+    Ok(DVec2::new(u, v))
+}
+
+/// Appends the corners of face number `face` (an `f` line of number
+/// `line`) to `corners`, and their texture coordinate indices, if it gives
+/// them, to `corner_uvs`: as many as corners, or none (a face giving them
+/// for some corners only is an error). `counts` are the vertices and
+/// texture coordinates read so far, which relative indices count back
+/// from; the `vn` part of a corner is not looked at.
+fn face_corners<'a>(
+    toks: impl Iterator<Item = &'a [u8]>,
+    counts: (usize, usize),
+    face: usize,
+    line: usize,
+    ctx: Ctx<'_>,
+    corners: &mut Vec<u32>,
+    corner_uvs: &mut Vec<u32>,
+) -> Result<(), IoError> {
+    let (start, uv_start) = (corners.len(), corner_uvs.len());
+    for t in toks {
+        let mut parts = t.split(|&b| b == b'/');
+        let v = parts.next().unwrap_or(t);
+        corners.push(obj_index(v, t, Element::Vertex, counts.0, line, ctx)?);
+        if let Some(vt) = parts.next().filter(|vt| !vt.is_empty()) {
+            corner_uvs.push(obj_index(vt, t, Element::Texture, counts.1, line, ctx)?);
+        }
+    }
+    let (n, with_uvs) = (corners.len() - start, corner_uvs.len() - uv_start);
+    if with_uvs != 0 && with_uvs != n {
+        return Err(ctx.parse(line, format!("face {face} gives texture coordinates for {with_uvs} of its {n} corners")));
+    }
+    Ok(())
+}
+
+/// The group a `g` or `o` line names: its tokens joined by single spaces
+/// (lossy UTF-8), `default` when it names none.
+fn group_name<'a>(toks: impl Iterator<Item = &'a [u8]>) -> String {
+    let name: Vec<_> = toks.map(String::from_utf8_lossy).collect();
+    if name.is_empty() {
+        "default".to_owned()
+    } else {
+        name.join(" ")
+    }
 }
 
 /// What an OBJ index refers to.
