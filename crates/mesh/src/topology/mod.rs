@@ -406,8 +406,7 @@ impl HalfEdgeFaces {
     /// The face of half-edge `h`.
     #[inline]
     fn get(&self, h: usize) -> u32 {
-        // Division by a constant for the usual sizes (a `div` per half-edge
-        // costs more than the table's load).
+        // Division by a constant for the usual sizes, not a `div` instruction.
         match self {
             HalfEdgeFaces::Uniform(4) => (h / 4) as u32,
             HalfEdgeFaces::Uniform(3) => (h / 3) as u32,
