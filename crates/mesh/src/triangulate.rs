@@ -231,8 +231,7 @@ const CONFLICT_SCAN_PER_CORNER: usize = 64;
 /// marks every face that has it.
 fn conflicting_faces(t: &Topology) -> Vec<bool> {
     let faces = t.faces();
-    let uniform = faces.face_size(0);
-    let scan = ConflictScan { t, uniform: faces.all_of_size(uniform).then_some(uniform) };
+    let scan = ConflictScan { t, uniform: t.uniform_face_size() };
     // Vertices in blocks across threads, each block listing the faces it
     // marks; the marks are merged into one vector (the same whatever the
     // order: a mark is a mark).
@@ -256,8 +255,8 @@ fn conflicting_faces(t: &Topology) -> Vec<bool> {
 }
 
 /// What [`conflicting_faces`] reads: the topology, and its face size when
-/// every face has the same (the face of a half-edge then follows from its
-/// index alone: no dependent loads of he_face and offsets).
+/// every face has the same (the face's corners then follow from the face's
+/// index alone: no dependent loads of offsets).
 struct ConflictScan<'a> {
     t: &'a Topology,
     uniform: Option<usize>,
@@ -280,20 +279,12 @@ impl ConflictScan<'_> {
     /// size, h's position).
     #[inline]
     fn corner(&self, h: HalfEdgeId) -> (usize, usize, usize, usize) {
+        // For uniform faces, he_face is arithmetic (no load either).
+        let f = self.t.he_face(h).index();
         match self.uniform {
-            Some(m) => {
-                // Division by a constant for the usual sizes (a `div` per
-                // half-edge was a tenth of `subdiv info` on a big quad mesh).
-                let f = match m {
-                    3 => h.index() / 3,
-                    4 => h.index() / 4,
-                    _ => h.index() / m,
-                };
-                (f, f * m, m, h.index() - f * m)
-            }
+            Some(m) => (f, f * m, m, h.index() - f * m),
             None => {
                 let offsets = self.t.faces().offsets();
-                let f = self.t.he_face(h).index();
                 let start = offsets[f] as usize;
                 (f, start, offsets[f + 1] as usize - start, h.index() - start)
             }

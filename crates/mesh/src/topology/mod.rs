@@ -147,6 +147,15 @@ impl Topology {
         let o = self.faces.offsets();
         (o[f.index()]..o[f.index() + 1]).map(HalfEdgeId)
     }
+    /// `Some(m)` when every face has m corners and the face of a half-edge
+    /// is computed (h / m); `None` for mixed faces, and for a refinement
+    /// built with the table (the Doo-Sabin splits), whatever its faces.
+    pub(crate) fn uniform_face_size(&self) -> Option<usize> {
+        match self.he_face {
+            HalfEdgeFaces::Uniform(m) => Some(m as usize),
+            HalfEdgeFaces::Table(_) => None,
+        }
+    }
     /// The connected component (0-based) that face `f` belongs to.
     pub fn face_component(&self, f: FaceId) -> u32 {
         self.face_component[f.index()]

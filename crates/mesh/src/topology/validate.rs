@@ -147,8 +147,8 @@ impl Topology {
 }
 
 /// Per-face checks that need no connectivity (size, index range, repeats)
-/// and, in the same pass, the CSR offsets of every vertex's corners and
-/// the face size when all faces have the same: one scan of the face list. Errors name the first offending face and,
+/// with the face size when all faces have the same, then the CSR offsets
+/// of every vertex's corners. Errors name the first offending face and,
 /// in it, the first offending corner (range before repeat). A repeat is
 /// found by comparing with the face's earlier corners for faces of at most
 /// [`SMALL_FACE`] corners (no vertex-sized array touched at random), by
@@ -370,30 +370,28 @@ fn order_fans(
     let base = fan_offsets[vertices.start] as usize;
     let mut verdict = RangeVerdict { edge_error: None, fan_error: None };
     let mut bucket = Bucket::default();
-    // The bucket's end vertices and previous vertices, interleaved.
-    let mut links = Vec::new();
+    // The start vertex of every bucket corner's previous half-edge.
+    let mut prevs = Vec::new();
     for a in vertices.clone() {
         let range = fan_offsets[a] as usize..fan_offsets[a + 1] as usize;
         if range.is_empty() {
             continue;
         }
         let local = range.start - base..range.end - base;
-        links.clear();
-        for (&end, &h) in ends[range.clone()].iter().zip(&fan[local.clone()]) {
-            links.extend_from_slice(&[end, prev_from(h)]);
-        }
-        let links = &links[..];
+        let to = &ends[range.clone()];
+        prevs.clear();
+        prevs.extend(fan[local.clone()].iter().map(|&h| prev_from(h)));
         let corners = if range.len() <= SMALL_BUCKET {
-            small_bucket(links, &mut fan[local.clone()])
+            small_bucket(to, &prevs, &mut fan[local.clone()])
         } else {
-            bucket.load(links);
+            bucket.load(to, &prevs);
             bucket.fan(&mut fan[local.clone()])
         };
         match corners {
             Verdict::Fan { boundary } => on_boundary[a - vertices.start] = boundary,
             Verdict::RepeatedEnd(i, j) => {
                 let (first, second) = (fan[local.start + i].0, fan[local.start + j].0);
-                let b = links[2 * i];
+                let b = to[i];
                 let count = |from: u32, target: u32| {
                     let r = fan_offsets[from as usize] as usize..fan_offsets[from as usize + 1] as usize;
                     ends[r].iter().filter(|&&to| to == target).count()
@@ -413,7 +411,7 @@ fn order_fans(
             }
             Verdict::SeveralFans => {
                 if verdict.fan_error.is_none() {
-                    bucket.load(links);
+                    bucket.load(to, &prevs);
                     verdict.fan_error =
                         Some(MeshError::NonManifoldVertex { vertex: a as u32, fans: bucket.count_fans() });
                 }
@@ -513,19 +511,17 @@ enum Verdict {
 }
 
 /// [`Bucket::fan`] for a bucket of at most [`SMALL_BUCKET`] corners, on the
-/// stack: `links` are the corners' end vertices and the start vertices of
-/// their previous half-edges (interleaved), `fan` their half-edges, reordered into the fan on
-/// success.
+/// stack: `ends` are the corners' end vertices, `prevs` the start vertices of
+/// their previous half-edges, `fan` their half-edges, reordered into the fan
+/// on success.
 #[inline]
-fn small_bucket(links: &[u32], fan: &mut [HalfEdgeId]) -> Verdict {
+fn small_bucket(ends: &[u32], prevs: &[u32], fan: &mut [HalfEdgeId]) -> Verdict {
     const NO: u8 = u8::MAX;
     let k = fan.len();
     let mut to = [0u32; SMALL_BUCKET];
     let mut prev_from = [0u32; SMALL_BUCKET];
-    for i in 0..k {
-        to[i] = links[2 * i];
-        prev_from[i] = links[2 * i + 1];
-    }
+    to[..k].copy_from_slice(ends);
+    prev_from[..k].copy_from_slice(prevs);
     for j in 1..k {
         if let Some(i) = to[..j].iter().position(|&t| t == to[j]) {
             return Verdict::RepeatedEnd(i, j);
@@ -565,7 +561,7 @@ fn small_bucket(links: &[u32], fan: &mut [HalfEdgeId]) -> Verdict {
     Verdict::Fan { boundary: boundary_start.is_some() }
 }
 
-/// Lookups within one vertex's bucket of [`Link`]s: which corner ends at a
+/// Lookups within one vertex's bucket of corners: which corner ends at a
 /// vertex, which corner's previous half-edge starts at one.
 #[derive(Default)]
 struct Bucket {
@@ -579,15 +575,13 @@ struct Bucket {
 }
 
 impl Bucket {
-    /// The bucket of `links` (end vertex and start vertex of the previous
-    /// half-edge of every corner, interleaved).
-    fn load(&mut self, links: &[u32]) {
+    /// The bucket of corners with end vertices `ends` and previous
+    /// half-edges starting at `prevs`.
+    fn load(&mut self, ends: &[u32], prevs: &[u32]) {
         self.to.clear();
+        self.to.extend_from_slice(ends);
         self.prev_from.clear();
-        for pair in links.chunks_exact(2) {
-            self.to.push(pair[0]);
-            self.prev_from.push(pair[1]);
-        }
+        self.prev_from.extend_from_slice(prevs);
         if self.big() {
             self.by_to.clear();
             self.by_prev_from.clear();
