@@ -171,8 +171,8 @@ impl Topology {
     /// The corner a half-edge starts at.
     #[inline]
     pub fn he_corner(&self, h: HalfEdgeId) -> Corner {
-        let f = self.he_face.get(h.index());
-        Corner { face: FaceId(f), index: h.0 - self.faces.offsets()[f as usize] }
+        let (start, _) = self.he_face.face_half_edges(self.faces.offsets(), h.index());
+        Corner { face: self.he_face(h), index: h.0 - start as u32 }
     }
     /// Start vertex.
     #[inline]
@@ -187,16 +187,12 @@ impl Topology {
     /// Next half-edge in the same face.
     #[inline]
     pub fn he_next(&self, h: HalfEdgeId) -> HalfEdgeId {
-        let f = self.he_face.get(h.index()) as usize;
-        let o = self.faces.offsets();
-        HalfEdgeId(if h.0 + 1 == o[f + 1] { o[f] } else { h.0 + 1 })
+        HalfEdgeId(self.he_face.next(self.faces.offsets(), h.index()) as u32)
     }
     /// Previous half-edge in the same face.
     #[inline]
     pub fn he_prev(&self, h: HalfEdgeId) -> HalfEdgeId {
-        let f = self.he_face.get(h.index()) as usize;
-        let o = self.faces.offsets();
-        HalfEdgeId(if h.0 == o[f] { o[f + 1] - 1 } else { h.0 - 1 })
+        HalfEdgeId(self.he_face.prev(self.faces.offsets(), h.index()) as u32)
     }
     /// The opposite half-edge, or `None` on the boundary.
     #[inline]
@@ -421,6 +417,47 @@ impl HalfEdgeFaces {
             HalfEdgeFaces::Uniform(3) => (h / 3) as u32,
             HalfEdgeFaces::Uniform(m) => (h / *m as usize) as u32,
             HalfEdgeFaces::Table(table) => table[h],
+        }
+    }
+
+    /// The half-edges `start..end` of the face of half-edge `h`; `offsets`
+    /// are the face list's (read only for mixed faces: for uniform ones the
+    /// range is arithmetic, no load from a face-sized array).
+    #[inline]
+    fn face_half_edges(&self, offsets: &[u32], h: usize) -> (usize, usize) {
+        match self {
+            HalfEdgeFaces::Uniform(4) => (h / 4 * 4, h / 4 * 4 + 4),
+            HalfEdgeFaces::Uniform(3) => (h / 3 * 3, h / 3 * 3 + 3),
+            HalfEdgeFaces::Uniform(m) => {
+                let m = *m as usize;
+                (h / m * m, h / m * m + m)
+            }
+            HalfEdgeFaces::Table(table) => {
+                let f = table[h] as usize;
+                (offsets[f] as usize, offsets[f + 1] as usize)
+            }
+        }
+    }
+
+    /// The next half-edge in `h`'s face (see [`Self::face_half_edges`]).
+    #[inline]
+    fn next(&self, offsets: &[u32], h: usize) -> usize {
+        let (start, end) = self.face_half_edges(offsets, h);
+        if h + 1 == end {
+            start
+        } else {
+            h + 1
+        }
+    }
+
+    /// The previous half-edge in `h`'s face (see [`Self::face_half_edges`]).
+    #[inline]
+    fn prev(&self, offsets: &[u32], h: usize) -> usize {
+        let (start, end) = self.face_half_edges(offsets, h);
+        if h == start {
+            end - 1
+        } else {
+            h - 1
         }
     }
 }

@@ -746,18 +746,12 @@ impl Topology {
         let nh = he_twin.len();
         let offsets = faces.offsets();
         let from = faces.indices();
-        let mut he_face = vec![0u32; nh];
+        let mut table = vec![0u32; nh];
         for f in 0..faces.len() {
-            he_face[offsets[f] as usize..offsets[f + 1] as usize].fill(f as u32);
+            table[offsets[f] as usize..offsets[f + 1] as usize].fill(f as u32);
         }
-        let prev = |h: usize| {
-            let f = he_face[h] as usize;
-            if h == offsets[f] as usize {
-                offsets[f + 1] as usize - 1
-            } else {
-                h - 1
-            }
-        };
+        let he_face = HalfEdgeFaces::Table(table);
+        let prev = |h: usize| he_face.prev(offsets, h);
         let (mut fan, mut fan_offsets) = known_fans;
         let known = fan_offsets.len() - 1;
         // `new` starts a fan at the vertex's boundary half-edge, else at its
@@ -797,13 +791,6 @@ impl Topology {
         }
         // Boundary loops as `new` finds them: from the smallest unseen
         // boundary half-edge, each followed by its end's boundary half-edge.
-        let next_of = |h: usize| {
-            if h + 1 == offsets[he_face[h] as usize + 1] as usize {
-                offsets[he_face[h] as usize] as usize
-            } else {
-                h + 1
-            }
-        };
         let mut loop_offsets = vec![0u32];
         let mut loop_he = Vec::new();
         let mut seen = vec![false; nh];
@@ -815,7 +802,7 @@ impl Topology {
             while !seen[h] {
                 seen[h] = true;
                 loop_he.push(HalfEdgeId(h as u32));
-                let b = from[next_of(h)] as usize;
+                let b = from[he_face.next(offsets, h)] as usize;
                 h = fan[fan_offsets[b] as usize].index();
             }
             loop_offsets.push(loop_he.len() as u32);
@@ -823,7 +810,7 @@ impl Topology {
         Topology {
             vertex_count: vertex_count as u32,
             faces,
-            he_face: HalfEdgeFaces::Table(he_face),
+            he_face,
             he_twin,
             edges: OnceLock::new(),
             fan_offsets,

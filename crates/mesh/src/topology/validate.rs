@@ -9,6 +9,7 @@ use crate::soup::FaceList;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::ops::Range;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::OnceLock;
 
 impl Topology {
@@ -67,35 +68,23 @@ impl Topology {
             .into_par_iter()
             .for_each(|(vertices, fan, ends)| scatter_corners(faces, &fan_offsets, vertices, fan, ends));
 
-        // The twin of a→b is the half-edge b→a: the corner of b's bucket that
-        // ends at a (read in parallel; a repeated end is an error below).
-        let mut he_twin = vec![NONE; nh];
-        let to = |h: usize| -> u32 {
-            let f = he_face.get(h) as usize;
-            idx[if h + 1 == offsets[f + 1] as usize { offsets[f] as usize } else { h + 1 }]
-        };
-        he_twin.par_chunks_mut(1 << 14).enumerate().for_each(|(chunk, twins)| {
-            for (i, twin) in twins.iter_mut().enumerate() {
-                let h = (chunk << 14) + i;
-                let (a, b) = (idx[h], to(h) as usize);
-                let bucket = fan_offsets[b] as usize..fan_offsets[b + 1] as usize;
-                if let Some(k) = bucket.clone().find(|&k| ends[k] == a) {
-                    *twin = fan[k].0;
-                }
-            }
-        });
-
         // Per vertex a, from its bucket alone: two half-edges a→b are an
         // edge error; the fan walks h ← twin(prev(h)), i.e. to the corner
         // whose end is h's previous vertex, from the boundary half-edge (or
         // the first one). Edge errors are reported before fan errors, at the
         // first vertex that has one (per range, then the first range's).
+        // The walk pairs the twins too: every half-edge x→a is prev(h) for
+        // one corner h at a, and its twin a→x is the corner after h in the
+        // fan, so each twin is written once, by the bucket of the half-edge's
+        // end (the same values whatever the split).
+        let he_twin: Vec<AtomicU32> = (0..nh).into_par_iter().map(|_| AtomicU32::new(NONE)).collect();
         let mut vertex_on_boundary = vec![false; nv];
         let verdicts: Vec<RangeVerdict> = split_by_buckets(&vertex_parts, &fan_offsets, &mut fan, &mut [])
             .into_par_iter()
             .zip(split_at_ranges(&vertex_parts, &mut vertex_on_boundary))
             .map(|((vertices, fan, _), on_boundary)| {
-                order_fans(vertices, (faces, &he_face), &fan_offsets, &ends, fan, on_boundary)
+                let buckets = Buckets { fan_offsets: &fan_offsets, ends: &ends, fan, on_boundary };
+                order_fans(vertices, (faces, &he_face), buckets, &he_twin)
             })
             .collect();
         if let Some(e) = verdicts.iter().find_map(|v| v.edge_error.clone()) {
@@ -104,6 +93,9 @@ impl Topology {
         if let Some(e) = verdicts.into_iter().find_map(|v| v.fan_error) {
             return Err(e);
         }
+        // Same size and alignment: collected in place.
+        let he_twin: Vec<u32> = he_twin.into_iter().map(AtomicU32::into_inner).collect();
+        let to = |h: usize| idx[he_face.next(offsets, h)];
 
         drop(ends);
 
@@ -349,46 +341,72 @@ struct RangeVerdict {
     fan_error: Option<MeshError>,
 }
 
-/// Orders the fans of `vertices` (whose buckets' slots `fan` is) and marks
-/// the boundary ones, stopping at the first edge error. `ends` holds the end
-/// vertex of every slot's half-edge; the start vertex of its previous
-/// half-edge is read from the faces, while the bucket is still in
-/// half-edge order.
+/// The buckets of one vertex range, as [`order_fans`] reads and writes
+/// them: the CSR offsets of every vertex's corners, the end vertex of every
+/// slot's half-edge, the range's slots (half-edges, reordered into fans) and
+/// its vertices' boundary marks.
+struct Buckets<'a> {
+    fan_offsets: &'a [u32],
+    ends: &'a [u32],
+    fan: &'a mut [HalfEdgeId],
+    on_boundary: &'a mut [bool],
+}
+
+/// Orders the fans of `vertices`, marks the boundary ones and writes the
+/// twin of every half-edge ending at them into `he_twin`, stopping at the
+/// first edge error. The start vertex of a corner's previous half-edge is
+/// read from the faces, while the bucket is still in half-edge order.
 fn order_fans(
     vertices: Range<usize>,
     (faces, he_face): (&FaceList, &HalfEdgeFaces),
-    fan_offsets: &[u32],
-    ends: &[u32],
-    fan: &mut [HalfEdgeId],
-    on_boundary: &mut [bool],
+    Buckets { fan_offsets, ends, fan, on_boundary }: Buckets,
+    he_twin: &[AtomicU32],
 ) -> RangeVerdict {
     let (offsets, idx) = (faces.offsets(), faces.indices());
-    let prev_from = |h: HalfEdgeId| -> u32 {
-        let f = he_face.get(h.index()) as usize;
-        idx[if h.0 == offsets[f] { offsets[f + 1] as usize - 1 } else { h.index() - 1 }]
-    };
+    let prev = |h: HalfEdgeId| he_face.prev(offsets, h.index());
     let base = fan_offsets[vertices.start] as usize;
     let mut verdict = RangeVerdict { edge_error: None, fan_error: None };
     let mut bucket = Bucket::default();
-    // The start vertex of every bucket corner's previous half-edge.
-    let mut prevs = Vec::new();
+    // The start vertex of every corner's previous half-edge, gathered for
+    // a block of vertices at a time: the loads are independent (no branch
+    // between them), so their cache misses overlap.
+    const BLOCK: usize = 1 << 10;
+    let mut block_prevs = Vec::new();
+    let mut block_base = usize::MAX;
     for a in vertices.clone() {
+        if (a - vertices.start) % BLOCK == 0 {
+            let block_end = (a + BLOCK).min(vertices.end);
+            let slots = fan_offsets[a] as usize - base..fan_offsets[block_end] as usize - base;
+            block_base = slots.start;
+            block_prevs.clear();
+            block_prevs.extend(fan[slots].iter().map(|&h| idx[prev(h)]));
+        }
         let range = fan_offsets[a] as usize..fan_offsets[a + 1] as usize;
         if range.is_empty() {
             continue;
         }
         let local = range.start - base..range.end - base;
         let to = &ends[range.clone()];
-        prevs.clear();
-        prevs.extend(fan[local.clone()].iter().map(|&h| prev_from(h)));
+        let prevs = &block_prevs[local.start - block_base..local.end - block_base];
         let corners = if range.len() <= SMALL_BUCKET {
-            small_bucket(to, &prevs, &mut fan[local.clone()])
+            small_bucket(to, prevs, &mut fan[local.clone()])
         } else {
-            bucket.load(to, &prevs);
+            bucket.load(to, prevs);
             bucket.fan(&mut fan[local.clone()])
         };
         match corners {
-            Verdict::Fan { boundary } => on_boundary[a - vertices.start] = boundary,
+            Verdict::Fan { boundary } => {
+                on_boundary[a - vertices.start] = boundary;
+                // twin(prev(h)) is the corner after h; after the last, the
+                // first again, unless the fan is open (prev(h) on the boundary).
+                let ordered = &fan[local.clone()];
+                let closing = (!boundary).then_some(ordered[0]);
+                for (i, &h) in ordered.iter().enumerate() {
+                    if let Some(next) = ordered.get(i + 1).copied().or(closing) {
+                        he_twin[prev(h)].store(next.0, Ordering::Relaxed);
+                    }
+                }
+            }
             Verdict::RepeatedEnd(i, j) => {
                 let (first, second) = (fan[local.start + i].0, fan[local.start + j].0);
                 let b = to[i];
@@ -411,7 +429,7 @@ fn order_fans(
             }
             Verdict::SeveralFans => {
                 if verdict.fan_error.is_none() {
-                    bucket.load(to, &prevs);
+                    bucket.load(to, prevs);
                     verdict.fan_error =
                         Some(MeshError::NonManifoldVertex { vertex: a as u32, fans: bucket.count_fans() });
                 }
@@ -518,10 +536,7 @@ enum Verdict {
 fn small_bucket(ends: &[u32], prevs: &[u32], fan: &mut [HalfEdgeId]) -> Verdict {
     const NO: u8 = u8::MAX;
     let k = fan.len();
-    let mut to = [0u32; SMALL_BUCKET];
-    let mut prev_from = [0u32; SMALL_BUCKET];
-    to[..k].copy_from_slice(ends);
-    prev_from[..k].copy_from_slice(prevs);
+    let (to, prev_from) = (&ends[..k], &prevs[..k]);
     for j in 1..k {
         if let Some(i) = to[..j].iter().position(|&t| t == to[j]) {
             return Verdict::RepeatedEnd(i, j);
@@ -544,10 +559,14 @@ fn small_bucket(ends: &[u32], prevs: &[u32], fan: &mut [HalfEdgeId]) -> Verdict 
         return Verdict::SeveralFans;
     }
     let start = boundary_start.unwrap_or(0);
-    let mut order = [HalfEdgeId(0); SMALL_BUCKET];
+    // The walk writes the fan in place, from a copy of the bucket. (Not into
+    // a stack array copied back after: that copy's wide load would wait for
+    // every store before it, the twins' cache misses included.)
+    let mut bucket = [HalfEdgeId(0); SMALL_BUCKET];
+    bucket[..k].copy_from_slice(fan);
     let (mut n, mut i) = (0, start);
     loop {
-        order[n] = fan[i];
+        fan[n] = bucket[i];
         n += 1;
         match succ[i] {
             j if j == NO || j as usize == start || n >= k => break,
@@ -555,9 +574,10 @@ fn small_bucket(ends: &[u32], prevs: &[u32], fan: &mut [HalfEdgeId]) -> Verdict 
         }
     }
     if n != k || (succ[i] != NO && succ[i] as usize != start) {
+        // The slots are left part-walked: the caller reports the vertex
+        // from `ends` and `prevs` alone.
         return Verdict::SeveralFans;
     }
-    fan.copy_from_slice(&order[..k]);
     Verdict::Fan { boundary: boundary_start.is_some() }
 }
 
