@@ -49,13 +49,10 @@ impl Topology {
         let idx = faces.indices();
 
         // Outgoing half-edges per vertex by counting sort (CSR, in half-edge
-        // order), each with its end vertex (`ends[k]` for slot k, read from
-        // the face being scattered: no gather at random later). The fan is
-        // this CSR reordered in place: everything a vertex needs is in its
-        // own bucket. Big meshes are split into vertex ranges of about equal
-        // corner counts, one per thread: each owns its buckets' slots, so
-        // the result is the same whatever the split (every bucket in
-        // half-edge order).
+        // order). The fan is this CSR reordered in place. Big meshes are
+        // split into vertex ranges of about equal corner counts, one per
+        // thread: each owns its buckets' slots, so the result is the same
+        // whatever the split (every bucket in half-edge order).
         let parts = if nh < PARALLEL_CORNERS { 1 } else { rayon::current_num_threads().max(1) };
         let vertex_parts = balanced_ranges(&fan_offsets, parts);
         let he_face = match uniform_size {
@@ -63,10 +60,9 @@ impl Topology {
             None => HalfEdgeFaces::Table(face_of_half_edges(faces, parts)),
         };
         let mut fan = vec![HalfEdgeId(0); nh];
-        let mut ends = vec![0u32; nh];
-        split_by_buckets(&vertex_parts, &fan_offsets, &mut fan, &mut ends)
+        split_by_buckets(&vertex_parts, &fan_offsets, &mut fan)
             .into_par_iter()
-            .for_each(|(vertices, fan, ends)| scatter_corners(faces, &fan_offsets, vertices, fan, ends));
+            .for_each(|(vertices, fan)| scatter_corners(faces, &fan_offsets, vertices, fan));
 
         // Per vertex a, from its bucket alone: two half-edges a→b are an
         // edge error; the fan walks h ← twin(prev(h)), i.e. to the corner
@@ -79,16 +75,16 @@ impl Topology {
         // end (the same values whatever the split).
         let he_twin: Vec<AtomicU32> = (0..nh).into_par_iter().map(|_| AtomicU32::new(NONE)).collect();
         let mut vertex_on_boundary = vec![false; nv];
-        let verdicts: Vec<RangeVerdict> = split_by_buckets(&vertex_parts, &fan_offsets, &mut fan, &mut [])
+        let verdicts: Vec<RangeVerdict> = split_by_buckets(&vertex_parts, &fan_offsets, &mut fan)
             .into_par_iter()
             .zip(split_at_ranges(&vertex_parts, &mut vertex_on_boundary))
-            .map(|((vertices, fan, _), on_boundary)| {
-                let buckets = Buckets { fan_offsets: &fan_offsets, ends: &ends, fan, on_boundary };
+            .map(|((vertices, fan), on_boundary)| {
+                let buckets = Buckets { fan_offsets: &fan_offsets, fan, on_boundary };
                 order_fans(vertices, (faces, &he_face), buckets, &he_twin)
             })
             .collect();
-        if let Some(e) = verdicts.iter().find_map(|v| v.edge_error.clone()) {
-            return Err(e);
+        if let Some(repeated) = verdicts.iter().find_map(|v| v.repeated_edge) {
+            return Err(repeated.error(faces, &he_face));
         }
         if let Some(e) = verdicts.into_iter().find_map(|v| v.fan_error) {
             return Err(e);
@@ -96,8 +92,6 @@ impl Topology {
         // Same size and alignment: collected in place.
         let he_twin: Vec<u32> = he_twin.into_iter().map(AtomicU32::into_inner).collect();
         let to = |h: usize| idx[he_face.next(offsets, h)];
-
-        drop(ends);
 
         // Boundary loops: after boundary half-edge a→b comes b's boundary half-edge.
         let mut loop_offsets = vec![0u32];
@@ -282,38 +276,21 @@ fn split_at_ranges<'a, T>(ranges: &[Range<usize>], mut data: &'a mut [T]) -> Vec
     slices
 }
 
-/// Per vertex range: the range, its buckets' slots of `fan` and of `ends`
-/// (`ends` may be empty).
-type BucketSlices<'a> = (Range<usize>, &'a mut [HalfEdgeId], &'a mut [u32]);
-
+/// Per vertex range: the range and its buckets' slots of `fan`.
 fn split_by_buckets<'a>(
     vertex_parts: &[Range<usize>],
     fan_offsets: &[u32],
     fan: &'a mut [HalfEdgeId],
-    ends: &'a mut [u32],
-) -> Vec<BucketSlices<'a>> {
+) -> Vec<(Range<usize>, &'a mut [HalfEdgeId])> {
     let slots: Vec<Range<usize>> =
         vertex_parts.iter().map(|r| fan_offsets[r.start] as usize..fan_offsets[r.end] as usize).collect();
-    let fans = split_at_ranges(&slots, fan);
-    let ends: Vec<&mut [u32]> = if ends.is_empty() {
-        slots.iter().map(|_| Default::default()).collect()
-    } else {
-        split_at_ranges(&slots, ends)
-    };
-    vertex_parts.iter().cloned().zip(fans).zip(ends).map(|((r, f), e)| (r, f, e)).collect()
+    vertex_parts.iter().cloned().zip(split_at_ranges(&slots, fan)).collect()
 }
 
 /// The counting sort's scatter for the buckets of `vertices` (whose slots
-/// `fan` and `ends` are): every corner of every face, in half-edge order,
-/// into its start vertex's bucket when that is in the range, with its end
-/// vertex.
-fn scatter_corners(
-    faces: &FaceList,
-    fan_offsets: &[u32],
-    vertices: Range<usize>,
-    fan: &mut [HalfEdgeId],
-    ends: &mut [u32],
-) {
+/// `fan` are): every corner of every face, in half-edge order, into its
+/// start vertex's bucket when that is in the range.
+fn scatter_corners(faces: &FaceList, fan_offsets: &[u32], vertices: Range<usize>, fan: &mut [HalfEdgeId]) {
     let (offsets, idx) = (faces.offsets(), faces.indices());
     let base = fan_offsets[vertices.start];
     let mut cursor: Vec<u32> = fan_offsets[vertices.clone()].iter().map(|&o| o - base).collect();
@@ -323,12 +300,9 @@ fn scatter_corners(
         for h in start..end {
             let a = idx[h as usize].wrapping_sub(first);
             if a < count {
-                let next = if h + 1 == end { start } else { h + 1 };
                 let slot = &mut cursor[a as usize];
-                let k = *slot as usize;
+                fan[*slot as usize] = HalfEdgeId(h);
                 *slot += 1;
-                fan[k] = HalfEdgeId(h);
-                ends[k] = idx[next as usize];
             }
         }
     }
@@ -337,47 +311,84 @@ fn scatter_corners(
 /// What one vertex range's buckets say: its first edge error, its first
 /// fan error.
 struct RangeVerdict {
-    edge_error: Option<MeshError>,
+    repeated_edge: Option<RepeatedEdge>,
     fan_error: Option<MeshError>,
 }
 
+/// Two half-edges a→b, `first` and `second` (in half-edge order): an edge
+/// error, which one told by [`RepeatedEdge::error`].
+#[derive(Clone, Copy)]
+struct RepeatedEdge {
+    a: u32,
+    b: u32,
+    first: u32,
+    second: u32,
+}
+
+impl RepeatedEdge {
+    /// A non-manifold edge when more than two half-edges join a and b
+    /// (counted over all faces: the error path, once), else two faces
+    /// traversing a→b alike.
+    #[cold]
+    fn error(self, faces: &FaceList, he_face: &HalfEdgeFaces) -> MeshError {
+        let RepeatedEdge { a, b, first, second } = self;
+        let (offsets, idx) = (faces.offsets(), faces.indices());
+        let joins = |h: usize| {
+            let (from, to) = (idx[h], idx[he_face.next(offsets, h)]);
+            (from, to) == (a, b) || (from, to) == (b, a)
+        };
+        let faces = (0..idx.len()).into_par_iter().filter(|&h| joins(h)).count();
+        if faces > 2 {
+            MeshError::NonManifoldEdge { a: a.min(b), b: a.max(b), faces }
+        } else {
+            MeshError::InconsistentOrientation {
+                a,
+                b,
+                face_a: he_face.get(first as usize),
+                face_b: he_face.get(second as usize),
+            }
+        }
+    }
+}
+
 /// The buckets of one vertex range, as [`order_fans`] reads and writes
-/// them: the CSR offsets of every vertex's corners, the end vertex of every
-/// slot's half-edge, the range's slots (half-edges, reordered into fans) and
-/// its vertices' boundary marks.
+/// them: the CSR offsets of every vertex's corners, the range's slots
+/// (half-edges, reordered into fans) and its vertices' boundary marks.
 struct Buckets<'a> {
     fan_offsets: &'a [u32],
-    ends: &'a [u32],
     fan: &'a mut [HalfEdgeId],
     on_boundary: &'a mut [bool],
 }
 
 /// Orders the fans of `vertices`, marks the boundary ones and writes the
 /// twin of every half-edge ending at them into `he_twin`, stopping at the
-/// first edge error. The start vertex of a corner's previous half-edge is
-/// read from the faces, while the bucket is still in half-edge order.
+/// first edge error. The end vertex of a corner and the start vertex of its
+/// previous half-edge are read from the faces (one cache line), while the
+/// bucket is still in half-edge order.
 fn order_fans(
     vertices: Range<usize>,
     (faces, he_face): (&FaceList, &HalfEdgeFaces),
-    Buckets { fan_offsets, ends, fan, on_boundary }: Buckets,
+    Buckets { fan_offsets, fan, on_boundary }: Buckets,
     he_twin: &[AtomicU32],
 ) -> RangeVerdict {
     let (offsets, idx) = (faces.offsets(), faces.indices());
     let prev = |h: HalfEdgeId| he_face.prev(offsets, h.index());
     let base = fan_offsets[vertices.start] as usize;
-    let mut verdict = RangeVerdict { edge_error: None, fan_error: None };
+    let mut verdict = RangeVerdict { repeated_edge: None, fan_error: None };
     let mut bucket = Bucket::default();
-    // The start vertex of every corner's previous half-edge, gathered for
-    // a block of vertices at a time: the loads are independent (no branch
-    // between them), so their cache misses overlap.
+    // The end vertex of every corner and the start vertex of its previous
+    // half-edge, gathered for a block of vertices at a time: the loads are
+    // independent (no branch between them), so their cache misses overlap.
     const BLOCK: usize = 1 << 10;
-    let mut block_prevs = Vec::new();
+    let (mut block_ends, mut block_prevs) = (Vec::new(), Vec::new());
     let mut block_base = usize::MAX;
     for a in vertices.clone() {
         if (a - vertices.start) % BLOCK == 0 {
             let block_end = (a + BLOCK).min(vertices.end);
             let slots = fan_offsets[a] as usize - base..fan_offsets[block_end] as usize - base;
             block_base = slots.start;
+            block_ends.clear();
+            block_ends.extend(fan[slots.clone()].iter().map(|&h| idx[he_face.next(offsets, h.index())]));
             block_prevs.clear();
             block_prevs.extend(fan[slots].iter().map(|&h| idx[prev(h)]));
         }
@@ -386,8 +397,8 @@ fn order_fans(
             continue;
         }
         let local = range.start - base..range.end - base;
-        let to = &ends[range.clone()];
-        let prevs = &block_prevs[local.start - block_base..local.end - block_base];
+        let in_block = local.start - block_base..local.end - block_base;
+        let (to, prevs) = (&block_ends[in_block.clone()], &block_prevs[in_block]);
         let corners = if range.len() <= SMALL_BUCKET {
             small_bucket(to, prevs, &mut fan[local.clone()])
         } else {
@@ -409,22 +420,7 @@ fn order_fans(
             }
             Verdict::RepeatedEnd(i, j) => {
                 let (first, second) = (fan[local.start + i].0, fan[local.start + j].0);
-                let b = to[i];
-                let count = |from: u32, target: u32| {
-                    let r = fan_offsets[from as usize] as usize..fan_offsets[from as usize + 1] as usize;
-                    ends[r].iter().filter(|&&to| to == target).count()
-                };
-                let faces = count(a as u32, b) + count(b, a as u32);
-                verdict.edge_error = Some(if faces > 2 {
-                    MeshError::NonManifoldEdge { a: (a as u32).min(b), b: (a as u32).max(b), faces }
-                } else {
-                    MeshError::InconsistentOrientation {
-                        a: a as u32,
-                        b,
-                        face_a: he_face.get(first as usize),
-                        face_b: he_face.get(second as usize),
-                    }
-                });
+                verdict.repeated_edge = Some(RepeatedEdge { a: a as u32, b: to[i], first, second });
                 return verdict;
             }
             Verdict::SeveralFans => {
