@@ -62,7 +62,7 @@ impl Topology {
         let mut fan = vec![HalfEdgeId(0); nh];
         split_by_buckets(&vertex_parts, &fan_offsets, &mut fan)
             .into_par_iter()
-            .for_each(|(vertices, fan)| scatter_corners(faces, &fan_offsets, vertices, fan));
+            .for_each(|(vertices, fan)| scatter_corners(idx, &fan_offsets, vertices, fan));
 
         // Per vertex a, from its bucket alone: two half-edges a→b are an
         // edge error; the fan walks h ← twin(prev(h)), i.e. to the corner
@@ -97,7 +97,7 @@ impl Topology {
         let mut loop_offsets = vec![0u32];
         let mut loop_he = Vec::new();
         // Marks for boundary half-edges, allocated only for an open mesh.
-        let open = he_twin.contains(&NONE);
+        let open = vertex_on_boundary.contains(&true);
         let mut seen = if open { vec![false; nh] } else { Vec::new() };
         for h0 in (0..nh).filter(|_| open) {
             if he_twin[h0] != NONE || seen[h0] {
@@ -288,22 +288,19 @@ fn split_by_buckets<'a>(
 }
 
 /// The counting sort's scatter for the buckets of `vertices` (whose slots
-/// `fan` are): every corner of every face, in half-edge order, into its
-/// start vertex's bucket when that is in the range.
-fn scatter_corners(faces: &FaceList, fan_offsets: &[u32], vertices: Range<usize>, fan: &mut [HalfEdgeId]) {
-    let (offsets, idx) = (faces.offsets(), faces.indices());
+/// `fan` are): every half-edge, in order, into its start vertex's bucket
+/// when that is in the range. `idx` is the start vertex of every half-edge
+/// (the face list's indices).
+fn scatter_corners(idx: &[u32], fan_offsets: &[u32], vertices: Range<usize>, fan: &mut [HalfEdgeId]) {
     let base = fan_offsets[vertices.start];
     let mut cursor: Vec<u32> = fan_offsets[vertices.clone()].iter().map(|&o| o - base).collect();
     let (first, count) = (vertices.start as u32, vertices.len() as u32);
-    for f in 0..faces.len() {
-        let (start, end) = (offsets[f], offsets[f + 1]);
-        for h in start..end {
-            let a = idx[h as usize].wrapping_sub(first);
-            if a < count {
-                let slot = &mut cursor[a as usize];
-                fan[*slot as usize] = HalfEdgeId(h);
-                *slot += 1;
-            }
+    for (h, &v) in idx.iter().enumerate() {
+        let a = v.wrapping_sub(first);
+        if a < count {
+            let slot = &mut cursor[a as usize];
+            fan[*slot as usize] = HalfEdgeId(h as u32);
+            *slot += 1;
         }
     }
 }
