@@ -231,7 +231,7 @@ const CONFLICT_SCAN_PER_CORNER: usize = 64;
 /// marks every face that has it.
 fn conflicting_faces(t: &Topology) -> Vec<bool> {
     let faces = t.faces();
-    let scan = ConflictScan { t, uniform: t.uniform_face_size() };
+    let scan = ConflictScan { t };
     // Vertices in blocks across threads, each block listing the faces it
     // marks; the marks are merged into one vector (the same whatever the
     // order: a mark is a mark).
@@ -254,12 +254,11 @@ fn conflicting_faces(t: &Topology) -> Vec<bool> {
     conflicting
 }
 
-/// What [`conflicting_faces`] reads: the topology, and its face size when
-/// every face has the same (the face's corners then follow from the face's
-/// index alone: no dependent loads of offsets).
+/// What [`conflicting_faces`] reads: the topology (whose faces' corners
+/// follow from a half-edge's index alone when every face has the same size:
+/// no dependent loads of offsets).
 struct ConflictScan<'a> {
     t: &'a Topology,
-    uniform: Option<usize>,
 }
 
 /// Per-thread marks for big fans: `stamp[w] == a`: w seen at a, as a
@@ -279,16 +278,8 @@ impl ConflictScan<'_> {
     /// size, h's position).
     #[inline]
     fn corner(&self, h: HalfEdgeId) -> (usize, usize, usize, usize) {
-        // For uniform faces, he_face is arithmetic (no load either).
-        let f = self.t.he_face(h).index();
-        match self.uniform {
-            Some(m) => (f, f * m, m, h.index() - f * m),
-            None => {
-                let offsets = self.t.faces().offsets();
-                let start = offsets[f] as usize;
-                (f, start, offsets[f + 1] as usize - start, h.index() - start)
-            }
-        }
+        let (start, end) = self.t.he_face_half_edges(h);
+        (self.t.he_face(h).index(), start, end - start, h.index() - start)
     }
 
     /// The faces around `a` whose diagonals at `a` are blocked, pushed to

@@ -147,14 +147,11 @@ impl Topology {
         let o = self.faces.offsets();
         (o[f.index()]..o[f.index() + 1]).map(HalfEdgeId)
     }
-    /// `Some(m)` when every face has m corners and the face of a half-edge
-    /// is computed (h / m); `None` for mixed faces, and for a refinement
-    /// built with the table (the Doo-Sabin splits), whatever its faces.
-    pub(crate) fn uniform_face_size(&self) -> Option<usize> {
-        match self.he_face {
-            HalfEdgeFaces::Uniform(m) => Some(m as usize),
-            HalfEdgeFaces::Table(_) => None,
-        }
+    /// The half-edges `start..end` of the face of half-edge `h`: arithmetic
+    /// when every face has the same size, from the offsets otherwise.
+    #[inline]
+    pub(crate) fn he_face_half_edges(&self, h: HalfEdgeId) -> (usize, usize) {
+        self.he_face.face_half_edges(self.faces.offsets(), h.index())
     }
     /// The connected component (0-based) that face `f` belongs to.
     pub fn face_component(&self, f: FaceId) -> u32 {
@@ -171,7 +168,7 @@ impl Topology {
     /// The corner a half-edge starts at.
     #[inline]
     pub fn he_corner(&self, h: HalfEdgeId) -> Corner {
-        let (start, _) = self.he_face.face_half_edges(self.faces.offsets(), h.index());
+        let (start, _) = self.he_face_half_edges(h);
         Corner { face: self.he_face(h), index: h.0 - start as u32 }
     }
     /// Start vertex.
