@@ -51,13 +51,12 @@
 
 use crate::error::MeshError;
 use crate::geometry::{scaled_newell, PowerOfTwoScale};
-use crate::ids::{FaceId, HalfEdgeId, VertexId};
+use crate::ids::FaceId;
 use crate::mesh::Mesh;
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
 use crate::tags::FaceVarying;
 use crate::topology::Topology;
 use glam::{DVec2, DVec3};
-use rayon::prelude::*;
 use std::collections::HashSet;
 use std::hash::{BuildHasherDefault, Hasher};
 
@@ -172,8 +171,9 @@ pub fn triangulate(mesh: &Mesh) -> Result<Triangulation, MeshError> {
 /// blocked when it is an edge at a or a diagonal at a of another face
 /// around a too. One pass over the vertices finds these *conflicting*
 /// faces (at each vertex a, its neighbours and the far corners of its faces
-/// are stamped, and a second stamp is a conflict), in time linear in the
-/// corners for faces of bounded size. Faces without conflicts always split
+/// are compared, and a far corner seen twice is a conflict), in time linear
+/// in the corners for faces of bounded size; for an all-quad mesh the
+/// topology's construction has found them already. Faces without conflicts always split
 /// (nothing blocks them, and nothing they take is asked by another face),
 /// so only the conflicting ones are split, in order, exactly as
 /// [`triangulate`] splits them (the same diagonal choice, `split_face`):
@@ -196,16 +196,19 @@ pub fn check_triangulation(mesh: &Mesh) -> Result<(), MeshError> {
     if polygon_cost == 0 {
         return Ok(());
     }
-    // The stamping costs Σ m(m − 3) over faces of m > 3 corners: for huge
-    // polygons, every polygon face is split instead (as triangulate does).
-    let conflicting = if polygon_cost <= CONFLICT_SCAN_PER_CORNER * faces.corner_count() {
-        conflicting_faces(t)
+    // The conflict scan costs Σ m(m − 3) over faces of m > 3 corners: for
+    // huge polygons, every polygon face is split instead (as triangulate does).
+    let conflicting: Vec<bool> = if polygon_cost <= CONFLICT_SCAN_PER_CORNER * faces.corner_count() {
+        let conflicts = t.diagonal_conflicts();
+        if conflicts.is_empty() {
+            return Ok(());
+        }
+        let mut conflicting = vec![false; faces.len()];
+        conflicts.iter().for_each(|&f| conflicting[f as usize] = true);
+        conflicting
     } else {
         faces.iter().map(|f| f.len() > 3).collect()
     };
-    if !conflicting.contains(&true) {
-        return Ok(());
-    }
     let positions = mesh.positions();
     let mut edges = EdgeSet::among(t, &conflicting);
     let mut polygon = Polygon::default();
@@ -220,159 +223,10 @@ pub fn check_triangulation(mesh: &Mesh) -> Result<(), MeshError> {
     Ok(())
 }
 
-/// Budget of [`check_triangulation`]'s conflict scan per corner of the
+/// Budget of [`check_triangulation`]'s diagonal conflict scan per corner of the
 /// mesh (Σ m(m − 3) over the polygons; 4 for an all-quad mesh, 28 for
 /// heptagons).
 const CONFLICT_SCAN_PER_CORNER: usize = 64;
-
-/// The faces of four or more corners some of whose diagonals may be blocked
-/// (see [`check_triangulation`]): at every vertex a, a diagonal (a, w) of a
-/// face around a that is an edge at a or a diagonal at a of another face
-/// marks every face that has it.
-fn conflicting_faces(t: &Topology) -> Vec<bool> {
-    let faces = t.faces();
-    let scan = ConflictScan { t };
-    // Vertices in blocks across threads, each block listing the faces it
-    // marks; the marks are merged into one vector (the same whatever the
-    // order: a mark is a mark).
-    const BLOCK: usize = 1 << 14;
-    let blocks: Vec<Vec<u32>> = (0..t.vertex_count().div_ceil(BLOCK))
-        .into_par_iter()
-        .map_init(Stamps::default, |stamps, block| {
-            let mut marks = Vec::new();
-            let end = ((block + 1) * BLOCK).min(t.vertex_count());
-            for a in block * BLOCK..end {
-                scan.vertex(VertexId(a as u32), stamps, &mut marks);
-            }
-            marks
-        })
-        .collect();
-    let mut conflicting = vec![false; faces.len()];
-    for f in blocks.iter().flatten() {
-        conflicting[*f as usize] = true;
-    }
-    conflicting
-}
-
-/// What [`conflicting_faces`] reads: the topology (whose faces' corners
-/// follow from a half-edge's index alone when every face has the same size:
-/// no dependent loads of offsets).
-struct ConflictScan<'a> {
-    t: &'a Topology,
-}
-
-/// Per-thread marks for big fans: `stamp[w] == a`: w seen at a, as a
-/// neighbour (owner [`Stamps::EDGE`]) or as the far corner of face `owner[w]`.
-#[derive(Default)]
-struct Stamps {
-    stamp: Vec<u32>,
-    owner: Vec<u32>,
-}
-
-impl Stamps {
-    const EDGE: u32 = u32::MAX;
-}
-
-impl ConflictScan<'_> {
-    /// The corners of the face of fan half-edge h: (face, its first corner,
-    /// size, h's position).
-    #[inline]
-    fn corner(&self, h: HalfEdgeId) -> (usize, usize, usize, usize) {
-        let (start, end) = self.t.he_face_half_edges(h);
-        (self.t.he_face(h).index(), start, end - start, h.index() - start)
-    }
-
-    /// The faces around `a` whose diagonals at `a` are blocked, pushed to
-    /// `marks` (possibly repeated).
-    fn vertex(&self, a: VertexId, stamps: &mut Stamps, marks: &mut Vec<u32>) {
-        let t = self.t;
-        let idx = t.faces().indices();
-        let fan = t.vertex_fan(a);
-        // Small fans compare their corners on the stack; others stamp vertices.
-        const SMALL: usize = 16;
-        if fan.len() <= SMALL {
-            // Each face's corners once: (face, first corner, size, position of a).
-            let mut corners = [(0, 0, 0, 0); SMALL];
-            for (c, &h) in corners.iter_mut().zip(fan) {
-                *c = self.corner(h);
-            }
-            let corners = &corners[..fan.len()];
-            if !corners.iter().any(|c| c.2 > 3) {
-                return;
-            }
-            let far_count: usize = corners.iter().map(|c| c.2 - 3).sum();
-            if far_count <= 2 * SMALL {
-                // Neighbours: the corners before and after a in each of its faces
-                // (on the boundary, that includes the closing neighbour).
-                let mut neighbours = [0u32; 2 * SMALL];
-                let mut far = [(0u32, 0u32); 2 * SMALL];
-                let (mut n, mut nf) = (0, 0);
-                for &(f, start, m, k) in corners {
-                    let face = &idx[start..start + m];
-                    neighbours[n] = face[wrap(k + 1, m)];
-                    neighbours[n + 1] = face[wrap(k + m - 1, m)];
-                    n += 2;
-                    for j in 2..m.saturating_sub(1) {
-                        far[nf] = (face[wrap(k + j, m)], f as u32);
-                        nf += 1;
-                    }
-                }
-                for i in 0..nf {
-                    let (w, f) = far[i];
-                    if neighbours[..n].contains(&w) {
-                        marks.push(f);
-                    }
-                    for &(x, g) in &far[i + 1..nf] {
-                        if x == w {
-                            marks.extend([f, g]);
-                        }
-                    }
-                }
-                return;
-            }
-        } else if !fan.iter().any(|&h| self.corner(h).2 > 3) {
-            return;
-        }
-        let Stamps { stamp, owner } = stamps;
-        if stamp.is_empty() {
-            *stamp = vec![u32::MAX; t.vertex_count()];
-            *owner = vec![Stamps::EDGE; t.vertex_count()];
-        }
-        for &h in fan {
-            let (_, start, m, k) = self.corner(h);
-            let face = &idx[start..start + m];
-            for w in [face[wrap(k + 1, m)], face[wrap(k + m - 1, m)]] {
-                stamp[w as usize] = a.0;
-                owner[w as usize] = Stamps::EDGE;
-            }
-        }
-        for &h in fan {
-            let (f, start, m, k) = self.corner(h);
-            for j in 2..m.saturating_sub(1) {
-                let w = idx[start + wrap(k + j, m)] as usize;
-                if stamp[w] == a.0 {
-                    marks.push(f as u32);
-                    if owner[w] != Stamps::EDGE {
-                        marks.push(owner[w]);
-                    }
-                } else {
-                    stamp[w] = a.0;
-                    owner[w] = f as u32;
-                }
-            }
-        }
-    }
-}
-
-/// `i mod m` for `i < 2m`: a compare instead of a division.
-#[inline(always)]
-fn wrap(i: usize, m: usize) -> usize {
-    if i >= m {
-        i - m
-    } else {
-        i
-    }
-}
 
 /// Steps 3-5 of the module docs for one face of four or more corners:
 /// appends its triangles (vertex ids) to `corners` and records its

@@ -18,6 +18,7 @@
 //! built by index arithmetic (quad, triangle and dual split) in `refine`;
 //! this module holds the type and its queries.
 
+mod diagonals;
 mod refine;
 mod validate;
 
@@ -54,6 +55,9 @@ pub struct Topology {
     he_face: HalfEdgeFaces,
     he_twin: Vec<u32>,
     edges: OnceLock<EdgeNumbering>,
+    /// The faces with a diagonal conflict (`diagonals`): from the
+    /// construction for an all-quad mesh, else at the first query.
+    diagonal_conflicts: OnceLock<Vec<u32>>,
     fan_offsets: Vec<u32>,
     fan: Vec<HalfEdgeId>,
     vertex_on_boundary: Vec<bool>,

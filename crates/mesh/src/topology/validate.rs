@@ -2,6 +2,7 @@
 //! it trustworthy: face sizes and indices, manifold edges, consistent
 //! orientation, one fan per vertex.
 
+use super::diagonals::QuadConflicts;
 use super::{HalfEdgeFaces, Topology, NONE};
 use crate::error::MeshError;
 use crate::ids::HalfEdgeId;
@@ -75,7 +76,7 @@ impl Topology {
         // end (the same values whatever the split).
         let he_twin: Vec<AtomicU32> = (0..nh).into_par_iter().map(|_| AtomicU32::new(NONE)).collect();
         let mut vertex_on_boundary = vec![false; nv];
-        let verdicts: Vec<RangeVerdict> = split_by_buckets(&vertex_parts, &fan_offsets, &mut fan)
+        let mut verdicts: Vec<RangeVerdict> = split_by_buckets(&vertex_parts, &fan_offsets, &mut fan)
             .into_par_iter()
             .zip(split_at_ranges(&vertex_parts, &mut vertex_on_boundary))
             .map(|((vertices, fan), on_boundary)| {
@@ -86,9 +87,13 @@ impl Topology {
         if let Some(repeated) = verdicts.iter().find_map(|v| v.repeated_edge) {
             return Err(repeated.error(faces, &he_face));
         }
-        if let Some(e) = verdicts.into_iter().find_map(|v| v.fan_error) {
+        if let Some(e) = verdicts.iter_mut().find_map(|v| v.fan_error.take()) {
             return Err(e);
         }
+        let diagonal_conflicts = match verdicts.iter().all(|v| v.quad_conflicts.is_some()) {
+            true => OnceLock::from(QuadConflicts::merge(verdicts.into_iter().filter_map(|v| v.quad_conflicts))),
+            false => OnceLock::new(),
+        };
         // Same size and alignment: collected in place.
         let he_twin: Vec<u32> = he_twin.into_iter().map(AtomicU32::into_inner).collect();
         let to = |h: usize| idx[he_face.next(offsets, h)];
@@ -121,6 +126,7 @@ impl Topology {
             he_face,
             he_twin,
             edges: OnceLock::new(),
+            diagonal_conflicts,
             fan_offsets,
             fan,
             vertex_on_boundary,
@@ -306,10 +312,11 @@ fn scatter_corners(idx: &[u32], fan_offsets: &[u32], vertices: Range<usize>, fan
 }
 
 /// What one vertex range's buckets say: its first edge error, its first
-/// fan error.
+/// fan error, and for an all-quad mesh its vertices' diagonal conflicts.
 struct RangeVerdict {
     repeated_edge: Option<RepeatedEdge>,
     fan_error: Option<MeshError>,
+    quad_conflicts: Option<QuadConflicts>,
 }
 
 /// Two half-edges a→b, `first` and `second` (in half-edge order): an edge
@@ -361,7 +368,9 @@ struct Buckets<'a> {
 /// twin of every half-edge ending at them into `he_twin`, stopping at the
 /// first edge error. The end vertex of a corner and the start vertex of its
 /// previous half-edge are read from the faces (one cache line), while the
-/// bucket is still in half-edge order.
+/// bucket is still in half-edge order. In an all-quad mesh the far corner
+/// comes from the same line, and the vertex's diagonal conflicts are found
+/// too (`diagonals`).
 fn order_fans(
     vertices: Range<usize>,
     (faces, he_face): (&FaceList, &HalfEdgeFaces),
@@ -371,13 +380,15 @@ fn order_fans(
     let (offsets, idx) = (faces.offsets(), faces.indices());
     let prev = |h: HalfEdgeId| he_face.prev(offsets, h.index());
     let base = fan_offsets[vertices.start] as usize;
-    let mut verdict = RangeVerdict { repeated_edge: None, fan_error: None };
+    let quads = matches!(he_face, HalfEdgeFaces::Uniform(4));
+    let mut verdict = RangeVerdict { repeated_edge: None, fan_error: None, quad_conflicts: None };
+    let mut conflicts = QuadConflicts::default();
     let mut bucket = Bucket::default();
     // The end vertex of every corner and the start vertex of its previous
     // half-edge, gathered for a block of vertices at a time: the loads are
     // independent (no branch between them), so their cache misses overlap.
     const BLOCK: usize = 1 << 10;
-    let (mut block_ends, mut block_prevs) = (Vec::new(), Vec::new());
+    let (mut block_ends, mut block_prevs, mut block_fars) = (Vec::new(), Vec::new(), Vec::new());
     let mut block_base = usize::MAX;
     for a in vertices.clone() {
         if (a - vertices.start) % BLOCK == 0 {
@@ -385,9 +396,21 @@ fn order_fans(
             let slots = fan_offsets[a] as usize - base..fan_offsets[block_end] as usize - base;
             block_base = slots.start;
             block_ends.clear();
-            block_ends.extend(fan[slots.clone()].iter().map(|&h| idx[he_face.next(offsets, h.index())]));
             block_prevs.clear();
-            block_prevs.extend(fan[slots].iter().map(|&h| idx[prev(h)]));
+            block_fars.clear();
+            if quads {
+                // The whole face row at once: corner k of a quad at 4f + k.
+                for &h in &fan[slots] {
+                    let h = h.index();
+                    let row: &[u32; 4] = idx[h & !3..(h & !3) + 4].try_into().expect("a quad has four corners");
+                    block_ends.push(row[(h + 1) & 3]);
+                    block_fars.push(row[(h + 2) & 3]);
+                    block_prevs.push(row[(h + 3) & 3]);
+                }
+            } else {
+                block_ends.extend(fan[slots.clone()].iter().map(|&h| idx[he_face.next(offsets, h.index())]));
+                block_prevs.extend(fan[slots].iter().map(|&h| idx[prev(h)]));
+            }
         }
         let range = fan_offsets[a] as usize..fan_offsets[a + 1] as usize;
         if range.is_empty() {
@@ -395,11 +418,19 @@ fn order_fans(
         }
         let local = range.start - base..range.end - base;
         let in_block = local.start - block_base..local.end - block_base;
-        let (to, prevs) = (&block_ends[in_block.clone()], &block_prevs[in_block]);
+        let (to, prevs) = (&block_ends[in_block.clone()], &block_prevs[in_block.clone()]);
         let corners = if range.len() <= SMALL_BUCKET {
+            if quads {
+                let is_neighbour = |w| to.contains(&w) || prevs.contains(&w);
+                conflicts.vertex(&fan[local.clone()], (to, prevs, &block_fars[in_block]), is_neighbour);
+            }
             small_bucket(to, prevs, &mut fan[local.clone()])
         } else {
             bucket.load(to, prevs);
+            if quads {
+                let is_neighbour = |w| bucket.with_end(w).is_some() || bucket.with_prev_from(w).is_some();
+                conflicts.vertex(&fan[local.clone()], (to, prevs, &block_fars[in_block]), is_neighbour);
+            }
             bucket.fan(&mut fan[local.clone()])
         };
         match corners {
@@ -429,6 +460,7 @@ fn order_fans(
             }
         }
     }
+    verdict.quad_conflicts = quads.then_some(conflicts);
     verdict
 }
 
@@ -732,6 +764,50 @@ mod tests {
             && new.loop_he == old.loop_he
             && new.face_component == old.face_component
             && new.component_count == old.component_count
+            && new.diagonal_conflicts() == brute_force_diagonal_conflicts(new)
+            && old.diagonal_conflicts() == brute_force_diagonal_conflicts(old)
+    }
+
+    /// The faces with a diagonal that is an edge or another face's diagonal
+    /// (unordered vertex pairs, hashed), ascending.
+    fn brute_force_diagonal_conflicts(t: &Topology) -> Vec<u32> {
+        use std::collections::HashSet;
+        let key = |a: u32, b: u32| (a.min(b), a.max(b));
+        let faces = t.faces();
+        let edges: HashSet<(u32, u32)> =
+            faces.iter().flat_map(|f| (0..f.len()).map(move |i| key(f[i], f[(i + 1) % f.len()]))).collect();
+        let diagonals = |f: &[u32]| {
+            let m = f.len();
+            let pairs = (0..m).flat_map(move |i| (i + 2..m).filter(move |&j| j - i != m - 1).map(move |j| (i, j)));
+            pairs.map(|(i, j)| key(f[i], f[j])).collect::<Vec<_>>()
+        };
+        let mut faces_of: HashMap<(u32, u32), usize> = HashMap::new();
+        for f in faces.iter() {
+            for d in diagonals(f) {
+                *faces_of.entry(d).or_default() += 1;
+            }
+        }
+        (0..faces.len() as u32)
+            .filter(|&f| diagonals(faces.face(f as usize)).iter().any(|d| edges.contains(d) || faces_of[d] > 1))
+            .collect()
+    }
+
+    #[test]
+    fn diagonal_conflicts_of_quad_meshes_agree_with_brute_force() {
+        // A spindle: n quads (0, r_k, 1, r_k+1) between two poles, every one
+        // with the diagonal 0-1 (conflicts at every face, in buckets of n,
+        // pairwise and hashed), and a pillow's two quads sharing both.
+        for n in [3u32, 4, 5, 16, 17, 40] {
+            let ring = |k: u32| 2 + k % n;
+            let spindle: Vec<[u32; 4]> = (0..n).map(|k| [0, ring(k), 1, ring(k + 1)]).collect();
+            let t = Topology::new(FaceList::from_faces(&spindle), n as usize + 2).unwrap();
+            assert_eq!(t.diagonal_conflicts(), (0..n).collect::<Vec<_>>());
+            agree(FaceList::from_faces(&spindle), n as usize + 2).unwrap();
+        }
+        let pillow = shapes::pillow();
+        assert_eq!(pillow.topology().diagonal_conflicts(), [0, 1]);
+        // Fine quad meshes have none, whatever the thread split.
+        assert!(shapes::torus(150, 120).topology().diagonal_conflicts().is_empty());
     }
 
     fn agree(faces: FaceList, vertex_count: usize) -> Result<(), String> {
@@ -843,6 +919,13 @@ mod tests {
             let m = shape(k);
             let (faces, n) = damaged(m.topology().faces(), m.topology().vertex_count(), seed, rate);
             agree(faces, n).map_err(TestCaseError::fail)?;
+        }
+
+        /// All-quad soups over few vertices: the fan walk's diagonal
+        /// conflicts against the scan and brute force where they connect.
+        #[test]
+        fn random_quad_soups_agree_with_the_reference(faces in proptest::collection::vec(proptest::array::uniform4(0u32..7), 1..10)) {
+            agree(FaceList::from_faces(&faces), 7).map_err(TestCaseError::fail)?;
         }
 
         #[test]

@@ -160,6 +160,7 @@ pub(super) fn build(faces: FaceList, vertex_count: usize) -> Result<Topology, Me
         he_face: HalfEdgeFaces::Table(he_face),
         he_twin,
         edges: OnceLock::new(),
+        diagonal_conflicts: OnceLock::new(),
         fan_offsets,
         fan,
         vertex_on_boundary,
