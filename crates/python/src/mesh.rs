@@ -100,12 +100,22 @@ impl Faces {
                     faces.extract().map_err(|e| input(format!("faces: {e}")))?;
                 let size = ints.shape()[1];
                 let view = ints.as_array();
-                let mut indices = Vec::with_capacity(view.len());
-                for (f, row) in view.rows().into_iter().enumerate() {
-                    for &v in row {
-                        indices.push(index(v, f)?);
+                let indices = match view.as_slice() {
+                    // C-contiguous: one vectorisable pass for the sign, one for the copy.
+                    Some(flat) => match flat.iter().position(|&v| usize::try_from(v).is_err()) {
+                        Some(at) => return Err(index(flat[at], at / size.max(1)).unwrap_err()),
+                        None => flat.iter().map(|&v| v as usize).collect(),
+                    },
+                    None => {
+                        let mut indices = Vec::with_capacity(view.len());
+                        for (f, row) in view.rows().into_iter().enumerate() {
+                            for &v in row {
+                                indices.push(index(v, f)?);
+                            }
+                        }
+                        indices
                     }
-                }
+                };
                 return Ok(Faces::Uniform { size, indices });
             }
             if array.ndim() != 1 {

@@ -66,6 +66,8 @@ def test_vertices_are_a_copy():
     [
         ([[0, 1, 7]], "face 0 refers to vertex 7, but there are only 4 vertices"),
         ([[0, 1, -1]], "face 0: vertex index -1 is negative"),
+        (np.array([[0, 1, 2], [0, 1, -5]]), "face 1: vertex index -5 is negative"),  # contiguous
+        (np.array([[2, 1, 0], [-3, 1, 0]])[:, ::-1], "face 1: vertex index -3 is negative"),  # strided
         (np.array([[0.0, 1.0, 2.0]]), "faces must be integer vertex indices"),
         ([[0, 1]], "face 0"),
         ("abc", r"faces must be an \(m, k\) integer array or a list of sequences, got str"),
