@@ -22,6 +22,7 @@
 //! place in STL).
 
 use glam::DVec3;
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::{self, Write};
 use subdiv_mesh::{FaceList, PolygonSoup};
@@ -31,23 +32,40 @@ use crate::text::{is_blank, parse_f64, show, sniff, strip_bom, tokens, Lines, No
 use crate::{fan, MeshView};
 
 /// Merges bit-identical positions, numbering vertices by first appearance.
-#[derive(Default)]
 struct Welder {
     positions: Vec<DVec3>,
-    index: HashMap<[u64; 3], u32>,
+    index: HashMap<[u64; 3], u32, ahash::RandomState>,
 }
 
 impl Welder {
-    fn vertex(&mut self, p: DVec3) -> u32 {
-        // Adding +0.0 turns -0.0 into +0.0 and leaves every other value alone.
-        let key = (p + DVec3::ZERO).to_array().map(f64::to_bits);
+    /// Room for `vertices` distinct positions before the table grows.
+    fn with_capacity(vertices: usize) -> Self {
+        Welder {
+            positions: Vec::with_capacity(vertices),
+            index: HashMap::with_capacity_and_hasher(vertices, ahash::RandomState::new()),
+        }
+    }
+
+    /// The vertex at `p`, a new one when no corner so far had its bits.
+    fn vertex(&mut self, p: [f64; 3]) -> u32 {
         let next = self.positions.len() as u32;
-        let v = *self.index.entry(key).or_insert(next);
+        let v = *self.index.entry(f64_key(p)).or_insert(next);
         if v == next {
-            self.positions.push(p);
+            self.positions.push(DVec3::from(p));
         }
         v
     }
+
+    /// The positions so far; the welder starts again, keeping its table's room.
+    fn take(&mut self) -> Vec<DVec3> {
+        self.index.clear();
+        std::mem::take(&mut self.positions)
+    }
+}
+
+/// Adding +0.0 turns -0.0 into +0.0 and leaves every other value alone.
+fn f64_key(p: [f64; 3]) -> [u64; 3] {
+    p.map(|x| (x + 0.0).to_bits())
 }
 
 fn starts_with_solid(bytes: &[u8]) -> bool {
@@ -92,25 +110,129 @@ fn read_binary(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
     if stored < n {
         return Err(ctx.truncated(None, format!("header promises {n} triangles, the file holds {stored}")));
     }
-    let mut welder = Welder::default();
-    let mut faces = FaceList::with_capacity(n, 3 * n);
-    for record in bytes[84..84 + 50 * n].chunks_exact(50) {
-        let mut corners = [0u32; 3];
-        for (k, corner) in corners.iter_mut().enumerate() {
-            let at = 12 + 12 * k;
-            let c = [0, 4, 8].map(|o| {
-                let b = &record[at + o..at + o + 4];
-                f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            });
-            *corner = welder.vertex(DVec3::from(c));
+    let (positions, corners) = weld_binary(&bytes[84..84 + 50 * n]);
+    Ok(PolygonSoup::new(positions, FaceList::from_uniform(3, corners)))
+}
+
+/// Triangles per welding chunk: a chunk's table (about 2¹³ vertices on a
+/// closed mesh) stays in a core's cache.
+const WELD_CHUNK: usize = 1 << 14;
+
+/// Welds the corners of binary STL triangle records, numbered as the serial
+/// [`Welder`] numbers them (first appearance), on every thread. One table of
+/// all the mesh's positions is too big for any cache, and every lookup in it
+/// waits on memory; so each chunk of [`WELD_CHUNK`] triangles welds its own
+/// corners in a small table (chunks in parallel), the chunks' distinct
+/// positions (a sixth of the corners on a closed mesh) are welded by
+/// [`weld_distinct`], and each chunk's corners are renumbered. The chunks are
+/// fixed by the triangle count, not the thread count: the same file gives
+/// the same bits on any machine.
+fn weld_binary(records: &[u8]) -> (Vec<DVec3>, Vec<u32>) {
+    let mut corners = vec![0u32; 3 * (records.len() / 50)];
+    let chunks: Vec<Vec<DVec3>> = records
+        .par_chunks(50 * WELD_CHUNK)
+        .zip(corners.par_chunks_mut(3 * WELD_CHUNK))
+        .map_init(
+            || Welder::with_capacity(WELD_CHUNK / 2),
+            |local, (records, corners)| {
+                for (record, corners) in records.chunks_exact(50).zip(corners.chunks_exact_mut(3)) {
+                    for (k, corner) in corners.iter_mut().enumerate() {
+                        let at = 12 + 12 * k;
+                        *corner = local.vertex([0, 4, 8].map(|o| {
+                            let b = &record[at + o..at + o + 4];
+                            f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                        }));
+                    }
+                }
+                local.take()
+            },
+        )
+        .collect();
+    // Chunk k's local vertex i is entry starts[k] + i of the concatenation.
+    let starts: Vec<usize> = chunks
+        .iter()
+        .scan(0, |start, c| {
+            let s = *start;
+            *start += c.len();
+            Some(s)
+        })
+        .collect();
+    let (positions, global) = weld_distinct(&chunks.concat());
+    corners.par_chunks_mut(3 * WELD_CHUNK).zip(&starts).for_each(|(corners, &start)| {
+        for c in corners {
+            *c = global[start + *c as usize];
         }
-        faces.push(&corners);
+    });
+    (positions, corners)
+}
+
+/// Entries per partition of [`weld_distinct`]: its table stays in a core's cache.
+const WELD_PARTITION: usize = 1 << 12;
+
+/// Welds `points` (bit-identical positions, `-0.0` = `0.0`) into vertices
+/// numbered by first appearance: the vertices' positions, and each point's
+/// vertex. The points are partitioned by a hash of their bits (equal points
+/// land together, in their order), each partition finds in a small table
+/// which of its points repeat an earlier one (partitions in parallel), and
+/// one pass in order numbers the others. The partition hash's random key
+/// decides only where a point is looked at, never the numbering.
+fn weld_distinct(points: &[DVec3]) -> (Vec<DVec3>, Vec<u32>) {
+    let bits = (points.len() / WELD_PARTITION).max(1).next_power_of_two().trailing_zeros();
+    let partition_hash = ahash::RandomState::new();
+    let partition = |p: &DVec3| (partition_hash.hash_one(f64_key(p.to_array())) >> (63 - bits) >> 1) as usize;
+    // A stable counting sort of (key, point) by partition.
+    let mut offsets = vec![0usize; (1 << bits) + 1];
+    for p in points {
+        offsets[partition(p) + 1] += 1;
     }
-    Ok(PolygonSoup::new(welder.positions, faces))
+    for i in 1..offsets.len() {
+        offsets[i] += offsets[i - 1];
+    }
+    let mut sorted = vec![([0u64; 3], 0u32); points.len()];
+    let mut next = offsets.clone();
+    for (i, p) in points.iter().enumerate() {
+        let slot = &mut next[partition(p)];
+        sorted[*slot] = (f64_key(p.to_array()), i as u32);
+        *slot += 1;
+    }
+    // (point, the earlier point it repeats), in order.
+    let mut repeats: Vec<(u32, u32)> = offsets
+        .par_windows(2)
+        .map_init(
+            || HashMap::with_capacity_and_hasher(2 * WELD_PARTITION, ahash::RandomState::new()),
+            |first, w| {
+                first.clear();
+                let mut repeats = Vec::new();
+                for &(key, i) in &sorted[w[0]..w[1]] {
+                    let f = *first.entry(key).or_insert(i);
+                    if f != i {
+                        repeats.push((i, f));
+                    }
+                }
+                repeats
+            },
+        )
+        .flatten()
+        .collect();
+    repeats.sort_unstable();
+    let mut positions = Vec::with_capacity(points.len() - repeats.len());
+    let mut vertex = Vec::with_capacity(points.len());
+    let mut repeats = repeats.into_iter().peekable();
+    for (i, &p) in points.iter().enumerate() {
+        let v = match repeats.next_if(|&(r, _)| r as usize == i) {
+            Some((_, f)) => vertex[f as usize],
+            None => {
+                positions.push(p);
+                (positions.len() - 1) as u32
+            }
+        };
+        vertex.push(v);
+    }
+    (positions, vertex)
 }
 
 fn read_ascii(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
-    let mut welder = Welder::default();
+    let mut welder = Welder::with_capacity(0);
     let mut faces = FaceList::new();
     let mut corners: Vec<u32> = Vec::new();
     let mut in_loop = false;
@@ -129,7 +251,7 @@ fn read_ascii(bytes: &[u8], ctx: Ctx<'_>) -> Result<PolygonSoup, IoError> {
                 *slot = parse_f64(tok)
                     .ok_or_else(|| ctx.parse(n, format!("vertex coordinate '{}' is not a number", show(tok))))?;
             }
-            corners.push(welder.vertex(DVec3::from(c)));
+            corners.push(welder.vertex(c));
         } else if is(b"outer") {
             corners.clear();
             in_loop = true;
@@ -193,6 +315,7 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> 
 mod tests {
     use super::*;
     use std::path::Path;
+    use subdiv_mesh::shapes::SplitMix64;
 
     #[test]
     fn welding_merges_signed_zeros_and_keeps_first_appearance_order() {
@@ -202,6 +325,74 @@ mod tests {
         let soup = read(src, Ctx::new(Path::new("t.stl"))).unwrap();
         assert_eq!(soup.positions.len(), 4);
         assert_eq!(soup.faces.face(1), &[2, 1, 3]);
+    }
+
+    /// The serial welder over every corner in order: the numbering the
+    /// parallel one must reproduce.
+    fn weld_serially(records: &[u8]) -> (Vec<DVec3>, Vec<u32>) {
+        let mut welder = Welder::with_capacity(0);
+        let corners = records
+            .chunks_exact(50)
+            .flat_map(|r| {
+                (0..3)
+                    .map(move |k| [0, 4, 8].map(|o| f32::from_le_bytes(r[12 + 12 * k + o..][..4].try_into().unwrap())))
+            })
+            .map(|c| welder.vertex(c.map(f64::from)))
+            .collect();
+        (welder.positions, corners)
+    }
+
+    /// Binary records of `n` triangles whose corners are drawn from `pool`.
+    fn records(n: usize, pool: &[[f32; 3]], rng: &mut SplitMix64) -> Vec<u8> {
+        let mut bytes = Vec::with_capacity(50 * n);
+        for _ in 0..n {
+            bytes.extend([0u8; 12]);
+            for _ in 0..3 {
+                pool[rng.below(pool.len())].iter().for_each(|x| bytes.extend(x.to_le_bytes()));
+            }
+            bytes.extend([0, 0]);
+        }
+        bytes
+    }
+
+    fn bits(positions: &[DVec3]) -> Vec<[u64; 3]> {
+        positions.iter().map(|p| p.to_array().map(f64::to_bits)).collect()
+    }
+
+    #[test]
+    fn parallel_welding_numbers_as_the_serial_welder() {
+        let mut rng = SplitMix64(7);
+        // Small pools repeat points within and across chunks; signed zeros
+        // weld (the first appearance's sign is kept); a big pool is mostly
+        // distinct; the sizes straddle the chunk and partition sizes.
+        let mut zeros = vec![[0.0f32, 1.0, 2.0], [-0.0, 1.0, 2.0], [0.0, -0.0, -0.0], [-0.0, 0.0, 0.0]];
+        zeros.extend((0..60).map(|i| [i as f32, -0.0, 0.5]));
+        for (pool_size, triangles) in [(3, 10), (500, 3 * WELD_CHUNK + 17), (200_000, 2 * WELD_CHUNK + 1), (0, 5000)] {
+            let mut pool: Vec<[f32; 3]> =
+                (0..pool_size).map(|_| [0; 3].map(|_| (rng.below(1000) as f32) / 8.0)).collect();
+            if pool.is_empty() {
+                pool = zeros.clone();
+            }
+            let bytes = records(triangles, &pool, &mut rng);
+            let (positions, corners) = weld_binary(&bytes);
+            let (want_positions, want_corners) = weld_serially(&bytes);
+            assert_eq!(bits(&positions), bits(&want_positions), "pool {pool_size}, {triangles} triangles");
+            assert_eq!(corners, want_corners, "pool {pool_size}, {triangles} triangles");
+        }
+        assert_eq!(weld_binary(&[]), (vec![], vec![]));
+    }
+
+    #[test]
+    fn welding_distinct_points_keeps_the_first_of_each() {
+        let p = |x: f64| DVec3::new(x, 0.0, 1.0);
+        let points = [p(1.0), p(-0.0), p(1.0), p(0.0), p(2.0), p(-0.0)];
+        let (positions, vertex) = weld_distinct(&points);
+        assert_eq!(bits(&positions), bits(&[p(1.0), p(-0.0), p(2.0)]));
+        assert_eq!(vertex, [0, 1, 0, 1, 2, 1]);
+        let many: Vec<DVec3> = (0..3 * WELD_PARTITION).map(|i| p((i % 1000) as f64)).collect();
+        let (positions, vertex) = weld_distinct(&many);
+        assert_eq!(positions.len(), 1000);
+        assert!(vertex.iter().enumerate().all(|(i, &v)| v as usize == i % 1000));
     }
 
     #[test]
