@@ -28,7 +28,7 @@ use std::io::{self, Write};
 use subdiv_mesh::{FaceList, PolygonSoup};
 
 use crate::error::{Ctx, IoError};
-use crate::text::{is_blank, parse_f64, show, sniff, strip_bom, tokens, Lines, NotText};
+use crate::text::{is_blank, parse_f64, show, sniff, strip_bom, tokens, Lines, NotText, TextOut};
 use crate::{fan, MeshView};
 
 /// Merges bit-identical positions, numbering vertices by first appearance.
@@ -296,17 +296,31 @@ pub(crate) fn write(mesh: &MeshView<'_>, binary: bool, out: &mut impl Write) -> 
             out.write_all(&[0, 0])?;
         }
     } else {
-        out.write_all(b"solid subdiv\n")?;
-        for t in triangles {
-            let n = facet_normal(mesh, t);
-            writeln!(out, "  facet normal {:e} {:e} {:e}\n    outer loop", n.x, n.y, n.z)?;
-            for v in t {
-                let p = mesh.positions[v as usize];
-                writeln!(out, "      vertex {:e} {:e} {:e}", p.x, p.y, p.z)?;
+        let mut text = TextOut::new(out);
+        let xyz = |text: &mut TextOut<'_, _>, p: DVec3| {
+            for x in p.to_array() {
+                text.bytes(b" ");
+                text.f64_exp(x);
             }
-            out.write_all(b"    endloop\n  endfacet\n")?;
+        };
+        text.bytes(b"solid subdiv");
+        text.end_line()?;
+        for t in triangles {
+            text.bytes(b"  facet normal");
+            xyz(&mut text, facet_normal(mesh, t));
+            text.bytes(b"\n    outer loop");
+            text.end_line()?;
+            for v in t {
+                text.bytes(b"      vertex");
+                xyz(&mut text, mesh.positions[v as usize]);
+                text.end_line()?;
+            }
+            text.bytes(b"    endloop\n  endfacet");
+            text.end_line()?;
         }
-        out.write_all(b"endsolid subdiv\n")?;
+        text.bytes(b"endsolid subdiv");
+        text.end_line()?;
+        text.finish()?;
     }
     Ok(())
 }
@@ -393,6 +407,36 @@ mod tests {
         let (positions, vertex) = weld_distinct(&many);
         assert_eq!(positions.len(), 1000);
         assert!(vertex.iter().enumerate().all(|(i, &v)| v as usize == i % 1000));
+    }
+
+    #[test]
+    fn ascii_text_is_the_std_formatted_text() {
+        let mut rng = SplitMix64(3);
+        let mesh = subdiv_mesh::shapes::torus(6, 5);
+        let positions: Vec<DVec3> = mesh
+            .positions()
+            .iter()
+            .map(|&p| p * 10f64.powi(rng.below(40) as i32 - 20) + DVec3::splat(rng.next_f64() - 0.5))
+            .chain([DVec3::new(-0.0, 0.0, 1e300), DVec3::new(5e-324, -1.0, 100.0)])
+            .collect();
+        let mut faces = mesh.topology().faces().clone();
+        faces.push(&[0, 30, 31]);
+        let view = MeshView::new(&positions, &faces);
+        let mut ours = Vec::new();
+        write(&view, false, &mut ours).unwrap();
+        // The layout with std's `{:e}` (shortest round-trip digits).
+        let mut want = String::from("solid subdiv\n");
+        for t in faces.iter().flat_map(fan) {
+            let n = facet_normal(&view, t);
+            want += &format!("  facet normal {:e} {:e} {:e}\n    outer loop\n", n.x, n.y, n.z);
+            for v in t {
+                let p = positions[v as usize];
+                want += &format!("      vertex {:e} {:e} {:e}\n", p.x, p.y, p.z);
+            }
+            want += "    endloop\n  endfacet\n";
+        }
+        want += "endsolid subdiv\n";
+        assert_eq!(String::from_utf8(ours).unwrap(), want);
     }
 
     #[test]

@@ -243,6 +243,11 @@ impl<'a, W: std::io::Write> TextOut<'a, W> {
         self.buf.extend_from_slice(self.floats.format(x));
     }
 
+    /// The same digits in `{:e}`'s layout ([`F64Buffer::format_exp`]).
+    pub(crate) fn f64_exp(&mut self, x: f64) {
+        self.buf.extend_from_slice(self.floats.format_exp(x));
+    }
+
     pub(crate) fn int(&mut self, v: impl itoa::Integer) {
         self.buf.extend_from_slice(self.ints.format(v).as_bytes());
     }
@@ -282,21 +287,33 @@ impl F64Buffer {
     /// where two shortest forms are equally close, the last digit may differ
     /// from `{:?}`'s: both read back to `x`). `NaN`, `inf`, `-inf` otherwise.
     pub(crate) fn format(&mut self, x: f64) -> &[u8] {
-        let magnitude = x.abs();
         if !x.is_finite() {
-            return match (x.is_nan(), x > 0.0) {
-                (true, _) => b"NaN",
-                (false, true) => b"inf",
-                (false, false) => b"-inf",
-            };
+            return non_finite(x);
         }
-        let plain = self.digits.format_finite(x).as_bytes();
-        if x == 0.0 || (1e-4..1e16).contains(&magnitude) {
+        if x == 0.0 || (1e-4..1e16).contains(&x.abs()) {
             // zmij's decimal range covers this one, in the same layout.
-            return plain;
+            return self.digits.format_finite(x).as_bytes();
         }
-        // Scientific: zmij writes `1.5e-7` or `1e+20`, and small numbers
-        // down to 1e-5 (or so) as `0.00001`; re-laid as `{:?}`'s `1e-5`.
+        self.scientific(x)
+    }
+
+    /// `x` as Rust's `{:e}` lays it out — `1.5e-7`, `1e0`, `1.25e20`,
+    /// `-0e0` — with the digits of [`F64Buffer::format`].
+    pub(crate) fn format_exp(&mut self, x: f64) -> &[u8] {
+        if !x.is_finite() {
+            return non_finite(x);
+        }
+        if x == 0.0 {
+            return if x.is_sign_negative() { b"-0e0" } else { b"0e0" };
+        }
+        self.scientific(x)
+    }
+
+    /// A finite, non-zero `x` as `d[.ddd]e[-]n`.
+    fn scientific(&mut self, x: f64) -> &[u8] {
+        let plain = self.digits.format_finite(x).as_bytes();
+        // zmij writes `1.5e-7` or `1e+20`, `123.25`, and small numbers down
+        // to 1e-5 (or so) as `0.00001`; re-laid as `1.2325e2`, `1e-5`.
         let (negative, body) = match plain.split_first() {
             Some((b'-', rest)) => (true, rest),
             _ => (false, plain),
@@ -346,6 +363,15 @@ impl F64Buffer {
             put(&mut self.text, d);
         }
         &self.text[..len]
+    }
+}
+
+/// `NaN`, `inf` or `-inf`, as `{:?}` and `{:e}` write them.
+fn non_finite(x: f64) -> &'static [u8] {
+    match (x.is_nan(), x > 0.0) {
+        (true, _) => b"NaN",
+        (false, true) => b"inf",
+        (false, false) => b"-inf",
     }
 }
 
@@ -400,15 +426,21 @@ mod tests {
         }
         for v in values.into_iter().filter(|v| v.is_finite()) {
             let ours = std::str::from_utf8(buffer.format(v)).unwrap().to_owned();
-            assert_eq!(parse_f64(ours.as_bytes()).map(f64::to_bits), Some(v.to_bits()), "{ours}");
-            let debug = format!("{v:?}");
-            if ours != debug {
-                // Two shortest forms equally close to v: the same but for the last digit.
-                let (a, b) = (ours.split('e').next().unwrap(), debug.split('e').next().unwrap());
-                assert!(a.len() == b.len() && a[..a.len() - 1] == b[..b.len() - 1], "{ours} vs {debug}");
-                assert_eq!(ours.split('e').nth(1), debug.split('e').nth(1), "{ours} vs {debug}");
+            let ours_exp = std::str::from_utf8(buffer.format_exp(v)).unwrap().to_owned();
+            for (ours, std) in [(ours, format!("{v:?}")), (ours_exp, format!("{v:e}"))] {
+                assert_eq!(parse_f64(ours.as_bytes()).map(f64::to_bits), Some(v.to_bits()), "{ours}");
+                if ours != std {
+                    // Two shortest forms equally close to v: the same but for the last digit.
+                    let (a, b) = (ours.split('e').next().unwrap(), std.split('e').next().unwrap());
+                    assert!(a.len() == b.len() && a[..a.len() - 1] == b[..b.len() - 1], "{ours} vs {std}");
+                    assert_eq!(ours.split('e').nth(1), std.split('e').nth(1), "{ours} vs {std}");
+                }
             }
         }
+        assert_eq!(buffer.format_exp(-0.0), b"-0e0");
+        assert_eq!(buffer.format_exp(100.0), b"1e2");
+        assert_eq!(buffer.format_exp(0.00123), b"1.23e-3");
+        assert_eq!(buffer.format_exp(f64::INFINITY), b"inf");
         assert_eq!(buffer.format(f64::NAN), b"NaN");
         assert_eq!(buffer.format(f64::NEG_INFINITY), b"-inf");
         assert_eq!(buffer.format(1e-5), b"1e-5");
