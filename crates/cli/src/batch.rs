@@ -35,7 +35,7 @@ pub struct BatchArgs {
     /// The command to run on every input.
     #[arg(value_enum)]
     command: CommandName,
-    /// Mesh files, directories (their mesh files) and glob patterns (`'meshes/**/*.obj'`).
+    /// Mesh files, directories (the mesh files in them, not in their subdirectories) and glob patterns (`'meshes/**/*.obj'` searches subdirectories too).
     #[arg(required = true)]
     inputs: Vec<PathBuf>,
     /// Where the outputs and the records (NAME.record.json) go; created if needed.

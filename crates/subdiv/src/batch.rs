@@ -83,6 +83,15 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Instant, UNIX_EPOCH};
 
+/// What [`BatchError::NoMeshInDirectory`] adds when the mesh files may be
+/// further down.
+fn subdirectory_hint(dir: &Path, subdirectories: bool) -> String {
+    match subdirectories {
+        true => format!(" (subdirectories are not searched: '{}' reaches them)", dir.join("**").join("*").display()),
+        false => String::new(),
+    }
+}
+
 /// Why a batch could not start (a problem of one input is in its
 /// [`Record`] instead).
 #[derive(Debug, thiserror::Error)]
@@ -111,11 +120,20 @@ pub enum BatchError {
         /// What is wrong with it.
         message: String,
     },
-    /// A pattern or directory without mesh files.
+    /// A pattern without mesh files.
     #[error("{}: no mesh file matches", .input.display())]
     NoMatch {
-        /// The pattern or directory.
+        /// The pattern.
         input: PathBuf,
+    },
+    /// A directory without mesh files of its own (its subdirectories are not
+    /// searched; the message names the pattern that would search them).
+    #[error("{}: no mesh file in this directory{}", .dir.display(), subdirectory_hint(.dir, *.subdirectories))]
+    NoMeshInDirectory {
+        /// The directory.
+        dir: PathBuf,
+        /// Whether it has subdirectories.
+        subdirectories: bool,
     },
     /// A directory (an input to list, or the output directory) could not be
     /// read or created.

@@ -68,8 +68,8 @@ def batch(
     parallel across meshes (the command line's ``subdiv batch``).
 
     Args:
-        paths: files, directories (their mesh files, sorted) and glob patterns (``*``, ``?``,
-            ``**``), or one of them.
+        paths: files, directories (the mesh files in them, sorted; not in their subdirectories)
+            and glob patterns (``*``, ``?``, ``**`` across subdirectories), or one of them.
         out_dir: where ``NAME.control.EXT``/``NAME.surface.EXT`` (interpolate),
             ``NAME.subdivided.EXT`` (subdivide) and ``NAME.record.json`` go; NAME is the
             input's stem (plus a stable hash when two inputs share one).

@@ -53,7 +53,7 @@ def map_files(
     """Run ``command`` over ``paths`` on a ``dask.distributed`` cluster, one task per mesh.
 
     Args:
-        paths: files, directories (their mesh files) and glob patterns, as for
+        paths: files, directories (the mesh files in them) and glob patterns, as for
             :func:`subdiv.batch`; expanded here, on the client.
         out_dir: where the outputs and ``NAME.record.json`` files go (created by the workers).
         command: ``"info"``, ``"interpolate"`` or ``"subdivide"``.

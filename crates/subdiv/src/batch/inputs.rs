@@ -27,9 +27,9 @@ fn is_mesh_file(path: &Path) -> bool {
 ///
 /// # Errors
 /// [`BatchError::Pattern`] for a malformed pattern, [`BatchError::NoMatch`]
-/// for a pattern or directory without mesh files (a typo would otherwise
-/// run on nothing), [`BatchError::Io`] for a directory that cannot be
-/// listed.
+/// for a pattern without mesh files (a typo would otherwise run on
+/// nothing), [`BatchError::NoMeshInDirectory`] for such a directory,
+/// [`BatchError::Io`] for a directory that cannot be listed.
 pub fn expand_inputs(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, BatchError> {
     let mut files = Vec::new();
     for input in inputs {
@@ -37,7 +37,11 @@ pub fn expand_inputs(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, BatchError> {
         if input.is_dir() {
             let listing = std::fs::read_dir(input).map_err(|source| BatchError::Io { path: input.clone(), source })?;
             let mut entries: Vec<PathBuf> = listing.filter_map(|e| e.ok().map(|e| e.path())).collect();
+            let subdirectories = entries.iter().any(|p| p.is_dir());
             entries.retain(|p| is_mesh_file(p));
+            if entries.is_empty() {
+                return Err(BatchError::NoMeshInDirectory { dir: input.clone(), subdirectories });
+            }
             entries.sort();
             files.extend(entries);
         } else if input.exists() {

@@ -142,6 +142,20 @@ fn globs_expand_and_empty_patterns_are_errors() {
     assert_eq!(all, [dir.join("x/one.obj"), dir.join("x/y/two.off")]);
     let e = expand_inputs(&[dir.join("x/*.stl")]).unwrap_err();
     assert!(matches!(e, BatchError::NoMatch { .. }), "{e}");
+    // A directory of subdirectories only: the message names the pattern that reaches them.
+    fs::remove_file(dir.join("x/one.obj")).unwrap();
+    let e = expand_inputs(&[dir.join("x")]).unwrap_err();
+    assert!(matches!(e, BatchError::NoMeshInDirectory { subdirectories: true, .. }), "{e}");
+    let hint = dir.join("x").join("**").join("*");
+    assert!(
+        e.to_string().ends_with(&format!("(subdirectories are not searched: '{}' reaches them)", hint.display())),
+        "{e}"
+    );
+    assert_eq!(expand_inputs(&[hint]).unwrap(), [dir.join("x/y/two.off")]);
+    fs::create_dir(dir.join("bare")).unwrap();
+    let e = expand_inputs(&[dir.join("bare")]).unwrap_err();
+    assert_eq!(e.to_string(), format!("{}: no mesh file in this directory", dir.join("bare").display()));
+    write(&dir.join("x/one.obj"), &crate::mesh::shapes::cube());
     // The same file twice is run once.
     assert_eq!(expand_inputs(&[dir.join("x/one.obj"), dir.join("x/../x/one.obj")]).unwrap().len(), 1);
     fs::remove_dir_all(&dir).unwrap();
