@@ -229,9 +229,7 @@ impl Interpolant {
         let c: Cow<Mesh> = if scale.is_identity() {
             Cow::Borrowed(&self.control)
         } else {
-            let mut scaled = self.control.clone();
-            scale.apply_points(scaled.positions_mut());
-            Cow::Owned(scaled)
+            Cow::Owned(self.control.with_positions(scale.scaled_points(self.control.positions())))
         };
         let t = c.topology();
         match (&self.association, self.scheme) {

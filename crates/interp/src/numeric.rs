@@ -103,9 +103,7 @@ pub(crate) fn prepare<'a>(
     let mesh = if scale.is_identity() {
         Cow::Borrowed(data)
     } else {
-        let mut scaled = data.clone();
-        scale.apply_points(scaled.positions_mut());
-        Cow::Owned(scaled)
+        Cow::Owned(data.with_positions(scale.scaled_points(data.positions())))
     };
     let scaled_d = mesh.bbox_diagonal();
     if scaled_d == 0.0 || scaled_d.is_nan() {

@@ -16,9 +16,7 @@ use subdiv_mesh::PowerOfTwoScale;
 /// The normalising scale of `points` and the scaled copy.
 pub fn normalize(points: &[DVec3]) -> (PowerOfTwoScale, Vec<DVec3>) {
     let scale = PowerOfTwoScale::normalizing(points.iter().copied());
-    let mut scaled = points.to_vec();
-    scale.apply_points(&mut scaled);
-    (scale, scaled)
+    (scale, scale.scaled_points(points))
 }
 
 /// A point that is not a finite f64 once mapped back.
