@@ -47,8 +47,8 @@ pub(crate) fn cheng_range(mesh: &Mesh, tol: f64) -> Result<(), String> {
     }
     // On positions scaled by a power of two (exact; the ratio floor/d does
     // not change), so that neither c·P nor d overflows near ±1e308.
-    let mut scaled = mesh.clone();
-    PowerOfTwoScale::normalizing(mesh.positions().iter().copied()).apply_points(scaled.positions_mut());
+    let scale = PowerOfTwoScale::normalizing(mesh.positions().iter().copied());
+    let scaled = mesh.with_positions(scale.scaled_points(mesh.positions()));
     let d = scaled.bbox_diagonal();
     for c in kernel {
         let dot: glam::DVec3 = c.iter().map(|&(v, s)| s * scaled.position(v)).sum();

@@ -50,8 +50,10 @@ pub fn candidate_limit_points_with(
     surface: SurfaceOptions,
 ) -> Result<Vec<DVec3>, StencilError> {
     let scale = PowerOfTwoScale::normalizing(control.positions().iter().copied());
-    let mut scaled = control.clone().with_uvs(None).expect("no channel is always valid");
-    scale.apply_points(scaled.positions_mut());
+    let scaled = control
+        .with_positions(scale.scaled_points(control.positions()))
+        .with_uvs(None)
+        .expect("no channel is always valid");
     let mut points = scaled_candidates(&scaled, plain, surface)?;
     scale.inverse().apply_points(&mut points);
     Ok(points)
