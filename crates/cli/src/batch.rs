@@ -9,7 +9,7 @@
 //! (their records say why), 2 when the batch cannot start.
 
 use crate::failure::{bad_input, write_failed, Failure};
-use anyhow::anyhow;
+use crate::options::{put, MethodFlags, SurfaceFlags, TensionFlags};
 use serde_json::{json, Map, Value};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -35,117 +35,66 @@ pub struct BatchArgs {
     /// The command to run on every input.
     #[arg(value_enum)]
     command: CommandName,
-    /// Mesh files, directories (the mesh files in them, not in their subdirectories) and glob patterns (`'meshes/**/*.obj'` searches subdirectories too).
+    /// Mesh files, directories (their mesh files) and glob patterns ('scans/**/*.obj').
     #[arg(required = true)]
     inputs: Vec<PathBuf>,
-    /// Where the outputs and the records (NAME.record.json) go; created if needed.
+    /// Where the outputs and records go (created if needed).
     #[arg(long)]
     out_dir: PathBuf,
-    /// Meshes processed at once (default: one per core).
+    /// Meshes processed at once (0: one per core).
     #[arg(long, default_value_t = 0)]
     jobs: usize,
     /// Run every input again, even those whose record says they are done.
     #[arg(long)]
     no_resume: bool,
-    /// info: treat warnings as errors.
+    /// info: warnings are errors.
     #[arg(long)]
     strict: bool,
-    /// interpolate: the method.
-    #[arg(long)]
-    method: Option<String>,
-    /// interpolate: tolerance.
-    #[arg(long)]
-    tol: Option<f64>,
-    /// interpolate: iteration cap.
-    #[arg(long)]
-    max_iter: Option<usize>,
-    /// interpolate: solver (auto or a solver name, as `subdiv interpolate`).
-    #[arg(long)]
-    solver: Option<String>,
-    /// interpolate: surface levels (0: no surface; default 3); subdivide: steps (required).
-    #[arg(long)]
-    levels: Option<usize>,
-    /// Output extension (obj, off, ply, stl, gltf, glb; default the input's).
+    /// The outputs' extension (obj, off, ply, stl, gltf, glb; default: the input's).
     #[arg(long)]
     format: Option<String>,
-    /// Boundary interpolation (as `subdiv subdivide`).
-    #[arg(long)]
-    boundary: Option<String>,
-    /// Semi-sharp crease decay (as `subdiv subdivide`).
-    #[arg(long)]
-    crease_method: Option<String>,
-    /// Face-varying interpolation (as `subdiv subdivide`).
-    #[arg(long)]
-    fvar: Option<String>,
-    /// interpolate, fan-cheng-lai: one shape parameter λ.
-    #[arg(long)]
-    shape: Option<f64>,
-    /// interpolate, zheng-cai: ITE_MAX.
-    #[arg(long)]
-    ite_max: Option<usize>,
-    /// interpolate, zheng-cai: EPS.
-    #[arg(long)]
-    eps: Option<f64>,
-    /// interpolate, deng-wang: μ.
-    #[arg(long)]
-    mu: Option<f64>,
-    /// Loop's β (warren, loop): interpolate deng-wang, subdivide loop.
-    #[arg(long)]
-    beta: Option<String>,
-    /// Deng-Ma's global tension ω.
-    #[arg(long)]
-    omega: Option<f64>,
-    /// Deng-Ma's variable tension λ.
-    #[arg(long)]
-    variable_tension: Option<f64>,
-    /// subdivide: the scheme (doo-sabin, catmull-clark, loop, deng-ma).
+    /// interpolate: the method and its options (as `subdiv interpolate`).
+    #[command(flatten)]
+    method: MethodFlags,
+    /// subdivide: write vertex normals (bare); interpolate: zheng-cai, deng-wang's normals file.
+    #[arg(long, num_args = 0..=1, value_name = "FILE")]
+    normals: Option<Option<PathBuf>>,
+    /// subdivide: the scheme; interpolate --method fair: the control mesh's scheme.
     #[arg(long)]
     scheme: Option<String>,
-    /// subdivide: move the final vertices to their limit positions.
+    /// subdivide: the steps; interpolate: the surface's levels (default 3; 0: no surface).
+    #[arg(long)]
+    levels: Option<usize>,
+    /// subdivide: limit positions.
     #[arg(long)]
     limit: bool,
-    /// subdivide, loop: triangulate non-triangles first.
+    /// subdivide --scheme loop: triangulate first.
     #[arg(long)]
     triangulate: bool,
-    /// subdivide: write vertex normals.
-    #[arg(long)]
-    normals: bool,
+    /// Deng-Ma's tension.
+    #[command(flatten)]
+    tension: TensionFlags,
+    /// The surface's options, tags, budget.
+    #[command(flatten)]
+    surface: SurfaceFlags,
 }
 
 impl BatchArgs {
-    /// The options given, by their JSON names; flags not given are left out
-    /// (the command's defaults), so a flag of another command is refused.
+    /// Every flag given, by the names `Command::from_json` takes (the single commands' own,
+    /// `format`, `strict`): what the chosen command does not take is refused by name.
     fn options(&self) -> Value {
         let mut map = Map::new();
-        let mut put = |key: &str, value: Option<Value>| {
-            if let Some(v) = value {
-                map.insert(key.to_string(), v);
-            }
+        self.method.put(&mut map);
+        self.tension.put(&mut map);
+        self.surface.put(&mut map);
+        match &self.normals {
+            Some(Some(file)) => map.insert("normals".into(), json!(file)),
+            Some(None) => map.insert("normals".into(), json!(true)),
+            None => None,
         };
-        put("method", self.method.as_ref().map(|v| json!(v)));
-        put("tol", self.tol.map(|v| json!(v)));
-        put("max_iter", self.max_iter.map(|v| json!(v)));
-        put("solver", self.solver.as_ref().map(|v| json!(v)));
-        put("levels", self.levels.map(|v| json!(v)));
-        put("format", self.format.as_ref().map(|v| json!(v)));
-        put("boundary", self.boundary.as_ref().map(|v| json!(v)));
-        put("crease_method", self.crease_method.as_ref().map(|v| json!(v)));
-        put("fvar", self.fvar.as_ref().map(|v| json!(v)));
-        put("shape", self.shape.map(|v| json!(v)));
-        put("ite_max", self.ite_max.map(|v| json!(v)));
-        put("eps", self.eps.map(|v| json!(v)));
-        put("mu", self.mu.map(|v| json!(v)));
-        put("beta", self.beta.as_ref().map(|v| json!(v)));
-        put("omega", self.omega.map(|v| json!(v)));
-        put("variable_tension", self.variable_tension.map(|v| json!(v)));
-        put("scheme", self.scheme.as_ref().map(|v| json!(v)));
-        for (key, on) in [
-            ("strict", self.strict),
-            ("limit", self.limit),
-            ("triangulate", self.triangulate),
-            ("normals", self.normals),
-        ] {
-            put(key, on.then_some(json!(true)));
+        put!(map, "scheme" => &self.scheme, "levels" => self.levels, "format" => &self.format);
+        for (key, on) in [("limit", self.limit), ("triangulate", self.triangulate), ("strict", self.strict)] {
+            put!(map, key => on.then_some(true));
         }
         Value::Object(map)
     }
@@ -159,7 +108,7 @@ pub fn run(args: &BatchArgs) -> Result<ExitCode, Failure> {
         CommandName::Interpolate => "interpolate",
         CommandName::Subdivide => "subdivide",
     };
-    let command = Command::from_json(name, &args.options()).map_err(|e| bad_input(flags(e)))?;
+    let command = Command::from_json(name, &args.options())?;
     let options = BatchOptions::default().with_jobs(args.jobs).with_resume(!args.no_resume);
     let starting = |e: BatchError| match e {
         BatchError::Io { ref path, .. } if *path == args.out_dir => write_failed(e),
@@ -190,10 +139,4 @@ pub fn run(args: &BatchArgs) -> Result<ExitCode, Failure> {
         );
     }
     Ok(if failed > 0 { ExitCode::from(SOME_FAILED) } else { ExitCode::SUCCESS })
-}
-
-/// An options error in the command line's terms: the options are the
-/// flags (`max_iter` is `--max-iter`).
-fn flags(e: BatchError) -> anyhow::Error {
-    anyhow!(e.to_string().replace("unknown field", "unknown option").replace("missing field", "missing option"))
 }

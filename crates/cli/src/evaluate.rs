@@ -11,7 +11,7 @@
 use crate::failure::{bad_input, Failure};
 use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::Outputs;
-use crate::subdivide::{BetaArg, SchemeArg, SurfaceArgs};
+use crate::subdivide::{beta_parser, evaluated_scheme, scheme_parser, SurfaceArgs};
 use anyhow::anyhow;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -24,8 +24,8 @@ pub struct EvaluateArgs {
     /// Control mesh.
     mesh: PathBuf,
     /// Subdivision scheme (catmull-clark, loop, doo-sabin).
-    #[arg(long, value_enum)]
-    scheme: SchemeArg,
+    #[arg(long, value_parser = scheme_parser)]
+    scheme: Scheme,
     /// Parameters: one `FACE U V` or `FACE.K U V` per line (`#` comments).
     #[arg(long, value_name = "PARAMS")]
     at: PathBuf,
@@ -33,8 +33,8 @@ pub struct EvaluateArgs {
     #[arg(long)]
     derivs: bool,
     /// Loop's β.
-    #[arg(long, value_enum, default_value = "warren")]
-    beta: BetaArg,
+    #[arg(long, default_value = "warren", value_parser = beta_parser)]
+    beta: subdiv_stencil::LoopBeta,
     /// Boundary and crease options.
     #[command(flatten)]
     surface: SurfaceArgs,
@@ -88,16 +88,7 @@ fn parse(text: &str, file: &Path) -> Result<Vec<Line>, Failure> {
 
 /// Runs `subdiv evaluate`.
 pub fn run(args: &EvaluateArgs) -> Result<(), Failure> {
-    let scheme = match args.scheme {
-        SchemeArg::DooSabin => Scheme::DooSabin,
-        SchemeArg::CatmullClark => Scheme::CatmullClark,
-        SchemeArg::Loop => Scheme::Loop(args.beta.into()),
-        SchemeArg::DengMa => {
-            return Err(bad_input(anyhow!(
-            "--scheme deng-ma: an interpolatory scheme has no limit evaluation; its refined vertices are the surface"
-        )))
-        }
-    };
+    let scheme = evaluated_scheme(args.scheme, args.beta)?;
     let mut outputs = Outputs::new([args.mesh.as_path(), args.at.as_path()].into_iter().chain(args.tags.files()));
     outputs.other("--output", &args.output)?;
     let mesh = load_tagged_mesh(&args.mesh, &args.tags)?;

@@ -72,6 +72,21 @@ pub fn in_cli_terms(message: &str) -> String {
     subdiv::batch::in_option_terms(message)
 }
 
+impl From<subdiv::job::JobError> for Failure {
+    /// The job's kind decides the exit code; its message is already one line in option terms.
+    fn from(e: subdiv::job::JobError) -> Self {
+        use subdiv::job::ErrorKind;
+        let kind = e.kind;
+        let error = anyhow::Error::msg(e.message);
+        match kind {
+            ErrorKind::BadInput => Failure::BadInput(error),
+            ErrorKind::NotConverged => Failure::NotConverged(error),
+            ErrorKind::WriteFailed => Failure::WriteFailed(error),
+            _ => Failure::Other(error),
+        }
+    }
+}
+
 /// Marks an error as bad input (exit 2).
 pub fn bad_input(e: impl Into<anyhow::Error>) -> Failure {
     Failure::BadInput(e.into())

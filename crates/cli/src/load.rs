@@ -1,26 +1,14 @@
-//! Reading and validating the input mesh, shared by every command.
+//! Reading and validating the input mesh of the evaluation commands, through the one pipeline's
+//! loader ([`subdiv::job::load`]): the file's tags, a tag file's, feature edges by angle.
 
-use crate::failure::{bad_input, Failure};
-use crate::progress;
-use anyhow::anyhow;
+use crate::failure::Failure;
 use std::path::{Path, PathBuf};
+use subdiv::job::TagOptions;
 use subdiv_mesh::{Mesh, PolygonSoup};
 
-/// Reads a mesh file as it is (unvalidated), with a progress bar for large
-/// files; what the reader skipped (texture coordinates on only some faces,
-/// tag lines other than creases and corners) goes to stderr.
+/// Reads a mesh file as it is (unvalidated), with a progress bar for large files.
 pub fn read_soup(path: &Path) -> Result<PolygonSoup, Failure> {
-    let bar = progress::bytes(format!("reading {}", path.display()), 0);
-    let read = subdiv_io::read_mesh_with_warnings(path, &mut |done, total| {
-        bar.set_length(total);
-        bar.set_position(done);
-    });
-    bar.finish_and_clear();
-    let (soup, warnings) = read.map_err(bad_input)?;
-    for w in warnings {
-        progress::warn(w.to_string());
-    }
-    Ok(soup)
+    Ok(subdiv::job::load::read_soup(path, &mut crate::progress::Terminal::default())?)
 }
 
 /// Where a command's tags come from besides the file's own `t` lines.
@@ -45,45 +33,16 @@ impl TagArgs {
     }
 }
 
-/// Reads and validates a mesh with the tags of `tags`: the file's own, then
-/// the tag file's (a later tag of the same edge or vertex wins), the feature
-/// edges of `--feature-angle` under both; warnings go to stderr.
+/// Reads and validates a mesh with the tags of `tags` (the file's own, the tag file's, feature
+/// edges); warnings go to stderr.
 pub fn load_tagged_mesh(path: &Path, tags: &TagArgs) -> Result<Mesh, Failure> {
+    let mut options = TagOptions::default();
+    options.tags.clone_from(&tags.tags);
+    options.feature_angle = tags.feature_angle;
     if let Some(deg) = tags.feature_angle {
         if !(deg > 0.0 && deg <= 180.0) {
-            return Err(bad_input(anyhow!("--feature-angle: {deg}° is outside (0, 180]")));
+            return Err(subdiv::job::JobError::bad_input(format!("--feature-angle: {deg}° is outside (0, 180]")).into());
         }
     }
-    let mesh = load_mesh_with_tags(path, tags.tags.as_deref())?;
-    let Some(deg) = tags.feature_angle else { return Ok(mesh) };
-    let t = mesh.topology();
-    let mut list = subdiv_mesh::feature_edges(&mesh, deg).list;
-    let given = mesh.tags().to_list(t);
-    list.creases.extend(given.creases);
-    list.corners = given.corners;
-    let tags = subdiv_mesh::Tags::from_list(t, &list).map_err(|e| bad_input(anyhow!("{}: {e}", path.display())))?;
-    Ok(mesh.with_tags(tags))
-}
-
-/// Reads and validates a mesh, with the crease and corner tags of
-/// `tag_file` (`--tags`, JSON) added to the file's own (a later tag of the
-/// same edge or vertex wins); warnings go to stderr (one line each).
-pub fn load_mesh_with_tags(path: &Path, tag_file: Option<&Path>) -> Result<Mesh, Failure> {
-    let mut soup = read_soup(path)?;
-    if let Some(file) = tag_file {
-        let tags = subdiv_io::read_tag_file(file).map_err(bad_input)?;
-        soup.tags.creases.extend(tags.creases);
-        soup.tags.corners.extend(tags.corners);
-    }
-    let spinner = progress::spinner(format!("validating {}", path.display()));
-    let validated = Mesh::from_soup(soup);
-    spinner.finish_and_clear();
-    let (mesh, warnings) = validated.map_err(|e| {
-        let tags = tag_file.map(|f| format!(" (with the tags of {})", f.display())).unwrap_or_default();
-        bad_input(anyhow!("{}{tags}: {e}", path.display()))
-    })?;
-    for w in warnings {
-        progress::warn(format!("{}: {w}", path.display()));
-    }
-    Ok(mesh)
+    Ok(subdiv::job::load::load_tagged_mesh(path, &options, &mut crate::progress::Terminal::default())?)
 }

@@ -11,13 +11,13 @@
 //! [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 
 mod batch;
-mod budget;
 mod evaluate;
 mod failure;
 mod fit;
 mod info;
 mod interpolate;
 mod load;
+mod options;
 mod outputs;
 mod progress;
 mod project;
@@ -63,7 +63,7 @@ enum Command {
     /// Print a mesh's statistics: counts, histograms, boundary, genus, validity.
     Info(info::InfoArgs),
     /// Subdivide a mesh N levels with Doo-Sabin, Catmull-Clark, Loop or Deng-Ma.
-    Subdivide(subdivide::SubdivideArgs),
+    Subdivide(Box<subdivide::SubdivideArgs>),
     /// Evaluate the limit surface (position, normal, derivatives) at given (face, u, v).
     Evaluate(Box<evaluate::EvaluateArgs>),
     /// Find a control mesh whose subdivision surface passes through the mesh's vertices.

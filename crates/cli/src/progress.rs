@@ -96,3 +96,57 @@ pub fn solver(message: impl Into<String>, tol: f64) -> (ProgressBar, subdiv_solv
     });
     (bar, observer)
 }
+
+/// The job's progress on the terminal: a bar per phase (bytes read and written, levels refined,
+/// a spinner while validating), the solver's bar, warnings on stderr.
+#[derive(Default)]
+pub struct Terminal {
+    bar: Option<ProgressBar>,
+    solver: Option<ProgressBar>,
+}
+
+impl subdiv::job::Progress for Terminal {
+    fn begin(&mut self, phase: subdiv::job::Phase, label: &str, total: u64) {
+        use subdiv::job::Phase;
+        self.end();
+        self.bar = Some(match phase {
+            Phase::Read | Phase::Write => bytes(label, total),
+            Phase::Refine => steps(label, total),
+            _ => spinner(label),
+        });
+    }
+
+    fn set_total(&mut self, total: u64) {
+        if let Some(bar) = &self.bar {
+            bar.set_length(total);
+        }
+    }
+
+    fn advance(&mut self, done: u64) {
+        if let Some(bar) = &self.bar {
+            bar.set_position(done);
+        }
+    }
+
+    fn end(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+    }
+
+    fn warn(&mut self, message: &str) {
+        warn(message);
+    }
+
+    fn solver(&mut self, label: &str, tol: f64) -> subdiv_solve::IterationObserver {
+        let (bar, observer) = solver(label, tol);
+        self.solver = Some(bar);
+        observer
+    }
+
+    fn solver_end(&mut self) {
+        if let Some(bar) = self.solver.take() {
+            bar.finish_and_clear();
+        }
+    }
+}

@@ -5,7 +5,7 @@
 use crate::failure::{bad_input, Failure};
 use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::Outputs;
-use crate::subdivide::{BetaArg, SchemeArg, SurfaceArgs};
+use crate::subdivide::{beta_parser, evaluated_scheme, scheme_parser, SurfaceArgs};
 use anyhow::anyhow;
 use std::path::{Path, PathBuf};
 use subdiv_eval::project::BoundLimitSurface;
@@ -18,11 +18,11 @@ use subdiv_stencil::{Options, Scheme};
 #[derive(clap::Args, Debug)]
 pub struct LimitArgs {
     /// Subdivision scheme of the limit surface (deng-ma is interpolatory: no limit evaluation).
-    #[arg(long, value_enum)]
-    pub scheme: SchemeArg,
+    #[arg(long, value_parser = scheme_parser)]
+    pub scheme: Scheme,
     /// Loop's β.
-    #[arg(long, value_enum, default_value = "warren")]
-    pub beta: BetaArg,
+    #[arg(long, default_value = "warren", value_parser = beta_parser)]
+    pub beta: subdiv_stencil::LoopBeta,
     /// Boundary and crease options.
     #[command(flatten)]
     pub surface: SurfaceArgs,
@@ -34,17 +34,7 @@ pub struct LimitArgs {
 impl LimitArgs {
     /// The surface options; Deng-Ma is refused.
     pub fn options(&self) -> Result<Options, Failure> {
-        let scheme = match self.scheme {
-            SchemeArg::DooSabin => Scheme::DooSabin,
-            SchemeArg::CatmullClark => Scheme::CatmullClark,
-            SchemeArg::Loop => Scheme::Loop(self.beta.into()),
-            SchemeArg::DengMa => {
-                return Err(bad_input(anyhow!(
-                    "--scheme deng-ma: the scheme is interpolatory and has no limit evaluation; \
-                     use subdivide for its refined vertices"
-                )))
-            }
-        };
+        let scheme = evaluated_scheme(self.scheme, self.beta)?;
         Ok(self.surface.options(scheme))
     }
 

@@ -107,7 +107,8 @@ fn fair_flags_are_refused_where_they_do_not_apply() {
     let _ = std::fs::remove_file(&out);
     let o = out.to_str().unwrap();
     for (args, needle) in [
-        (vec!["--method", "cheng", "--refine", "2"], "--refine/--fairness-weight/--scheme applies to --method fair"),
+        (vec!["--method", "cheng", "--refine", "2"], "--refine applies to --method fair only"),
+        (vec!["--method", "cheng", "--fairness-weight", "1"], "--fairness-weight applies to --method fair only"),
         (vec!["--method", "fair", "--fairness-weight=-1"], "--fairness-weight"),
         (vec!["--method", "fair", "--refine", "9"], "--refine"),
         (vec!["--method", "fair", "--scheme", "doo-sabin", "--refine", "2"], "--refine"),

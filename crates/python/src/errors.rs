@@ -123,6 +123,21 @@ impl From<InterpError> for Error {
     }
 }
 
+impl From<subdiv::job::JobError> for Error {
+    /// The job's kind decides the exception; its message is the command line's.
+    fn from(e: subdiv::job::JobError) -> Self {
+        use subdiv::job::ErrorKind;
+        match e.kind {
+            ErrorKind::BadInput => Error::Input(e.message),
+            ErrorKind::NotConverged => {
+                Error::NotConverged { message: e.message, iterations: e.iterations, residual: e.residual }
+            }
+            ErrorKind::WriteFailed => Error::Os { message: e.message, kind: std::io::ErrorKind::Other },
+            _ => Error::Other(e.message),
+        }
+    }
+}
+
 impl From<subdiv::Error> for Error {
     fn from(e: subdiv::Error) -> Self {
         match e {

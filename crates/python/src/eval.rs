@@ -29,15 +29,14 @@ fn surface_options(
     kwargs: Option<Bound<'_, PyDict>>,
 ) -> PyResult<Options> {
     let mut kw = Kwargs::new(function, kwargs.map(|d| d.copy()).transpose()?);
-    let plan = options::subdivide(scheme, false, &mut kw)?;
-    kw.finish()?;
+    let plan = options::subdivide(scheme, 1, false, &mut kw)?;
     let plan = plan.raise(py)?;
     if plan.triangulate {
         return Err(
             input(format!("{function}: triangulate does not apply (triangulate the mesh first)")).into_pyerr(py)
         );
     }
-    Ok(plan.options)
+    Ok(plan.options())
 }
 
 /// `(n, 3)` rows `[face, u, v]` or `(n, 4)` rows `[face, corner, u, v]` as parameters.

@@ -118,11 +118,14 @@ pub fn interpolate(
     let total = Instant::now();
     let options = options.map(|d| d.copy()).transpose()?;
     let mut kw = Kwargs::new("interpolate", options);
-    let options = options::interpolate(&mesh.inner, method, tol, solver, max_iter, &mut kw)?;
-    kw.finish()?;
+    let options = options::interpolate(method, tol, solver, max_iter, &mut kw)?;
     let options = options.raise(py)?;
     let input = Arc::clone(&mesh.inner);
-    let result = detached(py, || interpolate_mesh(&input, &options))?;
+    // Messages name the mesh's file as the command line's do (or `mesh` for one made in memory).
+    let name = std::path::PathBuf::from(mesh.path.as_deref().unwrap_or("mesh"));
+    let result = detached(py, || {
+        Ok(subdiv::job::interpolate_mesh(&name, &input, &options, subdiv::solve::IterationObserver::default())?)
+    })?;
     let total_ms = total.elapsed().as_secs_f64() * 1e3;
     for w in &result.warnings {
         let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
@@ -138,11 +141,6 @@ pub fn interpolate(
     })
 }
 
-/// The one dispatch, its error typed for Python.
-fn interpolate_mesh(mesh: &Mesh, options: &MethodOptions) -> Result<Interpolant, Error> {
-    Ok(subdiv::interpolate(mesh, options)?)
-}
-
 /// `subdivide` (docstring in the Python wrapper).
 #[pyfunction]
 #[pyo3(signature = (mesh, scheme = "catmull-clark", levels = 1, limit = false, **options))]
@@ -156,27 +154,19 @@ pub fn subdivide(
 ) -> PyResult<PyMesh> {
     let options = options.map(|d| d.copy()).transpose()?;
     let mut kw = Kwargs::new("subdivide", options);
-    let plan = options::subdivide(scheme, limit, &mut kw)?;
-    kw.finish()?;
-    let plan = plan.raise(py)?;
+    let options = options::subdivide(scheme, levels, limit, &mut kw)?;
+    let options = options.raise(py)?;
     let input = Arc::clone(&mesh.inner);
+    let name = std::path::PathBuf::from(mesh.path.as_deref().unwrap_or("mesh"));
+    // As the command line: texture coordinates the scheme cannot refine (Doo-Sabin with seams or
+    // tags) are dropped with a warning, the positions are what was asked for.
     let (refined, dropped_uvs) = detached(py, move || {
-        let triangulated;
-        let mut mesh: &Mesh = &input;
-        if plan.triangulate {
-            triangulated = subdiv::mesh::triangulate(mesh)?.mesh;
-            mesh = &triangulated;
-        }
-        let budget = MemoryBudget::available();
-        budget.check("subdivide", mesh.topology(), plan.options.scheme, levels, u64::from(limit), None)?;
-        // As the command line: texture coordinates the scheme cannot refine (Doo-Sabin with
-        // seams or tags) are dropped with a warning, the positions are what was asked for.
-        let refined = subdiv::stencil::subdivide_for_output(mesh, plan.options, levels, limit, |_| {})?;
-        Ok((refined.mesh, refined.uvs_dropped))
+        let mesh = Mesh::clone(&input);
+        let (_, refined, dropped) = subdiv::job::subdivide_mesh(&name, mesh, &options, None, &mut subdiv::job::Silent)?;
+        Ok((refined, dropped))
     })?;
-    if let Some(reason) = dropped_uvs {
+    if let Some(message) = dropped_uvs {
         let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
-        let message = format!("texture coordinates not refined: {reason}");
         PyErr::warn(py, &category, &std::ffi::CString::new(message).unwrap_or_default(), 1)?;
     }
     Ok(PyMesh::new(refined))

@@ -285,6 +285,8 @@ named!(
     LinearBoundaries = "linear-boundaries",
     LinearAll = "linear-all"
 );
+// Loop's β by name (`--beta warren|loop`): the same names, parser and messages as the options above.
+named!(crate::LoopBeta, "Loop β", Warren = "warren", Loop = "loop");
 
 #[cfg(test)]
 mod tests {

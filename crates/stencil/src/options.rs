@@ -134,3 +134,26 @@ impl Options {
         Ok(())
     }
 }
+
+impl std::fmt::Display for Scheme {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Scheme {
+    type Err = String;
+
+    /// A scheme's name, with its default parameters.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let all = [
+            Scheme::DooSabin,
+            Scheme::CatmullClark,
+            Scheme::Loop(LoopBeta::default()),
+            Scheme::DengMa(Tension::default()),
+        ];
+        all.into_iter().find(|scheme| scheme.name() == s).ok_or_else(|| {
+            format!("unknown scheme `{s}` (expected one of: {})", all.map(|scheme| scheme.name()).join(", "))
+        })
+    }
+}

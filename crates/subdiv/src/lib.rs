@@ -72,13 +72,12 @@
 //! or a field is not a breaking change (struct literals of these types do
 //! not compile outside their crate; build them with the setters).
 
-pub mod batch;
-pub mod budget;
-pub mod info;
+pub use subdiv_job::{batch, budget, info};
 
 pub use subdiv_eval as eval;
 pub use subdiv_interp as interp;
 pub use subdiv_io as io;
+pub use subdiv_job as job;
 pub use subdiv_mesh as mesh;
 pub use subdiv_rules as rules;
 pub use subdiv_solve as solve;
@@ -132,6 +131,9 @@ pub enum Error {
     /// A batch that could not start ([`batch::run`]).
     #[error(transparent)]
     Batch(#[from] batch::BatchError),
+    /// A job of the one pipeline ([`job::run`]): the command line's message and exit code.
+    #[error(transparent)]
+    Job(#[from] subdiv_job::JobError),
     /// A refinement larger than the memory budget (or than 32-bit ids).
     #[error(transparent)]
     Budget(#[from] budget::BudgetError),

@@ -1,9 +1,11 @@
 //! The batch on procedural meshes written to a temporary directory.
 
 use super::*;
-use crate::prelude::*;
 use std::fs;
 use std::time::SystemTime;
+use subdiv_interp::{interpolate, Method, MethodOptions};
+use subdiv_io::{load_mesh, write_mesh, WriteOptions};
+use subdiv_mesh::Mesh;
 
 /// A fresh directory for one test.
 fn scratch(test: &str) -> PathBuf {
@@ -30,7 +32,7 @@ fn mtimes(dir: &Path) -> BTreeMap<PathBuf, SystemTime> {
 #[test]
 fn failures_are_isolated_and_outputs_match_the_library() {
     let dir = scratch("isolated");
-    let torus = crate::mesh::shapes::torus(8, 6);
+    let torus = subdiv_mesh::shapes::torus(8, 6);
     let good = write(&dir.join("in/torus.obj"), &torus);
     // Three faces on edge (0, 1): read, but no manifold mesh.
     let fin = dir.join("in/fin.obj");
@@ -75,8 +77,8 @@ fn failures_are_isolated_and_outputs_match_the_library() {
 #[test]
 fn a_second_run_skips_and_a_touched_input_reruns() {
     let dir = scratch("resume");
-    let a = write(&dir.join("a.obj"), &crate::mesh::shapes::cube());
-    let b = write(&dir.join("b.obj"), &crate::mesh::shapes::octahedron());
+    let a = write(&dir.join("a.obj"), &subdiv_mesh::shapes::cube());
+    let b = write(&dir.join("b.obj"), &subdiv_mesh::shapes::octahedron());
     let out = dir.join("out");
     let command =
         Command::from_json("subdivide", &serde_json::json!({"scheme": "catmull-clark", "levels": 1})).unwrap();
@@ -99,7 +101,7 @@ fn a_second_run_skips_and_a_touched_input_reruns() {
     let other = Command::from_json("subdivide", &serde_json::json!({"scheme": "catmull-clark", "levels": 2})).unwrap();
     assert!(run(std::slice::from_ref(&a), &out, &other, &options, |_| {}).unwrap().iter().all(|r| !r.skipped));
     let _ = run(&inputs, &out, &command, &options, |_| {}).unwrap();
-    write(&b, &crate::mesh::shapes::octahedron());
+    write(&b, &subdiv_mesh::shapes::octahedron());
     let third = run(&inputs, &out, &command, &options, |_| {}).unwrap();
     assert_eq!(third.iter().map(|r| r.skipped).collect::<Vec<_>>(), [true, false]);
     // Without resuming, everything runs.
@@ -115,8 +117,8 @@ fn a_second_run_skips_and_a_touched_input_reruns() {
 #[test]
 fn shared_stems_write_distinct_files() {
     let dir = scratch("stems");
-    let a = write(&dir.join("a/mesh.obj"), &crate::mesh::shapes::cube());
-    let b = write(&dir.join("b/mesh.obj"), &crate::mesh::shapes::octahedron());
+    let a = write(&dir.join("a/mesh.obj"), &subdiv_mesh::shapes::cube());
+    let b = write(&dir.join("b/mesh.obj"), &subdiv_mesh::shapes::octahedron());
     let out = dir.join("out");
     let command = Command::from_json("subdivide", &serde_json::json!({"scheme": "doo-sabin", "levels": 1})).unwrap();
     let records = run(&[a, b], &out, &command, &BatchOptions::default(), |_| {}).unwrap();
@@ -135,8 +137,8 @@ fn shared_stems_write_distinct_files() {
 #[test]
 fn globs_expand_and_empty_patterns_are_errors() {
     let dir = scratch("glob");
-    write(&dir.join("x/one.obj"), &crate::mesh::shapes::cube());
-    write(&dir.join("x/y/two.off"), &crate::mesh::shapes::cube());
+    write(&dir.join("x/one.obj"), &subdiv_mesh::shapes::cube());
+    write(&dir.join("x/y/two.off"), &subdiv_mesh::shapes::cube());
     fs::write(dir.join("x/notes.txt"), "not a mesh").unwrap();
     let all = expand_inputs(&[dir.join("x/**/*")]).unwrap();
     assert_eq!(all, [dir.join("x/one.obj"), dir.join("x/y/two.off")]);
@@ -155,7 +157,7 @@ fn globs_expand_and_empty_patterns_are_errors() {
     fs::create_dir(dir.join("bare")).unwrap();
     let e = expand_inputs(&[dir.join("bare")]).unwrap_err();
     assert_eq!(e.to_string(), format!("{}: no mesh file in this directory", dir.join("bare").display()));
-    write(&dir.join("x/one.obj"), &crate::mesh::shapes::cube());
+    write(&dir.join("x/one.obj"), &subdiv_mesh::shapes::cube());
     // The same file twice is run once.
     assert_eq!(expand_inputs(&[dir.join("x/one.obj"), dir.join("x/../x/one.obj")]).unwrap().len(), 1);
     fs::remove_dir_all(&dir).unwrap();
@@ -164,7 +166,7 @@ fn globs_expand_and_empty_patterns_are_errors() {
 #[test]
 fn info_records_the_summary_and_fails_invalid_meshes_with_it() {
     let dir = scratch("info");
-    let cube = write(&dir.join("cube.obj"), &crate::mesh::shapes::cube());
+    let cube = write(&dir.join("cube.obj"), &subdiv_mesh::shapes::cube());
     let fin = dir.join("fin.obj");
     fs::write(&fin, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n").unwrap();
     let command = Command::from_json("info", &serde_json::json!({})).unwrap();

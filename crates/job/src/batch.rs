@@ -40,13 +40,14 @@
 //! fails the same way.
 //!
 //! ```
-//! use subdiv::batch::{run, BatchOptions, Command, InterpolateOptions};
-//! use subdiv::prelude::*;
+//! use subdiv_job::batch::{run, BatchOptions, Command, InterpolateOptions};
+//! use subdiv_interp::Method;
+//! use subdiv_io::{write_mesh, WriteOptions};
 //!
 //! let dir = std::env::temp_dir().join(format!("subdiv-batch-doc-{}", std::process::id()));
 //! std::fs::create_dir_all(&dir)?;
 //! let torus = dir.join("torus.obj");
-//! write_mesh(&torus, &subdiv::mesh::shapes::torus(8, 6), &WriteOptions::default())?;
+//! write_mesh(&torus, &subdiv_mesh::shapes::torus(8, 6), &WriteOptions::default())?;
 //! let missing = dir.join("missing.obj");
 //! let command = Command::Interpolate(InterpolateOptions::new(Method::Cheng).with_levels(1));
 //!
@@ -69,12 +70,14 @@
 //! waits for the ones before it), and returns the records in that order;
 //! each record also carries its [`Record::index`].
 
-mod command;
 mod inputs;
 mod jobs;
 
-pub use command::{Beta, Command, InfoOptions, InterpolateOptions, SchemeName, SubdivideOptions, COMMAND_NAMES};
+pub use crate::error::{in_option_terms, ErrorKind};
+pub use crate::options::{Command, InfoOptions, InterpolateOptions, SubdivideOptions, COMMAND_NAMES};
 pub use inputs::{expand_inputs, output_names, stem_name};
+
+use crate::error::JobError;
 
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -97,21 +100,10 @@ fn subdirectory_hint(dir: &Path, subdirectories: bool) -> String {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum BatchError {
-    /// No command of this name.
-    #[error("unknown command '{name}' (expected one of: {})", COMMAND_NAMES.join(", "))]
-    UnknownCommand {
-        /// The name given.
-        name: String,
-    },
-    /// An option is unknown, of the wrong type, missing, out of range, or
-    /// for another method or scheme.
-    #[error("batch {command}: {message}")]
-    Options {
-        /// The command.
-        command: String,
-        /// What is wrong, naming the option.
-        message: String,
-    },
+    /// An invalid command: an unknown or mistyped option, a missing required one, a value out of
+    /// range, an option of another method or scheme (the message of the single command).
+    #[error(transparent)]
+    Options(#[from] JobError),
     /// A malformed glob pattern.
     #[error("{pattern}: invalid pattern: {message}")]
     Pattern {
@@ -181,41 +173,6 @@ impl BatchOptions {
     /// With or without resuming.
     pub fn with_resume(self, resume: bool) -> Self {
         Self { resume, ..self }
-    }
-}
-
-/// Why one input failed, as the command line would say it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum ErrorKind {
-    /// Bad input or usage: the file, the mesh, or a method that refuses it
-    /// (the command line's exit 2).
-    BadInput,
-    /// No acceptable result: the tolerance was not reached, or a result is
-    /// not finite (exit 3).
-    NotConverged,
-    /// An output could not be written (exit 4).
-    WriteFailed,
-    /// A bug: the job panicked (exit 1).
-    Panic,
-}
-
-impl ErrorKind {
-    /// The exit code of the single command failing this way.
-    pub fn exit_code(self) -> u8 {
-        match self {
-            ErrorKind::BadInput => 2,
-            ErrorKind::NotConverged => 3,
-            ErrorKind::WriteFailed => 4,
-            ErrorKind::Panic => 1,
-        }
-    }
-
-    /// True when the same input and command fail the same way again, so a
-    /// resumed batch need not retry it.
-    pub fn is_deterministic(self) -> bool {
-        matches!(self, ErrorKind::BadInput | ErrorKind::NotConverged)
     }
 }
 
@@ -304,34 +261,6 @@ impl Record {
     }
 }
 
-/// The library's remedies in option terms: the library names a solver by
-/// its type (`Solver::Minres`), the command line and the options by name
-/// (`--solver minres`). Applied to every message of a record, and by the
-/// command line to every error it prints.
-pub fn in_option_terms(message: &str) -> String {
-    use subdiv_solve::{Solver, SweepOrder};
-    let solvers = [
-        ("Solver::WeightedPia", Solver::WeightedPia),
-        ("Solver::GaussSeidel", Solver::GaussSeidel(SweepOrder::Storage)),
-        ("Solver::Chebyshev", Solver::Chebyshev),
-        ("Solver::Jacobi", Solver::Jacobi),
-        ("Solver::Minres", Solver::Minres),
-        ("Solver::Gmres", Solver::Gmres),
-        ("Solver::Dense", Solver::Dense),
-        ("Solver::Pia", Solver::Pia),
-        ("Solver::Ldl", Solver::Ldl),
-        ("Solver::Cg", Solver::Cg { jacobi: false }),
-    ];
-    if !message.contains("Solver::") && !message.contains("the automatic solver choice") {
-        return message.to_string();
-    }
-    let mut line = message.replace("the automatic solver choice", "the automatic solver choice (--solver auto)");
-    for (library, solver) in solvers {
-        line = line.replace(library, &format!("--solver {}", solver.name()));
-    }
-    line
-}
-
 /// [`run_one_as`] under the input's [`stem_name`], resuming: what a
 /// distributed task runs for one file. Inputs of one batch that share a
 /// stem need [`output_names`] and [`run_one_as`].
@@ -361,17 +290,15 @@ pub fn run_one_as(
     }
     let mut warnings = Vec::new();
     let (outputs, report, error) = guarded(input, || {
-        command.validate().map_err(|e| jobs::Failed::from(RecordError::new(ErrorKind::BadInput, e.to_string())))?;
-        std::fs::create_dir_all(out_dir).map_err(|e| {
-            jobs::Failed::from(RecordError::new(ErrorKind::WriteFailed, format!("{}: {e}", out_dir.display())))
-        })?;
+        command.validate()?;
+        std::fs::create_dir_all(out_dir).map_err(|e| JobError::write_failed(format!("{}: {e}", out_dir.display())))?;
         let mut job = jobs::Job::new(input, out_dir, name);
         let result = match command {
             Command::Info(o) => job.info(o),
             Command::Interpolate(o) => job.interpolate(o),
             Command::Subdivide(o) => job.subdivide(o),
         };
-        warnings = std::mem::take(&mut job.warnings);
+        warnings = std::mem::take(&mut job.warnings.0);
         result
     });
     let mut record = Record {
@@ -388,7 +315,7 @@ pub fn run_one_as(
     };
     if let Err(e) = store(&record_path, &record) {
         if record.error.is_none() {
-            record.error = Some(RecordError::new(ErrorKind::WriteFailed, jobs::one_line(&e)));
+            record.error = Some(RecordError::new(ErrorKind::WriteFailed, crate::error::one_line(&e)));
         }
     }
     record

@@ -1,12 +1,12 @@
 //! Where `subdiv info` spends its time on one file: reading, validation
 //! (connectivity, then the warnings), the counts, each method's check.
 //!
-//! `cargo run --release -p subdiv --example info_phases -- MESH [RUNS]`
+//! `cargo run --release -p subdiv-job --example info_phases -- MESH [RUNS]`
 //! prints the median of RUNS (default 3) per phase, in milliseconds.
 
 use std::time::Instant;
-use subdiv::interp::Method;
-use subdiv::mesh::{Mesh, Topology};
+use subdiv_interp::Method;
+use subdiv_mesh::{Mesh, Topology};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -19,7 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     for _ in 0..runs {
         let clock = Instant::now();
-        let soup = subdiv::io::read_mesh(std::path::Path::new(&path))?;
+        let soup = subdiv_io::read_mesh(std::path::Path::new(&path))?;
         record("read", clock.elapsed().as_secs_f64() * 1e3);
         let clock = Instant::now();
         let topology = Topology::new(soup.faces.clone(), soup.positions.len())?;
@@ -37,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             record(&format!("check {m}"), clock.elapsed().as_secs_f64() * 1e3);
         }
         let clock = Instant::now();
-        let summary = subdiv::info::summarize_with_warnings(&mesh, Some(&path), &warnings);
+        let summary = subdiv_job::info::summarize_with_warnings(&mesh, Some(&path), &warnings);
         record("summarize_with_warnings", clock.elapsed().as_secs_f64() * 1e3);
         let clock = Instant::now();
         let _ = serde_json::to_string(&summary)?;

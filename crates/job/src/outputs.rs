@@ -1,0 +1,242 @@
+//! A command's outputs: checked before any work starts, staged as they are
+//! built, committed together at the end (all of them or none).
+//!
+//! Checked up front, for every output: the extension is a mesh format (mesh
+//! outputs), it is not one of the command's inputs nor another output (also
+//! through a hard link or symbolic link), the target is a regular file or does
+//! not exist yet, and its directory exists and accepts new files. Nothing is
+//! renamed into place until every output has been staged completely.
+
+use crate::error::{ErrorKind, JobError};
+use crate::progress::{Phase, Progress};
+use std::fs;
+use std::os::unix::fs::MetadataExt;
+use std::path::{Path, PathBuf};
+use subdiv_io::{Format, StagedFile};
+
+/// A file identity: (device, inode) when the file exists.
+type FileId = (u64, u64);
+
+fn file_id(path: &Path) -> Option<FileId> {
+    fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
+}
+
+/// `path` with its directory resolved (symbolic links, `..`), whether or not
+/// the file itself exists; `None` when the directory does not exist.
+fn resolved(path: &Path) -> Option<PathBuf> {
+    if let Ok(p) = fs::canonicalize(path) {
+        return Some(p);
+    }
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    Some(fs::canonicalize(dir).ok()?.join(path.file_name()?))
+}
+
+struct Planned {
+    flag: String,
+    path: PathBuf,
+    resolved: PathBuf,
+}
+
+/// The outputs of one command.
+pub struct Outputs {
+    inputs: Vec<(PathBuf, Option<PathBuf>, Option<FileId>)>,
+    planned: Vec<Planned>,
+    staged: Vec<StagedFile>,
+}
+
+impl Outputs {
+    /// Outputs of a command reading `inputs` (the mesh and parameter files).
+    pub fn new<'a>(inputs: impl IntoIterator<Item = &'a Path>) -> Self {
+        let inputs = inputs.into_iter().map(|p| (p.to_path_buf(), fs::canonicalize(p).ok(), file_id(p))).collect();
+        Self { inputs, planned: Vec::new(), staged: Vec::new() }
+    }
+
+    /// Plans a mesh output given by `flag`; returns its format.
+    pub fn mesh(&mut self, flag: &str, path: &Path) -> Result<Format, JobError> {
+        let format = Format::from_path(path).map_err(|e| JobError::bad_input(format!("{flag} {e}")))?;
+        self.plan(flag, path)?;
+        Ok(format)
+    }
+
+    /// Plans a non-mesh output (the JSON report) given by `flag`.
+    pub fn other(&mut self, flag: &str, path: &Path) -> Result<(), JobError> {
+        self.plan(flag, path)
+    }
+
+    fn plan(&mut self, flag: &str, path: &Path) -> Result<(), JobError> {
+        let shown = path.display();
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        if path.file_name().is_none() {
+            return Err(JobError::bad_input(format!("{flag} {shown}: not a file name")));
+        }
+        match fs::metadata(dir) {
+            Ok(m) if m.is_dir() => {}
+            Ok(_) => {
+                return Err(JobError::write_failed(format!("{flag} {shown}: {} is not a directory", dir.display())))
+            }
+            Err(e) => return Err(JobError::write_failed(format!("{flag} {shown}: directory {}: {e}", dir.display()))),
+        }
+        let resolved =
+            resolved(path).ok_or_else(|| JobError::write_failed(format!("{flag} {shown}: cannot resolve")))?;
+        let id = file_id(path);
+        for (input, canonical, input_id) in &self.inputs {
+            if canonical.as_ref() == Some(&resolved) || (id.is_some() && id == *input_id) {
+                return Err(JobError::bad_input(format!(
+                    "{flag} {shown} is the input file {}: refusing to overwrite an input",
+                    input.display()
+                )));
+            }
+        }
+        if let Some(other) = self.planned.iter().find(|p| p.resolved == resolved) {
+            return Err(JobError::bad_input(format!("{flag} and {} both name {shown}", other.flag)));
+        }
+        match fs::symlink_metadata(path) {
+            Ok(m) if m.is_dir() => return Err(JobError::bad_input(format!("{flag} {shown} is a directory"))),
+            Ok(m) if !m.is_file() && !m.file_type().is_symlink() => {
+                return Err(JobError::bad_input(format!("{flag} {shown} exists and is not a regular file")))
+            }
+            Ok(m) if m.file_type().is_symlink() && fs::metadata(path).is_ok_and(|t| !t.is_file()) => {
+                return Err(JobError::bad_input(format!(
+                    "{flag} {shown} links to something that is not a regular file"
+                )))
+            }
+            _ => {}
+        }
+        probe_writable(dir).map_err(|e| {
+            JobError::write_failed(format!("{flag} {shown}: cannot create files in {}: {e}", dir.display()))
+        })?;
+        self.planned.push(Planned { flag: flag.to_string(), path: path.to_path_buf(), resolved });
+        Ok(())
+    }
+
+    /// Adds a staged output (one of the planned paths).
+    pub fn stage(&mut self, file: StagedFile) {
+        debug_assert!(self.planned.iter().any(|p| p.path == file.target()));
+        self.staged.push(file);
+    }
+
+    /// Puts every staged output in place, or none (exit 4 on failure).
+    pub fn commit(self) -> Result<Vec<PathBuf>, JobError> {
+        let paths = self.staged.iter().map(|s| s.target().to_path_buf()).collect();
+        subdiv_io::commit_all(self.staged).map_err(|e| JobError::from_error(ErrorKind::WriteFailed, &e))?;
+        Ok(paths)
+    }
+}
+
+/// Creates and removes a file in `dir`: the one reliable test that the
+/// directory accepts new files (permissions, read-only mounts, ACLs).
+fn probe_writable(dir: &Path) -> std::io::Result<()> {
+    // One name per probe: the jobs of a batch probe the same directory at once.
+    static PROBES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = PROBES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let probe = dir.join(format!(".subdiv-probe.{}.{n}", std::process::id()));
+    fs::OpenOptions::new().write(true).create_new(true).open(&probe)?;
+    fs::remove_file(&probe)
+}
+
+/// The positions as `format` stores them: `f32` formats round every
+/// coordinate (the error must be measured on what is written). Errors
+/// (exit 2) when a coordinate does not fit in `f32`.
+pub fn as_written<'a>(
+    flag: &str,
+    path: &Path,
+    format: Format,
+    positions: &'a [subdiv_mesh::DVec3],
+) -> Result<std::borrow::Cow<'a, [subdiv_mesh::DVec3]>, JobError> {
+    if format.keeps_f64() {
+        return Ok(std::borrow::Cow::Borrowed(positions));
+    }
+    let rounded: Vec<subdiv_mesh::DVec3> = positions.iter().map(|p| p.as_vec3().as_dvec3()).collect();
+    if let Some(i) = rounded.iter().position(|p| !p.is_finite()) {
+        return Err(JobError::bad_input(format!(
+            "{flag} {}: {format} stores 32-bit floats, which cannot hold vertex {i} at {}; use .obj, .off or .ply",
+            path.display(),
+            positions[i]
+        )));
+    }
+    Ok(std::borrow::Cow::Owned(rounded))
+}
+
+/// Refuses (exit 3) a result with a coordinate or normal that is not finite:
+/// nothing non-finite is ever written.
+pub fn require_finite(
+    what: &str,
+    mesh: &subdiv_mesh::Mesh,
+    normals: Option<&[subdiv_mesh::DVec3]>,
+) -> Result<(), JobError> {
+    let bad = mesh.positions().iter().filter(|p| !p.is_finite()).count();
+    if bad > 0 {
+        return Err(JobError::not_converged(format!(
+            "{what}: {bad} of {} vertices are not finite (NaN or infinite); nothing written",
+            mesh.positions().len()
+        )));
+    }
+    if let Some(n) = normals {
+        let bad = n.iter().filter(|p| !p.is_finite()).count();
+        if bad > 0 {
+            return Err(JobError::not_converged(format!(
+                "{what}: {bad} vertex normals are not finite; nothing written"
+            )));
+        }
+    }
+    Ok(())
+}
+
+impl Outputs {
+    /// Checks and stages a mesh output (with vertex normals when `normals`),
+    /// showing the bytes written on a progress bar.
+    pub fn stage_mesh(
+        &mut self,
+        flag: &str,
+        path: &Path,
+        mesh: &subdiv_mesh::Mesh,
+        normals: bool,
+        progress: &mut dyn Progress,
+    ) -> Result<(), JobError> {
+        let format = Format::from_path(path).map_err(|e| JobError::bad_input(format!("{flag} {e}")))?;
+        let n = normals.then(|| mesh.vertex_normals());
+        require_finite(&format!("{flag} {}", path.display()), mesh, n.as_deref())?;
+        let positions = as_written(flag, path, format, mesh.positions())?;
+        // Tags and texture coordinates where the format has a place for them.
+        let tags = mesh.tags().to_list(mesh.topology());
+        let (mut view, left_out) = subdiv_io::view_for_format(mesh, &positions, &tags, format);
+        if let Some(n) = &n {
+            view = view.with_normals(n);
+        }
+        for what in left_out {
+            progress.warn(&format!("{flag} {}: {what}", path.display()));
+        }
+        // A rough size for the bar's ETA: text formats take ~40 bytes a vertex and ~8 a corner.
+        let estimate = 40 * positions.len() as u64 + 8 * mesh.topology().half_edge_count() as u64;
+        progress.begin(Phase::Write, &format!("writing {}", path.display()), estimate);
+        let mut most = estimate;
+        let staged = subdiv_io::stage_mesh(path, view, format, &mut |done| {
+            if done > most {
+                most = done;
+                progress.set_total(most);
+            }
+            progress.advance(done);
+        });
+        progress.end();
+        let staged = staged.map_err(|e| match e {
+            subdiv_io::IoError::Io { .. } => JobError::from_error(ErrorKind::WriteFailed, &e),
+            other => JobError::from_error(ErrorKind::BadInput, &other),
+        })?;
+        self.stage(staged);
+        Ok(())
+    }
+
+    /// Stages a non-mesh output.
+    pub fn stage_bytes(&mut self, path: &Path, bytes: &[u8]) -> Result<(), JobError> {
+        let staged =
+            subdiv_io::stage_bytes(path, bytes).map_err(|e| JobError::from_error(ErrorKind::WriteFailed, &e))?;
+        self.stage(staged);
+        Ok(())
+    }
+}

@@ -1,0 +1,500 @@
+//! The one pipeline of `interpolate`, `subdivide` and `info` on one file: what `subdiv
+//! interpolate|subdivide|info`, every job of `subdiv batch` and the Python package's file
+//! functions run.
+//!
+//! [`interpolate`]: outputs checked before any work (not an input, not twice, a writable
+//! directory, a regular file or none) → input read and validated with its tags (tag file,
+//! feature angle) → parameter files read → the method ([`subdiv_interp::interpolate`]) →
+//! every refinement sized against the memory budget before it is built → the error measured
+//! on the control positions exactly as the output format stores them, by the plain scheme's
+//! rules ([how the error is measured]) → refused above `tol` or when not finite → every output
+//! staged, then committed together (all or none) → the typed [`Report`].
+//!
+//! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
+
+use crate::budget::{BudgetError, MemoryBudget};
+use crate::error::{ErrorKind, JobError};
+use crate::info::{summarize_soup, Summary};
+use crate::load::{load_tagged_mesh, read_soup};
+use crate::options::{InfoOptions, InterpolateOptions, Parameter, ShapeValue, SubdivideOptions};
+use crate::outputs::{self, Outputs};
+use crate::progress::{Phase, Progress};
+use serde::Serialize;
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use subdiv_interp::report::MeshSummary;
+use subdiv_interp::{
+    params, DengMaOptions, DengWangOptions, ErrorStats, FairOptions, FairScheme, FanChengLaiOptions, InterpError,
+    Interpolant, Method, MethodOptions, ParamFileError, Report, Shape, SurfaceOptions, ZhengCaiOptions,
+};
+use subdiv_mesh::{DVec3, Mesh};
+use subdiv_stencil::{Options, Scheme, StencilError};
+
+/// Where `interpolate` writes (each optional).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct InterpolateOutputs {
+    /// The control mesh (Deng-Ma: its surface refined `levels` times), `-o`.
+    pub control: Option<PathBuf>,
+    /// The limit surface refined `levels` times with vertex normals, `--surface`.
+    pub surface: Option<PathBuf>,
+    /// The JSON report, `--report`.
+    pub report: Option<PathBuf>,
+}
+
+/// What [`interpolate`] did.
+#[derive(Debug)]
+#[non_exhaustive]
+pub struct Interpolated {
+    /// The files written.
+    pub outputs: Vec<PathBuf>,
+    /// The report (what `--report` holds).
+    pub report: Report,
+    /// The error measured on the control mesh as written.
+    pub error: ErrorStats,
+}
+
+/// The warnings a job met, passed on to `progress` once the outputs are committed.
+fn warn_all(progress: &mut dyn Progress, warnings: &[String]) {
+    for w in warnings {
+        progress.warn(w);
+    }
+}
+
+/// A refusal of the size guard as bad input, naming the option that raises the budget.
+fn refused(e: BudgetError) -> JobError {
+    let hint = if matches!(e, BudgetError::OverBudget { .. }) { " or set --max-memory" } else { "" };
+    JobError::bad_input(format!("{e}{hint}"))
+}
+
+/// Exit 3 when the solver did not get there (with the error reached), 2 otherwise; the message
+/// names the option or parameter file a parameter error is about, else the input.
+fn classify(input: &Path, o: &InterpolateOptions, e: InterpError) -> JobError {
+    use subdiv_interp::Parameter as P;
+    let file = |p: &Option<Parameter>, flag: &str| match p {
+        Some(Parameter::File(path)) => path.display().to_string(),
+        _ => flag.to_string(),
+    };
+    let subject = match &e {
+        InterpError::InvalidParameter { parameter, .. } => match parameter {
+            P::Normals => file(&o.normals, "--normals"),
+            P::Handles => file(&o.handles, "--handles"),
+            P::Subset => file(&o.subset, "--subset"),
+            P::Shape if o.shape_file.is_some() => file(&o.shape_file, "--shape-file"),
+            P::Shape => "--shape".into(),
+            P::Tol => "--tol".into(),
+            P::Eps => "--eps".into(),
+            P::Mu => "--mu".into(),
+            P::Tension => "--omega/--variable-tension".into(),
+            P::Refine => "--refine".into(),
+            P::FairnessWeight => "--fairness-weight".into(),
+            P::Scheme => "--scheme".into(),
+            _ => input.display().to_string(),
+        },
+        _ => input.display().to_string(),
+    };
+    let kind = if e.is_not_converged() { ErrorKind::NotConverged } else { ErrorKind::BadInput };
+    let mut error = JobError::new(kind, format!("{subject}: {e}"));
+    let solver_state = |s: &subdiv_solve::SolveError| match s {
+        subdiv_solve::SolveError::NotConverged { iterations, residual, .. }
+        | subdiv_solve::SolveError::Diverged { iterations, residual, .. } => (Some(*iterations), Some(*residual)),
+        _ => (None, None),
+    };
+    (error.iterations, error.residual) = match &e {
+        InterpError::Solve { source, .. } | InterpError::Unsolvable { source, .. } => solver_state(source),
+        InterpError::ToleranceNotMet { max_rel, .. } => (None, Some(*max_rel)),
+        _ => (None, None),
+    };
+    error
+}
+
+/// A parameter given as a file (read through `subdiv-io`'s guarded reader) or inline (its JSON
+/// text), parsed by `parse`; errors name the file, or the option for inline values.
+fn parameter<T>(
+    value: &Option<Parameter>,
+    flag: &str,
+    from_file: impl FnOnce(&Path) -> Result<T, ParamFileError>,
+    parse: impl FnOnce(&str) -> Result<T, ParamFileError>,
+) -> Result<Option<T>, JobError> {
+    match value {
+        None => Ok(None),
+        Some(Parameter::File(path)) => from_file(path).map(Some).map_err(|e| JobError::bad_input(e.to_string())),
+        Some(Parameter::Inline(json)) => {
+            parse(&json.to_string()).map(Some).map_err(|e| JobError::bad_input(format!("{flag}: {}", e.message())))
+        }
+    }
+}
+
+/// The method's options from the job's options, with the parameter files read: the defaults
+/// are the method's own (an option left `None` is not set), the checks are
+/// [`InterpolateOptions::validate`]'s and then the method's.
+///
+/// # Errors
+/// Bad input for invalid options or parameter files.
+pub fn method_options(
+    input: &Path,
+    o: &InterpolateOptions,
+    mesh: &Mesh,
+    observer: subdiv_solve::IterationObserver,
+) -> Result<MethodOptions, JobError> {
+    o.validate()?;
+    let n = mesh.topology().vertex_count();
+    let subset = parameter(&o.subset, "--subset", |p| params::subset(p, n), |t| params::parse_subset(t, n))?;
+    let normals = parameter(&o.normals, "--normals", |p| params::normals(p, n), |t| params::parse_normals(t, n))?;
+    let options: MethodOptions = match o.method {
+        Method::ZhengCai => {
+            let handles =
+                parameter(&o.handles, "--handles", |p| params::handles(p, n), |t| params::parse_handles(t, n))?;
+            let mut options = ZhengCaiOptions::default().with_normals(normals).with_handles(handles);
+            if let Some(ite_max) = o.ite_max {
+                options = options.with_ite_max(ite_max);
+            }
+            if let Some(eps) = o.eps {
+                options = options.with_eps(eps);
+            }
+            options.into()
+        }
+        Method::FanChengLai => {
+            let per_face = parameter(
+                &o.shape_file,
+                "--shape-file",
+                |p| params::shape_file(p, mesh),
+                |t| params::parse_shape_file(t, mesh),
+            )?;
+            let shape = match (&o.shape, per_face) {
+                (_, Some(lambdas)) => Shape::PerFace(lambdas),
+                (Some(ShapeValue::Uniform(lambda)), None) => Shape::Uniform(*lambda),
+                (Some(ShapeValue::PerFace(lambdas)), None) => Shape::PerFace(lambdas.clone()),
+                (None, None) => Shape::default(),
+            };
+            FanChengLaiOptions::default().with_shape(shape).into()
+        }
+        Method::DengWang => {
+            let mut options = DengWangOptions::default().with_normals(normals);
+            if let Some(mu) = o.mu {
+                options = options.with_mu(mu);
+            }
+            if let Some(beta) = o.beta {
+                options = options.with_beta(beta);
+            }
+            options.into()
+        }
+        Method::DengMa => DengMaOptions::default().with_tension(o.tension().unwrap_or_default()).into(),
+        Method::Fair => {
+            let scheme = match o.scheme.unwrap_or(Scheme::CatmullClark) {
+                Scheme::CatmullClark => FairScheme::CatmullClark,
+                Scheme::Loop(beta) => FairScheme::Loop(o.beta.unwrap_or(beta)),
+                Scheme::DooSabin => FairScheme::DooSabin,
+                Scheme::DengMa(_) => {
+                    return Err(JobError::bad_input(
+                        "--scheme: fair takes catmull-clark, loop or doo-sabin (deng-ma interpolates already)",
+                    ))
+                }
+            };
+            let mut options = FairOptions::default().with_scheme(scheme).with_fairness_weight(o.fairness_weight);
+            if let Some(refine) = o.refine {
+                options = options.with_refine(refine);
+            }
+            options.into()
+        }
+        method => MethodOptions::new(method),
+    };
+    let surface =
+        SurfaceOptions::default().with_boundary(o.boundary).with_crease_method(o.crease_method).with_fvar(o.fvar);
+    options
+        .with_tol(o.tol)
+        .with_max_iter(o.max_iter)
+        .with_solver(o.solver)
+        .with_observer(observer)
+        .with_surface(surface)
+        .with_subset(subset)
+        .map_err(|e| classify(input, o, e))
+}
+
+/// The method on a mesh in memory: [`method_options`], then [`subdiv_interp::interpolate`];
+/// messages name `input` (the mesh's file, or what stands for it) as the command line does.
+///
+/// # Errors
+/// Bad input for invalid options, parameter files or a mesh the method refuses; not converged
+/// when the solver stopped early or the tolerance was not met.
+pub fn interpolate_mesh(
+    input: &Path,
+    mesh: &Mesh,
+    o: &InterpolateOptions,
+    observer: subdiv_solve::IterationObserver,
+) -> Result<Interpolant, JobError> {
+    let options = method_options(input, o, mesh, observer)?;
+    subdiv_interp::interpolate(mesh, &options).map_err(|e| classify(input, o, e))
+}
+
+/// The parameter files of `o`: inputs that no output may overwrite.
+fn parameter_files(o: &InterpolateOptions) -> impl Iterator<Item = &Path> {
+    [&o.shape_file, &o.normals, &o.subset, &o.handles]
+        .into_iter()
+        .filter_map(|p| match p {
+            Some(Parameter::File(path)) => Some(path.as_path()),
+            _ => None,
+        })
+        .chain(o.tags.tags.as_deref())
+}
+
+/// `levels` steps with `options` ([`subdiv_stencil::subdivide_for_output`]: each level's mesh
+/// carries its decayed tags to the next, then limit positions), each level reported; texture
+/// coordinates the scheme cannot refine (Doo-Sabin with seams or tags) are dropped with a
+/// warning.
+pub fn refine(
+    mesh: &Mesh,
+    options: Options,
+    levels: usize,
+    limit: bool,
+    progress: &mut dyn Progress,
+) -> Result<(Mesh, Option<String>), StencilError> {
+    progress.begin(Phase::Refine, &format!("{} subdivision", options.scheme.name()), levels as u64);
+    let mut done = 0;
+    let refined = subdiv_stencil::subdivide_for_output(mesh, options, levels, limit, |_| {
+        done += 1;
+        progress.advance(done);
+    });
+    progress.end();
+    let refined = refined?;
+    let dropped = refined.uvs_dropped.map(|reason| format!("texture coordinates not written: {reason}"));
+    Ok((refined.mesh, dropped))
+}
+
+/// `subdiv interpolate INPUT --method … [-o CONTROL] [--surface SURFACE --levels L] [--report
+/// R]` (the module docs give the steps).
+///
+/// # Errors
+/// A [`JobError`] whose kind is the exit code (nothing written on any error).
+pub fn interpolate(
+    input: &Path,
+    o: &InterpolateOptions,
+    paths: &InterpolateOutputs,
+    progress: &mut dyn Progress,
+) -> Result<Interpolated, JobError> {
+    let total = Instant::now();
+    o.validate()?;
+    // Every output is checked before any work, and written at the end or not at all.
+    let mut outputs = Outputs::new(std::iter::once(input).chain(parameter_files(o)));
+    let control_format = paths.control.as_deref().map(|p| outputs.mesh("--output", p)).transpose()?;
+    let surface_format = paths.surface.as_deref().map(|p| outputs.mesh("--surface", p)).transpose()?;
+    if let Some(path) = &paths.report {
+        outputs.other("--report", path)?;
+    }
+    let mesh = load_tagged_mesh(input, &o.tags, progress)?;
+    let name = o.method.name();
+    let label = format!("{name}: {} vertices", mesh.topology().vertex_count());
+    let observer = progress.solver(&label, o.tol);
+    let options = method_options(input, o, &mesh, observer);
+    let result =
+        options.and_then(|options| subdiv_interp::interpolate(&mesh, &options).map_err(|e| classify(input, o, e)));
+    progress.solver_end();
+    let mut result = result?;
+    let mut warnings = Vec::new();
+    let d = mesh.bbox_diagonal();
+
+    // The refined meshes to write: sized before they are built.
+    let is_deng_ma = o.method == Method::DengMa;
+    let budget = MemoryBudget::given_or_available(o.max_memory, "--max-memory");
+    let plain = result.options().scheme;
+    for (refined, flag, format) in [(is_deng_ma, "--output", control_format), (true, "--surface", surface_format)] {
+        if let (true, Some(format)) = (refined, format) {
+            let what = format!("{flag} (--levels {})", o.levels);
+            // Limit positions and normals.
+            budget.check(&what, result.control.topology(), plain, o.levels, 2, Some(format)).map_err(refused)?;
+        }
+    }
+    let mut refine_surface = |result: &Interpolant, progress: &mut dyn Progress| {
+        let (surface, dropped) = refine(&result.control, result.options(), o.levels, true, progress)
+            .map_err(|e| classify(input, o, e.into()))?;
+        warnings.extend(dropped);
+        Ok::<_, JobError>(surface)
+    };
+    let surface = paths.surface.as_ref().map(|_| refine_surface(&result, progress)).transpose()?;
+
+    // The error, measured on the control positions exactly as they will be written (f32
+    // formats round them), by the plain scheme's rules. The rounded positions are swapped in
+    // and out of the result: no copy of the control mesh.
+    let mut written = match (&paths.control, control_format, is_deng_ma) {
+        (Some(path), Some(format), false) if !format.keeps_f64() => {
+            Some(outputs::as_written("--output", path, format, result.control.positions())?.into_owned())
+        }
+        _ => None,
+    };
+    let swap = |result: &mut Interpolant, written: &mut Option<Vec<DVec3>>| {
+        if let Some(w) = written {
+            result.control.positions_mut().swap_with_slice(w);
+        }
+    };
+    swap(&mut result, &mut written);
+    // Positions written unchanged (a 64-bit format, or none written): the method's own
+    // measurement on these very bits is the same computation.
+    let measured =
+        outputs::require_finite(name, &result.control, None).map(|()| match (&written, result.measured_error) {
+            (None, Some(error)) => error,
+            _ => result.error(mesh.positions(), &result.interpolated, d),
+        });
+    swap(&mut result, &mut written);
+    drop(written);
+    let error = measured?;
+    // NaN fails too. A fair result with a fairness weight approximates: its error is reported,
+    // not held to `tol`.
+    let approximates = o.method == Method::Fair && o.fairness_weight.is_some();
+    if error.max_rel.is_nan() || (error.max_rel > o.tol && !approximates) {
+        return Err(JobError::not_converged(format!(
+            "{}: {name}: the measured error {:.3e}·d exceeds --tol {:.1e} (mean {:.3e}·d); nothing written",
+            input.display(),
+            error.max_rel,
+            o.tol,
+            error.mean_rel
+        )));
+    }
+    // Deng-Ma's -o is its refined surface; every other method's the control mesh itself.
+    let control_out: Option<Cow<Mesh>> = match (&paths.control, is_deng_ma) {
+        (None, _) => None,
+        (Some(_), true) => Some(Cow::Owned(match &surface {
+            Some(s) => s.clone(),
+            None => refine_surface(&result, progress)?,
+        })),
+        (Some(_), false) => Some(Cow::Borrowed(&result.control)),
+    };
+
+    let total_ms = total.elapsed().as_secs_f64() * 1e3;
+    let control_mesh = control_out.as_deref().unwrap_or(&result.control);
+    let report = Report::new(&mesh, &result, error)
+        .with_input_file(input.display().to_string())
+        .with_control(control_mesh)
+        .with_total_ms(total_ms);
+    if let (Some(path), Some(control)) = (&paths.control, &control_out) {
+        outputs.stage_mesh("--output", path, control, is_deng_ma, progress)?;
+    }
+    if let (Some(path), Some(s)) = (&paths.surface, &surface) {
+        outputs.stage_mesh("--surface", path, s, true, progress)?;
+    }
+    if let Some(path) = &paths.report {
+        let text = serde_json::to_string_pretty(&report)
+            .map_err(|e| JobError::new(ErrorKind::Panic, format!("report: {e}")))?;
+        outputs.stage_bytes(path, (text + "\n").as_bytes())?;
+    }
+    let written = outputs.commit()?;
+    warnings.extend(result.warnings.iter().cloned());
+    warn_all(progress, &warnings);
+    Ok(Interpolated { outputs: written, report, error })
+}
+
+/// The report of [`subdivide`]: scheme, levels, limit, input and output counts.
+#[derive(Clone, Debug, Serialize)]
+#[non_exhaustive]
+pub struct SubdivideReport {
+    /// [`subdiv_stencil::Scheme::name`].
+    pub scheme: &'static str,
+    /// Subdivision steps.
+    pub levels: usize,
+    /// Limit positions.
+    pub limit: bool,
+    /// The input, with its file.
+    pub input: MeshSummary,
+    /// The mesh written.
+    pub output: MeshSummary,
+}
+
+/// What [`subdivide`] did.
+#[derive(Debug)]
+#[non_exhaustive]
+pub struct Subdivided {
+    /// The files written.
+    pub outputs: Vec<PathBuf>,
+    /// The counts.
+    pub report: SubdivideReport,
+}
+
+/// `subdiv subdivide INPUT --scheme S --levels N … -o OUTPUT`.
+///
+/// # Errors
+/// A [`JobError`] whose kind is the exit code (nothing written on any error).
+pub fn subdivide(
+    input: &Path,
+    o: &SubdivideOptions,
+    output: &Path,
+    progress: &mut dyn Progress,
+) -> Result<Subdivided, JobError> {
+    o.validate()?;
+    let mut outputs = Outputs::new(std::iter::once(input).chain(o.tags.tags.as_deref()));
+    let format = outputs.mesh("--output", output)?;
+    let mesh = load_tagged_mesh(input, &o.tags, progress)?;
+    let (mesh, refined, dropped) = subdivide_mesh(input, mesh, o, Some(format), progress)?;
+    outputs.stage_mesh("--output", output, &refined, o.normals, progress)?;
+    let written = outputs.commit()?;
+    warn_all(progress, dropped.as_slice());
+    let mut input_summary = MeshSummary::of(&mesh);
+    input_summary.file = Some(input.display().to_string());
+    let report = SubdivideReport {
+        scheme: o.options().scheme.name(),
+        levels: o.levels,
+        limit: o.limit,
+        input: input_summary,
+        output: MeshSummary::of(&refined),
+    };
+    Ok(Subdivided { outputs: written, report })
+}
+
+/// `o` on a mesh in memory: triangulated first if asked, sized against the memory budget (with
+/// what writing it as `format` holds), refined; returns the mesh refined (the triangulated one
+/// when triangulated), the result and the warning of texture coordinates left out. Messages
+/// name `input`.
+///
+/// # Errors
+/// Bad input for a mesh the scheme refuses, or a result over the budget.
+pub fn subdivide_mesh(
+    input: &Path,
+    mut mesh: Mesh,
+    o: &SubdivideOptions,
+    format: Option<subdiv_io::Format>,
+    progress: &mut dyn Progress,
+) -> Result<(Mesh, Mesh, Option<String>), JobError> {
+    o.validate()?;
+    let shown = input.display();
+    if o.triangulate {
+        mesh = subdiv_mesh::triangulate(&mesh)
+            .map_err(|e| JobError::bad_input(format!("{shown}: --triangulate: {e}")))?
+            .mesh;
+    }
+    let options = o.options();
+    // Normals and limit positions: one more array per vertex each.
+    let vertex_arrays = u64::from(o.normals) + u64::from(o.limit);
+    MemoryBudget::given_or_available(o.max_memory, "--max-memory")
+        .check("subdivide", mesh.topology(), options.scheme, o.levels, vertex_arrays, format)
+        .map_err(refused)?;
+    let (refined, dropped) = refine(&mesh, options, o.levels, o.limit, progress).map_err(|e| {
+        let hint = match e {
+            StencilError::NotTriangles { .. } => " (or pass --triangulate)",
+            StencilError::TagsNotSupported { .. } => {
+                " (catmull-clark and loop take every crease and corner tag, doo-sabin infinitely sharp ones)"
+            }
+            _ => "",
+        };
+        JobError::bad_input(format!("{shown}: {e}{hint}"))
+    })?;
+    Ok((mesh, refined, dropped))
+}
+
+/// `subdiv info INPUT`: the summary, and the error of an invalid mesh (or, with `strict`, of
+/// its warnings) beside it — an invalid mesh is described and fails.
+pub fn info(
+    input: &Path,
+    o: &InfoOptions,
+    progress: &mut dyn Progress,
+) -> Result<(Summary, Option<JobError>), JobError> {
+    let soup = read_soup(input, progress)?;
+    let file = input.display().to_string();
+    let summary = summarize_soup(soup, Some(&file));
+    let error = match &summary.error {
+        Some(error) => Some(JobError::bad_input(format!("{file}: {error}"))),
+        None if o.strict && !summary.warnings.is_empty() => {
+            Some(JobError::bad_input(format!("{file}: {} (--strict)", summary.warnings.join("; "))))
+        }
+        None => None,
+    };
+    Ok((summary, error))
+}
