@@ -4,7 +4,7 @@
 
 use crate::budget::{refused, MemoryArgs};
 use crate::failure::{bad_input, Failure};
-use crate::load::{load_tagged_mesh, TagArgs};
+use crate::load::{load_tagged_mesh, read_param_file, TagArgs};
 use crate::outputs::{self, Outputs};
 use crate::progress;
 use crate::subdivide::{BetaArg, SurfaceArgs, TensionArgs};
@@ -162,11 +162,11 @@ fn check_applies(args: &InterpolateArgs) -> Result<(), Failure> {
 /// The method's options from the flags and parameter files.
 fn method_options(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserver) -> Result<MethodOptions, Failure> {
     let n = mesh.topology().vertex_count();
-    let subset = args.subset.as_deref().map(|p| params::subset(p, n)).transpose().map_err(bad_input)?;
-    let normals = args.normals.as_deref().map(|p| params::normals(p, n)).transpose().map_err(bad_input)?;
+    let subset = args.subset.as_deref().map(|p| read_param_file(p, |t| params::parse_subset(t, n))).transpose()?;
+    let normals = args.normals.as_deref().map(|p| read_param_file(p, |t| params::parse_normals(t, n))).transpose()?;
     let options: MethodOptions = match args.method {
         Method::ZhengCai => {
-            let handles = args.handles.as_deref().map(|p| params::handles(p, n)).transpose().map_err(bad_input)?;
+            let handles = args.handles.as_deref().map(|p| read_param_file(p, |t| params::parse_handles(t, n))).transpose()?;
             ZhengCaiOptions::default()
                 .with_ite_max(args.ite_max)
                 .with_eps(args.eps)
@@ -176,7 +176,7 @@ fn method_options(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserv
         }
         Method::FanChengLai => {
             let shape = match (&args.shape, &args.shape_file) {
-                (_, Some(file)) => Shape::PerFace(params::shape_file(file, mesh).map_err(bad_input)?),
+                (_, Some(file)) => Shape::PerFace(read_param_file(file, |t| params::parse_shape_file(t, mesh))?),
                 (Some(l), None) => Shape::Uniform(*l),
                 (None, None) => Shape::default(),
             };

@@ -23,6 +23,22 @@ pub fn read_soup(path: &Path) -> Result<PolygonSoup, Failure> {
     Ok(soup)
 }
 
+/// Reads a text input that is not a mesh (a parameter file, `--at`, `.xyz`
+/// points) through [`subdiv_io::read_text`]: a FIFO or a device is refused
+/// before it is opened, the size is capped, the text must be UTF-8 (exit 2).
+pub fn read_text(path: &Path) -> Result<String, Failure> {
+    subdiv_io::read_text(path).map_err(bad_input)
+}
+
+/// Reads a parameter file ([`read_text`]) and parses it with one of
+/// `subdiv_interp::params`' parsers, the error naming the file (exit 2).
+pub fn read_param_file<T>(
+    path: &Path,
+    parse: impl FnOnce(&str) -> Result<T, subdiv_interp::ParamFileError>,
+) -> Result<T, Failure> {
+    parse(&read_text(path)?).map_err(|e| bad_input(e.with_path(path)))
+}
+
 /// Where a command's tags come from besides the file's own `t` lines.
 #[derive(clap::Args, Debug, Default)]
 pub struct TagArgs {
