@@ -120,7 +120,8 @@ fn code_of(text: &str) -> String {
     let b = text.as_bytes();
     let mut out = Vec::with_capacity(b.len());
     let mut i = 0;
-    let blank = |out: &mut Vec<u8>, bytes: &[u8]| out.extend(bytes.iter().map(|&c| if c == b'\n' { b'\n' } else { b' ' }));
+    let blank =
+        |out: &mut Vec<u8>, bytes: &[u8]| out.extend(bytes.iter().map(|&c| if c == b'\n' { b'\n' } else { b' ' }));
     while i < b.len() {
         let rest = &b[i..];
         if rest.starts_with(b"//") {
@@ -203,7 +204,13 @@ fn raw_string_len(rest: &[u8], at_token_start: bool) -> Option<usize> {
     if !at_token_start {
         return None;
     }
-    let start = if rest.starts_with(b"br") { 2 } else if rest.starts_with(b"r") { 1 } else { return None };
+    let start = if rest.starts_with(b"br") {
+        2
+    } else if rest.starts_with(b"r") {
+        1
+    } else {
+        return None;
+    };
     let hashes = rest[start..].iter().take_while(|&&c| c == b'#').count();
     if rest.get(start + hashes) != Some(&b'"') {
         return None;
@@ -256,7 +263,8 @@ fn rule_fs(path: &str, text: &str) -> Vec<Violation> {
             let after = after.trim_start();
             match after.strip_prefix("::") {
                 Some(tail) => {
-                    let name: String = tail.trim_start().chars().take_while(|&c| c.is_alphanumeric() || c == '_').collect();
+                    let name: String =
+                        tail.trim_start().chars().take_while(|&c| c.is_alphanumeric() || c == '_').collect();
                     if name.is_empty() {
                         "std::fs".to_string()
                     } else {
@@ -453,7 +461,8 @@ fn source_files(root: &Path) -> Vec<String> {
                 srcs.push(path);
             } else if path.extension().is_some_and(|e| e == "rs") {
                 let relative = path.strip_prefix(root).unwrap();
-                files.push(relative.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/"));
+                files
+                    .push(relative.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/"));
             }
         }
     }
@@ -482,11 +491,8 @@ fn the_tree_is_tidy_apart_from_the_allowed_items() {
     let new: Vec<String> = violations.iter().filter(|v| !allowed(v)).map(ToString::to_string).collect();
     let present: BTreeSet<(u8, &str, &str)> =
         violations.iter().map(|v| (v.rule, v.file.as_str(), v.item.as_str())).collect();
-    let gone: Vec<String> = ALLOWED
-        .iter()
-        .filter(|a| !present.contains(a))
-        .map(|(r, f, item)| format!("rule {r}: {f}: {item}"))
-        .collect();
+    let gone: Vec<String> =
+        ALLOWED.iter().filter(|a| !present.contains(a)).map(|(r, f, item)| format!("rule {r}: {f}: {item}")).collect();
     assert!(new.is_empty(), "{} tidy violation(s):\n{}", new.len(), new.join("\n"));
     assert!(
         gone.is_empty(),
@@ -559,7 +565,8 @@ fn e(s: SchemeArg) -> u8 {
     assert_eq!(found, [(6, "match in fn a".to_string()), (22, "match in fn d".to_string())]);
     assert!(rule_scheme_wildcard("crates/cli/tests/x.rs", text).is_empty());
     // In strings and comments there is no match.
-    let quoted = "const S: &str = \"match s { Scheme::Loop(_) => 1, _ => 2 }\";\n// match s { Scheme::A => 1, _ => 2 }\n";
+    let quoted =
+        "const S: &str = \"match s { Scheme::Loop(_) => 1, _ => 2 }\";\n// match s { Scheme::A => 1, _ => 2 }\n";
     assert!(rule_scheme_wildcard("crates/cli/src/x.rs", quoted).is_empty());
 }
 

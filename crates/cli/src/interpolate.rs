@@ -166,7 +166,8 @@ fn method_options(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserv
     let normals = args.normals.as_deref().map(|p| read_param_file(p, |t| params::parse_normals(t, n))).transpose()?;
     let options: MethodOptions = match args.method {
         Method::ZhengCai => {
-            let handles = args.handles.as_deref().map(|p| read_param_file(p, |t| params::parse_handles(t, n))).transpose()?;
+            let handles =
+                args.handles.as_deref().map(|p| read_param_file(p, |t| params::parse_handles(t, n))).transpose()?;
             ZhengCaiOptions::default()
                 .with_ite_max(args.ite_max)
                 .with_eps(args.eps)

@@ -119,11 +119,8 @@ fn parse_non_manifold_bad_rows(readme: &Path) -> Vec<Row> {
         }
         let fields: Vec<&str> = cols[3].split(';').next().unwrap().split_whitespace().collect();
         let count = |key: &str| fields.iter().find_map(|f| f.strip_prefix(key)).unwrap().parse().unwrap();
-        let face_sizes = fields
-            .iter()
-            .filter_map(|f| f.split_once(':'))
-            .map(|(k, v)| (k.to_string(), v.parse().unwrap()))
-            .collect();
+        let face_sizes =
+            fields.iter().filter_map(|f| f.split_once(':')).map(|(k, v)| (k.to_string(), v.parse().unwrap())).collect();
         rows.push(Row {
             file: format!("bad/{}", cols[1]),
             vertices: count("V="),

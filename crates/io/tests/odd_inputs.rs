@@ -229,7 +229,11 @@ fn scrambled_torus(n: u32, m: u32) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
         .collect();
     let at = |i: u32, j: u32| (i % n) * m + j % m;
     let faces = (0..n)
-        .flat_map(|i| (0..m).flat_map(move |j| [[at(i, j), at(i + 1, j), at(i + 1, j + 1)], [at(i, j), at(i + 1, j + 1), at(i, j + 1)]]))
+        .flat_map(|i| {
+            (0..m).flat_map(move |j| {
+                [[at(i, j), at(i + 1, j), at(i + 1, j + 1)], [at(i, j), at(i + 1, j + 1), at(i, j + 1)]]
+            })
+        })
         .collect();
     (positions, faces)
 }

@@ -156,7 +156,9 @@ fn the_fixtures_are_complete_unchanged_copies() {
             let compared = compare_tree(&shared, &creases());
             assert!(compared > rows.len(), "{compared} files compared");
         }
-        None => eprintln!("../shared/peer-outputs/creases/ not found: the byte comparison with the originals is left out"),
+        None => {
+            eprintln!("../shared/peer-outputs/creases/ not found: the byte comparison with the originals is left out")
+        }
     }
 }
 
