@@ -92,8 +92,7 @@ pub fn run(args: &EvaluateArgs) -> Result<(), Failure> {
     let mut outputs = Outputs::new([args.mesh.as_path(), args.at.as_path()].into_iter().chain(args.tags.files()));
     outputs.other("--output", &args.output)?;
     let mesh = load_tagged_mesh(&args.mesh, &args.tags)?;
-    let text = std::fs::read(&args.at).map_err(|e| bad_input(anyhow!("--at {}: {e}", args.at.display())))?;
-    let text = String::from_utf8(text).map_err(|_| bad_input(anyhow!("--at {}: not UTF-8 text", args.at.display())))?;
+    let text = crate::load::read_text(&args.at)?;
     let lines = parse(&text, &args.at)?;
     let input = args.mesh.display();
     let surface =

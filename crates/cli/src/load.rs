@@ -1,7 +1,7 @@
 //! Reading and validating the input mesh of the evaluation commands, through the one pipeline's
 //! loader ([`subdiv::job::load`]): the file's tags, a tag file's, feature edges by angle.
 
-use crate::failure::Failure;
+use crate::failure::{bad_input, Failure};
 use std::path::{Path, PathBuf};
 use subdiv::job::TagOptions;
 use subdiv_mesh::{Mesh, PolygonSoup};
@@ -9,6 +9,13 @@ use subdiv_mesh::{Mesh, PolygonSoup};
 /// Reads a mesh file as it is (unvalidated), with a progress bar for large files.
 pub fn read_soup(path: &Path) -> Result<PolygonSoup, Failure> {
     Ok(subdiv::job::load::read_soup(path, &mut crate::progress::Terminal::default())?)
+}
+
+/// Reads a text input that is not a mesh (a parameter file, `--at`, `.xyz`
+/// points) through [`subdiv_io::read_text`]: a FIFO or a device is refused
+/// before it is opened, the size is capped, the text must be UTF-8 (exit 2).
+pub fn read_text(path: &Path) -> Result<String, Failure> {
+    subdiv_io::read_text(path).map_err(bad_input)
 }
 
 /// Where a command's tags come from besides the file's own `t` lines.

@@ -36,7 +36,7 @@ pub fn read_points(path: &Path) -> Result<Vec<DVec3>, Failure> {
     if !is_xyz {
         return Ok(crate::load::read_soup(path)?.positions);
     }
-    let text = std::fs::read_to_string(path).map_err(|e| bad_input(anyhow!("{}: {e}", path.display())))?;
+    let text = crate::load::read_text(path)?;
     let mut points = Vec::new();
     for (k, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("").trim();

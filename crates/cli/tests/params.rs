@@ -1,12 +1,15 @@
 //! `subdiv interpolate` with bad parameter files (`--subset`, `--normals`,
 //! `--handles`, `--shape-file`): exit 2, one line on stderr naming the
 //! parameter file (never the mesh), nothing written. The details of every
-//! message are unit-tested in subdiv-interp's `params` module.
+//! message are unit-tested in subdiv-interp's `params` module (the text) and
+//! subdiv-io's `text_file` module (the file). The other text inputs
+//! (`evaluate --at`, `project --points` .xyz) are read the same way: a FIFO or
+//! a file in another encoding is refused for every one of them.
 
 mod common;
 use common::{assert_no_panic, fixtures, subdiv};
 use serde_json::Value;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -99,15 +102,34 @@ fn bad_parameter_files_exit_2_naming_the_parameter_file() {
     }
 }
 
-/// A named pipe nobody writes to would block `read` forever: refused at once.
-#[cfg(unix)]
-#[test]
-fn fifo_parameter_file_is_refused_without_blocking() {
-    let fifo = tmp("subset.fifo");
-    let _ = std::fs::remove_file(&fifo);
-    assert!(Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
+/// The command lines that read `file` as a text input other than the mesh:
+/// the parameter files of `interpolate`, `evaluate --at`, `project --points`
+/// (`.xyz`). Each names the flag, for the messages.
+/// `out` is the output's path without an extension (`.obj` for the
+/// control mesh, `.txt` for the others).
+fn text_inputs(file: &str, out: &Path) -> Vec<(&'static str, Vec<String>)> {
+    let cube = cube();
+    let args = |flag: &'static str, words: &[&str]| {
+        let mut v: Vec<String> = words.iter().map(|w| w.to_string()).collect();
+        let ext = if words[0] == "interpolate" { "obj" } else { "txt" };
+        v.extend(["-o".to_string(), out.with_extension(ext).to_str().unwrap().to_string()]);
+        (flag, v)
+    };
+    vec![
+        args("--subset", &["interpolate", &cube, "--method", "nasri", "--subset", file]),
+        args("--normals", &["interpolate", &cube, "--method", "zheng-cai", "--normals", file]),
+        args("--handles", &["interpolate", &cube, "--method", "zheng-cai", "--handles", file]),
+        args("--shape-file", &["interpolate", &cube, "--method", "fan-cheng-lai", "--shape-file", file]),
+        args("--at", &["evaluate", &cube, "--scheme", "catmull-clark", "--at", file]),
+        args("--points", &["project", &cube, "--scheme", "catmull-clark", "--points", file]),
+    ]
+}
+
+/// Runs `subdiv` with `args`, killing it (and failing) if it has not exited
+/// within 60 s; returns the exit code and stderr.
+fn run_bounded(args: &[String], what: &str) -> (Option<i32>, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_subdiv"))
-        .args(["interpolate", &cube(), "--method", "nasri", "--subset", fifo.to_str().unwrap()])
+        .args(args)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
@@ -119,15 +141,62 @@ fn fifo_parameter_file_is_refused_without_blocking() {
         }
         if start.elapsed() > Duration::from_secs(60) {
             child.kill().unwrap();
-            panic!("subdiv blocked on a FIFO parameter file");
+            panic!("{what}: subdiv blocked on a FIFO");
         }
         std::thread::sleep(Duration::from_millis(20));
     };
     let mut stderr = String::new();
     std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
-    assert_eq!(status.code(), Some(2), "{stderr}");
-    assert!(stderr.contains("a FIFO (named pipe), not a regular file"), "{stderr}");
+    (status.code(), stderr)
+}
+
+/// A named pipe nobody writes to would block `read` forever: every text
+/// input (parameter files, `--at`, `--points` .xyz) is refused at once,
+/// exit 2, naming the FIFO.
+#[cfg(unix)]
+#[test]
+fn a_fifo_as_any_text_input_is_refused_without_blocking() {
+    let fifo = tmp("input.fifo.xyz");
+    let _ = std::fs::remove_file(&fifo);
+    assert!(Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
+    let out = tmp("fifo-out");
+    for (flag, args) in text_inputs(fifo.to_str().unwrap(), &out) {
+        let (code, stderr) = run_bounded(&args, flag);
+        assert!(!stderr.contains("panicked"), "{flag}: {stderr}");
+        assert_eq!(code, Some(2), "{flag}: {stderr}");
+        assert!(stderr.contains("not a regular file (it is a FIFO)"), "{flag}: {stderr}");
+        assert!(stderr.contains("input.fifo.xyz"), "{flag}: does not name the file: {stderr}");
+        assert!(!out.with_extension("obj").exists() && !out.with_extension("txt").exists(), "{flag}: wrote output");
+    }
     std::fs::remove_file(&fifo).unwrap();
+}
+
+/// A text input in the wrong encoding is one clean line (exit 2) naming the
+/// file and what to do, for every flag: UTF-16 with its BOM, Latin-1 bytes,
+/// binary data.
+#[test]
+fn a_text_input_in_another_encoding_is_a_clean_error() {
+    let out = tmp("encoding-out");
+    let cases: [(&str, &[u8], &str); 3] = [
+        ("utf16.xyz", b"\xFF\xFE0\x00 \x001\x00\n\x00", "UTF-16 text is not supported; save the file as UTF-8"),
+        ("latin1.xyz", b"0 1\n# caf\xE9\n", ":2: not UTF-8 text (byte 0xE9); save the file as UTF-8"),
+        ("binary.xyz", b"0 1 2\n\x00\x01\x02", ":2: NUL byte: binary data, not a text file"),
+    ];
+    for (name, bytes, message) in cases {
+        let file = tmp(name);
+        std::fs::write(&file, bytes).unwrap();
+        for (flag, args) in text_inputs(file.to_str().unwrap(), &out) {
+            let result = Command::new(env!("CARGO_BIN_EXE_subdiv")).args(&args).output().unwrap();
+            assert_no_panic(&result);
+            let stderr = String::from_utf8_lossy(&result.stderr);
+            assert_eq!(result.status.code(), Some(2), "{name} as {flag}: {stderr}");
+            assert_eq!(stderr.trim_end().lines().count(), 1, "{name} as {flag}: one line: {stderr}");
+            assert!(stderr.contains(&format!("{}", file.display())), "{name} as {flag}: {stderr}");
+            assert!(stderr.contains(message), "{name} as {flag}: {stderr}");
+            let wrote = out.with_extension("obj").exists() || out.with_extension("txt").exists();
+            assert!(!wrote, "{name} as {flag}: wrote output");
+        }
+    }
 }
 
 /// A strict shape file still works: OBJ groups, per-face overrides and a BOM.

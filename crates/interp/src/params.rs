@@ -3,11 +3,12 @@
 //! normals (Zheng-Cai, Deng-Wang), Brunet shape handles (Zheng-Cai) and
 //! Fan-Cheng-Lai's per-face shape parameters λ ([`Shape::PerFace`](crate::Shape::PerFace)).
 //!
-//! Each reader comes twice: on a path ([`subset`], [`normals`], [`handles`],
-//! [`shape_file`]), which also checks the file itself (a regular file, UTF-8
-//! text), and on text already in memory ([`parse_subset`], [`parse_normals`],
-//! [`parse_handles`], [`parse_shape_file`]). Both return exactly what the
-//! options take.
+//! Each parser takes the text of its file ([`parse_subset`],
+//! [`parse_normals`], [`parse_handles`], [`parse_shape_file`]) and returns
+//! exactly what the options take. This crate touches no file: the caller
+//! reads it (the `subdiv` CLI through `subdiv_io::read_text`, which refuses
+//! FIFOs and devices before opening them, caps the size and checks UTF-8)
+//! and names it in the error ([`ParamFileError::with_path`]).
 //!
 //! | file | text form (one entry a line) | JSON form | result |
 //! |---|---|---|---|
@@ -19,7 +20,7 @@
 //! Vertex and face indices are 0-based. A text file has `#` comments and
 //! separates its fields by whitespace or commas; a file whose first
 //! non-blank character is `[` or `{` is JSON. A UTF-8 byte-order mark is
-//! skipped.
+//! skipped (text read with `read_to_string` keeps it).
 //!
 //! Parsing is strict, because a parameter that is silently ignored gives a
 //! wrong surface with no error: unknown keys, wrong shapes, numbers written as
@@ -60,7 +61,7 @@ const GROUPS_LISTED: usize = 10;
 /// Why a parameter file (or its text) was refused.
 ///
 /// Displayed on one line as `path:line: message`, `path: message` when no
-/// line applies (a file that cannot be read, an empty subset), and
+/// line applies (an empty subset, a file that sets nothing), and
 /// `line N: message` or the bare message for text that
 /// [`with_path`](Self::with_path) did not name.
 ///
@@ -77,19 +78,16 @@ pub struct ParamFileError {
     path: Option<PathBuf>,
     line: Option<usize>,
     message: String,
-    /// Quoted in `message`, hence not a `source()` (it would be printed twice).
-    io: Option<std::io::Error>,
 }
 
 impl ParamFileError {
     /// An error on no particular line.
     fn new(message: impl fmt::Display) -> Self {
-        ParamFileError { path: None, line: None, message: message.to_string(), io: None }
+        ParamFileError { path: None, line: None, message: message.to_string() }
     }
 
-    /// The same error, naming `path` as the parameter file it came from
-    /// (the path functions do this; a caller of the `parse_` functions may
-    /// name where its text came from).
+    /// The same error, naming `path` as the parameter file its text came
+    /// from.
     pub fn with_path(mut self, path: impl Into<PathBuf>) -> Self {
         self.path = Some(path.into());
         self
@@ -109,12 +107,6 @@ impl ParamFileError {
     pub fn message(&self) -> &str {
         &self.message
     }
-
-    /// The operating system's error when the file could not be read (its
-    /// text is already part of [`message`](Self::message)).
-    pub fn io_error(&self) -> Option<&std::io::Error> {
-        self.io.as_ref()
-    }
 }
 
 /// The display of a [`ParamFileError`].
@@ -122,7 +114,7 @@ struct Shown<'a>(&'a ParamFileError);
 
 impl fmt::Display for Shown<'_> {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        let ParamFileError { path, line, message, .. } = self.0;
+        let ParamFileError { path, line, message } = self.0;
         match (path, line) {
             (Some(path), Some(line)) => write!(f, "{}:{line}: {message}", path.display()),
             (Some(path), None) => write!(f, "{}: {message}", path.display()),
@@ -137,77 +129,9 @@ fn at(line: usize, message: impl fmt::Display) -> ParamFileError {
     ParamFileError { line: Some(line), ..ParamFileError::new(message) }
 }
 
-/// A file that could not be read, with the system's reason.
-fn unreadable(error: std::io::Error) -> ParamFileError {
-    ParamFileError { message: format!("cannot read: {error}"), io: Some(error), ..ParamFileError::new("") }
-}
-
-/// Reads a parameter file and parses its text, every error naming the file.
-fn read_and<T>(path: &Path, parse: impl FnOnce(&str) -> Result<T, ParamFileError>) -> Result<T, ParamFileError> {
-    read(path).and_then(|text| parse(&text)).map_err(|e| e.with_path(path))
-}
-
-/// Reads a parameter file as text: regular files only (a FIFO or a device
-/// would block or never end), a UTF-8 BOM skipped, UTF-16 and binary data refused.
-fn read(path: &Path) -> Result<String, ParamFileError> {
-    let meta = std::fs::metadata(path).map_err(unreadable)?;
-    if !meta.is_file() {
-        return Err(ParamFileError::new(format_args!("{}, not a regular file", file_kind(&meta.file_type()))));
-    }
-    let bytes = std::fs::read(path).map_err(unreadable)?;
-    decode(bytes)
-}
-
-/// `text` without a leading UTF-8 byte-order mark, as the path functions
-/// read it.
+/// `text` without a leading UTF-8 byte-order mark.
 fn without_bom(text: &str) -> &str {
     text.strip_prefix('\u{FEFF}').unwrap_or(text)
-}
-
-fn file_kind(kind: &std::fs::FileType) -> &'static str {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if kind.is_fifo() {
-            return "a FIFO (named pipe)";
-        }
-        if kind.is_char_device() || kind.is_block_device() {
-            return "a device";
-        }
-        if kind.is_socket() {
-            return "a socket";
-        }
-    }
-    if kind.is_dir() {
-        "a directory"
-    } else {
-        "a special file"
-    }
-}
-
-/// The text of a parameter file's bytes.
-fn decode(mut bytes: Vec<u8>) -> Result<String, ParamFileError> {
-    if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
-        return Err(ParamFileError::new("UTF-16 is not supported; save the file as UTF-8"));
-    }
-    if bytes.starts_with(b"\xEF\xBB\xBF") {
-        bytes.drain(..3);
-    }
-    let line_of = |offset: usize, bytes: &[u8]| 1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count();
-    if let Some(nul) = bytes.iter().position(|&b| b == 0) {
-        return Err(at(
-            line_of(nul, &bytes),
-            "NUL byte: binary data or UTF-16, not a text or JSON parameter file (save it as UTF-8)",
-        ));
-    }
-    String::from_utf8(bytes).map_err(|e| {
-        let offset = e.utf8_error().valid_up_to();
-        let bytes = e.as_bytes();
-        at(
-            line_of(offset, bytes),
-            format_args!("not UTF-8 text (byte 0x{:02X}); save the file as UTF-8", bytes[offset]),
-        )
-    })
 }
 
 /// `"text"`, escaped (one line whatever it holds) and shortened; formatted
@@ -489,29 +413,10 @@ fn parse_json(text: &str) -> Result<Node, ParamFileError> {
     })
 }
 
-/// The vertex subset in the file at `path`: vertex indices (0-based),
+/// The vertex subset in `text` (a subset file's contents), for a mesh of
+/// `n` vertices: vertex indices (0-based),
 /// whitespace or comma separated (`#` comments), or a JSON array; each vertex
 /// at most once, at least one. For [`CommonOptions::subset`](crate::CommonOptions::subset).
-///
-/// ```
-/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
-/// use subdiv_interp::params;
-/// let path = std::env::temp_dir().join(format!("subdiv-doc-subset-{}.json", std::process::id()));
-/// std::fs::write(&path, "[0, 5,\n 7]")?;
-/// assert_eq!(params::subset(&path, 8)?, [0, 5, 7]);
-/// std::fs::write(&path, "[0, 8]")?;
-/// let error = params::subset(&path, 8).unwrap_err();
-/// assert_eq!(error.to_string(), format!("{}:1: vertex 8 is out of range (the mesh has 8 vertices, 0-based)", path.display()));
-/// # std::fs::remove_file(&path)?;
-/// # Ok(())
-/// # }
-/// ```
-pub fn subset(path: impl AsRef<Path>, n: usize) -> Result<Vec<u32>, ParamFileError> {
-    read_and(path.as_ref(), |text| subset_from(text, n))
-}
-
-/// The vertex subset in `text`, the contents of a [`subset`] file, for a
-/// mesh of `n` vertices.
 ///
 /// ```
 /// use subdiv_interp::params;
@@ -656,28 +561,10 @@ fn json_values<const W: usize>(node: &Node, expected: &str) -> Result<[f64; W], 
     Ok(values)
 }
 
-/// Per-vertex normals in the file at `path`: lines `i nx ny nz` or JSON
+/// Per-vertex normals in `text` (a normals file's contents): lines `i nx ny nz` or JSON
 /// `{"i": [nx, ny, nz]}`, for a mesh of `n` vertices; each normal is scaled
 /// to unit length, zero vectors are refused, unlisted vertices are `None`.
 /// For Zheng-Cai's and Deng-Wang's `normals`.
-///
-/// ```
-/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
-/// use subdiv_interp::params;
-/// use subdiv_mesh::DVec3;
-/// let path = std::env::temp_dir().join(format!("subdiv-doc-normals-{}.txt", std::process::id()));
-/// std::fs::write(&path, "# vertex, normal\n0 0 0 2\n3 -1 0 0\n")?;
-/// let normals = params::normals(&path, 4)?;
-/// assert_eq!(normals, [Some(DVec3::Z), None, None, Some(DVec3::NEG_X)]);
-/// # std::fs::remove_file(&path)?;
-/// # Ok(())
-/// # }
-/// ```
-pub fn normals(path: impl AsRef<Path>, n: usize) -> Result<Vec<Option<DVec3>>, ParamFileError> {
-    read_and(path.as_ref(), |text| normals_from(text, n))
-}
-
-/// Per-vertex normals in `text`, the contents of a [`normals`] file.
 ///
 /// ```
 /// use subdiv_interp::params;
@@ -706,25 +593,9 @@ fn normals_from(text: &str, n: usize) -> Result<Vec<Option<DVec3>>, ParamFileErr
     Ok(out)
 }
 
-/// Per-vertex Brunet shape handles in the file at `path`: lines `i S` or
+/// Per-vertex Brunet shape handles in `text` (a handles file's contents): lines `i S` or
 /// JSON `{"i": S}`, for a mesh of `n` vertices; S must be positive (and
 /// finite), unlisted vertices keep 1. For Zheng-Cai's `handles`.
-///
-/// ```
-/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
-/// use subdiv_interp::params;
-/// let path = std::env::temp_dir().join(format!("subdiv-doc-handles-{}.json", std::process::id()));
-/// std::fs::write(&path, r#"{"2": 0.5}"#)?;
-/// assert_eq!(params::handles(&path, 4)?, [1.0, 1.0, 0.5, 1.0]);
-/// # std::fs::remove_file(&path)?;
-/// # Ok(())
-/// # }
-/// ```
-pub fn handles(path: impl AsRef<Path>, n: usize) -> Result<Vec<f64>, ParamFileError> {
-    read_and(path.as_ref(), |text| handles_from(text, n))
-}
-
-/// Per-vertex shape handles in `text`, the contents of a [`handles`] file.
 ///
 /// ```
 /// use subdiv_interp::params;
@@ -750,29 +621,12 @@ fn handles_from(text: &str, n: usize) -> Result<Vec<f64>, ParamFileError> {
     Ok(out)
 }
 
-/// Fan-Cheng-Lai's per-face shape parameters λ in the shape file at
-/// `path`, JSON `{"default": λ, "faces": {"f": λ}, "groups": {"name": λ}}`:
+/// Fan-Cheng-Lai's per-face shape parameters λ in `text` (a shape file's
+/// contents), JSON `{"default": λ, "faces": {"f": λ}, "groups": {"name": λ}}`:
 /// groups are the mesh's face groups ([`Mesh::groups`], OBJ `g`/`o` names),
 /// faces override groups, groups the default (½ when not given). Every λ in
 /// (0, 1); at least one key must set something. For
 /// [`Shape::PerFace`](crate::Shape::PerFace).
-///
-/// ```
-/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
-/// use subdiv_interp::params;
-/// use subdiv_mesh::shapes;
-/// let path = std::env::temp_dir().join(format!("subdiv-doc-shape-{}.json", std::process::id()));
-/// std::fs::write(&path, r#"{"default": 0.3, "faces": {"2": 0.9}}"#)?;
-/// assert_eq!(params::shape_file(&path, &shapes::cube())?, [0.3, 0.3, 0.9, 0.3, 0.3, 0.3]);
-/// # std::fs::remove_file(&path)?;
-/// # Ok(())
-/// # }
-/// ```
-pub fn shape_file(path: impl AsRef<Path>, mesh: &Mesh) -> Result<Vec<f64>, ParamFileError> {
-    read_and(path.as_ref(), |text| shape_from(text, mesh))
-}
-
-/// Per-face λ in `text`, the contents of a [`shape_file`].
 ///
 /// ```
 /// use subdiv_interp::params;
@@ -884,7 +738,6 @@ fn group_list(names: &[String]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::PathBuf;
     use subdiv_mesh::{shapes, FaceGroups};
 
     /// The message of a parse that must fail.
@@ -901,12 +754,6 @@ mod tests {
 
     fn subset_of(text: &str, n: usize) -> Result<Vec<u32>, ParamFileError> {
         in_file("s.txt", subset_from(text, n))
-    }
-
-    fn temp_dir() -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("subdiv-params-unit-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
     }
 
     /// A cube whose top face (0) is group "top" and the others "sides".
@@ -1223,44 +1070,6 @@ mod tests {
         assert!(lambdas.iter().enumerate().all(|(f, &l)| l == 0.1 + 0.8 * (f % 2) as f64));
     }
 
-    #[test]
-    fn bom_is_skipped() {
-        let dir = temp_dir();
-        let text = dir.join("bom.txt");
-        std::fs::write(&text, "\u{FEFF}0 1\n").unwrap();
-        assert_eq!(subset(&text, 8).unwrap(), [0, 1]);
-        let json = dir.join("bom.json");
-        std::fs::write(&json, "\u{FEFF}{\"default\": 0.25}").unwrap();
-        assert_eq!(shape_file(&json, &grouped_cube()).unwrap(), [0.25; 6]);
-    }
-
-    #[test]
-    fn text_that_is_not_utf8_is_refused_clearly() {
-        let decode = |bytes: &[u8]| in_file("p.txt", decode(bytes.to_vec()));
-        assert_eq!(error(decode(b"0 1\n2 \xFF\n")), "p.txt:2: not UTF-8 text (byte 0xFF); save the file as UTF-8");
-        for bom in [&b"\xFF\xFE"[..], b"\xFE\xFF"] {
-            let utf16 = [bom, b"0\x00 \x001\x00"].concat();
-            assert_eq!(error(decode(&utf16)), "p.txt: UTF-16 is not supported; save the file as UTF-8");
-        }
-        assert_eq!(
-            error(decode(b"0\x00 \x001\x00")),
-            "p.txt:1: NUL byte: binary data or UTF-16, not a text or JSON parameter file (save it as UTF-8)"
-        );
-    }
-
-    #[test]
-    fn missing_file_gives_the_os_reason_once() {
-        let missing = temp_dir().join("missing.txt");
-        let message = error(subset(&missing, 8));
-        assert_eq!(message.matches("No such file").count(), 1, "{message}");
-        assert!(message.starts_with(&format!("{}: cannot read: ", missing.display())), "{message}");
-        // The OS error is quoted in the message, so it is no source() (printed twice by error chains).
-        let e = subset(&missing, 8).unwrap_err();
-        assert_eq!(e.io_error().map(std::io::Error::kind), Some(std::io::ErrorKind::NotFound));
-        assert!(std::error::Error::source(&e).is_none());
-        assert_eq!((e.path(), e.line()), (Some(missing.as_path()), None));
-    }
-
     /// Text parsed in memory: the same messages, with the line but no path
     /// until the caller names one.
     #[test]
@@ -1285,25 +1094,5 @@ mod tests {
         assert_eq!(parse_normals("\u{FEFF}{\"1\": [0, 0, 3]}", 2).unwrap(), [None, Some(DVec3::Z)]);
         assert_eq!(parse_handles("\u{FEFF}1 2", 2).unwrap(), [1.0, 2.0]);
         assert_eq!(parse_shape_file("\u{FEFF}{\"default\": 0.25}", &shapes::cube()).unwrap(), [0.25; 6]);
-    }
-
-    #[test]
-    fn directories_are_refused() {
-        let dir = temp_dir();
-        assert_eq!(error(handles(&dir, 8)), format!("{}: a directory, not a regular file", dir.display()));
-    }
-
-    /// Opening a FIFO for reading blocks until a writer comes, and
-    /// /dev/zero never ends: both are refused before they are opened.
-    #[cfg(unix)]
-    #[test]
-    fn special_files_are_refused_without_reading() {
-        let fifo = temp_dir().join("params.fifo");
-        let _ = std::fs::remove_file(&fifo);
-        let made = std::process::Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo");
-        assert!(made.success());
-        assert_eq!(error(subset(&fifo, 8)), format!("{}: a FIFO (named pipe), not a regular file", fifo.display()));
-        assert_eq!(error(normals(Path::new("/dev/zero"), 8)), "/dev/zero: a device, not a regular file");
-        std::fs::remove_file(&fifo).unwrap();
     }
 }

@@ -3,7 +3,9 @@
 //! Reads OBJ, OFF, PLY, STL, glTF and GLB into an unvalidated
 //! [`PolygonSoup`], and writes any of them from a [`MeshView`]. One file per
 //! format: `obj.rs`, `off.rs`, `ply.rs`, `stl.rs`, `gltf.rs`, and
-//! `tag_file.rs` for JSON tag files ([`read_tag_file`], [`parse_tag_json`]).
+//! `tag_file.rs` for JSON tag files ([`read_tag_file`], [`parse_tag_json`]),
+//! `text_file.rs` for the other small text files the tools read (parameter
+//! files, evaluation parameters, query points: [`read_text`]).
 //!
 //! In one call, for a validated [`Mesh`]: [`load_mesh`] reads and validates
 //! a file (a [`MeshError`] becomes [`IoError::Validation`];
@@ -131,6 +133,7 @@ mod ply;
 mod stl;
 mod tag_file;
 mod text;
+mod text_file;
 mod validated;
 
 use glam::DVec3;
@@ -142,6 +145,7 @@ pub use error::{IoError, ReadWarning};
 pub use format::Format;
 pub use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, Mesh, MeshError, PolygonSoup, TagList, VertexTag};
 pub use tag_file::{parse_tag_json, read_tag_file, TAG_FILE_LIMIT};
+pub use text_file::{read_text, TEXT_FILE_LIMIT};
 pub use validated::{load_mesh, load_mesh_with_warnings, view_for_format, write_mesh, LeftOut, WriteOptions};
 
 use error::Ctx;

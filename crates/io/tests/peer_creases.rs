@@ -1,8 +1,10 @@
-//! OpenSubdiv's tagged inputs (`fixtures/peer/creases/<case>/<case>.obj`,
-//! copied from `../shared/peer-outputs/creases/`) read with the tag and `vt`
-//! counts its README states, as valid meshes, and round-trip exactly; the
-//! refined outputs there (with `t` lines of their level and `vt`) read with
-//! their stated counts too, when that directory exists.
+//! OpenSubdiv's tagged inputs (`fixtures/peer/creases/<case>/<case>.obj`)
+//! read with the tag and `vt` counts its README states, as valid meshes, and
+//! round-trip exactly; the refined outputs there (with `t` lines of their
+//! level and `vt`) read with their stated counts too. The folder is a copy of
+//! the shared collection's `peer-outputs/creases/` (README included); when
+//! that collection sits beside the repository, the copy is also compared
+//! with it byte for byte.
 
 mod common;
 
@@ -28,7 +30,7 @@ enum Tags {
     Lines(usize),
 }
 
-/// The inputs, with the counts of `../shared/peer-outputs/creases/README.md`.
+/// The inputs, with the counts of `fixtures/peer/creases/README.md`.
 const INPUTS: &[(&str, usize, usize, usize, usize, usize)] = &[
     // (case, v, f, creases, corners, vt)
     ("cube_corners2", 8, 6, 0, 2, 0),
@@ -48,7 +50,12 @@ fn input(case: &str) -> PathBuf {
     fixture(&format!("peer/creases/{case}/{case}.obj"))
 }
 
-/// `../shared/peer-outputs/creases/`, if present.
+/// The copy in the repository: the README and every file it lists.
+fn creases() -> PathBuf {
+    fixture("peer/creases")
+}
+
+/// The original beside the repository (`../shared/peer-outputs/creases/`), if present.
 fn shared_creases() -> Option<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/peer-outputs/creases");
     dir.join("README.md").exists().then_some(dir)
@@ -111,15 +118,47 @@ fn tagged_inputs_round_trip_through_obj_exactly() {
     }
 }
 
+/// Compares every file under `original` with the same relative path under
+/// `copy`, byte for byte; returns how many.
+fn compare_tree(original: &Path, copy: &Path) -> usize {
+    let mut compared = 0;
+    let mut stack = vec![original.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            let relative = path.strip_prefix(original).unwrap();
+            let bytes = std::fs::read(copy.join(relative)).unwrap_or_else(|e| panic!("{}: {e}", relative.display()));
+            assert!(bytes == std::fs::read(&path).unwrap(), "{} differs from its original", relative.display());
+            compared += 1;
+        }
+    }
+    compared
+}
+
+/// Every file the README lists is in the repository; where the shared
+/// collection is present, every file of it is here, byte for byte.
 #[test]
-fn the_fixtures_are_unchanged_copies() {
-    let Some(shared) = shared_creases() else {
-        eprintln!("../shared/peer-outputs/creases/ not found; skipping the comparison with the originals");
-        return;
-    };
+fn the_fixtures_are_complete_unchanged_copies() {
+    let readme = std::fs::read_to_string(creases().join("README.md")).unwrap();
+    let rows = stated(&readme);
+    for (file, _) in &rows {
+        assert!(creases().join(file).is_file(), "{file}: listed in the README, missing from fixtures/peer/creases");
+    }
     for &(case, ..) in INPUTS {
-        let original = std::fs::read(shared.join(case).join(format!("{case}.obj"))).unwrap();
-        assert!(std::fs::read(input(case)).unwrap() == original, "{case} differs from its original");
+        assert!(input(case).is_file(), "{case}");
+    }
+    match shared_creases() {
+        Some(shared) => {
+            let compared = compare_tree(&shared, &creases());
+            assert!(compared > rows.len(), "{compared} files compared");
+        }
+        None => {
+            eprintln!("../shared/peer-outputs/creases/ not found: the byte comparison with the originals is left out")
+        }
     }
 }
 
@@ -152,15 +191,12 @@ fn stated(readme: &str) -> Vec<(String, Counts)> {
 
 #[test]
 fn every_opensubdiv_output_reads_with_its_stated_counts() {
-    let Some(shared) = shared_creases() else {
-        eprintln!("../shared/peer-outputs/creases/ not found; skipping the OpenSubdiv outputs");
-        return;
-    };
-    let rows = stated(&std::fs::read_to_string(shared.join("README.md")).unwrap());
+    let dir = creases();
+    let rows = stated(&std::fs::read_to_string(dir.join("README.md")).unwrap());
     assert!(rows.len() >= 59, "{} rows", rows.len());
     let mut outputs = 0;
     for (file, counts) in rows {
-        let soup = read_mesh(&shared.join(&file)).unwrap_or_else(|e| panic!("{e}"));
+        let soup = read_mesh(&dir.join(&file)).unwrap_or_else(|e| panic!("{e}"));
         let split = matches!(counts.tags, Tags::Split(..));
         assert_eq!(counts_of(&soup, split), counts, "{file}");
         // The refined levels' tags name edges of their own level, and their

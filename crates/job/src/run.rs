@@ -109,17 +109,20 @@ fn classify(input: &Path, o: &InterpolateOptions, e: InterpError) -> JobError {
     error
 }
 
-/// A parameter given as a file (read through `subdiv-io`'s guarded reader) or inline (its JSON
-/// text), parsed by `parse`; errors name the file, or the option for inline values.
+/// A parameter given as a file (read through [`subdiv_io::read_text`]: special files refused,
+/// size capped, UTF-8) or inline (its JSON text), parsed by `parse`; errors name the file, or
+/// the option for inline values.
 fn parameter<T>(
     value: &Option<Parameter>,
     flag: &str,
-    from_file: impl FnOnce(&Path) -> Result<T, ParamFileError>,
     parse: impl FnOnce(&str) -> Result<T, ParamFileError>,
 ) -> Result<Option<T>, JobError> {
     match value {
         None => Ok(None),
-        Some(Parameter::File(path)) => from_file(path).map(Some).map_err(|e| JobError::bad_input(e.to_string())),
+        Some(Parameter::File(path)) => {
+            let text = subdiv_io::read_text(path).map_err(|e| JobError::from_error(ErrorKind::BadInput, &e))?;
+            parse(&text).map(Some).map_err(|e| JobError::bad_input(e.with_path(path).to_string()))
+        }
         Some(Parameter::Inline(json)) => {
             parse(&json.to_string()).map(Some).map_err(|e| JobError::bad_input(format!("{flag}: {}", e.message())))
         }
@@ -140,12 +143,11 @@ pub fn method_options(
 ) -> Result<MethodOptions, JobError> {
     o.validate()?;
     let n = mesh.topology().vertex_count();
-    let subset = parameter(&o.subset, "--subset", |p| params::subset(p, n), |t| params::parse_subset(t, n))?;
-    let normals = parameter(&o.normals, "--normals", |p| params::normals(p, n), |t| params::parse_normals(t, n))?;
+    let subset = parameter(&o.subset, "--subset", |t| params::parse_subset(t, n))?;
+    let normals = parameter(&o.normals, "--normals", |t| params::parse_normals(t, n))?;
     let options: MethodOptions = match o.method {
         Method::ZhengCai => {
-            let handles =
-                parameter(&o.handles, "--handles", |p| params::handles(p, n), |t| params::parse_handles(t, n))?;
+            let handles = parameter(&o.handles, "--handles", |t| params::parse_handles(t, n))?;
             let mut options = ZhengCaiOptions::default().with_normals(normals).with_handles(handles);
             if let Some(ite_max) = o.ite_max {
                 options = options.with_ite_max(ite_max);
@@ -156,12 +158,7 @@ pub fn method_options(
             options.into()
         }
         Method::FanChengLai => {
-            let per_face = parameter(
-                &o.shape_file,
-                "--shape-file",
-                |p| params::shape_file(p, mesh),
-                |t| params::parse_shape_file(t, mesh),
-            )?;
+            let per_face = parameter(&o.shape_file, "--shape-file", |t| params::parse_shape_file(t, mesh))?;
             let shape = match (&o.shape, per_face) {
                 (_, Some(lambdas)) => Shape::PerFace(lambdas),
                 (Some(ShapeValue::Uniform(lambda)), None) => Shape::Uniform(*lambda),

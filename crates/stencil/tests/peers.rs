@@ -330,6 +330,14 @@ fn subdivided_meshes_and_limit_points_match_the_peers() {
             assert!(rows.iter().any(|r| &r.mesh == m && r.scheme == needed), "{m}: no {needed} comparison ran");
         }
     }
+    // Every peer and scheme is compared on several meshes of `fixtures/peer`
+    // alone (a fresh clone, without `../shared`).
+    let labels = SURFACES.iter().map(|s| s.label).chain(LIMITS.iter().map(|l| l.0));
+    for label in labels {
+        let from_fixtures = |r: &&Row| r.scheme == label && common::fixtures().join("peer").join(&r.mesh).is_dir();
+        let n = rows.iter().filter(from_fixtures).count();
+        assert!(n >= 3, "{label}: only {n} comparison(s) on the repository's fixtures");
+    }
     assert!(failures.is_empty(), "{} peer comparison(s) failed:\n{}", failures.len(), failures.join("\n"));
 }
 
