@@ -78,7 +78,7 @@ impl Scheme {
 
     /// What the layers ask of the scheme besides its rules (the struct's
     /// field docs say who asks what).
-    pub fn traits(&self) -> SchemeTraits {
+    pub const fn traits(&self) -> SchemeTraits {
         match self {
             Scheme::CatmullClark => SchemeTraits {
                 domain: Domain::Quad,
