@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use subdiv_interp::params;
 use subdiv_interp::{
-    DengMaOptions, DengWangOptions, FairOptions, FairScheme, FanChengLaiOptions, InterpError, IterationObserver,
-    Method, MethodOptions, Parameter, Report, Shape, Solver, SolverChoice, SurfaceOptions, ZhengCaiOptions,
+    DengMaOptions, DengWangOptions, FairOptions, FanChengLaiOptions, InterpError, IterationObserver, Method,
+    MethodOptions, Parameter, Report, Shape, Solver, SolverChoice, SurfaceOptions, ZhengCaiOptions,
 };
 use subdiv_mesh::Mesh;
 
@@ -188,12 +188,13 @@ fn method_options(args: &InterpolateArgs, mesh: &Mesh, observer: IterationObserv
         Method::DengMa => DengMaOptions::default().with_tension(args.tension.tension()).into(),
         Method::Fair => {
             let scheme = match args.scheme.unwrap_or(FairSchemeArg::CatmullClark) {
-                FairSchemeArg::CatmullClark => FairScheme::CatmullClark,
-                FairSchemeArg::Loop => FairScheme::Loop(args.beta.into()),
-                FairSchemeArg::DooSabin => FairScheme::DooSabin,
+                FairSchemeArg::CatmullClark => subdiv::Scheme::CatmullClark,
+                FairSchemeArg::Loop => subdiv::Scheme::Loop(args.beta.into()),
+                FairSchemeArg::DooSabin => subdiv::Scheme::DooSabin,
             };
             FairOptions::default()
                 .with_scheme(scheme)
+                .map_err(bad_input)?
                 .with_refine(args.refine.unwrap_or(subdiv_interp::fair::DEFAULT_REFINE))
                 .with_fairness_weight(args.fairness_weight)
                 .into()
@@ -281,7 +282,7 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     // The refined meshes to write: sized before they are built.
     let is_deng_ma = args.method == Method::DengMa;
     let budget = args.memory.budget();
-    let plain = result.scheme.scheme();
+    let plain = result.scheme;
     let refined_outputs = [(is_deng_ma, "--output", control_format), (true, "--surface", surface_format)];
     for (refined, flag, format) in refined_outputs {
         if let (true, Some(format)) = (refined, format) {

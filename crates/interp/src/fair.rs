@@ -248,11 +248,13 @@ const PENALTY_RTOL: f64 = 1e-12;
 /// is fixed by the data and has no limit points to constrain.
 fn check_scheme(scheme: Scheme) -> Result<(), InterpError> {
     if scheme.traits().interpolating {
+        let takes: Vec<&str> = Scheme::ALL.iter().filter(|s| !s.traits().interpolating).map(Scheme::name).collect();
         return Err(InterpError::invalid(
             Parameter::Scheme,
             format!(
-                "the fair method takes a scheme with limit points (catmull-clark, loop, doo-sabin); {scheme} is \
-                 interpolatory (use --method deng-ma)"
+                "the fair method takes a scheme with limit points ({}); {scheme} is interpolatory (use --method \
+                 deng-ma)",
+                takes.join(", ")
             ),
         ));
     }

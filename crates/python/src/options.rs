@@ -5,7 +5,7 @@
 use crate::errors::{input, Error};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use subdiv::interp::{params, FairOptions, FairScheme, Shape};
+use subdiv::interp::{params, FairOptions, Shape};
 use subdiv::prelude::*;
 
 /// The keyword arguments of a call, taken one by one; what is left at the
@@ -328,15 +328,20 @@ pub fn interpolate(
             DengMa => DengMaOptions::default().with_tension(tension.unwrap_or_default()).into(),
             Fair => {
                 let scheme = match scheme.as_deref().map(|s| s.to_ascii_lowercase().replace('_', "-")) {
-                    None => FairScheme::CatmullClark,
-                    Some(s) if s == "loop" => FairScheme::Loop(beta(beta_name)?),
-                    Some(s) => s.parse::<FairScheme>().map_err(|e| input(format!("scheme: {e}")))?,
+                    None => Scheme::CatmullClark,
+                    Some(s) if s == "loop" => Scheme::Loop(beta(beta_name)?),
+                    Some(s) => match s.as_str() {
+                        "cc" => Scheme::CatmullClark,
+                        "ds" => Scheme::DooSabin,
+                        s => s.parse::<Scheme>().map_err(|e| input(format!("scheme: {e}")))?,
+                    },
                 };
-                if beta_given && !matches!(scheme, FairScheme::Loop(_)) {
+                if beta_given && !matches!(scheme, Scheme::Loop(_)) {
                     return misuse("beta", "fair with scheme loop");
                 }
                 FairOptions::default()
                     .with_scheme(scheme)
+                    .map_err(|e| input(format!("scheme: {e}")))?
                     .with_refine(refine.unwrap_or(subdiv::interp::fair::DEFAULT_REFINE))
                     .with_fairness_weight(fairness_weight)
                     .into()
