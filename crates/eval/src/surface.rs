@@ -223,6 +223,11 @@ const DEGENERATE_DERIVATIVE: f64 = 1e-10;
 /// How far u + v may exceed 1 on a Loop triangle by rounding (then scaled back).
 const BARYCENTRIC_SLACK: f64 = 1e-12;
 
+/// The child of (u, v) after one step, with the affine map's P and q.
+type Child = (usize, [[f64; 2]; 2], [f64; 2]);
+/// A child of a cell after one step: the refined face and the cell in its ring.
+type ChildCell = Result<(FaceId, u32), EvalError>;
+
 /// What evaluation needs of an evaluable scheme
 /// ([`subdiv_stencil::SchemeTraits::evaluable`]): its regular patch, the
 /// children of a cell after one step, the corners of a domain and their
@@ -231,7 +236,7 @@ const BARYCENTRIC_SLACK: f64 = 1e-12;
 struct Patching {
     spec: &'static RegularSpec,
     /// The child of (u, v) after one step, and the affine map to its (u, v).
-    child: fn(f64, f64) -> (usize, [[f64; 2]; 2], [f64; 2]),
+    child: fn(f64, f64) -> Child,
     /// The domain corner at (u, v), if it is one.
     corner_at: fn(f64, f64) -> Option<usize>,
     /// The domain corner nearest (u, v).
@@ -241,16 +246,16 @@ struct Patching {
     /// Child `k` of the cell `face` after one step of the scheme: the
     /// refined face, and the cell within that face's ring (the face itself,
     /// 0, for Catmull-Clark and Loop; its corner for a Doo-Sabin cell).
-    child_cell: fn(&Local, &crate::local::Refined, FaceId, usize) -> Result<(FaceId, u32), EvalError>,
+    child_cell: fn(&Local, &crate::local::Refined, FaceId, usize) -> ChildCell,
     /// The control points of the regular patch of a cell (a face; a
     /// Doo-Sabin face corner), if it is one.
     regular: fn(&Topology, &LevelSharpness, FaceId) -> Option<Vec<crate::patch::Combo>>,
     /// The patch parameters (s, t) = P·(u, v) + q of a regular patch of the level.
-    patch_frame: ([[f64; 2]; 2], [f64; 2]),
+    patch_frame: Affine,
 }
 
 /// The identity: a primal patch's parameters are its domain's.
-const IDENTITY_FRAME: ([[f64; 2]; 2], [f64; 2]) = ([[1.0, 0.0], [0.0, 1.0]], [0.0, 0.0]);
+const IDENTITY_FRAME: Affine = ([[1.0, 0.0], [0.0, 1.0]], [0.0, 0.0]);
 
 const CATMULL_CLARK: Patching = Patching {
     spec: &catmull_clark::SPEC,

@@ -69,7 +69,8 @@ fn unknown_names_are_refused_with_the_valid_ones() {
 #[test]
 fn with_parameters_sets_its_own_and_refuses_misplaced_parameters() {
     let beta = Some(LoopBeta::Loop);
-    let tension = Some(Tension::Variable { lambda: 0.5 });
+    let variable = Tension::Variable { lambda: 0.5 };
+    let tension = Some(variable);
     for scheme in Scheme::ALL {
         assert_eq!(scheme.with_parameters(None, None), Ok(scheme));
         let with_beta = scheme.with_parameters(beta, None);
@@ -80,7 +81,7 @@ fn with_parameters_sets_its_own_and_refuses_misplaced_parameters() {
                 assert!(with_tension.is_err());
             }
             Scheme::DengMa(_) => {
-                assert_eq!(with_tension, Ok(Scheme::DengMa(tension.unwrap())));
+                assert_eq!(with_tension, Ok(Scheme::DengMa(variable)));
                 assert!(with_beta.is_err());
             }
             Scheme::CatmullClark | Scheme::DooSabin => assert!(with_beta.is_err() && with_tension.is_err()),
