@@ -32,9 +32,9 @@ pub struct EvaluateArgs {
     /// Also write ∂S/∂u and ∂S/∂v.
     #[arg(long)]
     derivs: bool,
-    /// Loop's β.
-    #[arg(long, default_value = "warren", value_parser = beta_parser)]
-    beta: subdiv_stencil::LoopBeta,
+    /// Loop's β: warren (default) or loop.
+    #[arg(long, value_parser = beta_parser)]
+    beta: Option<subdiv_stencil::LoopBeta>,
     /// Boundary and crease options.
     #[command(flatten)]
     surface: SurfaceArgs,

@@ -20,9 +20,9 @@ pub struct LimitArgs {
     /// Subdivision scheme of the limit surface (deng-ma is interpolatory: no limit evaluation).
     #[arg(long, value_parser = scheme_parser)]
     pub scheme: Scheme,
-    /// Loop's β.
-    #[arg(long, default_value = "warren", value_parser = beta_parser)]
-    pub beta: subdiv_stencil::LoopBeta,
+    /// Loop's β: warren (default) or loop.
+    #[arg(long, value_parser = beta_parser)]
+    pub beta: Option<subdiv_stencil::LoopBeta>,
     /// Boundary and crease options.
     #[command(flatten)]
     pub surface: SurfaceArgs,

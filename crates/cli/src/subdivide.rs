@@ -37,7 +37,7 @@ impl SurfaceArgs {
 
 /// `--scheme` of the evaluation commands: a name of the scheme table.
 pub fn scheme_parser(s: &str) -> Result<Scheme, String> {
-    s.parse()
+    s.parse().map_err(|e: subdiv_stencil::StencilError| e.to_string())
 }
 
 /// `--beta`: Loop's β by name.
@@ -68,16 +68,16 @@ pub fn run(args: &SubdivideArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The scheme of an evaluation command (`evaluate`, `sample`, `project`, `fit`) with Loop's β;
-/// refused (exit 2) when the scheme has no limit evaluation.
-pub fn evaluated_scheme(scheme: Scheme, beta: LoopBeta) -> Result<Scheme, Failure> {
-    match scheme {
-        Scheme::Loop(_) => Ok(Scheme::Loop(beta)),
-        Scheme::CatmullClark | Scheme::DooSabin => Ok(scheme),
-        Scheme::DengMa(_) => Err(subdiv::job::JobError::bad_input(
-            "--scheme deng-ma: the scheme is interpolatory and has no limit evaluation; its refined vertices are the \
-             surface (use subdivide)",
-        )
-        .into()),
+/// The scheme of an evaluation command (`evaluate`, `sample`, `project`, `fit`) with Loop's β
+/// when given; refused (exit 2) when the scheme has no limit evaluation (the scheme table's
+/// `evaluable`) or β is given for another scheme.
+pub fn evaluated_scheme(scheme: Scheme, beta: Option<LoopBeta>) -> Result<Scheme, Failure> {
+    if !scheme.traits().evaluable {
+        return Err(subdiv::job::JobError::bad_input(format!(
+            "--scheme {scheme}: no limit evaluation for this scheme (deng-ma is interpolatory: its refined vertices \
+             are the surface; use subdivide)"
+        ))
+        .into());
     }
+    scheme.with_parameters(beta, None).map_err(|e| subdiv::job::JobError::bad_input(e.to_string()).into())
 }

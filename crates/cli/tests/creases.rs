@@ -231,7 +231,7 @@ fn deng_ma_refuses_semi_sharp_tags_and_interpolation_keeps_them() {
     let data = subdiv_mesh::Mesh::from_soup(read(&tagged)).unwrap().0;
     let written = subdiv_mesh::Mesh::from_soup(written).unwrap().0;
     let candidates =
-        subdiv_interp::verify::candidate_limit_points(&written, subdiv_interp::verify::Plain::CatmullClark).unwrap();
+        subdiv_interp::verify::candidate_limit_points(&written, subdiv_stencil::Scheme::CatmullClark).unwrap();
     let gap = subdiv_interp::verify::nearest_gap(data.positions(), &candidates, data.bbox_diagonal());
     assert!(gap <= 1e-6, "{gap:e}");
 }
@@ -415,7 +415,7 @@ fn feature_angle_tags_the_feature_edges() {
     assert_eq!(json["input"]["tags"]["infinitely_sharp"], expected, "no corner tags: every tag is a feature");
     let written = subdiv_mesh::Mesh::from_soup(read(&control)).unwrap().0;
     assert_eq!(written.tags().crease_count(), expected, "the control mesh is written with the features");
-    let plain = subdiv_interp::verify::Plain::CatmullClark;
+    let plain = subdiv_stencil::Scheme::CatmullClark;
     let candidates = subdiv_interp::verify::candidate_limit_points(&written, plain).unwrap();
     let gap = subdiv_interp::verify::nearest_gap(data.positions(), &candidates, data.bbox_diagonal());
     assert!(gap <= 1e-6, "{gap:e}");

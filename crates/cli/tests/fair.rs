@@ -7,9 +7,10 @@ mod common;
 use common::{assert_no_panic, fixtures, subdiv};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use subdiv_interp::verify::{candidate_limit_points, nearest_gap, Plain};
+use subdiv_interp::verify::{candidate_limit_points, nearest_gap};
 use subdiv_mesh::Mesh;
 use subdiv_stencil::LoopBeta;
+use subdiv_stencil::Scheme;
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("subdiv-fair-cli-{}", std::process::id()));
@@ -30,11 +31,11 @@ fn run(args: &[&str]) -> (Option<i32>, String) {
 #[test]
 fn fair_writes_control_meshes_whose_error_checks_out_independently() {
     for (input, extra, plain, vertices_per) in [
-        ("quad/spot_control_mesh.obj", vec![], Plain::CatmullClark, "V+E+F"),
-        ("open/halftunnel.off", vec!["--refine", "2"], Plain::CatmullClark, ""),
-        ("tri/eight.off", vec!["--scheme", "loop"], Plain::Loop(LoopBeta::Warren), "V+E"),
-        ("poly/P.off", vec!["--scheme", "doo-sabin"], Plain::DooSabin, "H"),
-        ("poly/mpi.off", vec!["--refine", "0"], Plain::CatmullClark, "V"),
+        ("quad/spot_control_mesh.obj", vec![], Scheme::CatmullClark, "V+E+F"),
+        ("open/halftunnel.off", vec!["--refine", "2"], Scheme::CatmullClark, ""),
+        ("tri/eight.off", vec!["--scheme", "loop"], Scheme::Loop(LoopBeta::Warren), "V+E"),
+        ("poly/P.off", vec!["--scheme", "doo-sabin"], Scheme::DooSabin, "H"),
+        ("poly/mpi.off", vec!["--refine", "0"], Scheme::CatmullClark, "V"),
     ] {
         let input_path = fixtures().join(input);
         let stem = format!("fair-{}-{}", input.replace('/', "-"), extra.join(""));

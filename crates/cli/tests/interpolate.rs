@@ -6,9 +6,10 @@ mod common;
 use common::{assert_no_panic, fixtures, subdiv};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use subdiv_interp::verify::{candidate_limit_points, nearest_gap, Plain};
+use subdiv_interp::verify::{candidate_limit_points, nearest_gap};
 use subdiv_mesh::Mesh;
 use subdiv_stencil::LoopBeta;
+use subdiv_stencil::Scheme;
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("subdiv-interp-cli-{}", std::process::id()));
@@ -33,13 +34,13 @@ fn run(args: &[&str]) -> (Option<i32>, String, String) {
 #[test]
 fn every_method_writes_outputs_whose_error_checks_out_independently() {
     for (method, input, plain, tol) in [
-        ("nasri", "poly/mpi.off", Plain::DooSabin, 1e-6),
-        ("zheng-cai", "quad/spot_control_mesh.obj", Plain::DooSabin, 1e-12),
-        ("cheng", "quad/spot_control_mesh.obj", Plain::CatmullClark, 1e-6),
-        ("cheng", "open/halftunnel.off", Plain::CatmullClark, 1e-6),
-        ("fan-cheng-lai", "poly/P.off", Plain::DooSabin, 1e-6),
-        ("deng-wang", "tri/eight.off", Plain::Loop(LoopBeta::Warren), 1e-12),
-        ("deng-ma", "canonical/cube_quad.obj", Plain::Interpolatory, 1e-12),
+        ("nasri", "poly/mpi.off", Scheme::DooSabin, 1e-6),
+        ("zheng-cai", "quad/spot_control_mesh.obj", Scheme::DooSabin, 1e-12),
+        ("cheng", "quad/spot_control_mesh.obj", Scheme::CatmullClark, 1e-6),
+        ("cheng", "open/halftunnel.off", Scheme::CatmullClark, 1e-6),
+        ("fan-cheng-lai", "poly/P.off", Scheme::DooSabin, 1e-6),
+        ("deng-wang", "tri/eight.off", Scheme::Loop(LoopBeta::Warren), 1e-12),
+        ("deng-ma", "canonical/cube_quad.obj", Scheme::DengMa(Default::default()), 1e-12),
     ] {
         let input_path = fixtures().join(input);
         let stem = format!("{method}-{}", input.replace('/', "-"));
@@ -200,7 +201,7 @@ fn deng_wang_triangulates_polygon_meshes() {
         let data = load(&input_path);
         let written = load(&control);
         assert!(written.topology().faces().all_of_size(3));
-        let plain = Plain::Loop(LoopBeta::Warren);
+        let plain = Scheme::Loop(LoopBeta::Warren);
         let gap =
             nearest_gap(data.positions(), &candidate_limit_points(&written, plain).unwrap(), data.bbox_diagonal());
         assert!(gap <= 1e-12, "{input}: independent error {gap:e}");

@@ -8,9 +8,10 @@ mod common;
 use common::{assert_no_panic, fixtures, subdiv};
 use std::fs;
 use std::path::{Path, PathBuf};
-use subdiv_interp::verify::{candidate_limit_points, nearest_gap, Plain};
+use subdiv_interp::verify::{candidate_limit_points, nearest_gap};
 use subdiv_mesh::{DVec3, Mesh, PowerOfTwoScale};
 use subdiv_stencil::LoopBeta;
+use subdiv_stencil::Scheme;
 
 fn dir() -> PathBuf {
     let d = std::env::temp_dir().join(format!("subdiv-cli-numeric-{}", std::process::id()));
@@ -31,12 +32,12 @@ fn tetrahedron(name: &str, f: impl Fn(DVec3) -> DVec3) -> PathBuf {
     path
 }
 
-fn plain(method: &str) -> Plain {
+fn plain(method: &str) -> Scheme {
     match method {
-        "cheng" => Plain::CatmullClark,
-        "deng-wang" => Plain::Loop(LoopBeta::Warren),
-        "deng-ma" => Plain::Interpolatory,
-        _ => Plain::DooSabin,
+        "cheng" => Scheme::CatmullClark,
+        "deng-wang" => Scheme::Loop(LoopBeta::Warren),
+        "deng-ma" => Scheme::DengMa(Default::default()),
+        _ => Scheme::DooSabin,
     }
 }
 

@@ -8,14 +8,18 @@
 //! point.
 
 use crate::patch::{Lattice, PatchKind, RegularSpec};
+use subdiv_stencil::{Scheme, SchemeTraits};
+
+/// The scheme's table row: the regular face size and valence of [`SPEC`].
+const TRAITS: SchemeTraits = Scheme::CatmullClark.traits();
 
 /// The regular Catmull-Clark patch: the 4×4 points around a quad, corner 0
 /// at lattice (0,0), u toward corner 1.
 #[rustfmt::skip]
 pub(crate) const SPEC: RegularSpec = RegularSpec {
     lattice: Lattice::Square,
-    face_size: 4,
-    valence: 4,
+    face_size: TRAITS.regular_face_size,
+    valence: TRAITS.regular_valence,
     crease_sector: 2,
     corner_sector: Some(1),
     corners: &[(0, 0), (1, 0), (1, 1), (0, 1)],

@@ -106,14 +106,17 @@ use crate::patch::{sector, Combo, Lattice, PatchKind, RegularSpec};
 use crate::surface::EvalError;
 use subdiv_mesh::refine::DualFeatures;
 use subdiv_mesh::{FaceId, FaceList, HalfEdgeId, Mesh, Topology, VertexId, SHARPNESS_INFINITE};
-use subdiv_stencil::{LevelSharpness, Options};
+use subdiv_stencil::{LevelSharpness, Options, Scheme, SchemeTraits};
+
+/// The scheme's table row: the regular face size and valence of [`SPEC`].
+const TRAITS: SchemeTraits = Scheme::DooSabin.traits();
 
 /// The regular Doo-Sabin patch (its kind and lattice; the points are
 /// gathered around a vertex by [`regular`]).
 pub(crate) const SPEC: RegularSpec = RegularSpec {
     lattice: Lattice::Square,
-    face_size: 4,
-    valence: 4,
+    face_size: TRAITS.regular_face_size,
+    valence: TRAITS.regular_valence,
     crease_sector: 2,
     corner_sector: None,
     corners: &[(0, 0)],

@@ -7,13 +7,17 @@
 //! 0→1, 1→2, 2→0).
 
 use crate::patch::{Lattice, PatchKind, RegularSpec, BOX_POINTS};
+use subdiv_stencil::{LoopBeta, Scheme, SchemeTraits};
+
+/// The scheme's table row: the regular face size and valence of [`SPEC`].
+const TRAITS: SchemeTraits = Scheme::Loop(LoopBeta::Warren).traits();
 
 /// The regular Loop patch: twelve points around a triangle, corner 0 at
 /// lattice (0,0), u toward corner 1, v toward corner 2.
 pub(crate) const SPEC: RegularSpec = RegularSpec {
     lattice: Lattice::Hex,
-    face_size: 3,
-    valence: 6,
+    face_size: TRAITS.regular_face_size,
+    valence: TRAITS.regular_valence,
     crease_sector: 3,
     corner_sector: None,
     corners: &[(0, 0), (1, 0), (0, 1)],

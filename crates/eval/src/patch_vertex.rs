@@ -25,7 +25,7 @@
 use crate::local::{star_faces, Local};
 use crate::surface::EvalError;
 use subdiv_mesh::{FaceId, FaceList, HalfEdgeId, Tags, Topology, VertexId};
-use subdiv_stencil::{LevelSharpness, Options, Scheme, SubdivisionPlan};
+use subdiv_stencil::{LevelSharpness, Options, Split, SubdivisionPlan};
 
 /// Iterations of the subspace iteration: the error decays like
 /// (λ₃/λ₂)ⁱᵗ, at most ~0.65 per step for the valences and tags we meet.
@@ -42,10 +42,7 @@ pub(crate) fn ready(local: &Local, options: &Options, v: VertexId) -> bool {
     if local.sharp.largest_semi_sharp(&local.t).is_some() {
         return false;
     }
-    let size = match options.scheme {
-        Scheme::Loop(_) => 3,
-        _ => 4,
-    };
+    let size = options.scheme.traits().regular_face_size;
     star_faces(&local.t, v).iter().all(|&f| local.t.face_size(f) == size)
 }
 
@@ -73,9 +70,11 @@ pub(crate) fn vertex_limit(
     let mut child = vec![0u32; n];
     for i in 1..=star.edges {
         let e = star.t.find_edge(VertexId(0), VertexId(i as u32)).expect("a star edge");
-        child[i] = match options.scheme {
-            Scheme::Loop(_) => (nv + e.index()) as u32,
-            _ => (nv + nf + e.index()) as u32,
+        // The edge point's number in the split (`subdiv_stencil::Split`).
+        child[i] = match options.scheme.traits().split {
+            Split::Quad => (nv + nf + e.index()) as u32,
+            Split::Triangle => (nv + e.index()) as u32,
+            Split::Dual => return Err(EvalError::Internal("the dual split has no vertex stars".into())),
         };
     }
     for (i, &f) in star.far.iter().enumerate() {

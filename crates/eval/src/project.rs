@@ -57,7 +57,7 @@ use crate::surface::{BoundSurface, Domain, EvalError, LimitJet, LimitSample, Lim
 use glam::DVec3;
 use rayon::prelude::*;
 use subdiv_mesh::{Aabb, FaceId, HalfEdgeId, Mesh, Topology, VertexId};
-use subdiv_stencil::{Options, Scheme, SubdivisionPlan};
+use subdiv_stencil::{Domain as ParamDomain, Options, Scheme, SubdivisionPlan};
 
 /// Boxes are grown by this fraction of the control mesh's bbox diagonal
 /// (rounding in the refined positions and in the evaluation).
@@ -83,11 +83,11 @@ pub enum DomainShape {
 }
 
 impl DomainShape {
-    /// The shape of `scheme`'s domains.
+    /// The shape of `scheme`'s domains ([`subdiv_stencil::SchemeTraits::domain`]).
     pub fn of(scheme: Scheme) -> Self {
-        match scheme {
-            Scheme::Loop(_) => Self::Triangle,
-            _ => Self::Square,
+        match scheme.traits().domain {
+            ParamDomain::Quad => Self::Square,
+            ParamDomain::Triangle => Self::Triangle,
         }
     }
 
@@ -643,7 +643,7 @@ pub fn refined_bounds(
     let loop_scheme = match options.scheme {
         Scheme::CatmullClark => false,
         Scheme::Loop(_) => true,
-        other => {
+        other @ (Scheme::DooSabin | Scheme::DengMa(_)) => {
             return Err(EvalError::Unsupported {
                 scheme: other.name(),
                 reason: "no refined patch bounds (Catmull-Clark and Loop only)".into(),
@@ -829,10 +829,12 @@ pub fn projector<'a>(
 ) -> Result<Projector<BoundLimitSurface<'a>>, EvalError> {
     let bounds = match options.scheme {
         Scheme::CatmullClark | Scheme::Loop(_) => refined_bounds(mesh, options, surface.domains(), project.levels)?,
-        other => support_bounds(surface, mesh.positions()).ok_or_else(|| EvalError::Unsupported {
-            scheme: other.name(),
-            reason: "projection needs conservative patch bounds, and a domain has none".into(),
-        })?,
+        other @ (Scheme::DooSabin | Scheme::DengMa(_)) => {
+            support_bounds(surface, mesh.positions()).ok_or_else(|| EvalError::Unsupported {
+                scheme: other.name(),
+                reason: "projection needs conservative patch bounds, and a domain has none".into(),
+            })?
+        }
     };
     let smooth = smooth_domain_edges(mesh, options, surface.domains());
     Ok(Projector::new(BoundLimitSurface::new(surface, mesh.positions())?, bounds, *project)?.with_smooth_edges(smooth))
@@ -882,7 +884,7 @@ pub fn smooth_domain_edges(mesh: &Mesh, options: &Options, domains: &[Domain]) -
                 }
                 // Triangle order: u = 0 (corners 2, 0), v = 0 (0, 1), u + v = 1 (1, 2).
                 Scheme::Loop(_) => [smooth(h[2]), smooth(h[0]), smooth(h[1]), false],
-                _ => [false; 4],
+                Scheme::DooSabin | Scheme::DengMa(_) => [false; 4],
             }
         })
         .collect()

@@ -47,7 +47,7 @@ use crate::{catmull_clark, doo_sabin, loop_scheme, patch_vertex};
 use glam::DVec3;
 use rayon::prelude::*;
 use subdiv_mesh::{FaceId, Mesh, Tags, Topology, VertexId};
-use subdiv_stencil::{LevelSharpness, Options, Scheme, StencilError};
+use subdiv_stencil::{Domain as ParamDomain, LevelSharpness, Options, Scheme, SchemeTraits, Split, StencilError};
 
 /// A parameter on the limit surface: a domain (`face`, and for a ptex-split
 /// n-gon the sub-quad `corner` K; 0 otherwise) and (u, v) in it.
@@ -223,92 +223,104 @@ const DEGENERATE_DERIVATIVE: f64 = 1e-10;
 /// How far u + v may exceed 1 on a Loop triangle by rounding (then scaled back).
 const BARYCENTRIC_SLACK: f64 = 1e-12;
 
-/// The schemes with a limit surface here.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Kind {
-    CatmullClark,
-    Loop,
-    DooSabin,
-}
+/// The child of (u, v) after one step, with the affine map's P and q.
+type Child = (usize, [[f64; 2]; 2], [f64; 2]);
+/// A child of a cell after one step: the refined face and the cell in its ring.
+type ChildCell = Result<(FaceId, u32), EvalError>;
 
-impl Kind {
-    fn spec(self) -> &'static RegularSpec {
-        match self {
-            Kind::CatmullClark => &catmull_clark::SPEC,
-            Kind::Loop => &loop_scheme::SPEC,
-            Kind::DooSabin => &doo_sabin::SPEC,
-        }
-    }
-
-    fn child(self, u: f64, v: f64) -> (usize, [[f64; 2]; 2], [f64; 2]) {
-        match self {
-            Kind::CatmullClark => catmull_clark::child(u, v),
-            Kind::Loop => loop_scheme::child(u, v),
-            Kind::DooSabin => doo_sabin::child(u, v),
-        }
-    }
-
-    fn corner_at(self, u: f64, v: f64) -> Option<usize> {
-        match self {
-            Kind::CatmullClark => catmull_clark::corner_at(u, v),
-            Kind::Loop => loop_scheme::corner_at(u, v),
-            Kind::DooSabin => doo_sabin::corner_at(u, v),
-        }
-    }
-
-    fn nearest_corner(self, u: f64, v: f64) -> (usize, f64, f64) {
-        let k = match self {
-            Kind::CatmullClark => catmull_clark::nearest_corner(u, v),
-            Kind::Loop => loop_scheme::nearest_corner(u, v),
-            Kind::DooSabin => doo_sabin::nearest_corner(u, v),
-        };
-        let corners: &[(f64, f64)] = match self {
-            Kind::Loop => &[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],
-            _ => &[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
-        };
-        (k, corners[k].0, corners[k].1)
-    }
-
-    fn frames(self) -> &'static [crate::patch::Frame] {
-        match self {
-            Kind::CatmullClark => &catmull_clark::FRAMES,
-            Kind::Loop => &loop_scheme::FRAMES,
-            Kind::DooSabin => &doo_sabin::FRAMES,
-        }
-    }
-
+/// What evaluation needs of an evaluable scheme
+/// ([`subdiv_stencil::SchemeTraits::evaluable`]): its regular patch, the
+/// children of a cell after one step, the corners of a domain and their
+/// tangent frames. One row per scheme ([`patching`]), made of its module's
+/// functions.
+struct Patching {
+    spec: &'static RegularSpec,
+    /// The child of (u, v) after one step, and the affine map to its (u, v).
+    child: fn(f64, f64) -> Child,
+    /// The domain corner at (u, v), if it is one.
+    corner_at: fn(f64, f64) -> Option<usize>,
+    /// The domain corner nearest (u, v).
+    nearest_corner: fn(f64, f64) -> usize,
+    /// Per corner: the lattice directions toward the next and the previous corner.
+    frames: &'static [crate::patch::Frame],
     /// Child `k` of the cell `face` after one step of the scheme: the
     /// refined face, and the cell within that face's ring (the face itself,
     /// 0, for Catmull-Clark and Loop; its corner for a Doo-Sabin cell).
-    fn child_cell(
-        self,
-        local: &Local,
-        refined: &crate::local::Refined,
-        face: FaceId,
-        k: usize,
-    ) -> Result<(FaceId, u32), EvalError> {
-        match self {
-            Kind::CatmullClark => Ok((FaceId(local.t.faces().offsets()[face.index()] + k as u32), 0)),
-            Kind::Loop => Ok((FaceId(4 * face.0 + k as u32), 0)),
-            Kind::DooSabin => doo_sabin::child_cell(local, refined, face, k),
-        }
-    }
-
+    child_cell: fn(&Local, &crate::local::Refined, FaceId, usize) -> ChildCell,
     /// The control points of the regular patch of a cell (a face; a
     /// Doo-Sabin face corner), if it is one.
-    fn regular(self, t: &Topology, sharp: &LevelSharpness, cell: FaceId) -> Option<Vec<crate::patch::Combo>> {
-        match self {
-            Kind::DooSabin => doo_sabin::regular(t, sharp, cell),
-            _ => regular_points(self.spec(), t, sharp, cell),
-        }
-    }
-
+    regular: fn(&Topology, &LevelSharpness, FaceId) -> Option<Vec<crate::patch::Combo>>,
     /// The patch parameters (s, t) = P·(u, v) + q of a regular patch of the level.
-    fn patch_frame(self) -> ([[f64; 2]; 2], [f64; 2]) {
-        match self {
-            Kind::DooSabin => ([[0.5, 0.0], [0.0, 0.5]], [0.5, 0.5]),
-            _ => ([[1.0, 0.0], [0.0, 1.0]], [0.0, 0.0]),
-        }
+    patch_frame: Affine,
+}
+
+/// The identity: a primal patch's parameters are its domain's.
+const IDENTITY_FRAME: Affine = ([[1.0, 0.0], [0.0, 1.0]], [0.0, 0.0]);
+
+const CATMULL_CLARK: Patching = Patching {
+    spec: &catmull_clark::SPEC,
+    child: catmull_clark::child,
+    corner_at: catmull_clark::corner_at,
+    nearest_corner: catmull_clark::nearest_corner,
+    frames: &catmull_clark::FRAMES,
+    // The quad split: child k of face f is the quad at its corner k.
+    child_cell: |local, _, face, k| Ok((FaceId(local.t.faces().offsets()[face.index()] + k as u32), 0)),
+    regular: |t, sharp, cell| regular_points(&catmull_clark::SPEC, t, sharp, cell),
+    patch_frame: IDENTITY_FRAME,
+};
+
+const LOOP: Patching = Patching {
+    spec: &loop_scheme::SPEC,
+    child: loop_scheme::child,
+    corner_at: loop_scheme::corner_at,
+    nearest_corner: loop_scheme::nearest_corner,
+    frames: &loop_scheme::FRAMES,
+    // The triangle split: child k of face f is triangle 4f + k.
+    child_cell: |_, _, face, k| Ok((FaceId(4 * face.0 + k as u32), 0)),
+    regular: |t, sharp, cell| regular_points(&loop_scheme::SPEC, t, sharp, cell),
+    patch_frame: IDENTITY_FRAME,
+};
+
+const DOO_SABIN: Patching = Patching {
+    spec: &doo_sabin::SPEC,
+    child: doo_sabin::child,
+    corner_at: doo_sabin::corner_at,
+    nearest_corner: doo_sabin::nearest_corner,
+    frames: &doo_sabin::FRAMES,
+    child_cell: doo_sabin::child_cell,
+    regular: doo_sabin::regular,
+    // A corner domain is the quarter (½, 1)² of its biquadratic patch.
+    patch_frame: ([[0.5, 0.0], [0.0, 0.5]], [0.5, 0.5]),
+};
+
+/// The evaluation row of an evaluable scheme.
+///
+/// # Panics
+/// For a scheme that is not evaluable: [`LimitSurface::new`] refuses those.
+fn patching(scheme: Scheme) -> &'static Patching {
+    match scheme {
+        Scheme::CatmullClark => &CATMULL_CLARK,
+        Scheme::Loop(_) => &LOOP,
+        Scheme::DooSabin => &DOO_SABIN,
+        Scheme::DengMa(_) => unreachable!("not evaluable: refused by LimitSurface::new"),
+    }
+}
+
+impl std::fmt::Debug for Patching {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Patching").field("kind", &self.spec.kind).finish_non_exhaustive()
+    }
+}
+
+impl Patching {
+    /// The domain corner nearest (u, v) and its parameters.
+    fn nearest_corner(&self, domain: ParamDomain, u: f64, v: f64) -> (usize, f64, f64) {
+        let k = (self.nearest_corner)(u, v);
+        let corners: &[(f64, f64)] = match domain {
+            ParamDomain::Triangle => &[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],
+            ParamDomain::Quad => &[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
+        };
+        (k, corners[k].0, corners[k].1)
     }
 }
 
@@ -373,7 +385,10 @@ struct DenseJet {
 pub struct LimitSurface {
     vertex_count: usize,
     options: Options,
-    kind: Kind,
+    /// The scheme's table row ([`Scheme::traits`]).
+    traits: SchemeTraits,
+    /// The scheme's evaluation row.
+    patching: &'static Patching,
     /// The connectivity the domains are refined on: the mesh's, or for
     /// Doo-Sabin with creases the mesh cut along them (`vertex_map` then
     /// gives the control vertex of every copy).
@@ -419,23 +434,19 @@ impl LimitSurface {
     /// edges at a vertex) or a dart (a vertex with one crease edge).
     pub fn new(mesh: &Mesh, options: &Options) -> Result<Self, EvalError> {
         options.validate()?;
-        let kind = match options.scheme {
-            Scheme::CatmullClark => Kind::CatmullClark,
-            Scheme::Loop(_) => Kind::Loop,
-            Scheme::DooSabin => Kind::DooSabin,
-            Scheme::DengMa(_) => {
-                return Err(EvalError::Unsupported {
-                    scheme: "deng-ma",
-                    reason: "an interpolatory scheme without limit masks; evaluate a refined mesh instead".into(),
-                })
-            }
-        };
+        let traits = options.scheme.traits();
+        if !traits.evaluable {
+            return Err(EvalError::Unsupported {
+                scheme: options.scheme.name(),
+                reason: "an interpolatory scheme without limit masks; evaluate a refined mesh instead".into(),
+            });
+        }
         let t = mesh.topology();
         let tags = mesh.tags().clone();
         let sharp = LevelSharpness::new(&tags, options.boundary, options.crease_method);
         options.scheme.rules().check(t, &sharp)?;
         let (mut topology, mut local_tags, mut vertex_map) = (t.clone(), tags.clone(), None);
-        if kind == Kind::DooSabin {
+        if traits.split == Split::Dual {
             doo_sabin::check(mesh, options)?;
             if let Some((cut, original)) = doo_sabin::cut_along_creases(mesh)? {
                 (topology, local_tags, vertex_map) = (cut, Tags::none(), Some(std::sync::Arc::new(original)));
@@ -445,14 +456,15 @@ impl LimitSurface {
         let mut face_domains = Vec::with_capacity(t.face_count() + 1);
         for f in t.face_ids() {
             face_domains.push(domains.len() as u32);
-            let n = match kind {
-                Kind::CatmullClark if t.face_size(f) != 4 => t.face_size(f),
-                Kind::DooSabin => {
+            let n = match traits.split {
+                // An n-gon of the quad split: one ptex quad per corner.
+                Split::Quad if t.face_size(f) != 4 => t.face_size(f),
+                Split::Quad | Split::Triangle => 1,
+                Split::Dual => {
                     let corners = doo_sabin::face_domains(t, &sharp, f);
                     domains.extend(corners.into_iter().map(|corner| Domain { face: f.0, corner }));
                     continue;
                 }
-                _ => 1,
             };
             domains.extend((0..n as u32).map(|corner| Domain { face: f.0, corner }));
         }
@@ -460,7 +472,8 @@ impl LimitSurface {
         let mut surface = Self {
             vertex_count: mesh.positions().len(),
             options: *options,
-            kind,
+            traits,
+            patching: patching(options.scheme),
             topology,
             tags: local_tags,
             vertex_map,
@@ -477,7 +490,7 @@ impl LimitSurface {
             ring_offsets: vec![0],
             ring_vertices: Vec::new(),
         };
-        if kind == Kind::DooSabin {
+        if traits.split == Split::Dual {
             let t = &surface.topology;
             surface.folded = (surface.domains.iter())
                 .map(|d| {
@@ -723,7 +736,7 @@ impl LimitSurface {
         if !((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
             return Err(bad);
         }
-        if self.kind == Kind::Loop && u + v > 1.0 {
+        if self.traits.domain == ParamDomain::Triangle && u + v > 1.0 {
             if u + v > 1.0 + BARYCENTRIC_SLACK {
                 return Err(bad);
             }
@@ -747,7 +760,7 @@ impl LimitSurface {
         loop {
             match self.nodes[node as usize].0 {
                 Node::Patch(patch) => {
-                    let (p, q) = self.kind.patch_frame();
+                    let (p, q) = self.patching.patch_frame;
                     let s = p[0][0] * u + p[0][1] * v + q[0];
                     let t = p[1][0] * u + p[1][1] * v + q[1];
                     return Located::Patch { patch, s, t, j: compose(&p, &a) };
@@ -757,10 +770,11 @@ impl LimitSurface {
                     // vertices are): the general path evaluates it at the
                     // coarsest level whose masks are exact, so the tangents
                     // there do not depend on the table's depth.
-                    if node == self.roots[d] && self.kind != Kind::DooSabin && self.kind.corner_at(u, v).is_some() {
+                    let primal = self.traits.split != Split::Dual;
+                    if node == self.roots[d] && primal && (self.patching.corner_at)(u, v).is_some() {
                         return Located::Deep { entry: u32::MAX, u, v, a };
                     }
-                    let (k, ak, bk) = self.kind.child(u, v);
+                    let (k, ak, bk) = (self.patching.child)(u, v);
                     (u, v) = apply_affine(&(ak, bk), u, v);
                     a = compose(&ak, &a);
                     node = children[k];
@@ -799,7 +813,7 @@ impl LimitSurface {
     /// (`doo_sabin` module docs). The folded parameters and whether the
     /// minimum is u.
     fn fold(&self, d: usize, u: f64, v: f64) -> Option<(f64, f64, bool)> {
-        if self.kind != Kind::DooSabin || u >= 0.5 || v >= 0.5 || !self.folded[d] {
+        if self.traits.split != Split::Dual || u >= 0.5 || v >= 0.5 || !self.folded[d] {
             return None;
         }
         Some((0.5, u.min(v), u <= v))
@@ -855,18 +869,18 @@ impl LimitSurface {
         if let Some(map) = &self.vertex_map {
             ids.iter_mut().for_each(|i| *i = map[*i as usize]);
         }
-        match self.kind {
-            Kind::CatmullClark if self.topology.face_size(FaceId(dom.face)) != 4 => {
+        match self.traits.split {
+            Split::Quad if self.topology.face_size(FaceId(dom.face)) != 4 => {
                 let refined = local.refine(&self.options)?;
                 let child = FaceId(local.t.faces().offsets()[face.index()] + dom.corner);
                 let (local, face) = refined.ring(&self.options, child)?;
                 Ok((ids, local, face))
             }
-            Kind::DooSabin => {
+            Split::Quad | Split::Triangle => Ok((ids, local, face)),
+            Split::Dual => {
                 let (local, face) = doo_sabin::domain_start(&local, &self.options, face, dom.corner as usize)?;
                 Ok((ids, local, face))
             }
-            _ => Ok((ids, local, face)),
         }
     }
 
@@ -876,8 +890,8 @@ impl LimitSurface {
         // Most faces are regular on the control mesh itself: their patch
         // points are control vertices (or phantom combinations of them),
         // found without building the face's ring.
-        let spec = self.kind.spec();
-        if self.kind != Kind::DooSabin {
+        let spec = self.patching.spec;
+        if self.traits.split != Split::Dual {
             if let Some(points) = regular_points(spec, &self.topology, sharp, FaceId(d.face)) {
                 tree.kinds.push(spec.kind);
                 for slot in 0..16 {
@@ -903,9 +917,9 @@ impl LimitSurface {
         depth: usize,
         tree: &mut Tree,
     ) -> Result<u32, EvalError> {
-        let spec = self.kind.spec();
+        let spec = self.patching.spec;
         let id = tree.nodes.len() as u32;
-        if let Some(points) = self.kind.regular(&local.t, &local.sharp, face) {
+        if let Some(points) = (self.patching.regular)(&local.t, &local.sharp, face) {
             let patch = tree.kinds.len() as u32;
             tree.kinds.push(spec.kind);
             let mut dense = vec![0.0; local.root];
@@ -930,14 +944,14 @@ impl LimitSurface {
         let refined = local.refine(&self.options)?;
         let mut children = [0u32; 4];
         for (k, c) in children.iter_mut().enumerate() {
-            if k == 0 && self.kind == Kind::DooSabin && !doo_sabin::has_v_face(&refined, face) {
+            if k == 0 && self.traits.split == Split::Dual && !doo_sabin::has_v_face(&refined, face) {
                 continue; // folded away (Self::fold): never descended into; filled below
             }
-            let (child, cell) = self.kind.child_cell(local, &refined, face, k)?;
+            let (child, cell) = (self.patching.child_cell)(local, &refined, face, k)?;
             let (next, _) = refined.ring(&self.options, child)?;
             *c = self.build_node(ids, &next, FaceId(cell), depth + 1, tree)?;
         }
-        if self.kind == Kind::DooSabin && !doo_sabin::has_v_face(&refined, face) {
+        if self.traits.split == Split::Dual && !doo_sabin::has_v_face(&refined, face) {
             children[0] = children[1];
         }
         tree.nodes[id as usize] = Node::Split(children);
@@ -988,10 +1002,10 @@ impl LimitSurface {
         mut a: [[f64; 2]; 2],
         start: usize,
     ) -> Result<DenseJet, EvalError> {
-        let spec = self.kind.spec();
+        let spec = self.patching.spec;
         for depth in start..=MAX_DEPTH {
-            if let Some(points) = self.kind.regular(&local.t, &local.sharp, face) {
-                let (p, q) = self.kind.patch_frame();
+            if let Some(points) = (self.patching.regular)(&local.t, &local.sharp, face) {
+                let (p, q) = self.patching.patch_frame;
                 let (s, t) = (p[0][0] * u + p[0][1] * v + q[0], p[1][0] * u + p[1][1] * v + q[1]);
                 let b = basis(spec.kind, s, t);
                 let j = compose(&p, &a);
@@ -1010,24 +1024,26 @@ impl LimitSurface {
                 }
                 return Ok(DenseJet { rows });
             }
-            let corner = match self.kind.corner_at(u, v) {
+            let corner = match (self.patching.corner_at)(u, v) {
                 Some(k) => Some(k),
                 None if depth == MAX_DEPTH => {
-                    let (k, cu, cv) = self.kind.nearest_corner(u, v);
+                    let (k, cu, cv) = self.patching.nearest_corner(self.traits.domain, u, v);
                     (u, v) = (cu, cv);
                     Some(k)
                 }
                 None => None,
             };
             if let Some(k) = corner {
-                let ready = match self.kind {
-                    Kind::DooSabin => true,
-                    _ => patch_vertex::ready(&local, &self.options, VertexId(local.t.face(face)[k])),
+                let ready = match self.traits.split {
+                    Split::Quad | Split::Triangle => {
+                        patch_vertex::ready(&local, &self.options, VertexId(local.t.face(face)[k]))
+                    }
+                    Split::Dual => true,
                 };
                 if ready || depth == MAX_DEPTH {
                     let [pos, ta, tb] = self.vertex_limit(&local, face, k)?;
                     // [T_a T_b] = [∂u' ∂v']·D, D = [d_a d_b]; then ·A to the domain.
-                    let (da, db) = self.kind.frames()[k];
+                    let (da, db) = self.patching.frames[k];
                     let dm = [[da.0 as f64, db.0 as f64], [da.1 as f64, db.1 as f64]];
                     let det = dm[0][0] * dm[1][1] - dm[0][1] * dm[1][0];
                     let inv = [[dm[1][1] / det, -dm[0][1] / det], [-dm[1][0] / det, dm[0][0] / det]];
@@ -1040,8 +1056,8 @@ impl LimitSurface {
                 }
             }
             let refined = local.refine(&self.options)?;
-            let (k, ak, bk) = self.kind.child(u, v);
-            let (child, cell) = self.kind.child_cell(&local, &refined, face, k)?;
+            let (k, ak, bk) = (self.patching.child)(u, v);
+            let (child, cell) = (self.patching.child_cell)(&local, &refined, face, k)?;
             (u, v) = apply_affine(&(ak, bk), u, v);
             a = compose(&ak, &a);
             (local, _) = refined.ring(&self.options, child)?;
@@ -1051,9 +1067,9 @@ impl LimitSurface {
     }
 
     fn vertex_limit(&self, local: &Local, face: FaceId, k: usize) -> Result<[Vec<f64>; 3], EvalError> {
-        match self.kind {
-            Kind::DooSabin => doo_sabin::vertex_limit(local, &self.options, face, k),
-            _ => patch_vertex::vertex_limit(local, &self.options, face, k),
+        match self.traits.split {
+            Split::Quad | Split::Triangle => patch_vertex::vertex_limit(local, &self.options, face, k),
+            Split::Dual => doo_sabin::vertex_limit(local, &self.options, face, k),
         }
     }
 }

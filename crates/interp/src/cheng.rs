@@ -65,7 +65,7 @@
 //! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use crate::system::{interpolate_on_input_topology, AutoSolver, Limit};
-use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method, SolverChoice};
+use crate::{seconds_since, CommonOptions, InterpError, Interpolant, Method, SolverChoice};
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
 use subdiv_stencil::{limit_operator_catmull_clark_sharp, Degeneracy, LimitMatrix, RowKind};
@@ -170,7 +170,7 @@ pub(crate) fn interpolate_prepared(
         interpolated,
         a,
         setup,
-        ControlScheme::CatmullClark,
+        subdiv_stencil::Scheme::CatmullClark,
         &opts.common,
         auto,
         warnings,

@@ -63,7 +63,7 @@
 //! [correction D4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d4
 //! [correction D5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d5
 
-use crate::{ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter};
+use crate::{InterpError, Interpolant, LimitAssociation, Method, Parameter};
 use subdiv_mesh::Mesh;
 use subdiv_stencil::Tension;
 
@@ -136,7 +136,7 @@ pub fn interpolate(mesh: &Mesh, opts: &DengMaOptions) -> Result<Interpolant, Int
         surface_options: opts.surface,
         method: Method::DengMa,
         control: mesh.clone(),
-        scheme: ControlScheme::DengMa(opts.tension),
+        scheme: subdiv_stencil::Scheme::DengMa(opts.tension),
         interpolated: prepared.interpolated.clone(),
         association: LimitAssociation::Interpolatory,
         solve: None,

@@ -227,9 +227,7 @@
 
 use crate::numeric::unit_direction;
 use crate::report::RowCounts;
-use crate::{
-    seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter,
-};
+use crate::{seconds_since, CommonOptions, InterpError, Interpolant, LimitAssociation, Method, Parameter};
 use glam::DVec3;
 use subdiv_mesh::{triangulate, EdgeId, Mesh, Topology, VertexId};
 use subdiv_rules::loop_scheme::{limit_mask, vertex_point_mask};
@@ -811,7 +809,7 @@ pub(crate) fn interpolate_prepared(
         surface_options: opts.common.surface,
         method: Method::DengWang,
         control,
-        scheme: ControlScheme::Loop(opts.beta),
+        scheme: Scheme::Loop(opts.beta),
         interpolated,
         association: LimitAssociation::ControlVertex,
         solve: None,

@@ -219,18 +219,16 @@ pub use energy::thin_plate_energy;
 
 use crate::system::{interpolate_on_input_topology, Limit};
 use crate::{
-    cheng, nasri, seconds_since, ChengOptions, CommonOptions, ControlScheme, InterpError, Interpolant,
-    LimitAssociation, Method, NasriOptions, Parameter, SolveSummary,
+    cheng, nasri, seconds_since, ChengOptions, CommonOptions, InterpError, Interpolant, LimitAssociation, Method,
+    NasriOptions, Parameter, SolveSummary,
 };
 use glam::DVec3;
 use sprs::TriMatI;
-use std::fmt;
-use std::str::FromStr;
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
 use subdiv_stencil::{
     doo_sabin_limit_sites, limit_matrix_loop_sharp, limit_operator_catmull_clark_sharp, DualLimitSite, LimitMatrix,
-    LoopBeta, Scheme, SparseMatrix, StencilError, SubdivisionPlan,
+    Scheme, SparseMatrix, StencilError, SubdivisionPlan,
 };
 
 /// Default number of refinements of the input that give the control mesh.
@@ -245,66 +243,26 @@ const FAIR_RTOL: f64 = 1e-6;
 /// The same for the penalty problem (3), whose result nothing corrects.
 const PENALTY_RTOL: f64 = 1e-12;
 
-/// The scheme whose control mesh the fair method computes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum FairScheme {
-    /// Catmull-Clark (any polygons; HKD93's scheme). The default.
-    #[default]
-    CatmullClark,
-    /// Loop with this β (triangles only).
-    Loop(LoopBeta),
-    /// Standard Doo-Sabin (refine ≤ 1).
-    DooSabin,
+/// Refuses a scheme the fair method cannot take: an interpolatory one
+/// ([`subdiv_stencil::SchemeTraits::interpolating`]: Deng-Ma), whose surface
+/// is fixed by the data and has no limit points to constrain.
+fn check_scheme(scheme: Scheme) -> Result<(), InterpError> {
+    if scheme.traits().interpolating {
+        let takes: Vec<&str> = Scheme::ALL.iter().filter(|s| !s.traits().interpolating).map(Scheme::name).collect();
+        return Err(InterpError::invalid(
+            Parameter::Scheme,
+            format!(
+                "the fair method takes a scheme with limit points ({}); {scheme} is interpolatory (use --method \
+                 deng-ma)",
+                takes.join(", ")
+            ),
+        ));
+    }
+    Ok(())
 }
 
-impl FairScheme {
-    /// The subdivision scheme.
-    pub fn scheme(self) -> Scheme {
-        match self {
-            FairScheme::CatmullClark => Scheme::CatmullClark,
-            FairScheme::Loop(beta) => Scheme::Loop(beta),
-            FairScheme::DooSabin => Scheme::DooSabin,
-        }
-    }
-
-    /// The control scheme of the result.
-    pub fn control_scheme(self) -> ControlScheme {
-        match self {
-            FairScheme::CatmullClark => ControlScheme::CatmullClark,
-            FairScheme::Loop(beta) => ControlScheme::Loop(beta),
-            FairScheme::DooSabin => ControlScheme::DooSabin,
-        }
-    }
-
-    /// `catmull-clark`, `loop` or `doo-sabin` (parsed back by [`FromStr`]).
-    pub fn name(self) -> &'static str {
-        self.scheme().name()
-    }
-}
-
-impl fmt::Display for FairScheme {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for FairScheme {
-    type Err = InterpError;
-
-    /// `catmull-clark` (or `cc`), `loop` (Warren's β), `doo-sabin` (or `ds`); `_` for `-`, any case.
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s.trim().to_ascii_lowercase().replace('_', "-").as_str() {
-            "catmull-clark" | "cc" => Ok(FairScheme::CatmullClark),
-            "loop" => Ok(FairScheme::Loop(LoopBeta::default())),
-            "doo-sabin" | "ds" => Ok(FairScheme::DooSabin),
-            _ => Err(InterpError::invalid(
-                Parameter::Scheme,
-                format!("unknown scheme '{s}' (expected catmull-clark, loop or doo-sabin)"),
-            )),
-        }
-    }
-}
+/// Why the matches below have a Deng-Ma arm that is never taken.
+const REFUSED: &str = "interpolatory schemes are refused by FairOptions::validate";
 
 /// How (2) of the module docs is solved: two algorithms with the same
 /// minimiser, one of which needs the energy on M^K's own limit points.
@@ -332,8 +290,10 @@ pub struct FairOptions {
     /// of the minimisation (`solver` is read at refine 0 only, by the exact
     /// method that runs there).
     pub common: CommonOptions,
-    /// The control mesh's scheme.
-    pub scheme: FairScheme,
+    /// The control mesh's scheme: Catmull-Clark (the default; HKD93's
+    /// scheme), Loop (triangles only) or Doo-Sabin (refine ≤ 1); not an
+    /// interpolatory one.
+    pub scheme: Scheme,
     /// K: the control mesh is the input refined K times (0 ≤ K ≤ [`MAX_REFINE`];
     /// Doo-Sabin ≤ 1).
     pub refine: usize,
@@ -352,7 +312,7 @@ impl Default for FairOptions {
     fn default() -> Self {
         Self {
             common: CommonOptions::default(),
-            scheme: FairScheme::default(),
+            scheme: Scheme::CatmullClark,
             refine: DEFAULT_REFINE,
             energy_levels: 0,
             algorithm: FairAlgorithm::Auto,
@@ -365,9 +325,14 @@ crate::options::common_setters!(FairOptions);
 
 impl FairOptions {
     /// Sets the scheme.
-    pub fn with_scheme(mut self, scheme: FairScheme) -> Self {
+    ///
+    /// # Errors
+    /// [`InterpError::InvalidParameter`] for a scheme the method cannot take
+    /// (an interpolatory one: Deng-Ma).
+    pub fn with_scheme(mut self, scheme: Scheme) -> Result<Self, InterpError> {
+        check_scheme(scheme)?;
         self.scheme = scheme;
-        self
+        Ok(self)
     }
 
     /// Sets K, the refinements of the input that give the control mesh.
@@ -395,6 +360,7 @@ impl FairOptions {
     }
 
     fn validate(&self) -> Result<(), InterpError> {
+        check_scheme(self.scheme)?;
         if self.refine > MAX_REFINE {
             return Err(InterpError::invalid(
                 Parameter::Refine,
@@ -410,7 +376,7 @@ impl FairOptions {
                 format!("refine + energy levels = {} exceeds {MAX_REFINE}", self.refine + self.energy_levels),
             ));
         }
-        if self.scheme == FairScheme::DooSabin && self.refine > 1 {
+        if self.scheme == Scheme::DooSabin && self.refine > 1 {
             return Err(InterpError::invalid(
                 Parameter::Refine,
                 format!("refine = {}: fair Doo-Sabin takes refine 0 or 1", self.refine),
@@ -450,7 +416,7 @@ pub(crate) fn interpolate_prepared(
     interpolated: Vec<bool>,
     opts: &FairOptions,
 ) -> Result<Interpolant, InterpError> {
-    if let FairScheme::Loop(_) = opts.scheme {
+    if opts.scheme.traits().triangles_only {
         if let Some(f) = mesh.topology().face_ids().find(|&f| mesh.topology().face_size(f) != 3) {
             return Err(crate::preconditions::unsupported(
                 Method::Fair,
@@ -478,13 +444,13 @@ pub(crate) fn interpolate_prepared(
 fn exact_method(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Result<Interpolant, InterpError> {
     let common = opts.common.clone();
     match opts.scheme {
-        FairScheme::CatmullClark => {
+        Scheme::CatmullClark => {
             cheng::interpolate_prepared(mesh, interpolated, &ChengOptions::default().with_common(common))
         }
-        FairScheme::DooSabin => {
+        Scheme::DooSabin => {
             nasri::interpolate_prepared(mesh, interpolated, &NasriOptions::default().with_common(common))
         }
-        FairScheme::Loop(beta) => {
+        Scheme::Loop(beta) => {
             let start = std::time::Instant::now();
             let sharp = common.surface.sharpness(mesh.tags());
             let a = limit_matrix_loop_sharp(mesh.topology(), &sharp, beta)?;
@@ -495,12 +461,13 @@ fn exact_method(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Res
                 interpolated,
                 Limit::Owned(a),
                 setup,
-                ControlScheme::Loop(beta),
+                Scheme::Loop(beta),
                 &common,
                 Solver::Cg { jacobi: true },
                 Vec::new(),
             )
         }
+        Scheme::DengMa(_) => unreachable!("{REFUSED}"),
     }
 }
 
@@ -531,7 +498,7 @@ fn fair(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Result<Inte
     let start = std::time::Instant::now();
     let t = mesh.topology();
     let k = opts.refine;
-    let options = opts.common.surface.for_scheme(opts.scheme.scheme());
+    let options = opts.common.surface.for_scheme(opts.scheme);
     let plan = SubdivisionPlan::with_tags(t, mesh.tags(), options, k)?;
     let mut warnings = Vec::new();
     // M^K with the refined data (the starting guess), its tags and UVs.
@@ -549,7 +516,7 @@ fn fair(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Result<Inte
     let sharp_k = opts.common.surface.sharpness(refined.tags());
     let by_limit_points = match opts.algorithm {
         FairAlgorithm::Auto => {
-            k > 0 && opts.energy_levels == 0 && opts.fairness_weight.is_none() && opts.scheme != FairScheme::DooSabin
+            k > 0 && opts.energy_levels == 0 && opts.fairness_weight.is_none() && opts.scheme != Scheme::DooSabin
         }
         FairAlgorithm::LimitPoints => true,
         FairAlgorithm::Elimination => false,
@@ -615,7 +582,7 @@ fn by_limit_points_path(
     start: std::time::Instant,
     mut warnings: Vec<String>,
 ) -> Result<Interpolant, InterpError> {
-    if opts.scheme == FairScheme::DooSabin || opts.energy_levels > 0 || opts.fairness_weight.is_some() {
+    if opts.scheme == Scheme::DooSabin || opts.energy_levels > 0 || opts.fairness_weight.is_some() {
         return Err(InterpError::invalid(
             Parameter::Scheme,
             "the limit-points algorithm takes Catmull-Clark or Loop, exact constraints and no energy levels",
@@ -625,7 +592,7 @@ fn by_limit_points_path(
     let tk = refined.topology();
     let m = tk.vertex_count();
     let n = mesh.topology().vertex_count();
-    let options = opts.common.surface.for_scheme(opts.scheme.scheme());
+    let options = opts.common.surface.for_scheme(opts.scheme);
     // (a) Y: min ‖Δ·Y‖² with Y_v = P_v at the interpolated images.
     let mut pinned = vec![false; m];
     let mut y = refined.positions().to_vec();
@@ -710,21 +677,22 @@ fn by_limit_points_path(
 fn assembled_limit_matrix(
     fine: &Mesh,
     sharp: &subdiv_stencil::LevelSharpness,
-    scheme: FairScheme,
+    scheme: Scheme,
 ) -> Result<Option<LimitMatrix>, InterpError> {
     let t = fine.topology();
     if !fine.tags().is_empty() {
         return Ok(None);
     }
     Ok(match scheme {
-        FairScheme::CatmullClark => {
+        Scheme::CatmullClark => {
             if t.vertices().any(|v| !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2) {
                 return Ok(None);
             }
             Some(limit_operator_catmull_clark_sharp(t, sharp)?.assemble())
         }
-        FairScheme::Loop(beta) => Some(limit_matrix_loop_sharp(t, sharp, beta)?),
-        FairScheme::DooSabin => None,
+        Scheme::Loop(beta) => Some(limit_matrix_loop_sharp(t, sharp, beta)?),
+        Scheme::DooSabin => None,
+        Scheme::DengMa(_) => unreachable!("{REFUSED}"),
     })
 }
 
@@ -895,7 +863,7 @@ impl Solved {
         Interpolant {
             method: Method::Fair,
             control,
-            scheme: opts.scheme.control_scheme(),
+            scheme: opts.scheme,
             surface_options: opts.common.surface,
             interpolated,
             association,
@@ -971,7 +939,7 @@ fn constraints(
     let data = mesh.positions();
     let mut rows = Vec::new();
     let mut points = Vec::new();
-    if opts.scheme == FairScheme::DooSabin && k == 1 {
+    if opts.scheme == Scheme::DooSabin && k == 1 {
         // M¹'s numbering is dual_split_tagged's (the plan's Doo-Sabin split).
         let (_, provenance, _) = subdiv_mesh::refine::dual_split_tagged(t, mesh.tags());
         let sites = doo_sabin_limit_sites(t, mesh.tags(), &provenance)?;

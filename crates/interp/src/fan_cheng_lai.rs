@@ -50,8 +50,7 @@
 
 use crate::system::solve_limit_system;
 use crate::{
-    seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter,
-    SolverChoice,
+    seconds_since, CommonOptions, InterpError, Interpolant, LimitAssociation, Method, Parameter, SolverChoice,
 };
 use subdiv_mesh::refine::dual_split_tagged;
 use subdiv_mesh::Mesh;
@@ -177,7 +176,7 @@ pub(crate) fn interpolate_prepared(
         method: Method::FanChengLai,
         association,
         control,
-        scheme: ControlScheme::DooSabin,
+        scheme: Scheme::DooSabin,
         interpolated,
         solve: Some(solved.summary),
         setup_seconds: setup,

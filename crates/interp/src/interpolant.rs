@@ -8,44 +8,8 @@ use glam::DVec3;
 use std::borrow::Cow;
 use subdiv_mesh::{Mesh, PowerOfTwoScale};
 use subdiv_stencil::{
-    doo_sabin, doo_sabin_limit_sites, subdivide_for_output, DualLimitSite, LoopBeta, Options, Scheme, StencilError,
-    Tension,
+    doo_sabin, doo_sabin_limit_sites, subdivide_for_output, DualLimitSite, Options, Scheme, Split, StencilError,
 };
-
-/// The plain scheme whose limit surface of the control mesh interpolates the data.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ControlScheme {
-    /// Standard Doo-Sabin.
-    DooSabin,
-    /// Catmull-Clark.
-    CatmullClark,
-    /// Loop with the given β.
-    Loop(LoopBeta),
-    /// Deng-Ma's interpolatory scheme: the control mesh is the input and the
-    /// scheme itself passes through it.
-    DengMa(Tension),
-}
-
-impl ControlScheme {
-    /// The subdivision scheme that refines the control mesh.
-    pub fn scheme(&self) -> Scheme {
-        match *self {
-            ControlScheme::DooSabin => Scheme::DooSabin,
-            ControlScheme::CatmullClark => Scheme::CatmullClark,
-            ControlScheme::Loop(beta) => Scheme::Loop(beta),
-            ControlScheme::DengMa(t) => Scheme::DengMa(t),
-        }
-    }
-    /// Name for reports (`null` in JSON for Deng-Ma, whose output is no control mesh).
-    pub fn report_name(&self) -> Option<&'static str> {
-        match self {
-            ControlScheme::DooSabin => Some("doo-sabin"),
-            ControlScheme::CatmullClark => Some("catmull-clark"),
-            ControlScheme::Loop(_) => Some("loop"),
-            ControlScheme::DengMa(_) => None,
-        }
-    }
-}
 
 /// Which point of the control mesh's limit surface belongs to input vertex i,
 /// read off by the plain scheme's own rules (never by a method's system
@@ -166,8 +130,10 @@ pub struct Interpolant {
     pub method: Method,
     /// The control mesh (for Deng-Ma: the input mesh itself).
     pub control: Mesh,
-    /// The control mesh's scheme.
-    pub scheme: ControlScheme,
+    /// The plain scheme whose limit surface of the control mesh interpolates
+    /// the data (Deng-Ma, interpolatory: the control mesh is the input and
+    /// the scheme itself passes through it).
+    pub scheme: Scheme,
     /// The surface options of the scheme (with the control mesh's tags,
     /// they define the surface): the method's, as it was asked.
     pub surface_options: SurfaceOptions,
@@ -201,7 +167,7 @@ impl Interpolant {
     /// The subdivision options of the control mesh's surface: its scheme
     /// with [`Self::surface_options`].
     pub fn options(&self) -> Options {
-        self.surface_options.for_scheme(self.scheme.scheme())
+        self.surface_options.for_scheme(self.scheme)
     }
 
     /// The limit point associated with every input vertex, computed from the
@@ -211,8 +177,8 @@ impl Interpolant {
     ///
     /// [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
     pub fn limit_points(&self, input_vertices: usize) -> Vec<DVec3> {
-        if let (LimitAssociation::ControlVertex, ControlScheme::CatmullClark | ControlScheme::Loop(_)) =
-            (&self.association, self.scheme)
+        if let (LimitAssociation::ControlVertex, Split::Quad | Split::Triangle) =
+            (&self.association, self.scheme.traits().split)
         {
             // `SubdivisionPlan::limit_points` scales by this same power of two
             // itself (and back): the same bits without a scaled copy of the mesh.
@@ -243,17 +209,16 @@ impl Interpolant {
                 // A control mesh the rules refuse (a method's bug) has no
                 // limit points: NaN, which fails every error check.
                 let refused = |_| vec![DVec3::NAN; t.vertex_count()];
-                let mut all = match scheme {
-                    ControlScheme::DooSabin => {
-                        doo_sabin::limit_points_tagged(t, c.tags(), c.positions()).unwrap_or_else(refused)
-                    }
-                    ControlScheme::CatmullClark | ControlScheme::Loop(_) => {
+                let mut all = match scheme.traits().split {
+                    Split::Dual => doo_sabin::limit_points_tagged(t, c.tags(), c.positions()).unwrap_or_else(refused),
+                    // An interpolatory scheme (no limit masks: `None`) is
+                    // associated `Interpolatory`, never here.
+                    Split::Quad | Split::Triangle => {
                         match subdiv_stencil::limit_points_with_options(t, c.tags(), self.options(), c.positions()) {
                             Ok(limits) => limits.expect("the scheme has limit masks"),
                             Err(e) => refused(e),
                         }
                     }
-                    ControlScheme::DengMa(_) => unreachable!("Deng-Ma is interpolatory"),
                 };
                 all.truncate(input_vertices);
                 all

@@ -41,7 +41,7 @@
 //! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
 use crate::system::interpolate_on_input_topology;
-use crate::{seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, Method};
+use crate::{seconds_since, CommonOptions, InterpError, Interpolant, Method};
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
 use subdiv_stencil::doo_sabin::CornerRule;
@@ -84,7 +84,7 @@ pub(crate) fn interpolate_prepared(
         interpolated,
         crate::system::Limit::Owned(c),
         setup,
-        ControlScheme::DooSabin,
+        subdiv_stencil::Scheme::DooSabin,
         &opts.common,
         Solver::Cg { jacobi: true },
         Vec::new(),

@@ -335,7 +335,7 @@ impl Report {
         };
         Report {
             method: result.method.name().to_string(),
-            control_scheme: result.scheme.report_name().map(str::to_string),
+            control_scheme: (!result.scheme.traits().interpolating).then(|| result.scheme.name().to_string()),
             input: MeshSummary { bbox_diagonal: Some(input.bbox_diagonal()), ..MeshSummary::of(input) },
             control: MeshSummary::of(&result.control),
             surface_options: SurfaceOptionsSummary {

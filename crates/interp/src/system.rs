@@ -322,7 +322,7 @@ pub(crate) fn interpolate_on_input_topology(
     interpolated: Vec<bool>,
     a: Limit<'_>,
     setup_seconds: f64,
-    scheme: crate::ControlScheme,
+    scheme: subdiv_stencil::Scheme,
     common: &crate::CommonOptions,
     auto: impl Into<AutoSolver>,
     mut warnings: Vec<String>,

@@ -12,32 +12,25 @@ use glam::DVec3;
 use std::collections::HashMap;
 use subdiv_mesh::refine::DualFeatures;
 use subdiv_mesh::{Mesh, PowerOfTwoScale};
-use subdiv_stencil::{subdivide, LoopBeta, Scheme, StencilError, SubdivisionPlan};
+use subdiv_stencil::{subdivide, Scheme, Split, StencilError, SubdivisionPlan};
 
 use crate::SurfaceOptions;
 
-/// The scheme of a control mesh.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Plain {
-    /// Doo-Sabin (with the control mesh's infinitely sharp creases and
-    /// corners): after one step, every face centroid and every sharp-curve
-    /// point (midpoint of consecutive vertices of the boundary and of the
-    /// refined crease polygons), and every corner; if the control mesh has
-    /// interior vertices of valence 2 (which have no V-face after one step),
-    /// also every face centroid after a second step.
-    DooSabin,
-    /// Catmull-Clark: the limit point of every vertex, with the tags.
-    CatmullClark,
-    /// Loop: the limit point of every vertex, with the tags.
-    Loop(LoopBeta),
-    /// An interpolatory scheme: the vertices themselves.
-    Interpolatory,
-}
-
-/// Every limit point the scheme exposes on `control` with its tags and the
-/// default surface options ([`candidate_limit_points_with`]).
-pub fn candidate_limit_points(control: &Mesh, plain: Plain) -> Result<Vec<DVec3>, StencilError> {
-    candidate_limit_points_with(control, plain, SurfaceOptions::default())
+/// Every limit point `scheme` exposes on `control` with its tags and the
+/// default surface options ([`candidate_limit_points_with`]):
+///
+/// * an interpolatory scheme ([`subdiv_stencil::SchemeTraits::interpolating`],
+///   Deng-Ma): the vertices themselves;
+/// * the dual split (Doo-Sabin, with the control mesh's infinitely sharp
+///   creases and corners): after one step, every face centroid and every
+///   sharp-curve point (midpoint of consecutive vertices of the boundary and
+///   of the refined crease polygons), and every corner; if the control mesh
+///   has interior vertices of valence 2 (which have no V-face after one
+///   step), also every face centroid after a second step;
+/// * the primal splits (Catmull-Clark, Loop): the limit point of every
+///   vertex, with the tags.
+pub fn candidate_limit_points(control: &Mesh, scheme: Scheme) -> Result<Vec<DVec3>, StencilError> {
+    candidate_limit_points_with(control, scheme, SurfaceOptions::default())
 }
 
 /// Every limit point the scheme exposes on `control` with its tags and
@@ -46,7 +39,7 @@ pub fn candidate_limit_points(control: &Mesh, plain: Plain) -> Result<Vec<DVec3>
 /// scaled back. Texture coordinates play no part.
 pub fn candidate_limit_points_with(
     control: &Mesh,
-    plain: Plain,
+    scheme: Scheme,
     surface: SurfaceOptions,
 ) -> Result<Vec<DVec3>, StencilError> {
     let scale = PowerOfTwoScale::normalizing(control.positions().iter().copied());
@@ -54,27 +47,28 @@ pub fn candidate_limit_points_with(
         .with_positions(scale.scaled_points(control.positions()))
         .with_uvs(None)
         .expect("no channel is always valid");
-    let mut points = scaled_candidates(&scaled, plain, surface)?;
+    let mut points = scaled_candidates(&scaled, scheme, surface)?;
     scale.inverse().apply_points(&mut points);
     Ok(points)
 }
 
-fn scaled_candidates(control: &Mesh, plain: Plain, surface: SurfaceOptions) -> Result<Vec<DVec3>, StencilError> {
+fn scaled_candidates(control: &Mesh, scheme: Scheme, surface: SurfaceOptions) -> Result<Vec<DVec3>, StencilError> {
     let (t, tags) = (control.topology(), control.tags());
-    let limits = |scheme| {
-        let plan = SubdivisionPlan::with_tags(t, tags, surface.for_scheme(scheme), 0)?;
-        Ok(plan.limit_points(control.positions()).expect("the scheme has limit masks"))
-    };
-    Ok(match plain {
-        Plain::CatmullClark => limits(Scheme::CatmullClark)?,
-        Plain::Loop(beta) => limits(Scheme::Loop(beta))?,
-        Plain::Interpolatory => control.positions().to_vec(),
-        Plain::DooSabin => {
-            let refined = subdivide(control, Scheme::DooSabin, 1, false)?;
+    let traits = scheme.traits();
+    if traits.interpolating {
+        return Ok(control.positions().to_vec());
+    }
+    Ok(match traits.split {
+        Split::Quad | Split::Triangle => {
+            let plan = SubdivisionPlan::with_tags(t, tags, surface.for_scheme(scheme), 0)?;
+            plan.limit_points(control.positions()).expect("an approximating scheme has limit masks")
+        }
+        Split::Dual => {
+            let refined = subdivide(control, scheme, 1, false)?;
             let (rt, rtags) = (refined.topology(), refined.tags());
             let mut points = refined.face_centroids();
             if t.vertices().any(|v| !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2) {
-                points.extend(subdivide(&refined, Scheme::DooSabin, 1, false)?.face_centroids());
+                points.extend(subdivide(&refined, scheme, 1, false)?.face_centroids());
             }
             // The sharp curves: midpoints of the refined boundary and crease edges.
             let features = DualFeatures::new(rt, rtags);

@@ -113,8 +113,8 @@
 
 use crate::numeric::{max_nan, unit_direction};
 use crate::{
-    seconds_since, CommonOptions, ControlScheme, InterpError, Interpolant, LimitAssociation, Method, Parameter,
-    SolveSummary, SolverChoice,
+    seconds_since, CommonOptions, InterpError, Interpolant, LimitAssociation, Method, Parameter, SolveSummary,
+    SolverChoice,
 };
 use glam::DVec3;
 use subdiv_mesh::refine::DualFace;
@@ -666,7 +666,7 @@ pub(crate) fn interpolate_prepared(
         surface_options: opts.common.surface,
         method: Method::ZhengCai,
         control,
-        scheme: ControlScheme::DooSabin,
+        scheme: subdiv_stencil::Scheme::DooSabin,
         interpolated: aux.interpolated,
         association: LimitAssociation::DualSites(sites),
         solve: Some(aux.summary),

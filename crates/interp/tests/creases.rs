@@ -131,12 +131,12 @@ fn run_method(method: Method, mesh: &Mesh) -> Result<Interpolant, InterpError> {
     interpolate(mesh, &options.with_tol(1e-10))
 }
 
-fn plain(method: Method) -> support::Plain {
+fn plain(method: Method) -> Scheme {
     match method {
-        Method::Cheng => support::Plain::CatmullClark,
-        Method::DengWang => support::Plain::Loop(subdiv_stencil::LoopBeta::Warren),
-        Method::DengMa => support::Plain::Interpolatory,
-        _ => support::Plain::DooSabin,
+        Method::Cheng => Scheme::CatmullClark,
+        Method::DengWang => Scheme::Loop(subdiv_stencil::LoopBeta::Warren),
+        Method::DengMa => Scheme::DengMa(Default::default()),
+        _ => Scheme::DooSabin,
     }
 }
 

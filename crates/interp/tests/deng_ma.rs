@@ -14,7 +14,7 @@ use glam::DVec3;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
-use subdiv_interp::{deng_ma, ControlScheme, DengMaOptions, InterpError, LimitAssociation, Parameter};
+use subdiv_interp::{deng_ma, DengMaOptions, InterpError, LimitAssociation, Parameter};
 use subdiv_mesh::refine::quad_split;
 use subdiv_mesh::{shapes, Mesh, Topology, VertexId};
 use subdiv_rules::{curves, deng_ma as rules};
@@ -147,7 +147,7 @@ fn result_is_the_input_with_the_deng_ma_scheme() {
         let result = deng_ma::interpolate(&mesh, &with(tension)).unwrap();
         assert_eq!(result.control.positions(), mesh.positions());
         assert_eq!(result.control.topology().faces(), mesh.topology().faces());
-        assert_eq!(result.scheme, ControlScheme::DengMa(tension));
+        assert_eq!(result.scheme, Scheme::DengMa(tension));
         assert_eq!(result.association, LimitAssociation::Interpolatory);
         assert!(result.solve.is_none());
         let recorded = match tension {

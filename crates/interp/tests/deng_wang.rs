@@ -16,10 +16,10 @@ use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
 use subdiv_interp::deng_wang::{self, DEFAULT_MU};
-use subdiv_interp::{ControlScheme, DengWangOptions, InterpError, Interpolant, LimitAssociation, Parameter};
+use subdiv_interp::{DengWangOptions, InterpError, Interpolant, LimitAssociation, Parameter};
 use subdiv_mesh::{shapes, Mesh};
 use subdiv_stencil::{apply, loop_subdivision, LoopBeta, Scheme, SubdivisionPlan};
-use support::{candidate_limit_points, fixture, fixtures, load, nearest_gap, torus_with_untriangulable_hexagon, Plain};
+use support::{candidate_limit_points, fixture, fixtures, load, nearest_gap, torus_with_untriangulable_hexagon};
 
 // ---- helpers ----------------------------------------------------------------
 
@@ -198,7 +198,7 @@ fn fixtures_interpolate_for_every_mu_and_beta() {
         for beta in BETAS {
             for mu in [0.0, 0.25, 0.5] {
                 let result = deng_wang::interpolate(&mesh, &opts(mu, beta)).unwrap();
-                assert_eq!(result.scheme, ControlScheme::Loop(beta));
+                assert_eq!(result.scheme, Scheme::Loop(beta));
                 assert_eq!(result.association, LimitAssociation::ControlVertex);
                 assert!(result.solve.is_none());
                 let t = mesh.topology();
@@ -232,7 +232,7 @@ fn error_from_written_control_mesh(mesh: &Mesh, control: &Mesh, beta: LoopBeta, 
     let back = load(&path);
     let t = mesh.topology();
     let data: Vec<DVec3> = t.vertices().filter(|&v| !t.is_isolated(v)).map(|v| mesh.position(v)).collect();
-    nearest_gap(&data, &candidate_limit_points(&back, Plain::Loop(beta)), mesh.bbox_diagonal())
+    nearest_gap(&data, &candidate_limit_points(&back, Scheme::Loop(beta)), mesh.bbox_diagonal())
 }
 
 /// Quad and polygon meshes are triangulated inside the method (no vertex
@@ -252,7 +252,7 @@ fn polygon_fixtures_are_triangulated_and_interpolated() {
         assert!(polygons > 0, "{name} has only triangles");
         let result =
             deng_wang::interpolate(&mesh, &DengWangOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
-        assert_eq!(result.scheme, ControlScheme::Loop(LoopBeta::Warren));
+        assert_eq!(result.scheme, Scheme::Loop(LoopBeta::Warren));
         assert_eq!(result.parameters.triangulated_faces, Some(polygons));
         let triangles: usize = t.face_ids().map(|f| t.face_size(f) - 2).sum();
         assert_eq!(

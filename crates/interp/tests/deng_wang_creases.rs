@@ -180,7 +180,7 @@ fn darts(mesh: &Mesh) -> Vec<bool> {
 /// method use is OpenSubdiv's (the smooth limit mask after one level,
 /// `subdiv_stencil::limit_matrix` "Row kinds"), which is not the limit of
 /// refinement — the crease edge's midpoint rule makes the smooth mask no
-/// left eigenvector of the dart's subdivision matrix. Plain Loop on the same
+/// left eigenvector of the dart's subdivision matrix. Scheme Loop on the same
 /// torus shows the same: its dart vertices' refined positions stall at
 /// ~5e-4·d from the plan's limit points while every other vertex converges.
 /// So at a dart the refined positions converge (steps falling ≥ 1.8× per

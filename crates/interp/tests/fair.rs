@@ -6,39 +6,32 @@
 
 mod support;
 use proptest::prelude::*;
-use subdiv_interp::fair::{self, thin_plate_energy, FairAlgorithm, FairOptions, FairScheme};
+use subdiv_interp::fair::{self, thin_plate_energy, FairAlgorithm, FairOptions};
 use subdiv_interp::{
     cheng, interpolate, nasri, ChengOptions, InterpError, Interpolant, LoopBeta, Method, MethodOptions, NasriOptions,
     SurfaceOptions,
 };
 use subdiv_mesh::{shapes, Mesh};
-use support::{bumpy, candidate_limit_points, fixture, nearest_gap, Plain};
+use subdiv_stencil::Scheme;
+use support::{bumpy, candidate_limit_points, fixture, nearest_gap};
 
 const TOL: f64 = 1e-6;
 
-fn plain(scheme: FairScheme) -> Plain {
-    match scheme {
-        FairScheme::CatmullClark => Plain::CatmullClark,
-        FairScheme::Loop(beta) => Plain::Loop(beta),
-        _ => Plain::DooSabin,
-    }
-}
-
 /// The error ≤ 1e-6·d twice: by the result's own measure and by the
 /// nearest candidate limit point of the control mesh (`verify`).
-fn check(name: &str, mesh: &Mesh, result: &Interpolant, scheme: FairScheme) -> f64 {
+fn check(name: &str, mesh: &Mesh, result: &Interpolant, scheme: Scheme) -> f64 {
     let d = mesh.bbox_diagonal();
     let reported = result.error_all(mesh).max_rel;
     assert!(reported <= TOL, "{name}: reported error {reported:e}");
-    let independent = nearest_gap(mesh.positions(), &candidate_limit_points(&result.control, plain(scheme)), d);
+    let independent = nearest_gap(mesh.positions(), &candidate_limit_points(&result.control, scheme), d);
     assert!(independent <= TOL, "{name}: independent error {independent:e}");
     reported
 }
 
-fn cases() -> Vec<(&'static str, Mesh, FairScheme)> {
-    let cc = FairScheme::CatmullClark;
-    let lp = FairScheme::Loop(LoopBeta::Warren);
-    let ds = FairScheme::DooSabin;
+fn cases() -> Vec<(&'static str, Mesh, Scheme)> {
+    let cc = Scheme::CatmullClark;
+    let lp = Scheme::Loop(LoopBeta::Warren);
+    let ds = Scheme::DooSabin;
     vec![
         ("torus quads (closed)", bumpy(shapes::torus(10, 7), 0.02, 1), cc),
         ("grid quads (open)", bumpy(shapes::quad_grid(6, 5), 0.05, 2), cc),
@@ -58,10 +51,10 @@ fn cases() -> Vec<(&'static str, Mesh, FairScheme)> {
 fn interpolates_within_tolerance_measured_independently() {
     for (name, mesh, scheme) in cases() {
         for refine in [0, 1, 2] {
-            if scheme == FairScheme::DooSabin && refine > 1 {
+            if scheme == Scheme::DooSabin && refine > 1 {
                 continue;
             }
-            let opts = FairOptions::default().with_scheme(scheme).with_refine(refine).with_tol(TOL);
+            let opts = FairOptions::default().with_scheme(scheme).unwrap().with_refine(refine).with_tol(TOL);
             let r = fair::interpolate(&mesh, &opts).unwrap_or_else(|e| panic!("{name}, refine {refine}: {e}"));
             assert_eq!(r.method, Method::Fair);
             let e = check(&format!("{name}, refine {refine}"), &mesh, &r, scheme);
@@ -80,9 +73,9 @@ fn energy(r: &Interpolant, control_level: usize, level: usize, d: f64) -> f64 {
 #[test]
 fn the_energy_is_below_the_exact_methods() {
     for (name, mesh, scheme) in cases() {
-        let exact = FairOptions::default().with_scheme(scheme).with_refine(0);
+        let exact = FairOptions::default().with_scheme(scheme).unwrap().with_refine(0);
         let exact = fair::interpolate(&mesh, &exact).unwrap();
-        let fair = fair::interpolate(&mesh, &FairOptions::default().with_scheme(scheme)).unwrap();
+        let fair = fair::interpolate(&mesh, &FairOptions::default().with_scheme(scheme).unwrap()).unwrap();
         // On the level-1 limit points: the quantity fair minimises, where the
         // exact method's refined control mesh is a feasible point.
         let d = mesh.bbox_diagonal();
@@ -115,33 +108,37 @@ fn refine_zero_and_a_vanishing_weight_give_the_exact_methods_solution() {
     let quads = bumpy(shapes::torus(8, 6), 0.03, 7);
     let open = bumpy(shapes::quad_grid(5, 4), 0.05, 8);
     let tris = bumpy(shapes::icosahedron(), 0.03, 9);
-    let cases: Vec<(&str, &Mesh, FairScheme, Interpolant)> = vec![
+    let cases: Vec<(&str, &Mesh, Scheme, Interpolant)> = vec![
         (
             "cheng torus",
             &quads,
-            FairScheme::CatmullClark,
+            Scheme::CatmullClark,
             cheng::interpolate(&quads, &ChengOptions::default().with_tol(1e-12)).unwrap(),
         ),
         (
             "cheng grid",
             &open,
-            FairScheme::CatmullClark,
+            Scheme::CatmullClark,
             cheng::interpolate(&open, &ChengOptions::default().with_tol(1e-12)).unwrap(),
         ),
         (
             "nasri torus",
             &quads,
-            FairScheme::DooSabin,
+            Scheme::DooSabin,
             nasri::interpolate(&quads, &NasriOptions::default().with_tol(1e-12)).unwrap(),
         ),
         (
             "loop icosahedron",
             &tris,
-            FairScheme::Loop(LoopBeta::Warren),
+            Scheme::Loop(LoopBeta::Warren),
             // The unique solution of the Loop limit matrix, by the refine-0 path.
             fair::interpolate(
                 &tris,
-                &FairOptions::default().with_scheme(FairScheme::Loop(LoopBeta::Warren)).with_refine(0).with_tol(1e-12),
+                &FairOptions::default()
+                    .with_scheme(Scheme::Loop(LoopBeta::Warren))
+                    .unwrap()
+                    .with_refine(0)
+                    .with_tol(1e-12),
             )
             .unwrap(),
         ),
@@ -150,7 +147,7 @@ fn refine_zero_and_a_vanishing_weight_give_the_exact_methods_solution() {
         let d = mesh.bbox_diagonal();
         let mut gaps = Vec::new();
         for w in [1e-2, 1e-4, 1e-6, 1e-9] {
-            let opts = FairOptions::default().with_scheme(scheme).with_refine(0).with_fairness_weight(w);
+            let opts = FairOptions::default().with_scheme(scheme).unwrap().with_refine(0).with_fairness_weight(w);
             let r = fair::interpolate(mesh, &opts).unwrap();
             gaps.push(max_gap(&r.control, &exact.control) / d);
         }
@@ -186,11 +183,23 @@ fn the_dispatch_runs_it_by_name_and_refuses_bad_options() {
     let bad = |o: FairOptions| fair::interpolate(&torus, &o).unwrap_err();
     assert!(matches!(bad(FairOptions::default().with_refine(9)), InterpError::InvalidParameter { .. }));
     assert!(matches!(bad(FairOptions::default().with_fairness_weight(-1.0)), InterpError::InvalidParameter { .. }));
-    let ds2 = FairOptions::default().with_scheme(FairScheme::DooSabin).with_refine(2);
+    let ds2 = FairOptions::default().with_scheme(Scheme::DooSabin).unwrap().with_refine(2);
     assert!(matches!(bad(ds2), InterpError::InvalidParameter { .. }));
     // Loop takes triangles only.
-    let lp = FairOptions::default().with_scheme(FairScheme::Loop(LoopBeta::Warren));
+    let lp = FairOptions::default().with_scheme(Scheme::Loop(LoopBeta::Warren)).unwrap();
     assert!(matches!(bad(lp), InterpError::UnsupportedMesh { .. }));
+    // Every scheme of the table but the interpolatory one (no limit points to constrain).
+    for scheme in Scheme::ALL {
+        let set = FairOptions::default().with_scheme(scheme);
+        assert_eq!(set.is_err(), scheme.traits().interpolating, "{scheme}");
+        if let Err(e) = set {
+            assert!(matches!(e, InterpError::InvalidParameter { parameter: subdiv_interp::Parameter::Scheme, .. }));
+        }
+    }
+    // The public field set directly is refused by the method too.
+    let mut deng_ma = FairOptions::default();
+    deng_ma.scheme = Scheme::DengMa(Default::default());
+    assert!(matches!(bad(deng_ma), InterpError::InvalidParameter { .. }));
 }
 
 #[test]
@@ -198,7 +207,7 @@ fn tagged_meshes_interpolate_their_tagged_surface() {
     for (name, mesh, _) in support::tagged::common_cases() {
         match fair::interpolate(&mesh, &FairOptions::default().with_tol(TOL)) {
             Ok(r) => {
-                let e = check(&format!("tagged {name}"), &mesh, &r, FairScheme::CatmullClark);
+                let e = check(&format!("tagged {name}"), &mesh, &r, Scheme::CatmullClark);
                 eprintln!("tagged {name}: {e:.2e}");
             }
             // Semi-sharp creases may spread limit rows beyond a private point.
@@ -219,7 +228,7 @@ proptest! {
     fn generated_meshes(nu in 4usize..10, nv in 4usize..8, seed in 0u64..1000, merge in 0.0f64..0.3, split in 0.0f64..0.3) {
         let mesh = shapes::polygon_mix(&shapes::torus(nu, nv), seed, merge, split, 0.15);
         let fair = fair::interpolate(&mesh, &FairOptions::default()).unwrap();
-        check("generated", &mesh, &fair, FairScheme::CatmullClark);
+        check("generated", &mesh, &fair, Scheme::CatmullClark);
         if let Ok(exact) = fair::interpolate(&mesh, &FairOptions::default().with_refine(0)) {
             let d = mesh.bbox_diagonal();
             let (e0, e1) = (energy(&exact, 0, 1, d), energy(&fair, 1, 1, d));
@@ -232,16 +241,17 @@ proptest! {
 fn energy_on_further_levels_is_minimised_there() {
     // With J energy levels fair minimises the energy of the level-(K+J) limit
     // points, where the exact method's control mesh refined K times is feasible.
-    for (name, mesh, scheme) in cases().into_iter().filter(|c| c.2 != FairScheme::DooSabin) {
+    for (name, mesh, scheme) in cases().into_iter().filter(|c| c.2 != Scheme::DooSabin) {
         let d = mesh.bbox_diagonal();
-        let exact = fair::interpolate(&mesh, &FairOptions::default().with_scheme(scheme).with_refine(0)).unwrap();
-        let o = FairOptions::default().with_scheme(scheme).with_energy_levels(1);
+        let exact =
+            fair::interpolate(&mesh, &FairOptions::default().with_scheme(scheme).unwrap().with_refine(0)).unwrap();
+        let o = FairOptions::default().with_scheme(scheme).unwrap().with_energy_levels(1);
         let r = fair::interpolate(&mesh, &o).unwrap();
         check(&format!("{name}, J = 1"), &mesh, &r, scheme);
         let (e0, e1) = (energy(&exact, 0, 2, d), energy(&r, 1, 2, d));
         assert!(e1 <= e0 * (1.0 + 1e-9), "{name}: {e1} > {e0}");
         // And below fair's own J = 0 result there.
-        let j0 = fair::interpolate(&mesh, &FairOptions::default().with_scheme(scheme)).unwrap();
+        let j0 = fair::interpolate(&mesh, &FairOptions::default().with_scheme(scheme).unwrap()).unwrap();
         assert!(e1 <= energy(&j0, 1, 2, d) * (1.0 + 1e-9), "{name}");
     }
 }
@@ -251,9 +261,9 @@ fn the_two_algorithms_find_the_same_minimiser() {
     // Limit points (fair Y with the data pinned, then T·X = Y) against
     // elimination (private pivots, CG in the control points): the same
     // problem (2), solved by different code.
-    for (name, mesh, scheme) in cases().into_iter().filter(|c| c.2 != FairScheme::DooSabin) {
+    for (name, mesh, scheme) in cases().into_iter().filter(|c| c.2 != Scheme::DooSabin) {
         let d = mesh.bbox_diagonal();
-        let base = FairOptions::default().with_scheme(scheme).with_tol(1e-12);
+        let base = FairOptions::default().with_scheme(scheme).unwrap().with_tol(1e-12);
         let by = |a: FairAlgorithm| fair::interpolate(&mesh, &base.clone().with_algorithm(a)).unwrap();
         let (lp, el) = (by(FairAlgorithm::LimitPoints), by(FairAlgorithm::Elimination));
         check(&format!("{name}, limit points"), &mesh, &lp, scheme);

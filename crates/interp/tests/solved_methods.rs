@@ -12,7 +12,7 @@ use subdiv_interp::{
 use subdiv_mesh::{shapes, Mesh};
 use subdiv_solve::Solver;
 use subdiv_stencil::{Scheme, SubdivisionPlan};
-use support::{candidate_limit_points, fixture, nearest_gap, volume, Plain};
+use support::{candidate_limit_points, fixture, nearest_gap, volume};
 
 const TOL: f64 = 1e-6;
 
@@ -36,7 +36,7 @@ fn open() -> Vec<&'static str> {
     vec!["open/halftunnel.off", "open/nefertiti_small.off", "canonical/grid_quad_8x8_open.obj", "open/grid.off"]
 }
 
-fn check(name: &str, mesh: &Mesh, result: &Interpolant, plain: Plain, tol: f64) -> f64 {
+fn check(name: &str, mesh: &Mesh, result: &Interpolant, plain: Scheme, tol: f64) -> f64 {
     let all = vec![true; mesh.topology().vertex_count()];
     let d = mesh.bbox_diagonal();
     let reported = result.error(mesh.positions(), &all, d);
@@ -55,10 +55,10 @@ fn every_fixture_interpolates_within_tolerance() {
         let ds_ok = t.vertices().all(|v| t.is_boundary_vertex(v) || t.vertex_face_count(v) != 2);
         if ds_ok {
             let r = nasri::interpolate(&mesh, &NasriOptions::default().with_common(common.clone())).unwrap();
-            let e = check(&format!("nasri {name}"), &mesh, &r, Plain::DooSabin, TOL);
+            let e = check(&format!("nasri {name}"), &mesh, &r, Scheme::DooSabin, TOL);
             let f =
                 fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_common(common.clone())).unwrap();
-            let e2 = check(&format!("fan-cheng-lai {name}"), &mesh, &f, Plain::DooSabin, TOL);
+            let e2 = check(&format!("fan-cheng-lai {name}"), &mesh, &f, Scheme::DooSabin, TOL);
             eprintln!(
                 "{name}: nasri {e:.2e} ({} it), fcl {e2:.2e} ({} it)",
                 r.solve.as_ref().unwrap().iterations,
@@ -67,7 +67,7 @@ fn every_fixture_interpolates_within_tolerance() {
         }
         match cheng::interpolate(&mesh, &ChengOptions::default().with_common(common.clone())) {
             Ok(r) => {
-                let e = check(&format!("cheng {name}"), &mesh, &r, Plain::CatmullClark, TOL);
+                let e = check(&format!("cheng {name}"), &mesh, &r, Scheme::CatmullClark, TOL);
                 eprintln!("{name}: cheng {e:.2e} ({} it)", r.solve.as_ref().unwrap().iterations);
             }
             Err(e) => panic!("cheng on {name}: {e}"),
@@ -131,7 +131,7 @@ fn singular_cube_consistent_data_warns_and_inconsistent_data_fails_with_the_erro
     let cube = shapes::cube();
     let r = cheng::interpolate(&cube, &ChengOptions::default()).expect("the exact cube lies in the range of A");
     assert!(r.warnings.iter().any(|w| w.contains("not unique")), "{:?}", r.warnings);
-    check("cube", &cube, &r, Plain::CatmullClark, TOL);
+    check("cube", &cube, &r, Scheme::CatmullClark, TOL);
     let mut p = cube.positions().to_vec();
     p[0] += DVec3::new(0.05, -0.02, 0.03);
     let bent = cube.with_positions(p);
@@ -141,7 +141,7 @@ fn singular_cube_consistent_data_warns_and_inconsistent_data_fails_with_the_erro
     let msg = err.to_string();
     assert!(msg.contains("singular") && msg.contains("zheng-cai") && msg.contains("residual"), "{msg}");
     // The Doo-Sabin methods take the cube.
-    check("nasri cube", &bent, &nasri::interpolate(&bent, &NasriOptions::default()).unwrap(), Plain::DooSabin, TOL);
+    check("nasri cube", &bent, &nasri::interpolate(&bent, &NasriOptions::default()).unwrap(), Scheme::DooSabin, TOL);
 }
 
 #[test]
@@ -150,7 +150,7 @@ fn valence_two_is_solved_by_default_and_refused_only_for_solvers_that_need_a_def
     let pillow = shapes::pillow();
     let r = cheng::interpolate(&pillow, &ChengOptions::default()).unwrap();
     assert_eq!(r.solve.as_ref().unwrap().solver, "minres");
-    check("pillow auto", &pillow, &r, Plain::CatmullClark, TOL);
+    check("pillow auto", &pillow, &r, Scheme::CatmullClark, TOL);
     for solver in [Solver::Pia, Solver::Cg { jacobi: false }, Solver::Cg { jacobi: true }] {
         let common = CommonOptions::default().with_solver(SolverChoice::Use(solver));
         let err = cheng::interpolate(&pillow, &ChengOptions::default().with_common(common)).unwrap_err();
@@ -161,7 +161,7 @@ fn valence_two_is_solved_by_default_and_refused_only_for_solvers_that_need_a_def
     let common = CommonOptions::default().with_solver(SolverChoice::Use(Solver::Ldl));
     let r = cheng::interpolate(&pillow, &ChengOptions::default().with_common(common)).unwrap();
     assert!(r.warnings.iter().any(|w| w.contains("indefinite")), "{:?}", r.warnings);
-    check("pillow ldl", &pillow, &r, Plain::CatmullClark, TOL);
+    check("pillow ldl", &pillow, &r, Scheme::CatmullClark, TOL);
 }
 
 #[test]
@@ -197,7 +197,7 @@ fn shape_parameter_moves_the_surface_monotonically_while_interpolating() {
     for lambda in [0.2, 0.4, 0.6, 0.8] {
         let r = fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_shape(Shape::Uniform(lambda)))
             .unwrap();
-        check(&format!("λ = {lambda}"), &mesh, &r, Plain::DooSabin, TOL);
+        check(&format!("λ = {lambda}"), &mesh, &r, Scheme::DooSabin, TOL);
         volumes.push(volume(&r.surface(3).unwrap()));
     }
     eprintln!("fan-cheng-lai on mpi: level-3 surface volume for λ = 0.2, 0.4, 0.6, 0.8: {volumes:?}");
@@ -209,7 +209,7 @@ fn shape_parameter_moves_the_surface_monotonically_while_interpolating() {
     let per_face: Vec<f64> = (0..t.face_count()).map(|f| if f < t.face_count() / 4 { 0.9 } else { 0.5 }).collect();
     let r =
         fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_shape(Shape::PerFace(per_face))).unwrap();
-    check("per-face λ", &mesh, &r, Plain::DooSabin, TOL);
+    check("per-face λ", &mesh, &r, Scheme::DooSabin, TOL);
 }
 
 #[test]
@@ -227,7 +227,7 @@ fn open_meshes_use_the_boundary_curves() {
         let data: Vec<DVec3> = t.vertices().filter(|&v| t.is_boundary_vertex(v)).map(|v| mesh.position(v)).collect();
         let gap = nearest_gap(&data, &boundary, mesh.bbox_diagonal());
         eprintln!("{:?}: boundary data to level-3 boundary {gap:e}", r.method);
-        if r.scheme == subdiv_interp::ControlScheme::CatmullClark {
+        if r.scheme == Scheme::CatmullClark {
             assert!(gap <= TOL, "Catmull-Clark boundary vertices are limit points: {gap:e}");
         }
     }
@@ -250,10 +250,10 @@ proptest! {
         let t = mesh.topology();
         let no_digons = t.vertices().all(|v| t.vertex_face_count(v) != 2);
         if no_digons {
-            check("nasri", &mesh, &nasri::interpolate(&mesh, &NasriOptions::default()).unwrap(), Plain::DooSabin, TOL);
-            check("fcl", &mesh, &fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default()).unwrap(), Plain::DooSabin, TOL);
+            check("nasri", &mesh, &nasri::interpolate(&mesh, &NasriOptions::default()).unwrap(), Scheme::DooSabin, TOL);
+            check("fcl", &mesh, &fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default()).unwrap(), Scheme::DooSabin, TOL);
             match cheng::interpolate(&mesh, &ChengOptions::default()) {
-                Ok(r) => { check("cheng", &mesh, &r, Plain::CatmullClark, TOL); }
+                Ok(r) => { check("cheng", &mesh, &r, Scheme::CatmullClark, TOL); }
                 Err(e) => prop_assert!(subdiv_stencil::catmull_clark_degeneracy(t).is_some(), "cheng failed: {}", e),
             }
         }

@@ -12,7 +12,7 @@ use proptest::prelude::*;
 use subdiv_interp::{cheng, ChengOptions, InterpError, Interpolant, SolverChoice};
 use subdiv_mesh::{shapes, EdgeId, Mesh};
 use subdiv_solve::Solver;
-use support::{candidate_limit_points, nearest_gap, Plain};
+use support::{candidate_limit_points, nearest_gap, Scheme};
 
 const TOL: f64 = 1e-6;
 
@@ -74,7 +74,7 @@ fn check(name: &str, mesh: &Mesh, r: &Interpolant, tol: f64) -> f64 {
     let all = vec![true; mesh.topology().vertex_count()];
     let e = r.error(mesh.positions(), &all, d);
     assert!(e.max_rel <= tol, "{name}: error {:e}", e.max_rel);
-    let independent = nearest_gap(mesh.positions(), &candidate_limit_points(&r.control, Plain::CatmullClark), d);
+    let independent = nearest_gap(mesh.positions(), &candidate_limit_points(&r.control, Scheme::CatmullClark), d);
     assert!(independent <= tol * (1.0 + 1e-9), "{name}: independent error {independent:e}");
     e.max_rel
 }

@@ -13,7 +13,7 @@ use subdiv_interp::{
     FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Parameter, Shape, ZhengCaiOptions,
 };
 use subdiv_mesh::{shapes, EdgeId, FaceId, Mesh, Topology, VertexId};
-use support::{candidate_limit_points, fixture, nearest_gap, Plain};
+use support::{candidate_limit_points, fixture, nearest_gap, Scheme};
 
 const TOL: f64 = 1e-6;
 
@@ -64,7 +64,7 @@ fn meshes() -> Vec<(String, Mesh)> {
 }
 
 /// Both error measures ≤ `tol`; returns the reported max error.
-fn check(name: &str, mesh: &Mesh, result: &Interpolant, plain: Plain, tol: f64) -> f64 {
+fn check(name: &str, mesh: &Mesh, result: &Interpolant, plain: Scheme, tol: f64) -> f64 {
     let all = vec![true; mesh.topology().vertex_count()];
     let d = mesh.bbox_diagonal();
     let reported = result.error(mesh.positions(), &all, d);
@@ -86,13 +86,13 @@ fn doo_sabin_methods_interpolate_valence_two_vertices() {
         let r = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default())
             .unwrap_or_else(|e| panic!("zheng-cai {name}: {e}"));
         // Exact by construction (step 4), so round-off.
-        let e_zc = check(&format!("zheng-cai {name}"), &mesh, &r, Plain::DooSabin, 1e-13);
+        let e_zc = check(&format!("zheng-cai {name}"), &mesh, &r, Scheme::DooSabin, 1e-13);
         let r = fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default().with_common(common.clone()))
             .unwrap_or_else(|e| panic!("fan-cheng-lai {name}: {e}"));
-        let e_fcl = check(&format!("fan-cheng-lai {name}"), &mesh, &r, Plain::DooSabin, TOL);
+        let e_fcl = check(&format!("fan-cheng-lai {name}"), &mesh, &r, Scheme::DooSabin, TOL);
         let r = nasri::interpolate(&mesh, &NasriOptions::default().with_common(common.clone()))
             .unwrap_or_else(|e| panic!("nasri {name}: {e}"));
-        let e_nasri = check(&format!("nasri {name}"), &mesh, &r, Plain::DooSabin, TOL);
+        let e_nasri = check(&format!("nasri {name}"), &mesh, &r, Scheme::DooSabin, TOL);
         eprintln!("{name}: nasri {e_nasri:.1e}, zheng-cai {e_zc:.1e}, fan-cheng-lai {e_fcl:.1e}");
     }
 }
@@ -101,11 +101,11 @@ fn doo_sabin_methods_interpolate_valence_two_vertices() {
 fn cheng_and_deng_wang_interpolate_valence_two_vertices() {
     for (name, mesh) in meshes() {
         let r = cheng::interpolate(&mesh, &ChengOptions::default()).unwrap_or_else(|e| panic!("cheng {name}: {e}"));
-        let e_cheng = check(&format!("cheng {name}"), &mesh, &r, Plain::CatmullClark, TOL);
+        let e_cheng = check(&format!("cheng {name}"), &mesh, &r, Scheme::CatmullClark, TOL);
         let r = deng_wang::interpolate(&mesh, &DengWangOptions::default())
             .unwrap_or_else(|e| panic!("deng-wang {name}: {e}"));
         let beta = DengWangOptions::default().beta;
-        let e_dw = check(&format!("deng-wang {name}"), &mesh, &r, Plain::Loop(beta), 1e-13);
+        let e_dw = check(&format!("deng-wang {name}"), &mesh, &r, Scheme::Loop(beta), 1e-13);
         eprintln!("{name}: cheng {e_cheng:.1e}, deng-wang {e_dw:.1e}");
     }
 }
@@ -123,7 +123,7 @@ fn shape_control_and_subsets_with_valence_two_vertices() {
     let lambdas: Vec<f64> = (0..t.face_count()).map(|f| 0.2 + 0.6 * (f % 7) as f64 / 6.0).collect();
     let opts = FanChengLaiOptions::default().with_shape(Shape::PerFace(lambdas));
     let r = fan_cheng_lai::interpolate(&mesh, &opts).unwrap();
-    check("fan-cheng-lai per-face λ", &mesh, &r, Plain::DooSabin, TOL);
+    check("fan-cheng-lai per-face λ", &mesh, &r, Scheme::DooSabin, TOL);
     // A subset that holds the valence-2 vertices and every third other vertex.
     let subset: Vec<u32> = (0..n as u32).filter(|&v| v % 3 == 0 || v2.contains(&VertexId(v))).collect();
     let flags: Vec<bool> = (0..n).map(|v| subset.contains(&(v as u32))).collect();
@@ -141,7 +141,7 @@ fn shape_control_and_subsets_with_valence_two_vertices() {
     let handles: Vec<f64> = (0..n).map(|v| if v % 2 == 0 { 0.4 } else { 2.5 }).collect();
     let plain = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default()).unwrap();
     let handled = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_handles(handles)).unwrap();
-    check("zheng-cai handles", &mesh, &handled, Plain::DooSabin, 1e-13);
+    check("zheng-cai handles", &mesh, &handled, Scheme::DooSabin, 1e-13);
     let moved =
         plain.control.positions().iter().zip(handled.control.positions()).any(|(a, b)| a.distance(*b) > 1e-3 * d);
     assert!(moved, "the handles change the control mesh");
@@ -152,7 +152,7 @@ fn shape_control_and_subsets_with_valence_two_vertices() {
     let neighbour = t.vertex_neighbors(v).find(|&w| !t.is_boundary_vertex(w) && t.valence(w) > 2).unwrap();
     normals[neighbour.index()] = Some(DVec3::new(0.3, 0.9, 0.1));
     let r = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_normals(normals.clone())).unwrap();
-    check("zheng-cai normals", &mesh, &r, Plain::DooSabin, 1e-13);
+    check("zheng-cai normals", &mesh, &r, Scheme::DooSabin, 1e-13);
     normals[v.index()] = Some(DVec3::Z);
     let err = zheng_cai::interpolate(&mesh, &ZhengCaiOptions::default().with_normals(normals)).unwrap_err();
     assert!(matches!(err, InterpError::InvalidParameter { parameter: Parameter::Normals, .. }), "{err}");

@@ -631,7 +631,7 @@ fn the_report_says_what_was_run() {
     assert_eq!(p["eps"], 0.003);
     assert_eq!(p["history"], "max update / d per sweep");
     assert_eq!(result.solve.as_ref().unwrap().solver, "jacobi");
-    assert_eq!(result.scheme.report_name(), Some("doo-sabin"));
+    assert_eq!(result.scheme, subdiv_stencil::Scheme::DooSabin);
     assert_eq!(result.method.name(), "zheng-cai");
 }
 

@@ -534,35 +534,31 @@ impl SubdivideOptions {
     /// # Errors
     /// A bad-input [`JobError`] naming the option.
     pub fn validate(&self) -> Result<(), JobError> {
-        let is = |name: &str| self.scheme.name() == name;
-        if (self.omega.is_some() || self.variable_tension.is_some()) && !is("deng-ma") {
-            return misplaced("--omega and --variable-tension", "--scheme deng-ma");
+        // The scheme table says which parameters belong to which scheme.
+        self.scheme_with_parameters()?;
+        let traits = self.scheme.traits();
+        if self.triangulate && !traits.triangles_only {
+            return misplaced("--triangulate", "the triangle schemes (--scheme loop)");
         }
-        if self.beta.is_some() && !is("loop") {
-            return misplaced("--beta", "--scheme loop");
-        }
-        if self.triangulate && !is("loop") {
-            return misplaced("--triangulate", "--scheme loop");
-        }
-        tension(self.omega, self.variable_tension)?;
         check_feature_angle(self.tags.feature_angle)?;
-        if self.limit && is("deng-ma") {
-            return Err(JobError::bad_input(
-                "--limit: the Deng-Ma scheme is interpolatory and has no limit mask; its refined vertices are the \
-                 surface",
-            ));
+        if self.limit && traits.interpolating {
+            return Err(JobError::bad_input(format!(
+                "--limit: the {} scheme is interpolatory and has no limit mask; its refined vertices are the surface",
+                self.scheme.name()
+            )));
         }
         check_format(self.format.as_deref())
     }
 
+    /// The scheme with Loop's β and Deng-Ma's tension of these options.
+    fn scheme_with_parameters(&self) -> Result<Scheme, JobError> {
+        let tension = tension(self.omega, self.variable_tension)?;
+        self.scheme.with_parameters(self.beta, tension).map_err(|e| JobError::bad_input(e.to_string()))
+    }
+
     /// The subdivision options these name.
     pub fn options(&self) -> subdiv_stencil::Options {
-        let scheme = match self.scheme {
-            Scheme::Loop(beta) => Scheme::Loop(self.beta.unwrap_or(beta)),
-            Scheme::DengMa(t) => Scheme::DengMa(tension(self.omega, self.variable_tension).ok().flatten().unwrap_or(t)),
-            scheme @ (Scheme::CatmullClark | Scheme::DooSabin) => scheme,
-        };
-        subdiv_stencil::Options::new(scheme)
+        subdiv_stencil::Options::new(self.scheme_with_parameters().unwrap_or(self.scheme))
             .with_boundary(self.boundary)
             .with_crease_method(self.crease_method)
             .with_fvar(self.fvar)
@@ -685,7 +681,7 @@ mod tests {
         let e = Command::from_json("subdivide", &json!({"scheme": "loop"})).unwrap_err();
         assert!(e.to_string().contains("missing option `levels`"), "{e}");
         let e = Command::from_json("subdivide", &json!({"scheme": "loop", "levels": 1, "omega": 0.5})).unwrap_err();
-        assert_eq!(e.to_string(), "--omega and --variable-tension applies to --scheme deng-ma only");
+        assert_eq!(e.to_string(), "--omega/--variable-tension apply to --scheme deng-ma only");
         let e = Command::from_json("interpolat", &json!({})).unwrap_err();
         assert!(e.to_string().starts_with("unknown command 'interpolat'"), "{e}");
         let e = Command::from_json("interpolate", &json!({"method": "deng-ma", "omega": 2.0})).unwrap_err();
@@ -702,10 +698,10 @@ mod tests {
             let o = InterpolateOptions::from_json(&json!({"method": method.name(), "levels": 1})).unwrap();
             assert_eq!(o.method, method);
         }
-        for name in ["doo-sabin", "catmull-clark", "loop", "deng-ma"] {
-            let c = Command::from_json("subdivide", &json!({"scheme": name, "levels": 1})).unwrap();
+        for scheme in Scheme::ALL {
+            let c = Command::from_json("subdivide", &json!({"scheme": scheme.name(), "levels": 1})).unwrap();
             let Command::Subdivide(o) = c else { panic!() };
-            assert_eq!(o.scheme.name(), name);
+            assert_eq!(o.scheme, scheme);
         }
     }
 }

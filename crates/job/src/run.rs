@@ -25,8 +25,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use subdiv_interp::report::MeshSummary;
 use subdiv_interp::{
-    params, DengMaOptions, DengWangOptions, ErrorStats, FairOptions, FairScheme, FanChengLaiOptions, InterpError,
-    Interpolant, Method, MethodOptions, ParamFileError, Report, Shape, SurfaceOptions, ZhengCaiOptions,
+    params, DengMaOptions, DengWangOptions, ErrorStats, FairOptions, FanChengLaiOptions, InterpError, Interpolant,
+    Method, MethodOptions, ParamFileError, Report, Shape, SurfaceOptions, ZhengCaiOptions,
 };
 use subdiv_mesh::{DVec3, Mesh};
 use subdiv_stencil::{Options, Scheme, StencilError};
@@ -179,17 +179,11 @@ pub fn method_options(
         }
         Method::DengMa => DengMaOptions::default().with_tension(o.tension().unwrap_or_default()).into(),
         Method::Fair => {
-            let scheme = match o.scheme.unwrap_or(Scheme::CatmullClark) {
-                Scheme::CatmullClark => FairScheme::CatmullClark,
-                Scheme::Loop(beta) => FairScheme::Loop(o.beta.unwrap_or(beta)),
-                Scheme::DooSabin => FairScheme::DooSabin,
-                Scheme::DengMa(_) => {
-                    return Err(JobError::bad_input(
-                        "--scheme: fair takes catmull-clark, loop or doo-sabin (deng-ma interpolates already)",
-                    ))
-                }
-            };
-            let mut options = FairOptions::default().with_scheme(scheme).with_fairness_weight(o.fairness_weight);
+            // Loop's β is an option of its own; the scheme names the rules.
+            let scheme = o.scheme.unwrap_or(Scheme::CatmullClark).with_parameters(o.beta, None);
+            let scheme = scheme.map_err(|e| JobError::bad_input(e.to_string()))?;
+            let options = FairOptions::default().with_scheme(scheme).map_err(|e| classify(input, o, e))?;
+            let mut options = options.with_fairness_weight(o.fairness_weight);
             if let Some(refine) = o.refine {
                 options = options.with_refine(refine);
             }

@@ -11,7 +11,7 @@
 //! [correction C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c2
 //! [correction C1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 
-use crate::scheme::{SchemeRules, Split};
+use crate::scheme::{LevelSplit, SchemeRules};
 use crate::sharpness::{EdgeStep, LevelSharpness};
 use crate::StencilError;
 use crate::{face_ring_size, vertex_kind, RowBuilder, SparseMatrix, Summation};
@@ -307,11 +307,11 @@ impl SchemeRules for CatmullClarkRules {
         Ok(())
     }
 
-    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError> {
+    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<LevelSplit, StencilError> {
         let topology = quad_split(t);
         // The half of h's edge at from(h) is corner 0 of quad h: half-edge 4h.
         let sharpness = sharp.refine(t, &topology, |h| 4 * h);
-        Ok(Split { topology, sharpness, dual: None })
+        Ok(LevelSplit { topology, sharpness, dual: None })
     }
 
     fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {

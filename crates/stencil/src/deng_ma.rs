@@ -80,7 +80,7 @@
 
 use crate::apply::fill_in_chunks;
 use crate::doo_sabin::{first_step, refinement_stencil as doo_sabin_stencil, CornerRule};
-use crate::scheme::{SchemeRules, Split};
+use crate::scheme::{LevelSplit, SchemeRules};
 use crate::sharpness::LevelSharpness;
 use crate::{RowBuilder, SparseMatrix, StencilError};
 use glam::DVec3;
@@ -586,12 +586,12 @@ impl SchemeRules for DengMaRules {
         check_sharpness(t, sharp)
     }
 
-    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError> {
+    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<LevelSplit, StencilError> {
         self.check(t, sharp)?;
         let topology = quad_split(t);
         // The half of h's edge at from(h) is corner 0 of quad h: half-edge 4h.
         let sharpness = sharp.refine(t, &topology, |h| 4 * h);
-        Ok(Split { topology, sharpness, dual: None })
+        Ok(LevelSplit { topology, sharpness, dual: None })
     }
 
     fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {

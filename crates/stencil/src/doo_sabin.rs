@@ -104,7 +104,7 @@
 //! separate its faces; the crease then fades into the smooth surface.
 
 use crate::apply::fill_in_chunks;
-use crate::scheme::{SchemeRules, Split};
+use crate::scheme::{LevelSplit, SchemeRules};
 use crate::sharpness::LevelSharpness;
 use crate::{RowBuilder, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
@@ -606,16 +606,16 @@ impl SchemeRules for DooSabinRules {
         check_tags(t, &sharp.tags(t))
     }
 
-    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError> {
+    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<LevelSplit, StencilError> {
         if sharp.is_untagged() {
             let (topology, dual) = dual_split(t);
-            return Ok(Split { topology, sharpness: sharp.clone(), dual: Some(dual) });
+            return Ok(LevelSplit { topology, sharpness: sharp.clone(), dual: Some(dual) });
         }
         let tags = sharp.tags(t);
         check_tags(t, &tags)?;
         let (topology, _, child) = subdiv_mesh::refine::dual_split_tagged(t, &tags);
         let sharpness = LevelSharpness::new(&child, sharp.boundary(), sharp.method());
-        Ok(Split { topology, sharpness, dual: None })
+        Ok(LevelSplit { topology, sharpness, dual: None })
     }
 
     fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {

@@ -66,6 +66,12 @@ pub enum StencilError {
         /// Its sharpness.
         sharpness: f32,
     },
+    /// A scheme name that is none of [`crate::Scheme::ALL`]'s.
+    #[error("unknown scheme `{name}` (expected one of: {})", crate::Scheme::ALL.map(|s| s.name()).join(", "))]
+    UnknownScheme {
+        /// The name given.
+        name: String,
+    },
     /// The refined mesh would exceed the `u32` index range.
     #[error("the refined mesh would have more than 2³² elements")]
     TooLarge,

@@ -144,14 +144,14 @@
 use crate::doo_sabin::{self, CornerRule};
 use crate::loop_subdivision::require_triangles;
 use crate::sharpness::{EdgeStep, LevelSharpness};
-use crate::{Scheme, StencilError};
+use crate::{FVarSupport, Scheme, Split, StencilError};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::ops::Range;
 use subdiv_mesh::{EdgeId, FaceId, FaceVarying, HalfEdgeId, MeshError, Topology, VertexId};
 use subdiv_rules::crease::{decrement, fractional_weight, is_infinite, is_semi_sharp, is_sharp, SHARPNESS_INFINITE};
-use subdiv_rules::{catmull_clark, loop_scheme, BoundaryInterpolation, FVarInterpolation, LoopBeta, Rule, VertexKind};
+use subdiv_rules::{catmull_clark, loop_scheme, BoundaryInterpolation, FVarInterpolation, Rule, VertexKind};
 use thiserror::Error;
 
 /// Vertices with at most this many faces number their values by a scan of
@@ -221,35 +221,31 @@ pub fn refine(
     channel: &FaceVarying,
 ) -> Result<FaceVarying, FVarError> {
     channel.validate(parent.half_edge_count())?;
-    let primal = match scheme {
-        Scheme::CatmullClark => Primal::CatmullClark,
-        Scheme::Loop(beta) => {
-            require_triangles(parent)?;
-            Primal::Loop(beta)
-        }
-        Scheme::DooSabin if !sharp.is_untagged() => {
+    let traits = scheme.traits();
+    if traits.triangles_only {
+        require_triangles(parent)?;
+    }
+    match traits.face_varying {
+        FVarSupport::Full => {}
+        FVarSupport::SeamlessUntagged if !sharp.is_untagged() => {
             return Err(FVarError::SchemeNotSupported {
                 scheme: scheme.name(),
                 reason: "its creases and corners change the split, which the channel does not follow yet",
             })
         }
-        Scheme::DooSabin => return refine_dual(parent, child, channel),
-        // Deng-Ma refines on Catmull-Clark's connectivity (`quad_split`) and
-        // its tension is geometric, a rule for positions only: the channel
-        // takes Catmull-Clark's face-varying rules on the same split (a
-        // parametrisation of the surface, which need not interpolate).
-        Scheme::DengMa(_) => Primal::CatmullClark,
-    };
+        FVarSupport::SeamlessUntagged => return refine_dual(parent, child, channel),
+    }
     let (nv, nf, ne) = (parent.vertex_count(), parent.face_count(), parent.edge_count());
-    let expected = match primal {
-        Primal::CatmullClark => (nv + nf + ne, 4 * parent.half_edge_count()),
-        Primal::Loop(_) => (nv + ne, 12 * nf),
+    let expected = match traits.split {
+        Split::Quad => (nv + nf + ne, 4 * parent.half_edge_count()),
+        Split::Triangle => (nv + ne, 12 * nf),
+        Split::Dual => unreachable!("{DUAL}"),
     };
     assert_eq!((child.vertex_count(), child.half_edge_count()), expected, "child is not the split of parent");
     let step = Step {
         t: parent,
         sharp,
-        scheme: primal,
+        scheme,
         rules: ModeRules::new(mode, sharp.boundary()),
         indices: &channel.indices,
         values: &channel.values,
@@ -318,12 +314,8 @@ fn refine_dual(t: &Topology, child: &Topology, channel: &FaceVarying) -> Result<
     Ok(FaceVarying { values: points.iter().map(|p| p.truncate()).collect(), indices: child.faces().indices().to_vec() })
 }
 
-/// The primal schemes the channel follows.
-#[derive(Clone, Copy, Debug)]
-enum Primal {
-    CatmullClark,
-    Loop(LoopBeta),
-}
+/// Why the matches below have a Doo-Sabin arm that is never taken.
+const DUAL: &str = "a channel on the dual split is refined by `refine_dual`";
 
 /// The mode decoded into OpenSubdiv's switches
 /// (`FVarLevel::completeTopologyFromFaceValues`).
@@ -427,7 +419,9 @@ struct VertexChunk {
 struct Step<'a> {
     t: &'a Topology,
     sharp: &'a LevelSharpness,
-    scheme: Primal,
+    /// The scheme whose face-varying rules the channel follows (Deng-Ma's
+    /// are Catmull-Clark's: its tension is a rule for positions only).
+    scheme: Scheme,
     rules: ModeRules,
     indices: &'a [u32],
     values: &'a [DVec2],
@@ -484,10 +478,11 @@ impl Step<'_> {
         });
         // 2. Face points (Catmull-Clark): the mean of the corners, in every mode.
         let face_values: Vec<DVec2> = match self.scheme {
-            Primal::CatmullClark => {
+            Scheme::CatmullClark | Scheme::DengMa(_) => {
                 (0..nf).into_par_iter().with_min_len(CHUNK).map(|f| self.face_value(FaceId(f as u32))).collect()
             }
-            Primal::Loop(_) => Vec::new(),
+            Scheme::Loop(_) => Vec::new(),
+            Scheme::DooSabin => unreachable!("{DUAL}"),
         };
         // 3. Edge points: one value per edge, one per side of a seam.
         let edge_chunks = chunked(ne, |range| {
@@ -532,7 +527,7 @@ impl Step<'_> {
             edge_offset[e.index()] + u32::from(self.seam[e.index()] && t.edge_half_edge(e) != h)
         };
         let indices = match self.scheme {
-            Primal::CatmullClark => {
+            Scheme::CatmullClark | Scheme::DengMa(_) => {
                 // Quad h = (from(h), e(h), f(h), e(prev h)).
                 let mut indices = vec![0u32; 4 * nh];
                 indices.par_chunks_mut(4 * CHUNK).enumerate().for_each(|(c, out)| {
@@ -544,7 +539,7 @@ impl Step<'_> {
                 });
                 indices
             }
-            Primal::Loop(_) => {
+            Scheme::Loop(_) => {
                 // Triangle 4f + k = (v_k, e(h_k), e(h_{k−1})), centre 4f + 3 = (e(h₀), e(h₁), e(h₂)).
                 let mut indices = vec![0u32; 12 * nf];
                 indices.par_chunks_mut(12 * CHUNK).enumerate().for_each(|(c, out)| {
@@ -569,6 +564,7 @@ impl Step<'_> {
                 });
                 indices
             }
+            Scheme::DooSabin => unreachable!("{DUAL}"),
         };
         FaceVarying { values, indices }
     }
@@ -621,7 +617,7 @@ impl Step<'_> {
     fn smooth_edge(&self, h: HalfEdgeId, g: HalfEdgeId, scale: f64, sum: &mut Sum) {
         let t = self.t;
         match self.scheme {
-            Primal::CatmullClark => {
+            Scheme::CatmullClark | Scheme::DengMa(_) => {
                 // Correction C2 (docs/REFERENCES.md): (V + E + f_left + f_right)/4, the face points expanded
                 // over their corners.
                 let size = |x: HalfEdgeId| t.face_size(t.he_face(x));
@@ -636,7 +632,7 @@ impl Step<'_> {
                     }
                 }
             }
-            Primal::Loop(_) => {
+            Scheme::Loop(_) => {
                 // ⅜(a + b) + ⅛(c + d), c and d the corners opposite the edge.
                 let mask = loop_scheme::edge_point_mask(false);
                 sum.add(scale * mask.end, self.value(h));
@@ -644,6 +640,7 @@ impl Step<'_> {
                 sum.add(scale * mask.left, self.value(t.he_prev(h)));
                 sum.add(scale * mask.right, self.value(t.he_prev(g)));
             }
+            Scheme::DooSabin => unreachable!("{DUAL}"),
         }
     }
 
@@ -693,8 +690,8 @@ impl Step<'_> {
         match (rule, ends) {
             // A boundary vertex is never smooth (its boundary edges are sharp).
             (Rule::Smooth | Rule::Dart, _) if !t.is_boundary_vertex(v) => match self.scheme {
-                Primal::CatmullClark => self.smooth_catmull_clark(v, scale, sum),
-                Primal::Loop(beta) => {
+                Scheme::CatmullClark | Scheme::DengMa(_) => self.smooth_catmull_clark(v, scale, sum),
+                Scheme::Loop(beta) => {
                     // Eq. (1): (1 − kβ)p + βΣpⱼ.
                     let mask = loop_scheme::vertex_point_mask(VertexKind::Interior, fan.len(), beta);
                     sum.add(scale * mask.vertex, own);
@@ -702,6 +699,7 @@ impl Step<'_> {
                         sum.add(scale * mask.interior_neighbor, self.value(t.he_next(h)));
                     }
                 }
+                Scheme::DooSabin => unreachable!("{DUAL}"),
             },
             (Rule::Crease, Some((a, b))) => {
                 let mask = self.crease_mask(t.valence(v));
@@ -716,8 +714,9 @@ impl Step<'_> {
     /// The scheme's crease (boundary) vertex mask, (E₋ + 6V + E₊)/8.
     fn crease_mask(&self, valence: usize) -> subdiv_rules::VertexMask {
         match self.scheme {
-            Primal::CatmullClark => catmull_clark::vertex_point_mask(VertexKind::Boundary, valence),
-            Primal::Loop(beta) => loop_scheme::vertex_point_mask(VertexKind::Boundary, valence, beta),
+            Scheme::CatmullClark | Scheme::DengMa(_) => catmull_clark::vertex_point_mask(VertexKind::Boundary, valence),
+            Scheme::Loop(beta) => loop_scheme::vertex_point_mask(VertexKind::Boundary, valence, beta),
+            Scheme::DooSabin => unreachable!("{DUAL}"),
         }
     }
 

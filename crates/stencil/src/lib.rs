@@ -54,7 +54,7 @@ pub use limit_matrix::{
 };
 pub use options::{Options, Scheme};
 pub(crate) use rows::{RowBuilder, Summation};
-pub use scheme::{SchemeRules, Split};
+pub use scheme::{Domain, FVarSupport, LevelSplit, SchemeRules, SchemeTraits, Split};
 pub use sharpness::{EdgeStep, LevelSharpness, VertexStep};
 pub use subdiv_rules::deng_ma::Tension;
 pub use subdiv_rules::LoopBeta;

@@ -9,7 +9,7 @@
 //!
 //! [corrections W1-W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w1
 
-use crate::scheme::{SchemeRules, Split};
+use crate::scheme::{LevelSplit, SchemeRules};
 use crate::sharpness::{EdgeStep, LevelSharpness};
 use crate::{RowBuilder, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
@@ -241,14 +241,14 @@ impl SchemeRules for LoopRules {
         require_triangles(t)
     }
 
-    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError> {
+    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<LevelSplit, StencilError> {
         let topology = triangle_split(t).map_err(|e| match e {
             MeshError::NotTriangles { face, size } => StencilError::NotTriangles { face, size },
             _ => unreachable!("triangle_split only rejects non-triangles"),
         })?;
         // The half of h = 3f + k's edge at from(h) is corner 0 of child triangle 4f + k.
         let sharpness = sharp.refine(t, &topology, |h| 3 * (4 * (h / 3) + h % 3));
-        Ok(Split { topology, sharpness, dual: None })
+        Ok(LevelSplit { topology, sharpness, dual: None })
     }
 
     fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {

@@ -3,11 +3,36 @@
 //! face-varying interpolation), in one struct built and validated once and
 //! passed to every layer.
 
+use crate::scheme::{Domain, FVarSupport, SchemeTraits, Split};
 use crate::StencilError;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::fmt;
+use std::str::FromStr;
+use subdiv_rules::constants::DEFAULT_DENG_MA_OMEGA;
 use subdiv_rules::deng_ma::Tension;
 use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta};
 
-/// A subdivision scheme with the parameters that belong to it alone.
+/// A subdivision scheme with the parameters that belong to it alone: the
+/// one table of schemes. Everything the other layers ask of a scheme that is
+/// not a subdivision rule — its name, its parameter domain, its split, what
+/// it supports — is answered here ([`Scheme::traits`], in the spirit of
+/// OpenSubdiv's `Sdc::SchemeTypeTraits`); the rules themselves are one
+/// `impl SchemeRules` per scheme ([`Scheme::rules`]). Exhaustive on purpose:
+/// a new variant must break every match over schemes.
+///
+/// ```
+/// use subdiv_stencil::{Domain, Scheme, Split};
+/// for scheme in Scheme::ALL {
+///     assert_eq!(scheme.name().parse::<Scheme>(), Ok(scheme));
+/// }
+/// let loop_traits = Scheme::Loop(Default::default()).traits();
+/// assert_eq!((loop_traits.domain, loop_traits.split), (Domain::Triangle, Split::Triangle));
+/// assert!(loop_traits.triangles_only);
+/// assert_eq!(
+///     "sqrt3".parse::<Scheme>().unwrap_err().to_string(),
+///     "unknown scheme `sqrt3` (expected one of: catmull-clark, loop, doo-sabin, deng-ma)"
+/// );
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Scheme {
     /// Catmull-Clark (any polygons; quads after one step).
@@ -22,7 +47,16 @@ pub enum Scheme {
 }
 
 impl Scheme {
-    /// Short name, as on the command line.
+    /// Every scheme, each with its default parameters (Warren's β, ω = 1), in
+    /// the order help texts list them.
+    pub const ALL: [Scheme; 4] = [
+        Scheme::CatmullClark,
+        Scheme::Loop(LoopBeta::Warren),
+        Scheme::DooSabin,
+        Scheme::DengMa(Tension::Global(DEFAULT_DENG_MA_OMEGA)),
+    ];
+
+    /// Short name, as on the command line (parsed back by [`FromStr`]).
     pub fn name(&self) -> &'static str {
         match self {
             Scheme::CatmullClark => "catmull-clark",
@@ -32,11 +66,137 @@ impl Scheme {
         }
     }
 
-    /// Whether the scheme takes sharpness tags: Catmull-Clark and Loop take
-    /// every tag (OpenSubdiv's rules), Doo-Sabin and Deng-Ma infinitely sharp
-    /// creases and corners (semi-sharp values are refused) — all of them now.
-    pub fn takes_tags(&self) -> bool {
-        true
+    /// One line for help texts.
+    pub fn summary(&self) -> &'static str {
+        match self {
+            Scheme::CatmullClark => "Catmull-Clark: any polygons, quads after one step (bicubic B-spline limit)",
+            Scheme::Loop(_) => "Loop: triangles only (quartic box-spline limit), Warren's or Loop's β",
+            Scheme::DooSabin => "Doo-Sabin: any polygons, the dual split (biquadratic B-spline limit)",
+            Scheme::DengMa(_) => "Deng-Ma: interpolatory, any polygons on the quad split, global or variable tension",
+        }
+    }
+
+    /// What the layers ask of the scheme besides its rules (the struct's
+    /// field docs say who asks what).
+    pub const fn traits(&self) -> SchemeTraits {
+        match self {
+            Scheme::CatmullClark => SchemeTraits {
+                domain: Domain::Quad,
+                split: Split::Quad,
+                regular_valence: 4,
+                regular_face_size: 4,
+                triangles_only: false,
+                interpolating: false,
+                face_varying: FVarSupport::Full,
+                evaluable: true,
+                bytes_per_corner: 45,
+            },
+            Scheme::Loop(_) => SchemeTraits {
+                domain: Domain::Triangle,
+                split: Split::Triangle,
+                regular_valence: 6,
+                regular_face_size: 3,
+                triangles_only: true,
+                interpolating: false,
+                face_varying: FVarSupport::Full,
+                evaluable: true,
+                bytes_per_corner: 44,
+            },
+            // Evaluated on quarter domains, one per face corner (the
+            // biquadratic patch's own parameterisation): a quad domain.
+            Scheme::DooSabin => SchemeTraits {
+                domain: Domain::Quad,
+                split: Split::Dual,
+                regular_valence: 4,
+                regular_face_size: 4,
+                triangles_only: false,
+                interpolating: false,
+                face_varying: FVarSupport::SeamlessUntagged,
+                evaluable: true,
+                bytes_per_corner: 55,
+            },
+            // The quad split of Catmull-Clark; no limit masks, so nothing to
+            // evaluate; its channel follows Catmull-Clark's face-varying rules.
+            Scheme::DengMa(_) => SchemeTraits {
+                domain: Domain::Quad,
+                split: Split::Quad,
+                regular_valence: 4,
+                regular_face_size: 4,
+                triangles_only: false,
+                interpolating: true,
+                face_varying: FVarSupport::Full,
+                evaluable: false,
+                bytes_per_corner: 61,
+            },
+        }
+    }
+
+    /// The scheme with Loop's β or Deng-Ma's tension set where given (the
+    /// scheme's own parameters are kept where not).
+    ///
+    /// ```
+    /// use subdiv_stencil::{LoopBeta, Scheme, Tension};
+    /// let loop_ = Scheme::Loop(LoopBeta::Warren).with_parameters(Some(LoopBeta::Loop), None);
+    /// assert_eq!(loop_, Ok(Scheme::Loop(LoopBeta::Loop)));
+    /// assert!(Scheme::CatmullClark.with_parameters(None, Some(Tension::Global(0.5))).is_err());
+    /// ```
+    ///
+    /// # Errors
+    /// [`StencilError::InvalidParameter`] for a parameter that does not
+    /// belong to the scheme, in command-line terms ("--beta applies to
+    /// --scheme loop only").
+    pub fn with_parameters(self, beta: Option<LoopBeta>, tension: Option<Tension>) -> Result<Self, StencilError> {
+        if beta.is_some() && !matches!(self, Scheme::Loop(_)) {
+            return Err(StencilError::InvalidParameter("--beta applies to --scheme loop only".into()));
+        }
+        if tension.is_some() && !matches!(self, Scheme::DengMa(_)) {
+            return Err(StencilError::InvalidParameter(
+                "--omega/--variable-tension apply to --scheme deng-ma only".into(),
+            ));
+        }
+        Ok(match self {
+            Scheme::Loop(own) => Scheme::Loop(beta.unwrap_or(own)),
+            Scheme::DengMa(own) => Scheme::DengMa(tension.unwrap_or(own)),
+            Scheme::CatmullClark | Scheme::DooSabin => self,
+        })
+    }
+}
+
+impl fmt::Display for Scheme {
+    /// The name ([`Scheme::name`]).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Scheme {
+    type Err = StencilError;
+
+    /// A name of [`Scheme::ALL`], exactly → that scheme with its default
+    /// parameters.
+    ///
+    /// # Errors
+    /// [`StencilError::UnknownScheme`], whose message lists the valid names.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Scheme::ALL
+            .into_iter()
+            .find(|scheme| scheme.name() == s)
+            .ok_or_else(|| StencilError::UnknownScheme { name: s.to_string() })
+    }
+}
+
+impl Serialize for Scheme {
+    /// As its name (the parameters are not part of it).
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Scheme {
+    /// From its name ([`FromStr`]): the scheme with its default parameters.
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        name.parse().map_err(serde::de::Error::custom)
     }
 }
 
@@ -132,28 +292,5 @@ impl Options {
             tension.validate().map_err(|e| StencilError::InvalidParameter(e.to_string()))?;
         }
         Ok(())
-    }
-}
-
-impl std::fmt::Display for Scheme {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for Scheme {
-    type Err = String;
-
-    /// A scheme's name, with its default parameters.
-    fn from_str(s: &str) -> Result<Self, String> {
-        let all = [
-            Scheme::DooSabin,
-            Scheme::CatmullClark,
-            Scheme::Loop(LoopBeta::default()),
-            Scheme::DengMa(Tension::default()),
-        ];
-        all.into_iter().find(|scheme| scheme.name() == s).ok_or_else(|| {
-            format!("unknown scheme `{s}` (expected one of: {})", all.map(|scheme| scheme.name()).join(", "))
-        })
     }
 }

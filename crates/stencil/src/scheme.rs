@@ -1,13 +1,94 @@
 //! A subdivision scheme as one interface: what `subdivide`, the plans and the
 //! sizes ask of a scheme, answered by one implementation per scheme (in that
-//! scheme's own file). Adding a scheme is one `impl SchemeRules` and one arm
-//! in [`Scheme::rules`] (checklist in `docs/ARCHITECTURE.md`).
+//! scheme's own file), and the scheme's traits ([`SchemeTraits`], the table
+//! in [`Scheme::traits`]). Adding a scheme is one table entry, one
+//! `impl SchemeRules` and one arm in [`Scheme::rules`] (checklist in
+//! `docs/ARCHITECTURE.md`).
 
 use crate::sharpness::LevelSharpness;
 use crate::{Scheme, SparseMatrix, StencilError};
 use glam::DVec3;
 use subdiv_mesh::refine::DualProvenance;
 use subdiv_mesh::Topology;
+
+/// What a scheme is, besides its rules: OpenSubdiv's
+/// `Sdc::SchemeTypeTraits`, one row of the table in [`Scheme::traits`].
+/// Every field is read by the layer its doc names.
+///
+/// `#[non_exhaustive]`: read through its public fields (a new trait is not a
+/// breaking change).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct SchemeTraits {
+    /// The parameter domain of a face's limit patch (evaluation, sampling,
+    /// projection: `subdiv-eval`).
+    pub domain: Domain,
+    /// The topological split of one step: which vertices the child level
+    /// has and how they are numbered (the sizes, `size::refined_sizes`; the
+    /// face-varying channel; the child points `subdiv-eval` reads).
+    pub split: Split,
+    /// The valence of a regular interior vertex (`subdiv-eval`'s regular
+    /// patches).
+    pub regular_valence: usize,
+    /// The size of a regular face (`subdiv-eval`: the star of a vertex is
+    /// regular when all its faces have it).
+    pub regular_face_size: usize,
+    /// Whether the scheme refuses every face that is not a triangle
+    /// (`SchemeRules::check`, the face-varying refinement).
+    pub triangles_only: bool,
+    /// Whether the surface passes through the control vertices (then there
+    /// are no limit masks: the vertices are their own limit points; the
+    /// interpolation report's `control_scheme` is null).
+    pub interpolating: bool,
+    /// Which face-varying channels the scheme refines (`fvar::refine`).
+    pub face_varying: FVarSupport,
+    /// Whether `subdiv-eval`'s `LimitSurface` evaluates the limit surface
+    /// exactly (patches at every parameter).
+    pub evaluable: bool,
+    /// Resident bytes per final-level corner that [`crate::subdivide()`]
+    /// needs at its peak (measured, rounded up: [`crate::size`]).
+    pub bytes_per_corner: u64,
+}
+
+/// The parameter domain of a limit patch (OpenSubdiv's `Sdc::Split` decides
+/// it there; here Doo-Sabin's dual split has quad domains too: a quarter of
+/// the face per corner).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Domain {
+    /// (u, v) ∈ [0, 1]².
+    Quad,
+    /// u, v ≥ 0, u + v ≤ 1.
+    Triangle,
+}
+
+/// The topological split of one step (OpenSubdiv's `Sdc::Split`, with the
+/// dual split besides). Each has its own child numbering and element counts
+/// ([`crate::size`]). Exhaustive on purpose: a new split (√3's) must break
+/// every match over splits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Split {
+    /// Every n-gon into n quads: the parent's vertices, then one point per
+    /// face, then one per edge (`Topology::quad_split`).
+    Quad,
+    /// Every triangle into 4: the parent's vertices, then one point per edge
+    /// (`Topology::triangle_split`).
+    Triangle,
+    /// The dual split: one point per face corner (two per boundary corner),
+    /// F-, E- and V-faces (`Topology::dual_split`).
+    Dual,
+}
+
+/// Which face-varying channels (texture coordinates) a scheme refines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FVarSupport {
+    /// Every channel, seams included, with OpenSubdiv's face-varying rules
+    /// of the split (Catmull-Clark's on the quad split, Loop's on the
+    /// triangle split), every `FVarInterpolation` and the tags.
+    Full,
+    /// Channels without seams on an untagged mesh only: a function of the
+    /// vertices, refined by the positions' own step.
+    SeamlessUntagged,
+}
 
 /// One level refined: the new connectivity, the sharpness of the new level,
 /// and (Doo-Sabin) the provenance of its faces and vertices.
@@ -16,7 +97,7 @@ use subdiv_mesh::Topology;
 /// public fields (a new field is not a breaking change).
 #[derive(Clone, Debug)]
 #[non_exhaustive]
-pub struct Split {
+pub struct LevelSplit {
     /// The refined connectivity.
     pub topology: Topology,
     /// The tags of the refined level.
@@ -33,7 +114,7 @@ pub trait SchemeRules: Sync {
     fn check(&self, t: &Topology, sharp: &LevelSharpness) -> Result<(), StencilError>;
 
     /// The refined connectivity and its sharpness.
-    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Split, StencilError>;
+    fn split(&self, t: &Topology, sharp: &LevelSharpness) -> Result<LevelSplit, StencilError>;
 
     /// The refinement stencil R (new × old) on [`Self::split`]'s numbering,
     /// `None` for a scheme evaluated geometrically (Deng-Ma).

@@ -5,13 +5,13 @@
 //! previous level's vertex, edge, face, corner (half-edge) and boundary-edge
 //! counts alone:
 //!
-//! | scheme | V′ | E′ | F′ | H′ |
-//! |---|---|---|---|---|
-//! | Catmull-Clark, Deng-Ma | V + E + F | 2E + H | H | 4H |
-//! | Loop | V + E | 2E + 3F | 4F | 12F |
-//! | Doo-Sabin | H + 2B | V′ + F′ − χ | F + E + V_f | 2E′ − B′ |
+//! | split ([`SchemeTraits::split`]) | schemes | V′ | E′ | F′ | H′ |
+//! |---|---|---|---|---|---|
+//! | quad | Catmull-Clark, Deng-Ma | V + E + F | 2E + H | H | 4H |
+//! | triangle | Loop | V + E | 2E + 3F | 4F | 12F |
+//! | dual | Doo-Sabin | H + 2B | V′ + F′ − χ | F + E + V_f | 2E′ − B′ |
 //!
-//! with B′ = 2B in every scheme (each boundary edge is split in two; Doo-Sabin's
+//! with B′ = 2B in every split (each boundary edge is split in two; Doo-Sabin's
 //! two Chaikin points per boundary edge double the boundary polygon), χ the
 //! Euler characteristic (kept by every step) and V_f the vertices that get a
 //! Doo-Sabin V-face: all vertices used by a face except interior ones of
@@ -24,9 +24,13 @@
 //! memory per final-level corner measured on meshes of 0.7–73 M corners
 //! (Catmull-Clark 39 B, Loop 36–38 B, Doo-Sabin 48 B, Deng-Ma 53 B: the
 //! earlier levels and the positions add a fixed fraction, as every level has
-//! 4× the corners of the one before), rounded up by about 15%.
+//! 4× the corners of the one before), rounded up by about 15%
+//! ([`SchemeTraits::bytes_per_corner`]).
+//!
+//! [`SchemeTraits::split`]: crate::SchemeTraits::split
+//! [`SchemeTraits::bytes_per_corner`]: crate::SchemeTraits::bytes_per_corner
 
-use crate::Scheme;
+use crate::{Scheme, Split};
 use subdiv_mesh::Topology;
 
 /// Element counts of one level (saturating at `u64::MAX`: a count that
@@ -69,17 +73,6 @@ impl LevelSize {
     }
 }
 
-/// Resident bytes per final-level corner that [`crate::subdivide`] needs at
-/// its peak, per scheme (measured, rounded up; module docs).
-fn bytes_per_corner(scheme: Scheme) -> u64 {
-    match scheme {
-        Scheme::CatmullClark => 45,
-        Scheme::Loop(_) => 44,
-        Scheme::DooSabin => 55,
-        Scheme::DengMa(_) => 61,
-    }
-}
-
 /// The sizes after 1, 2, …, `levels` steps of `scheme` on `t` (element `k` is
 /// level k + 1). Stops early, with the last entry saturated, once a count
 /// passes `u64::MAX`.
@@ -92,6 +85,7 @@ pub fn refined_sizes(t: &Topology, scheme: Scheme, levels: usize) -> Vec<LevelSi
             faces > 0 && (faces != 2 || t.is_boundary_vertex(v))
         })
         .count() as u128;
+    let split = scheme.traits().split;
     let mut level = LevelSize::of(t);
     let mut out = Vec::with_capacity(levels.min(64));
     for step in 0..levels {
@@ -102,10 +96,10 @@ pub fn refined_sizes(t: &Topology, scheme: Scheme, levels: usize) -> Vec<LevelSi
             u128::from(level.corners),
             u128::from(level.boundary_edges),
         );
-        let (nv, ne, nf, nh) = match scheme {
-            Scheme::CatmullClark | Scheme::DengMa(_) => (v + e + f, 2 * e + h, h, 4 * h),
-            Scheme::Loop(_) => (v + e, 2 * e + 3 * f, 4 * f, 12 * f),
-            Scheme::DooSabin => {
+        let (nv, ne, nf, nh) = match split {
+            Split::Quad => (v + e + f, 2 * e + h, h, 4 * h),
+            Split::Triangle => (v + e, 2 * e + 3 * f, 4 * f, 12 * f),
+            Split::Dual => {
                 let v_faces = if step == 0 { with_v_face } else { v };
                 let (nv, nf) = (h + 2 * b, f + e + v_faces);
                 // V − E + F = χ on the refined surface (no isolated vertices).
@@ -135,7 +129,7 @@ pub fn refined_sizes(t: &Topology, scheme: Scheme, levels: usize) -> Vec<LevelSi
 /// for each further per-vertex array a caller builds (normals, limit
 /// positions).
 pub fn estimated_subdivide_bytes(scheme: Scheme, sizes: &[LevelSize]) -> u64 {
-    sizes.last().map_or(0, |s| s.corners.saturating_mul(bytes_per_corner(scheme)))
+    sizes.last().map_or(0, |s| s.corners.saturating_mul(scheme.traits().bytes_per_corner))
 }
 
 #[cfg(test)]

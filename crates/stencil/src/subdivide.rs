@@ -10,7 +10,7 @@
 use crate::normalized::{map_back, normalize};
 use crate::scheme::SchemeRules;
 use crate::sharpness::LevelSharpness;
-use crate::{apply, fvar, Options, Scheme, SparseMatrix, StencilError};
+use crate::{apply, fvar, Options, Scheme, SparseMatrix, Split, StencilError};
 use glam::DVec3;
 use std::borrow::Cow;
 use subdiv_mesh::refine::DualProvenance;
@@ -51,10 +51,13 @@ const MAX_ELEMENTS: usize = u32::MAX as usize - 1;
 
 fn check_size(t: &Topology, scheme: Scheme) -> Result<(), StencilError> {
     let (v, f, e, h) = (t.vertex_count(), t.face_count(), t.edge_count(), t.half_edge_count());
-    let (new_vertices, new_corners) = match scheme {
-        Scheme::CatmullClark | Scheme::DengMa(_) => (v + f + e, 4 * h),
-        Scheme::Loop(_) => (v + e, 12 * f),
-        Scheme::DooSabin => (h + 2 * e, 2 * h + 4 * e),
+    // Upper bounds of the next level's vertex and corner counts from this
+    // level's own (`size::refined_sizes` has the exact ones, which need the
+    // boundary and the Euler characteristic).
+    let (new_vertices, new_corners) = match scheme.traits().split {
+        Split::Quad => (v + f + e, 4 * h),
+        Split::Triangle => (v + e, 12 * f),
+        Split::Dual => (h + 2 * e, 2 * h + 4 * e),
     };
     if new_vertices.max(new_corners) > MAX_ELEMENTS {
         return Err(StencilError::TooLarge);

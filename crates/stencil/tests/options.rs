@@ -3,7 +3,7 @@
 //! the `with_*` setters are the only way to build one here (a struct literal
 //! does not compile: the `compile_fail` doc-test on `Options`), so a new option
 //! is not a breaking change. The results ([`LimitMatrix`], `SolveBlocks`,
-//! `LimitRows`, `Split`, `Refinement`, `LevelSize`, `VertexStep`, `OutOfRange`)
+//! `LimitRows`, `LevelSplit`, `Refinement`, `LevelSize`, `VertexStep`, `OutOfRange`)
 //! are `#[non_exhaustive]` too: read through their fields, made by the crate
 //! (a limit matrix also from its parts, [`LimitMatrix::new`]).
 

@@ -9,7 +9,7 @@ use super::common::{ms, sci, timed, Ctx, Kind, Table};
 use crate::render::{draw_dots, render_with, side_by_side, Camera, Style, View};
 use anyhow::Result;
 use serde_json::json;
-use subdiv_interp::fair::{thin_plate_energy, FairOptions, FairScheme};
+use subdiv_interp::fair::{thin_plate_energy, FairOptions};
 use subdiv_interp::{interpolate, Interpolant, LoopBeta, Method, MethodOptions, SurfaceOptions};
 use subdiv_mesh::DVec3;
 use subdiv_mesh::Mesh;
@@ -56,9 +56,9 @@ const BOUND: &str = "fair (catmull-clark, K = 3): lower bound";
 
 fn runs(mesh: &Mesh, big: bool, bound: bool) -> Vec<Run> {
     let triangles = mesh.topology().faces().all_of_size(3);
-    let fair = |scheme: FairScheme| Run {
+    let fair = |scheme: Scheme| Run {
         label: format!("fair ({})", scheme.name()),
-        options: FairOptions::default().with_scheme(scheme).into(),
+        options: FairOptions::default().with_scheme(scheme).expect("fair takes every scheme listed here").into(),
         control_level: 1,
     };
     if big {
@@ -66,7 +66,7 @@ fn runs(mesh: &Mesh, big: bool, bound: bool) -> Vec<Run> {
         // level-3 surface has 64× the vertices; the distance query dominates).
         return vec![
             Run { label: "cheng".into(), options: MethodOptions::new(Method::Cheng), control_level: 0 },
-            fair(FairScheme::CatmullClark),
+            fair(Scheme::CatmullClark),
         ];
     }
     let mut out: Vec<Run> = Method::ALL
@@ -81,7 +81,7 @@ fn runs(mesh: &Mesh, big: bool, bound: bool) -> Vec<Run> {
             },
         })
         .collect();
-    out.push(fair(FairScheme::CatmullClark));
+    out.push(fair(Scheme::CatmullClark));
     out.push(Run {
         label: "fair (catmull-clark, J = 1)".into(),
         options: FairOptions::default().with_energy_levels(1).into(),
@@ -96,12 +96,16 @@ fn runs(mesh: &Mesh, big: bool, bound: bool) -> Vec<Run> {
         out.push(Run { label: BOUND.into(), options: FairOptions::default().with_refine(3).into(), control_level: 3 });
     }
     if triangles {
-        out.push(fair(FairScheme::Loop(LoopBeta::Warren)));
+        out.push(fair(Scheme::Loop(LoopBeta::Warren)));
     }
-    out.push(fair(FairScheme::DooSabin));
+    out.push(fair(Scheme::DooSabin));
     out.push(Run {
         label: "fair (doo-sabin, J = 1)".into(),
-        options: FairOptions::default().with_scheme(FairScheme::DooSabin).with_energy_levels(1).into(),
+        options: FairOptions::default()
+            .with_scheme(Scheme::DooSabin)
+            .expect("fair takes Doo-Sabin")
+            .with_energy_levels(1)
+            .into(),
         control_level: 1,
     });
     out

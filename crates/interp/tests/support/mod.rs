@@ -7,8 +7,10 @@ pub mod tagged;
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 #[allow(unused_imports)]
-pub use subdiv_interp::verify::{nearest_gap, Plain};
+pub use subdiv_interp::verify::nearest_gap;
 use subdiv_mesh::Mesh;
+#[allow(unused_imports)]
+pub use subdiv_stencil::Scheme;
 
 /// `mesh` with every vertex moved by a deterministic offset drawn uniformly
 /// from [−amount/2, amount/2]³ (seeded: the same mesh every run).
@@ -45,7 +47,7 @@ pub fn fixture(rel: &str) -> Mesh {
 }
 
 /// Every limit point the plain scheme exposes on `control`.
-pub fn candidate_limit_points(control: &Mesh, plain: Plain) -> Vec<DVec3> {
+pub fn candidate_limit_points(control: &Mesh, plain: Scheme) -> Vec<DVec3> {
     subdiv_interp::verify::candidate_limit_points(control, plain).expect("plain scheme applies")
 }
 
