@@ -6,9 +6,10 @@ use thiserror::Error;
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum StencilError {
-    /// The scheme needs triangles (Loop) and the mesh has another polygon.
+    /// The scheme needs triangles (Loop, √3) and the mesh has another polygon.
     #[error(
-        "face {face} has {size} vertices; Loop subdivision needs a triangle mesh (use Catmull-Clark or Doo-Sabin)"
+        "face {face} has {size} vertices; Loop subdivision needs a triangle mesh, as does √3 (use Catmull-Clark or \
+         Doo-Sabin)"
     )]
     NotTriangles {
         /// Offending face.
