@@ -25,6 +25,15 @@ pub enum StencilError {
         /// Number of boundary loops.
         loops: usize,
     },
+    /// The scheme cannot refine this mesh (√3: an interior vertex of
+    /// valence < 3, whose flips would double an edge).
+    #[error("{scheme} cannot refine this mesh: {reason}")]
+    MeshNotSupported {
+        /// Scheme name.
+        scheme: &'static str,
+        /// Why, naming the element.
+        reason: String,
+    },
     /// A per-face parameter array has the wrong length or an out-of-range value.
     #[error("invalid shape parameter: {0}")]
     InvalidParameter(String),

@@ -239,6 +239,12 @@ pub fn refine(
         // takes Catmull-Clark's face-varying rules on the same split (a
         // parametrisation of the surface, which need not interpolate).
         Scheme::DengMa(_) => Primal::CatmullClark,
+        Scheme::Sqrt3 => {
+            return Err(FVarError::SchemeNotSupported {
+                scheme: scheme.name(),
+                reason: "√3 has no face-varying rules here (its flips leave no edge of the parent)",
+            })
+        }
     };
     let (nv, nf, ne) = (parent.vertex_count(), parent.face_count(), parent.edge_count());
     let expected = match primal {

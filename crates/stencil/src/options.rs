@@ -19,6 +19,9 @@ pub enum Scheme {
     /// Deng-Ma's interpolatory scheme (any polygons, open or closed: 4-point
     /// boundary curves), global or variable tension.
     DengMa(Tension),
+    /// Kobbelt's √3 scheme (triangles only; boundaries trisected every
+    /// second step; corners, no creases).
+    Sqrt3,
 }
 
 impl Scheme {
@@ -29,6 +32,7 @@ impl Scheme {
             Scheme::Loop(_) => "loop",
             Scheme::DooSabin => "doo-sabin",
             Scheme::DengMa(_) => "deng-ma",
+            Scheme::Sqrt3 => "sqrt3",
         }
     }
 

@@ -85,6 +85,7 @@ impl Scheme {
             Scheme::Loop(beta) => Box::new(crate::loop_subdivision::LoopRules(beta)),
             Scheme::DooSabin => Box::new(crate::doo_sabin::DooSabinRules),
             Scheme::DengMa(tension) => Box::new(crate::deng_ma::DengMaRules(tension)),
+            Scheme::Sqrt3 => Box::new(crate::sqrt3::Sqrt3Rules),
         }
     }
 }

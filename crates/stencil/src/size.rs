@@ -10,8 +10,11 @@
 //! | Catmull-Clark, Deng-Ma | V + E + F | 2E + H | H | 4H |
 //! | Loop | V + E | 2E + 3F | 4F | 12F |
 //! | Doo-Sabin | H + 2B | V′ + F′ − χ | F + E + V_f | 2E′ − B′ |
+//! | √3, odd step | V + F | E + 3F | 3F | 9F |
+//! | √3, even step | V + F + B | E + 3F + B | 3F | 9F |
 //!
-//! with B′ = 2B in every scheme (each boundary edge is split in two; Doo-Sabin's
+//! with B′ = 2B in every scheme but √3 (B′ = B after an odd step, 3B after
+//! an even one, the first step on the input being odd) (each boundary edge is split in two; Doo-Sabin's
 //! two Chaikin points per boundary edge double the boundary polygon), χ the
 //! Euler characteristic (kept by every step) and V_f the vertices that get a
 //! Doo-Sabin V-face: all vertices used by a face except interior ones of
@@ -77,6 +80,7 @@ fn bytes_per_corner(scheme: Scheme) -> u64 {
         Scheme::Loop(_) => 44,
         Scheme::DooSabin => 55,
         Scheme::DengMa(_) => 61,
+        Scheme::Sqrt3 => 44,
     }
 }
 
@@ -112,6 +116,14 @@ pub fn refined_sizes(t: &Topology, scheme: Scheme, levels: usize) -> Vec<LevelSi
                 let ne = u128::try_from((nv + nf) as i128 - i128::from(euler)).unwrap_or(0);
                 (nv, ne, nf, (2 * ne).saturating_sub(2 * b))
             }
+            // Kobbelt §4: the even steps (step 2, 4, …) trisect the boundary.
+            Scheme::Sqrt3 if step % 2 == 1 => (v + f + b, e + 3 * f + b, 3 * f, 9 * f),
+            Scheme::Sqrt3 => (v + f, e + 3 * f, 3 * f, 9 * f),
+        };
+        let nb = match scheme {
+            Scheme::Sqrt3 if step % 2 == 1 => 3 * b,
+            Scheme::Sqrt3 => b,
+            Scheme::CatmullClark | Scheme::Loop(_) | Scheme::DooSabin | Scheme::DengMa(_) => 2 * b,
         };
         let saturate = |x: u128| u64::try_from(x).unwrap_or(u64::MAX);
         level = LevelSize {
@@ -119,7 +131,7 @@ pub fn refined_sizes(t: &Topology, scheme: Scheme, levels: usize) -> Vec<LevelSi
             edges: saturate(ne),
             faces: saturate(nf),
             corners: saturate(nh),
-            boundary_edges: saturate(2 * b),
+            boundary_edges: saturate(nb),
         };
         out.push(level);
         if [nv, ne, nf, nh].iter().any(|&c| c > u128::from(u64::MAX) / 16) {
@@ -175,8 +187,9 @@ mod tests {
             }
         }
         for (name, mesh) in [("icosahedron", shapes::icosahedron()), ("open triangles", shapes::triangle_grid(3, 3))] {
-            let scheme = Scheme::Loop(LoopBeta::Warren);
-            assert_eq!(refined_sizes(mesh.topology(), scheme, 3), actual(&mesh, scheme, 3), "{name}");
+            for scheme in [Scheme::Loop(LoopBeta::Warren), Scheme::Sqrt3] {
+                assert_eq!(refined_sizes(mesh.topology(), scheme, 4), actual(&mesh, scheme, 4), "{name} {scheme:?}");
+            }
         }
     }
 

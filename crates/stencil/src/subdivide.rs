@@ -55,6 +55,7 @@ fn check_size(t: &Topology, scheme: Scheme) -> Result<(), StencilError> {
         Scheme::CatmullClark | Scheme::DengMa(_) => (v + f + e, 4 * h),
         Scheme::Loop(_) => (v + e, 12 * f),
         Scheme::DooSabin => (h + 2 * e, 2 * h + 4 * e),
+        Scheme::Sqrt3 => (v + f + t.boundary_edge_count(), 9 * f),
     };
     if new_vertices.max(new_corners) > MAX_ELEMENTS {
         return Err(StencilError::TooLarge);
