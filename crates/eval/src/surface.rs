@@ -414,7 +414,8 @@ impl LimitSurface {
     /// # Errors
     /// [`EvalError::Stencil`] when the scheme refuses the mesh (Loop on a
     /// non-triangle, semi-sharp tags on Doo-Sabin), [`EvalError::Unsupported`]
-    /// for Deng-Ma (interpolatory, no limit masks) and for Doo-Sabin meshes
+    /// for Deng-Ma (interpolatory, no limit masks), for √3 (no evaluation
+    /// here) and for Doo-Sabin meshes
     /// with a corner (a corner tag, or three or more boundary and crease
     /// edges at a vertex) or a dart (a vertex with one crease edge).
     pub fn new(mesh: &Mesh, options: &Options) -> Result<Self, EvalError> {
@@ -427,6 +428,14 @@ impl LimitSurface {
                 return Err(EvalError::Unsupported {
                     scheme: "deng-ma",
                     reason: "an interpolatory scheme without limit masks; evaluate a refined mesh instead".into(),
+                })
+            }
+            Scheme::Sqrt3 => {
+                return Err(EvalError::Unsupported {
+                    scheme: "sqrt3",
+                    reason: "the √3 scheme has no evaluation here (no patches for its 1-to-3 split); \
+                             subdivide, or take its limit points"
+                        .into(),
                 })
             }
         };
