@@ -25,7 +25,9 @@
 //! every level's topology and stencil (a [`crate::SubdivisionPlan`] keeps them
 //! all) and two levels of positions. Its constants are the peak resident
 //! memory per final-level corner measured on meshes of 0.7–73 M corners
-//! (Catmull-Clark 39 B, Loop 36–38 B, Doo-Sabin 48 B, Deng-Ma 53 B: the
+//! (Catmull-Clark 39 B, Loop 36–38 B, Doo-Sabin 48 B, Deng-Ma 53 B; √3 is
+//! not measured yet and takes Loop's constant — the same triangle topology
+//! per corner, no stencil held by `subdivide` —: the
 //! earlier levels and the positions add a fixed fraction, as every level has
 //! 4× the corners of the one before), rounded up by about 15%.
 
