@@ -481,6 +481,7 @@ fn subdivide(mesh: &Mesh, levels: usize, bytes: &mut Bytes) {
         Scheme::Loop(LoopBeta::Loop),
         Scheme::DooSabin,
         Scheme::DengMa(tension),
+        Scheme::Sqrt3,
     ]);
     let limit = bytes.u8() % 2 == 0;
     match subdiv_stencil::subdivide(mesh, scheme, levels, limit) {
@@ -495,6 +496,7 @@ fn subdivide(mesh: &Mesh, levels: usize, bytes: &mut Bytes) {
                     }
                     Scheme::Loop(_) => assert_eq!(faces, 4 * t.face_count(), "four triangles per triangle"),
                     Scheme::DooSabin => {}
+                    Scheme::Sqrt3 => assert_eq!(faces, 3 * t.face_count(), "three triangles per triangle"),
                 }
             }
         }

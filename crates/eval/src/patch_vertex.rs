@@ -75,6 +75,7 @@ pub(crate) fn vertex_limit(
             Split::Quad => (nv + nf + e.index()) as u32,
             Split::Triangle => (nv + e.index()) as u32,
             Split::Dual => return Err(EvalError::Internal("the dual split has no vertex stars".into())),
+            Split::Sqrt3 => return Err(EvalError::Internal("the √3 split is not evaluated".into())),
         };
     }
     for (i, &f) in star.far.iter().enumerate() {

@@ -643,7 +643,7 @@ pub fn refined_bounds(
     let loop_scheme = match options.scheme {
         Scheme::CatmullClark => false,
         Scheme::Loop(_) => true,
-        other @ (Scheme::DooSabin | Scheme::DengMa(_)) => {
+        other @ (Scheme::DooSabin | Scheme::DengMa(_) | Scheme::Sqrt3) => {
             return Err(EvalError::Unsupported {
                 scheme: other.name(),
                 reason: "no refined patch bounds (Catmull-Clark and Loop only)".into(),
@@ -829,12 +829,11 @@ pub fn projector<'a>(
 ) -> Result<Projector<BoundLimitSurface<'a>>, EvalError> {
     let bounds = match options.scheme {
         Scheme::CatmullClark | Scheme::Loop(_) => refined_bounds(mesh, options, surface.domains(), project.levels)?,
-        other @ (Scheme::DooSabin | Scheme::DengMa(_)) => {
-            support_bounds(surface, mesh.positions()).ok_or_else(|| EvalError::Unsupported {
+        other @ (Scheme::DooSabin | Scheme::DengMa(_) | Scheme::Sqrt3) => support_bounds(surface, mesh.positions())
+            .ok_or_else(|| EvalError::Unsupported {
                 scheme: other.name(),
                 reason: "projection needs conservative patch bounds, and a domain has none".into(),
-            })?
-        }
+            })?,
     };
     let smooth = smooth_domain_edges(mesh, options, surface.domains());
     Ok(Projector::new(BoundLimitSurface::new(surface, mesh.positions())?, bounds, *project)?.with_smooth_edges(smooth))
@@ -884,7 +883,7 @@ pub fn smooth_domain_edges(mesh: &Mesh, options: &Options, domains: &[Domain]) -
                 }
                 // Triangle order: u = 0 (corners 2, 0), v = 0 (0, 1), u + v = 1 (1, 2).
                 Scheme::Loop(_) => [smooth(h[2]), smooth(h[0]), smooth(h[1]), false],
-                Scheme::DooSabin | Scheme::DengMa(_) => [false; 4],
+                Scheme::DooSabin | Scheme::DengMa(_) | Scheme::Sqrt3 => [false; 4],
             }
         })
         .collect()

@@ -302,7 +302,7 @@ fn patching(scheme: Scheme) -> &'static Patching {
         Scheme::CatmullClark => &CATMULL_CLARK,
         Scheme::Loop(_) => &LOOP,
         Scheme::DooSabin => &DOO_SABIN,
-        Scheme::DengMa(_) => unreachable!("not evaluable: refused by LimitSurface::new"),
+        Scheme::DengMa(_) | Scheme::Sqrt3 => unreachable!("not evaluable: refused by LimitSurface::new"),
     }
 }
 
@@ -429,17 +429,20 @@ impl LimitSurface {
     /// # Errors
     /// [`EvalError::Stencil`] when the scheme refuses the mesh (Loop on a
     /// non-triangle, semi-sharp tags on Doo-Sabin), [`EvalError::Unsupported`]
-    /// for Deng-Ma (interpolatory, no limit masks) and for Doo-Sabin meshes
+    /// for Deng-Ma (interpolatory, no limit masks), for √3 (no evaluation
+    /// here) and for Doo-Sabin meshes
     /// with a corner (a corner tag, or three or more boundary and crease
     /// edges at a vertex) or a dart (a vertex with one crease edge).
     pub fn new(mesh: &Mesh, options: &Options) -> Result<Self, EvalError> {
         options.validate()?;
         let traits = options.scheme.traits();
         if !traits.evaluable {
-            return Err(EvalError::Unsupported {
-                scheme: options.scheme.name(),
-                reason: "an interpolatory scheme without limit masks; evaluate a refined mesh instead".into(),
-            });
+            let reason = if traits.interpolating {
+                "an interpolatory scheme without limit masks; evaluate a refined mesh instead"
+            } else {
+                "no patches for its split here; subdivide, or take its limit points"
+            };
+            return Err(EvalError::Unsupported { scheme: options.scheme.name(), reason: reason.into() });
         }
         let t = mesh.topology();
         let tags = mesh.tags().clone();
@@ -459,7 +462,7 @@ impl LimitSurface {
             let n = match traits.split {
                 // An n-gon of the quad split: one ptex quad per corner.
                 Split::Quad if t.face_size(f) != 4 => t.face_size(f),
-                Split::Quad | Split::Triangle => 1,
+                Split::Quad | Split::Triangle | Split::Sqrt3 => 1,
                 Split::Dual => {
                     let corners = doo_sabin::face_domains(t, &sharp, f);
                     domains.extend(corners.into_iter().map(|corner| Domain { face: f.0, corner }));
@@ -876,7 +879,7 @@ impl LimitSurface {
                 let (local, face) = refined.ring(&self.options, child)?;
                 Ok((ids, local, face))
             }
-            Split::Quad | Split::Triangle => Ok((ids, local, face)),
+            Split::Quad | Split::Triangle | Split::Sqrt3 => Ok((ids, local, face)),
             Split::Dual => {
                 let (local, face) = doo_sabin::domain_start(&local, &self.options, face, dom.corner as usize)?;
                 Ok((ids, local, face))
@@ -1035,7 +1038,7 @@ impl LimitSurface {
             };
             if let Some(k) = corner {
                 let ready = match self.traits.split {
-                    Split::Quad | Split::Triangle => {
+                    Split::Quad | Split::Triangle | Split::Sqrt3 => {
                         patch_vertex::ready(&local, &self.options, VertexId(local.t.face(face)[k]))
                     }
                     Split::Dual => true,
@@ -1068,7 +1071,7 @@ impl LimitSurface {
 
     fn vertex_limit(&self, local: &Local, face: FaceId, k: usize) -> Result<[Vec<f64>; 3], EvalError> {
         match self.traits.split {
-            Split::Quad | Split::Triangle => patch_vertex::vertex_limit(local, &self.options, face, k),
+            Split::Quad | Split::Triangle | Split::Sqrt3 => patch_vertex::vertex_limit(local, &self.options, face, k),
             Split::Dual => doo_sabin::vertex_limit(local, &self.options, face, k),
         }
     }

@@ -247,6 +247,12 @@ const PENALTY_RTOL: f64 = 1e-12;
 /// ([`subdiv_stencil::SchemeTraits::interpolating`]: Deng-Ma), whose surface
 /// is fixed by the data and has no limit points to constrain.
 fn check_scheme(scheme: Scheme) -> Result<(), InterpError> {
+    if scheme.traits().split == subdiv_stencil::Split::Sqrt3 {
+        return Err(InterpError::invalid(
+            Parameter::Scheme,
+            format!("the fair method does not take {scheme} (its fairing on the √3 split is not built); use --method cheng --scheme {scheme}"),
+        ));
+    }
     if scheme.traits().interpolating {
         let takes: Vec<&str> = Scheme::ALL.iter().filter(|s| !s.traits().interpolating).map(Scheme::name).collect();
         return Err(InterpError::invalid(
@@ -261,8 +267,8 @@ fn check_scheme(scheme: Scheme) -> Result<(), InterpError> {
     Ok(())
 }
 
-/// Why the matches below have a Deng-Ma arm that is never taken.
-const REFUSED: &str = "interpolatory schemes are refused by FairOptions::validate";
+/// Why the matches below have Deng-Ma and √3 arms that are never taken.
+const REFUSED: &str = "interpolatory schemes and √3 are refused by FairOptions::validate";
 
 /// How (2) of the module docs is solved: two algorithms with the same
 /// minimiser, one of which needs the energy on M^K's own limit points.
@@ -467,7 +473,7 @@ fn exact_method(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Res
                 Vec::new(),
             )
         }
-        Scheme::DengMa(_) => unreachable!("{REFUSED}"),
+        Scheme::DengMa(_) | Scheme::Sqrt3 => unreachable!("{REFUSED}"),
     }
 }
 
@@ -692,7 +698,7 @@ fn assembled_limit_matrix(
         }
         Scheme::Loop(beta) => Some(limit_matrix_loop_sharp(t, sharp, beta)?),
         Scheme::DooSabin => None,
-        Scheme::DengMa(_) => unreachable!("{REFUSED}"),
+        Scheme::DengMa(_) | Scheme::Sqrt3 => unreachable!("{REFUSED}"),
     })
 }
 

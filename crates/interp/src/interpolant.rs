@@ -213,7 +213,7 @@ impl Interpolant {
                     Split::Dual => doo_sabin::limit_points_tagged(t, c.tags(), c.positions()).unwrap_or_else(refused),
                     // An interpolatory scheme (no limit masks: `None`) is
                     // associated `Interpolatory`, never here.
-                    Split::Quad | Split::Triangle => {
+                    Split::Quad | Split::Triangle | Split::Sqrt3 => {
                         match subdiv_stencil::limit_points_with_options(t, c.tags(), self.options(), c.positions()) {
                             Ok(limits) => limits.expect("the scheme has limit masks"),
                             Err(e) => refused(e),

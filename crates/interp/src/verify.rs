@@ -59,7 +59,7 @@ fn scaled_candidates(control: &Mesh, scheme: Scheme, surface: SurfaceOptions) ->
         return Ok(control.positions().to_vec());
     }
     Ok(match traits.split {
-        Split::Quad | Split::Triangle => {
+        Split::Quad | Split::Triangle | Split::Sqrt3 => {
             let plan = SubdivisionPlan::with_tags(t, tags, surface.for_scheme(scheme), 0)?;
             plan.limit_points(control.positions()).expect("an approximating scheme has limit masks")
         }

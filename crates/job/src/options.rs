@@ -499,7 +499,9 @@ impl SubdivideOptions {
             Scheme::Loop(beta) if beta != LoopBeta::default() => (Some(beta), None, None),
             Scheme::DengMa(Tension::Global(omega)) if omega != 1.0 => (None, Some(omega), None),
             Scheme::DengMa(Tension::Variable { lambda }) => (None, None, Some(lambda)),
-            Scheme::CatmullClark | Scheme::DooSabin | Scheme::Loop(_) | Scheme::DengMa(_) => (None, None, None),
+            Scheme::CatmullClark | Scheme::DooSabin | Scheme::Sqrt3 | Scheme::Loop(_) | Scheme::DengMa(_) => {
+                (None, None, None)
+            }
         };
         Self {
             scheme,

@@ -98,13 +98,28 @@ pub enum MeshError {
         /// z.
         z: f64,
     },
-    /// A triangle-only operation (Loop) met another polygon.
-    #[error("face {face} has {size} vertices; Loop subdivision needs triangles (use Catmull-Clark or Doo-Sabin, or triangulate)")]
+    /// A triangle-only operation (Loop, √3) met another polygon.
+    #[error(
+        "face {face} has {size} vertices; Loop subdivision needs triangles, as does √3 (use Catmull-Clark or \
+         Doo-Sabin, or triangulate)"
+    )]
     NotTriangles {
         /// Offending face.
         face: u32,
         /// Its number of corners.
         size: usize,
+    },
+    /// A trisecting √3 step met a triangle with more than one boundary edge
+    /// (it follows a plain step, which leaves at most one per triangle).
+    #[error(
+        "face {face} has {boundary_edges} boundary edges; the trisecting √3 step takes at most one per triangle \
+         (it follows a plain step, which leaves that)"
+    )]
+    TrisectionNeedsOneBoundaryEdge {
+        /// Offending face.
+        face: u32,
+        /// Its number of boundary edges.
+        boundary_edges: usize,
     },
     /// A face cannot be split into triangles over its own corners: each way of
     /// splitting it needs a diagonal that already is an edge of the mesh (or of

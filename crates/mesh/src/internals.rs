@@ -130,3 +130,38 @@ pub fn dual_split_tagged_by_validation(
     let (_, provenance, new_tags) = dual_split_tagged(t, tags);
     Ok((topology, provenance, new_tags))
 }
+
+/// [`sqrt3_split`](crate::refine::sqrt3_split) the slow way: the triangle
+/// list, one per old half-edge as [`crate::refine::Sqrt3Provenance`]
+/// describes it, validated by [`Topology::new`]. The oracle the direct
+/// construction is tested against.
+///
+/// # Errors
+/// As [`crate::refine::sqrt3_split`].
+pub fn sqrt3_split_by_validation(t: &Topology, trisect: bool) -> Result<Topology, MeshError> {
+    let provenance = crate::refine::Sqrt3Provenance::new(t, trisect)?;
+    let nv = t.vertex_count() as u32;
+    let second = provenance.second_points();
+    // The new point of x's face next to x: the second trisection point of
+    // the boundary edge before x when trisecting, else the face's point.
+    let c = |x: HalfEdgeId| -> u32 {
+        let p = t.he_prev(x);
+        if trisect && t.he_twin(p).is_none() {
+            second[p.index()]
+        } else {
+            nv + t.he_face(x).0
+        }
+    };
+    let mut tris = Vec::with_capacity(9 * t.face_count());
+    for f in t.face_ids() {
+        for x in t.face_half_edges(f) {
+            let tri = match t.he_twin(x) {
+                Some(y) => [t.he_from(x).0, c(y), c(x)],
+                None if trisect => [nv + f.0, second[x.index()], t.he_from(t.he_prev(x)).0],
+                None => [t.he_from(x).0, t.he_to(x).0, nv + f.0],
+            };
+            tris.extend_from_slice(&tri);
+        }
+    }
+    Topology::new(FaceList::from_uniform(3, tris), provenance.vertex_count())
+}

@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | [`quad_split`] (Catmull-Clark, Deng-Ma) | old vertices `0..V`, face points `V..V+F`, edge points `V+F..V+F+E` | one quad per old corner `h`: face id `h` |
 //! | [`triangle_split`] (Loop) | old vertices `0..V`, edge points `V..V+E` | per triangle `f`: corner triangles `4f..4f+3`, centre `4f+3` |
+//! | [`sqrt3_split`] (√3) | old vertices `0..V`, per face `V..V+F` its centroid (or, trisecting, the first trisection point of its boundary edge), trisecting: the second trisection points `V+F..V+F+B` | one triangle per old half-edge `h`: face id `h` (see [`Sqrt3Provenance`]) |
 //! | [`dual_split`] (Doo-Sabin) | one per old corner `h` (`0..H`), then two Chaikin points per boundary half-edge | F-faces, E-faces, V-faces (see [`DualProvenance`]) |
 //! | [`dual_split_tagged`] (Doo-Sabin with creases and corners) | one per old corner, then the points of the refined sharp polygon ([`DualFeatures::sharp_points`]) | F-faces, an E-face per side of a sharp edge, a V-face per sector (see [`SharpDualProvenance`]) |
 //!
@@ -38,6 +39,147 @@ pub(crate) fn require_triangles(t: &Topology) -> Result<(), MeshError> {
         Some(f) => Err(MeshError::NotTriangles { face: f.0, size: t.face_size(f) }),
         None => Ok(()),
     }
+}
+
+/// Where a vertex of a √3 step comes from ([`Sqrt3Provenance::origin`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sqrt3Vertex {
+    /// An old vertex, same index (moved by the smoothing rule).
+    Old(VertexId),
+    /// The centroid of an old triangle.
+    Centroid(FaceId),
+    /// A trisection point of boundary half-edge `half_edge` (a→b): at a
+    /// third of the way from a (`near_start`) or from b.
+    Trisection {
+        /// The old boundary half-edge.
+        half_edge: HalfEdgeId,
+        /// True for the point nearer the half-edge's start.
+        near_start: bool,
+    },
+}
+
+/// The numbering of a √3 step ([`sqrt3_split`]): what every new vertex is
+/// made from, by index arithmetic on the parent.
+///
+/// New vertex `v < V` is old vertex v; `V + f` is old face f's point: its
+/// centroid, or, in a trisecting step on a face with a boundary edge h, the
+/// trisection point of h near from(h); `V + F + i` (trisecting only) is the
+/// trisection point near to(hᵢ) of the i-th boundary half-edge hᵢ, loop by
+/// loop in [`Topology::boundary_loops`] order. New face `h` is the triangle
+/// of old half-edge h: (from h, c(twin h), c(h)) for an interior h — one of
+/// the two triangles across the flipped edge, c(x) the new point of x's face
+/// next to x —; (from h, to h, centroid) for a boundary h in a plain step;
+/// the middle third (p, q, opposite corner) of its triangle for a boundary h
+/// in a trisecting step.
+///
+/// `#[non_exhaustive]`: made by [`Sqrt3Provenance::new`] and [`sqrt3_split`].
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct Sqrt3Provenance {
+    /// Whether the step trisects the boundary (Kobbelt's even steps).
+    pub trisects: bool,
+    /// Vertex count V of the parent.
+    pub old_vertex_count: usize,
+    /// Face count F of the parent.
+    pub old_face_count: usize,
+    /// Trisecting: the boundary half-edges in loop order (hᵢ above); empty otherwise.
+    pub boundary_half_edges: Vec<HalfEdgeId>,
+    /// Trisecting: per old half-edge, its second trisection point (`V + F + i`), `u32::MAX` inside.
+    second_point: Vec<u32>,
+    /// Trisecting: per old face, its boundary half-edge, `u32::MAX` for a face without one.
+    face_boundary: Vec<u32>,
+}
+
+impl Sqrt3Provenance {
+    /// The numbering of a √3 step on `t`, trisecting the boundary or not.
+    ///
+    /// # Errors
+    /// [`MeshError::NotTriangles`] for another polygon;
+    /// [`MeshError::TrisectionNeedsOneBoundaryEdge`] when trisecting a face
+    /// with more than one boundary edge (an even step follows an odd one,
+    /// which leaves at most one per face).
+    pub fn new(t: &Topology, trisects: bool) -> Result<Self, MeshError> {
+        require_triangles(t)?;
+        let (nv, nf) = (t.vertex_count(), t.face_count());
+        let (mut boundary_half_edges, mut second_point, mut face_boundary) = (Vec::new(), Vec::new(), Vec::new());
+        if trisects {
+            second_point = vec![u32::MAX; t.half_edge_count()];
+            face_boundary = vec![u32::MAX; nf];
+            for &h in t.boundary_loops().flatten() {
+                let f = t.he_face(h);
+                if face_boundary[f.index()] != u32::MAX {
+                    let edges = t.face_half_edges(f).filter(|&x| t.he_twin(x).is_none()).count();
+                    return Err(MeshError::TrisectionNeedsOneBoundaryEdge { face: f.0, boundary_edges: edges });
+                }
+                face_boundary[f.index()] = h.0;
+                second_point[h.index()] = (nv + nf + boundary_half_edges.len()) as u32;
+                boundary_half_edges.push(h);
+            }
+        }
+        Ok(Self {
+            trisects,
+            old_vertex_count: nv,
+            old_face_count: nf,
+            boundary_half_edges,
+            second_point,
+            face_boundary,
+        })
+    }
+
+    /// Number of new vertices: V + F, plus B (boundary edges) when trisecting.
+    pub fn vertex_count(&self) -> usize {
+        self.old_vertex_count + self.old_face_count + self.boundary_half_edges.len()
+    }
+
+    /// Where new vertex `v` comes from.
+    ///
+    /// # Panics
+    /// If `v` is not below [`Self::vertex_count`].
+    pub fn origin(&self, v: VertexId) -> Sqrt3Vertex {
+        let (nv, nf) = (self.old_vertex_count, self.old_face_count);
+        let i = v.index();
+        if i < nv {
+            return Sqrt3Vertex::Old(v);
+        }
+        if i < nv + nf {
+            let f = i - nv;
+            return match self.face_boundary.get(f) {
+                Some(&h) if h != u32::MAX => Sqrt3Vertex::Trisection { half_edge: HalfEdgeId(h), near_start: true },
+                _ => Sqrt3Vertex::Centroid(FaceId(f as u32)),
+            };
+        }
+        Sqrt3Vertex::Trisection { half_edge: self.boundary_half_edges[i - nv - nf], near_start: false }
+    }
+
+    /// Per old half-edge, its second trisection point (trisecting; `u32::MAX` inside).
+    pub(crate) fn second_points(&self) -> &[u32] {
+        &self.second_point
+    }
+}
+
+/// √3 connectivity (Kobbelt 2000): a point per triangle joined to its
+/// corners, every old interior edge flipped; boundary edges are kept, and a
+/// trisecting step (`trisect`, Kobbelt's even steps) splits each boundary
+/// edge in three and its triangle into three around the opposite corner
+/// before the flips. Numbering: [`Sqrt3Provenance`].
+///
+/// ```text
+///  plain step on boundary edge a─b        trisecting step on a─b (apex x)
+///            x                                        x
+///          ╱ │ ╲                                   ╱ ╱ ╲ ╲
+///        ╱   m   ╲        kept, not flipped      ╱  ╱   ╲  ╲
+///      ╱  ╱     ╲  ╲                           ╱  ╱       ╲  ╲
+///     a ─────────── b                         a ─ p ───── q ─ b
+/// ```
+/// (after the flips of x─a and x─b, a─p and q─b lie in triangles with the
+/// neighbouring faces' points; the middle (p, q, x) remains).
+///
+/// # Errors
+/// As [`Sqrt3Provenance::new`].
+pub fn sqrt3_split(t: &Topology, trisect: bool) -> Result<(Topology, Sqrt3Provenance), MeshError> {
+    let provenance = Sqrt3Provenance::new(t, trisect)?;
+    let topology = t.sqrt3_split(trisect, provenance.second_points());
+    Ok((topology, provenance))
 }
 
 /// Where a vertex of a Doo-Sabin refinement comes from.

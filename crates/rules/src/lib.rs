@@ -15,6 +15,7 @@
 //! | [`doo_sabin`] | Doo-Sabin, the first-step variants, the boundary rule | Zheng-Cai Eq. 1, 4; Fan-Cheng-Lai Eq. 1 |
 //! | [`catmull_clark`] | Catmull-Clark, limit masks, Cheng's limit stencil | Cheng Appendix Eq. 4-5 |
 //! | [`loop_scheme`] | Loop, Warren's or Loop's β, limit masks | Deng-Wang Eq. 1-2, 5-6 |
+//! | [`sqrt3`] | √3 (Kobbelt 2000): face points, αₙ smoothing, the ternary boundary, limit masks with βₙ | Kobbelt 2000 §2-4 (recalled, not a seed) |
 //! | [`deng_ma`] | Deng-Ma interpolatory scheme: moved vertices, ω_P | Deng-Ma §3.3-3.4 |
 //! | [`curves`] | Chaikin, cubic B-spline, 4-point (variable tension) | Deng-Ma §3.1 |
 //! | [`crease`] | sharpness decay, vertex rules, semi-sharp weights | OpenSubdiv `Sdc::Crease` (DeRose, Kass & Truong 1998) |
@@ -72,6 +73,7 @@ pub mod doo_sabin;
 pub mod loop_scheme;
 mod mask;
 mod options;
+pub mod sqrt3;
 mod vec3;
 
 #[cfg(test)]

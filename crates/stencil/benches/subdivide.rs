@@ -37,6 +37,7 @@ fn scheme_id(s: Scheme) -> &'static str {
         Scheme::Loop(_) => "loop",
         Scheme::DooSabin => "ds",
         Scheme::DengMa(_) => "dengma",
+        Scheme::Sqrt3 => "sqrt3",
     }
 }
 

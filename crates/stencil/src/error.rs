@@ -6,9 +6,10 @@ use thiserror::Error;
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum StencilError {
-    /// The scheme needs triangles (Loop) and the mesh has another polygon.
+    /// The scheme needs triangles (Loop, √3) and the mesh has another polygon.
     #[error(
-        "face {face} has {size} vertices; Loop subdivision needs a triangle mesh (use Catmull-Clark or Doo-Sabin)"
+        "face {face} has {size} vertices; Loop subdivision needs a triangle mesh, as does √3 (use Catmull-Clark or \
+         Doo-Sabin)"
     )]
     NotTriangles {
         /// Offending face.
@@ -23,6 +24,15 @@ pub enum StencilError {
         scheme: &'static str,
         /// Number of boundary loops.
         loops: usize,
+    },
+    /// The scheme cannot refine this mesh (√3: an interior vertex of
+    /// valence < 3, whose flips would double an edge).
+    #[error("{scheme} cannot refine this mesh: {reason}")]
+    MeshNotSupported {
+        /// Scheme name.
+        scheme: &'static str,
+        /// Why, naming the element.
+        reason: String,
     },
     /// A per-face parameter array has the wrong length or an out-of-range value.
     #[error("invalid shape parameter: {0}")]

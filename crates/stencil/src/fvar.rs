@@ -234,12 +234,19 @@ pub fn refine(
             })
         }
         FVarSupport::SeamlessUntagged => return refine_dual(parent, child, channel),
+        FVarSupport::None => {
+            return Err(FVarError::SchemeNotSupported {
+                scheme: scheme.name(),
+                reason: "√3 has no face-varying rules here (its flips leave no edge of the parent)",
+            })
+        }
     }
     let (nv, nf, ne) = (parent.vertex_count(), parent.face_count(), parent.edge_count());
     let expected = match traits.split {
         Split::Quad => (nv + nf + ne, 4 * parent.half_edge_count()),
         Split::Triangle => (nv + ne, 12 * nf),
         Split::Dual => unreachable!("{DUAL}"),
+        Split::Sqrt3 => unreachable!("{NONE}"),
     };
     assert_eq!((child.vertex_count(), child.half_edge_count()), expected, "child is not the split of parent");
     let step = Step {
@@ -316,6 +323,8 @@ fn refine_dual(t: &Topology, child: &Topology, channel: &FaceVarying) -> Result<
 
 /// Why the matches below have a Doo-Sabin arm that is never taken.
 const DUAL: &str = "a channel on the dual split is refined by `refine_dual`";
+/// Why a scheme without face-varying rules never gets here.
+const NONE: &str = "a scheme without face-varying rules is refused before refining a channel";
 
 /// The mode decoded into OpenSubdiv's switches
 /// (`FVarLevel::completeTopologyFromFaceValues`).
@@ -483,6 +492,7 @@ impl Step<'_> {
             }
             Scheme::Loop(_) => Vec::new(),
             Scheme::DooSabin => unreachable!("{DUAL}"),
+            Scheme::Sqrt3 => unreachable!("{NONE}"),
         };
         // 3. Edge points: one value per edge, one per side of a seam.
         let edge_chunks = chunked(ne, |range| {
@@ -565,6 +575,7 @@ impl Step<'_> {
                 indices
             }
             Scheme::DooSabin => unreachable!("{DUAL}"),
+            Scheme::Sqrt3 => unreachable!("{NONE}"),
         };
         FaceVarying { values, indices }
     }
@@ -641,6 +652,7 @@ impl Step<'_> {
                 sum.add(scale * mask.right, self.value(t.he_prev(g)));
             }
             Scheme::DooSabin => unreachable!("{DUAL}"),
+            Scheme::Sqrt3 => unreachable!("{NONE}"),
         }
     }
 
@@ -700,6 +712,7 @@ impl Step<'_> {
                     }
                 }
                 Scheme::DooSabin => unreachable!("{DUAL}"),
+                Scheme::Sqrt3 => unreachable!("{NONE}"),
             },
             (Rule::Crease, Some((a, b))) => {
                 let mask = self.crease_mask(t.valence(v));
@@ -717,6 +730,7 @@ impl Step<'_> {
             Scheme::CatmullClark | Scheme::DengMa(_) => catmull_clark::vertex_point_mask(VertexKind::Boundary, valence),
             Scheme::Loop(beta) => loop_scheme::vertex_point_mask(VertexKind::Boundary, valence, beta),
             Scheme::DooSabin => unreachable!("{DUAL}"),
+            Scheme::Sqrt3 => unreachable!("{NONE}"),
         }
     }
 

@@ -15,6 +15,7 @@
 //! | [`limit_matrix_two_phase`] | Fan-Cheng-Lai Eq. 1, λ per face | 1/n | Σ_f [λ_f I + (1 − λ_f) J/m_f] (Eq. 2 with [correction F1], Eq. 5) |
 //! | [`limit_matrix_catmull_clark`] | Cheng, Catmull-Clark | 4/(n(n+5)) | appendix Eq. 5 bracket ([corrections C1, C2]) |
 //! | [`limit_matrix_loop`] | Loop | γ = 1/(k + 3/(8β)) | 3/(8β) on the diagonal, 1 per neighbour (Deng-Wang Eq. 5-6, [correction W4]) |
+//! | [`limit_matrix_sqrt3`] | √3 (Kobbelt 2000) | βₙ/n | n(1 − βₙ)/βₙ on the diagonal, 1 per neighbour ([`crate::sqrt3`]) |
 //!
 //! Cheng's A and Loop's L also come with creases and corners
 //! ([`limit_matrix_catmull_clark_sharp`], [`limit_matrix_loop_sharp`], on a
@@ -1243,6 +1244,28 @@ pub fn limit_matrix_loop_sharp(
     let (special, kinds) = special_rows(t, sharp, CUBIC_B_SPLINE, Scheme::Loop(beta))?;
     Ok(assemble(t, d, special, kinds, |v, rows| {
         rows.add(v.0, 3.0 / (8.0 * beta.beta(t.valence(v)))); // (1 − kγ)/γ = 3/(8β)
+        t.vertex_neighbors(v).for_each(|e| rows.add(e.0, 1.0));
+    }))
+}
+
+/// The √3 limit matrix of a control mesh (a base level, whose next step is
+/// odd): row v is the limit point (1 − βₙ)v + βₙ/n Σvᵢ of an interior vertex
+/// of valence n, D = βₙ/n and S = n(1 − βₙ)/βₙ on the diagonal, 1 per
+/// neighbour — symmetric, as Loop's L; boundary rows (p₋ + 4p + p₊)/6 and
+/// corner rows p (one-face boundary vertices) as every scheme's. Exact on
+/// every vertex of a base level ([`crate::sqrt3`], "Limit points").
+///
+/// # Errors
+/// As [`crate::sqrt3::check`] (triangles, interior valence ≥ 3).
+pub fn limit_matrix_sqrt3(t: &Topology) -> Result<LimitMatrix, StencilError> {
+    let sharp = LevelSharpness::plain();
+    crate::sqrt3::check(t, &sharp)?;
+    let beta = |v: VertexId| subdiv_rules::sqrt3::beta(t.valence(v));
+    let d = t.vertices().map(|v| if t.valence(v) > 0 { beta(v) / t.valence(v) as f64 } else { 1.0 }).collect();
+    let (special, kinds) = special_rows(t, &sharp, CUBIC_B_SPLINE, Scheme::Sqrt3)?;
+    Ok(assemble(t, d, special, kinds, |v, rows| {
+        let b = beta(v);
+        rows.add(v.0, t.valence(v) as f64 * (1.0 - b) / b); // (1 − βₙ)/(βₙ/n)
         t.vertex_neighbors(v).for_each(|e| rows.add(e.0, 1.0));
     }))
 }

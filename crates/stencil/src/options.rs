@@ -44,16 +44,20 @@ pub enum Scheme {
     /// Deng-Ma's interpolatory scheme (any polygons, open or closed: 4-point
     /// boundary curves), global or variable tension.
     DengMa(Tension),
+    /// Kobbelt's √3 scheme (triangles only; boundaries trisected every
+    /// second step; corners, no creases).
+    Sqrt3,
 }
 
 impl Scheme {
     /// Every scheme, each with its default parameters (Warren's β, ω = 1), in
     /// the order help texts list them.
-    pub const ALL: [Scheme; 4] = [
+    pub const ALL: [Scheme; 5] = [
         Scheme::CatmullClark,
         Scheme::Loop(LoopBeta::Warren),
         Scheme::DooSabin,
         Scheme::DengMa(Tension::Global(DEFAULT_DENG_MA_OMEGA)),
+        Scheme::Sqrt3,
     ];
 
     /// Short name, as on the command line (parsed back by [`FromStr`]).
@@ -63,6 +67,7 @@ impl Scheme {
             Scheme::Loop(_) => "loop",
             Scheme::DooSabin => "doo-sabin",
             Scheme::DengMa(_) => "deng-ma",
+            Scheme::Sqrt3 => "sqrt3",
         }
     }
 
@@ -73,6 +78,7 @@ impl Scheme {
             Scheme::Loop(_) => "Loop: triangles only (quartic box-spline limit), Warren's or Loop's β",
             Scheme::DooSabin => "Doo-Sabin: any polygons, the dual split (biquadratic B-spline limit)",
             Scheme::DengMa(_) => "Deng-Ma: interpolatory, any polygons on the quad split, global or variable tension",
+            Scheme::Sqrt3 => "√3 (Kobbelt 2000): triangles only, the 1-to-3 split with edge flips (C² limit)",
         }
     }
 
@@ -128,6 +134,18 @@ impl Scheme {
                 evaluable: false,
                 bytes_per_corner: 61,
             },
+            // Triangles, but no polynomial patches: limit points and refinement, no evaluation.
+            Scheme::Sqrt3 => SchemeTraits {
+                domain: Domain::Triangle,
+                split: Split::Sqrt3,
+                regular_valence: 6,
+                regular_face_size: 3,
+                triangles_only: true,
+                interpolating: false,
+                face_varying: FVarSupport::None,
+                evaluable: false,
+                bytes_per_corner: 44,
+            },
         }
     }
 
@@ -157,7 +175,7 @@ impl Scheme {
         Ok(match self {
             Scheme::Loop(own) => Scheme::Loop(beta.unwrap_or(own)),
             Scheme::DengMa(own) => Scheme::DengMa(tension.unwrap_or(own)),
-            Scheme::CatmullClark | Scheme::DooSabin => self,
+            Scheme::CatmullClark | Scheme::DooSabin | Scheme::Sqrt3 => self,
         })
     }
 }

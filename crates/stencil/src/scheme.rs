@@ -76,6 +76,9 @@ pub enum Split {
     /// The dual split: one point per face corner (two per boundary corner),
     /// F-, E- and V-faces (`Topology::dual_split`).
     Dual,
+    /// √3 (Kobbelt 2000): a vertex in every triangle, the parent's interior edges flipped; every
+    /// second step trisects the boundary edges.
+    Sqrt3,
 }
 
 /// Which face-varying channels (texture coordinates) a scheme refines.
@@ -88,6 +91,8 @@ pub enum FVarSupport {
     /// Channels without seams on an untagged mesh only: a function of the
     /// vertices, refined by the positions' own step.
     SeamlessUntagged,
+    /// No face-varying rules: a channel is refused.
+    None,
 }
 
 /// One level refined: the new connectivity, the sharpness of the new level,
@@ -166,6 +171,7 @@ impl Scheme {
             Scheme::Loop(beta) => Box::new(crate::loop_subdivision::LoopRules(beta)),
             Scheme::DooSabin => Box::new(crate::doo_sabin::DooSabinRules),
             Scheme::DengMa(tension) => Box::new(crate::deng_ma::DengMaRules(tension)),
+            Scheme::Sqrt3 => Box::new(crate::sqrt3::Sqrt3Rules),
         }
     }
 }

@@ -41,6 +41,10 @@ pub struct LevelSharpness {
     /// it), computed on first use from the sharp edges alone, so the rows of
     /// the many untouched vertices of a tagged level cost one lookup.
     touched: OnceLock<Vec<bool>>,
+    /// √3 only: whether the next step trisects the boundary (Kobbelt's even
+    /// steps, `crate::sqrt3`); false on a base level, flipped by each √3
+    /// split. The one piece of level state that is not a tag.
+    trisects_next: bool,
 }
 
 impl PartialEq for LevelSharpness {
@@ -49,6 +53,7 @@ impl PartialEq for LevelSharpness {
             && (self.vertices == other.vertices)
             && (self.boundary == other.boundary)
             && (self.method == other.method)
+            && (self.trisects_next == other.trisects_next)
     }
 }
 
@@ -177,7 +182,24 @@ impl LevelSharpness {
     }
 
     fn from_values(edges: Vec<f32>, vertices: Vec<f32>, boundary: BoundaryInterpolation, method: CreaseMethod) -> Self {
-        Self { edges, vertices, boundary, method, touched: OnceLock::new() }
+        Self { edges, vertices, boundary, method, touched: OnceLock::new(), trisects_next: false }
+    }
+
+    /// √3: a level with these vertex values (no edge tags) whose next step
+    /// trisects the boundary or not (`crate::sqrt3`).
+    pub(crate) fn sqrt3_level(
+        vertices: Vec<f32>,
+        boundary: BoundaryInterpolation,
+        method: CreaseMethod,
+        trisects_next: bool,
+    ) -> Self {
+        let vertices = if vertices.iter().all(|&s| is_smooth(s)) { Vec::new() } else { vertices };
+        Self { trisects_next, ..Self::from_values(Vec::new(), vertices, boundary, method) }
+    }
+
+    /// √3: whether the next step trisects the boundary (an even step).
+    pub(crate) fn trisects_next(&self) -> bool {
+        self.trisects_next
     }
 
     /// Whether no edge or vertex carries a tag (boundaries may still be sharp).

@@ -10,8 +10,11 @@
 //! | quad | Catmull-Clark, Deng-Ma | V + E + F | 2E + H | H | 4H |
 //! | triangle | Loop | V + E | 2E + 3F | 4F | 12F |
 //! | dual | Doo-Sabin | H + 2B | V′ + F′ − χ | F + E + V_f | 2E′ − B′ |
+//! | √3, odd step | √3 | V + F | E + 3F | 3F | 9F |
+//! | √3, even step | √3 | V + F + B | E + 3F + B | 3F | 9F |
 //!
-//! with B′ = 2B in every split (each boundary edge is split in two; Doo-Sabin's
+//! with B′ = 2B in every split but √3's (B′ = B after an odd step, 3B after an even one, the
+//! first step on the input being odd; each other split halves every boundary edge: Doo-Sabin's
 //! two Chaikin points per boundary edge double the boundary polygon), χ the
 //! Euler characteristic (kept by every step) and V_f the vertices that get a
 //! Doo-Sabin V-face: all vertices used by a face except interior ones of
@@ -22,7 +25,9 @@
 //! every level's topology and stencil (a [`crate::SubdivisionPlan`] keeps them
 //! all) and two levels of positions. Its constants are the peak resident
 //! memory per final-level corner measured on meshes of 0.7–73 M corners
-//! (Catmull-Clark 39 B, Loop 36–38 B, Doo-Sabin 48 B, Deng-Ma 53 B: the
+//! (Catmull-Clark 39 B, Loop 36–38 B, Doo-Sabin 48 B, Deng-Ma 53 B; √3 is
+//! not measured yet and takes Loop's constant — the same triangle topology
+//! per corner, no stencil held by `subdivide` —: the
 //! earlier levels and the positions add a fixed fraction, as every level has
 //! 4× the corners of the one before), rounded up by about 15%
 //! ([`SchemeTraits::bytes_per_corner`]).
@@ -106,6 +111,14 @@ pub fn refined_sizes(t: &Topology, scheme: Scheme, levels: usize) -> Vec<LevelSi
                 let ne = u128::try_from((nv + nf) as i128 - i128::from(euler)).unwrap_or(0);
                 (nv, ne, nf, (2 * ne).saturating_sub(2 * b))
             }
+            // Kobbelt §4: the even steps (step 2, 4, …) trisect the boundary.
+            Split::Sqrt3 if step % 2 == 1 => (v + f + b, e + 3 * f + b, 3 * f, 9 * f),
+            Split::Sqrt3 => (v + f, e + 3 * f, 3 * f, 9 * f),
+        };
+        let nb = match split {
+            Split::Sqrt3 if step % 2 == 1 => 3 * b,
+            Split::Sqrt3 => b,
+            Split::Quad | Split::Triangle | Split::Dual => 2 * b,
         };
         let saturate = |x: u128| u64::try_from(x).unwrap_or(u64::MAX);
         level = LevelSize {
@@ -113,7 +126,7 @@ pub fn refined_sizes(t: &Topology, scheme: Scheme, levels: usize) -> Vec<LevelSi
             edges: saturate(ne),
             faces: saturate(nf),
             corners: saturate(nh),
-            boundary_edges: saturate(2 * b),
+            boundary_edges: saturate(nb),
         };
         out.push(level);
         if [nv, ne, nf, nh].iter().any(|&c| c > u128::from(u64::MAX) / 16) {
@@ -169,8 +182,9 @@ mod tests {
             }
         }
         for (name, mesh) in [("icosahedron", shapes::icosahedron()), ("open triangles", shapes::triangle_grid(3, 3))] {
-            let scheme = Scheme::Loop(LoopBeta::Warren);
-            assert_eq!(refined_sizes(mesh.topology(), scheme, 3), actual(&mesh, scheme, 3), "{name}");
+            for scheme in [Scheme::Loop(LoopBeta::Warren), Scheme::Sqrt3] {
+                assert_eq!(refined_sizes(mesh.topology(), scheme, 4), actual(&mesh, scheme, 4), "{name} {scheme:?}");
+            }
         }
     }
 

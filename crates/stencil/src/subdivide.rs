@@ -58,6 +58,7 @@ fn check_size(t: &Topology, scheme: Scheme) -> Result<(), StencilError> {
         Split::Quad => (v + f + e, 4 * h),
         Split::Triangle => (v + e, 12 * f),
         Split::Dual => (h + 2 * e, 2 * h + 4 * e),
+        Split::Sqrt3 => (v + f + t.boundary_edge_count(), 9 * f),
     };
     if new_vertices.max(new_corners) > MAX_ELEMENTS {
         return Err(StencilError::TooLarge);

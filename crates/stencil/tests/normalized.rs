@@ -8,7 +8,7 @@ use glam::DVec3;
 use subdiv_mesh::refine::{dual_split, quad_split, triangle_split};
 use subdiv_mesh::{shapes, Mesh, PowerOfTwoScale, Topology};
 use subdiv_stencil::doo_sabin::{self, CornerRule};
-use subdiv_stencil::{apply, catmull_clark, deng_ma, loop_subdivision, subdivide};
+use subdiv_stencil::{apply, catmull_clark, deng_ma, loop_subdivision, sqrt3, subdivide, LevelSharpness};
 use subdiv_stencil::{LoopBeta, Scheme, StencilError, SubdivisionPlan, Tension};
 
 fn bits(points: &[DVec3]) -> Vec<[u64; 3]> {
@@ -24,12 +24,31 @@ fn schemes(t: &Topology) -> Vec<Scheme> {
     ];
     if t.faces().all_of_size(3) {
         all.push(Scheme::Loop(LoopBeta::Warren));
+        all.push(Scheme::Sqrt3);
     }
     all
 }
 
+/// √3's raw steps: each level's parity carried in its sharpness.
+fn raw_sqrt3(mesh: &Mesh, levels: usize) -> Vec<DVec3> {
+    let mut t = mesh.topology().clone();
+    let mut sharp = LevelSharpness::plain();
+    let mut x = mesh.positions().to_vec();
+    let rules = Scheme::Sqrt3.rules();
+    for _ in 0..levels {
+        x = sqrt3::step_points(&t, &sharp, &x).unwrap();
+        let split = rules.split(&t, &sharp).unwrap();
+        (t, sharp) = (split.topology, split.sharpness);
+    }
+    assert_eq!(rules.levels_before_limit(&t, &sharp, levels == 0), 0, "an even number of levels");
+    sqrt3::limit_points(&t, &sharp, &x, t.vertex_count()).unwrap()
+}
+
 /// `levels` steps and the limit, by the raw step functions on the raw positions.
 fn raw_subdivide(mesh: &Mesh, scheme: Scheme, levels: usize) -> Vec<DVec3> {
+    if scheme == Scheme::Sqrt3 {
+        return raw_sqrt3(mesh, levels);
+    }
     let mut t = mesh.topology().clone();
     let mut x = mesh.positions().to_vec();
     for _ in 0..levels {
@@ -38,6 +57,7 @@ fn raw_subdivide(mesh: &Mesh, scheme: Scheme, levels: usize) -> Vec<DVec3> {
             Scheme::CatmullClark => (quad_split(&t), catmull_clark::step_points(&t, &x)),
             Scheme::Loop(beta) => (triangle_split(&t).unwrap(), loop_subdivision::step_points(&t, beta, &x).unwrap()),
             Scheme::DengMa(tension) => (quad_split(&t), deng_ma::step_positions(&t, &x, tension).unwrap()),
+            Scheme::Sqrt3 => unreachable!("raw_sqrt3"),
         };
         (t, x) = (next_t, next_x);
     }
@@ -46,6 +66,7 @@ fn raw_subdivide(mesh: &Mesh, scheme: Scheme, levels: usize) -> Vec<DVec3> {
         Scheme::CatmullClark => catmull_clark::limit_points(&t, &x),
         Scheme::Loop(beta) => loop_subdivision::limit_points(&t, beta, &x).unwrap(),
         Scheme::DengMa(_) => x,
+        Scheme::Sqrt3 => unreachable!("raw_sqrt3"),
     }
 }
 
@@ -85,6 +106,7 @@ fn normalising_changes_no_bit_on_ordinary_meshes() {
                     Scheme::CatmullClark => catmull_clark::limit_points(plan.topology(), &x),
                     Scheme::Loop(beta) => loop_subdivision::limit_points(plan.topology(), beta, &x).unwrap(),
                     Scheme::DengMa(_) => unreachable!(),
+                    Scheme::Sqrt3 => sqrt3::limit_points(plan.topology(), plan.sharpness(), &x, x.len()).unwrap(),
                 };
                 assert!(bits(&limits) == bits(&raw_limits), "{scheme:?} limit_points");
                 assert!(limits.iter().zip(apply(&r, &x)).all(|(a, b)| a.distance(b) < 1e-12));

@@ -136,6 +136,12 @@ fn check_scheme(t: &Topology, scheme: Scheme, levels: usize) -> Result<(), TestC
                 let v_faces = coarse.referenced_vertex_count() - valence2;
                 prop_assert_eq!(r.face_count(), coarse.face_count() + coarse.edge_count() + v_faces);
             }
+            Scheme::Sqrt3 => {
+                prop_assert!(r.faces().all_of_size(3));
+                prop_assert_eq!(r.face_count(), 3 * coarse.face_count());
+                let trisected = if k % 2 == 1 { coarse.boundary_edge_count() } else { 0 };
+                prop_assert_eq!(r.vertex_count(), coarse.vertex_count() + coarse.face_count() + trisected);
+            }
         }
         coarse = r;
     }
@@ -149,8 +155,10 @@ fn check_polygon_mesh(mesh: &Mesh, levels: usize) -> Result<(), TestCaseError> {
     check_scheme(t, Scheme::DengMa(Tension::Global(1.0)), levels)?; // open meshes too: 4-point boundary
     if t.faces().all_of_size(3) {
         check_scheme(t, Scheme::Loop(LoopBeta::Warren), levels)?;
+        check_scheme(t, Scheme::Sqrt3, levels)?;
     } else {
         prop_assert!(SubdivisionPlan::new(t, Scheme::Loop(LoopBeta::Warren), 1).is_err());
+        prop_assert!(SubdivisionPlan::new(t, Scheme::Sqrt3, 1).is_err());
     }
     Ok(())
 }

@@ -84,7 +84,9 @@ fn with_parameters_sets_its_own_and_refuses_misplaced_parameters() {
                 assert_eq!(with_tension, Ok(Scheme::DengMa(variable)));
                 assert!(with_beta.is_err());
             }
-            Scheme::CatmullClark | Scheme::DooSabin => assert!(with_beta.is_err() && with_tension.is_err()),
+            Scheme::CatmullClark | Scheme::DooSabin | Scheme::Sqrt3 => {
+                assert!(with_beta.is_err() && with_tension.is_err())
+            }
         }
         if let Err(e) = with_beta {
             assert_eq!(e, StencilError::InvalidParameter("--beta applies to --scheme loop only".into()));

@@ -1,6 +1,9 @@
-//! The three refinements of a [`Topology`] built directly by index arithmetic
-//! (quad split, triangle split, Doo-Sabin dual split), instead of re-deriving
-//! connectivity from the refined face list with [`Topology::new`].
+//! The refinements of a [`Topology`] built directly by index arithmetic
+//! (quad split, triangle split, Doo-Sabin dual split, and the √3 split in
+//! `sqrt3`), instead of re-deriving connectivity from the refined face list
+//! with [`Topology::new`].
+
+mod sqrt3;
 
 use super::{EdgeNumbering, HalfEdgeFaces, Topology, NONE};
 use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
