@@ -24,7 +24,7 @@ pub struct EvaluateArgs {
     /// Control mesh.
     mesh: PathBuf,
     /// Subdivision scheme (catmull-clark, loop, doo-sabin).
-    #[arg(long, value_parser = scheme_parser)]
+    #[arg(long, value_parser = scheme_parser, help = format!("Subdivision scheme: {}", crate::options::scheme_names()))]
     scheme: Scheme,
     /// Parameters: one `FACE U V` or `FACE.K U V` per line (`#` comments).
     #[arg(long, value_name = "PARAMS")]

@@ -113,5 +113,12 @@ fn print_text(s: &Summary) -> String {
             Some(reason) => emit!("  {name:<14} refuses: {reason}"),
         }
     }
+    emit!("subdivision schemes:");
+    for (name, v) in subdiv_stencil::Scheme::ALL.iter().filter_map(|m| s.schemes.get(m.name()).map(|v| (m.name(), v))) {
+        match &v.reason {
+            None => emit!("  {name:<14} takes it"),
+            Some(reason) => emit!("  {name:<14} refuses: {reason}"),
+        }
+    }
     out
 }

@@ -81,8 +81,8 @@ impl TensionFlags {
 /// The method and its options (`subdiv interpolate`, `subdiv batch interpolate`).
 #[derive(clap::Args, Debug, Default)]
 pub struct MethodFlags {
-    /// Interpolation method: nasri, zheng-cai, cheng, fan-cheng-lai, deng-wang, deng-ma, fair.
-    #[arg(long)]
+    /// Interpolation method (the method table's names).
+    #[arg(long, help = format!("Interpolation method: {}", subdiv_interp::Method::ALL.map(|m| m.name()).join(", ")))]
     pub method: Option<String>,
     /// Solver: auto (default), pia, weighted-pia, jacobi, gauss-seidel, gauss-seidel-symmetric,
     /// gauss-seidel-multicolor, chebyshev, cg, cg-jacobi, minres, gmres, ldl, dense. auto: CG on
@@ -145,8 +145,8 @@ pub struct InterpolateFlags {
     /// zheng-cai, deng-wang: per-vertex normals, lines "i nx ny nz" or JSON {"i": [x, y, z]}.
     #[arg(long)]
     pub normals: Option<PathBuf>,
-    /// fair: the control mesh's scheme (default catmull-clark; loop, doo-sabin).
-    #[arg(long)]
+    /// fair (and cheng): the control mesh's scheme (default catmull-clark).
+    #[arg(long, help = format!("fair: the control mesh's scheme (default catmull-clark): {}", scheme_names()))]
     pub scheme: Option<String>,
     /// Levels of --surface (and deng-ma's -o; default 3).
     #[arg(long)]
@@ -171,11 +171,16 @@ impl InterpolateFlags {
     }
 }
 
+/// The names of the scheme table, for help texts.
+pub fn scheme_names() -> String {
+    subdiv_stencil::Scheme::ALL.map(|s| s.name()).join(", ")
+}
+
 /// `subdiv subdivide`'s options.
 #[derive(clap::Args, Debug)]
 pub struct SubdivideFlags {
-    /// Subdivision scheme: doo-sabin, catmull-clark, loop, deng-ma.
-    #[arg(long)]
+    /// Subdivision scheme (the scheme table's names).
+    #[arg(long, help = format!("Subdivision scheme: {}", scheme_names()))]
     pub scheme: Option<String>,
     /// Number of subdivision steps (0 with --limit: the input's limit positions).
     #[arg(long)]

@@ -18,7 +18,7 @@ use subdiv_stencil::{Options, Scheme};
 #[derive(clap::Args, Debug)]
 pub struct LimitArgs {
     /// Subdivision scheme of the limit surface (deng-ma is interpolatory: no limit evaluation).
-    #[arg(long, value_parser = scheme_parser)]
+    #[arg(long, value_parser = scheme_parser, help = format!("Subdivision scheme: {}", crate::options::scheme_names()))]
     pub scheme: Scheme,
     /// Loop's β: warren (default) or loop.
     #[arg(long, value_parser = beta_parser)]

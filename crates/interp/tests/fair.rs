@@ -188,10 +188,12 @@ fn the_dispatch_runs_it_by_name_and_refuses_bad_options() {
     // Loop takes triangles only.
     let lp = FairOptions::default().with_scheme(Scheme::Loop(LoopBeta::Warren)).unwrap();
     assert!(matches!(bad(lp), InterpError::UnsupportedMesh { .. }));
-    // Every scheme of the table but the interpolatory one (no limit points to constrain).
+    // Every scheme of the table but the interpolatory one (no limit points to constrain) and
+    // √3 (no fairing built on its split: refused, naming cheng).
     for scheme in Scheme::ALL {
         let set = FairOptions::default().with_scheme(scheme);
-        assert_eq!(set.is_err(), scheme.traits().interpolating, "{scheme}");
+        let refused = scheme.traits().interpolating || scheme.traits().split == subdiv_stencil::Split::Sqrt3;
+        assert_eq!(set.is_err(), refused, "{scheme}");
         if let Err(e) = set {
             assert!(matches!(e, InterpError::InvalidParameter { parameter: subdiv_interp::Parameter::Scheme, .. }));
         }

@@ -8,12 +8,13 @@
 //! [`Summary::error`].
 //!
 //! ```
-//! use subdiv::info::summarize;
-//! let torus = subdiv::mesh::shapes::torus(8, 6);
+//! use subdiv_job::info::summarize;
+//! let torus = subdiv_mesh::shapes::torus(8, 6);
 //! let s = summarize(&torus, Some("torus.obj"));
 //! assert_eq!((s.vertices, s.faces, s.edges), (48, 48, 96));
 //! assert_eq!((s.genus, s.closed), (Some(1), Some(true)));
 //! assert!(s.methods["cheng"].accepts);
+//! assert!(s.schemes["catmull-clark"].accepts && !s.schemes["loop"].accepts); // quads
 //! let json = serde_json::to_value(&s).unwrap();
 //! assert_eq!(json["euler_characteristic"], 0);
 //! ```
@@ -23,6 +24,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use subdiv_interp::{Method, TagCounts};
 use subdiv_mesh::{diagnose, FaceList, FaceVarying, Mesh, PolygonSoup, Warning};
+use subdiv_stencil::{LevelSharpness, Scheme};
 
 /// The summary of a mesh: the object `subdiv info --json` prints (the keys
 /// of the [report JSON]'s input, plus counts, validity and every method's
@@ -79,6 +81,9 @@ pub struct Summary {
     /// Per interpolation method ([`Method::name`]): does it take this mesh,
     /// and if not, why ([`Method::check`], the check the method itself makes).
     pub methods: BTreeMap<&'static str, MethodVerdict>,
+    /// Per subdivision scheme of the scheme table ([`Scheme::ALL`]): do its rules take this
+    /// mesh with its tags (OpenSubdiv's default options), and if not, why.
+    pub schemes: BTreeMap<&'static str, MethodVerdict>,
 }
 
 /// The texture-coordinate channel of a [`Summary`].
@@ -136,6 +141,27 @@ fn method_verdicts(mesh: Result<&Mesh, &str>) -> BTreeMap<&'static str, MethodVe
         .collect()
 }
 
+/// Every scheme's verdict: its rules' own check of the topology and tags (the check
+/// `subdivide` makes first); "no" with the validation error for an invalid mesh.
+fn scheme_verdicts(mesh: Result<&Mesh, &str>) -> BTreeMap<&'static str, MethodVerdict> {
+    Scheme::ALL
+        .into_iter()
+        .map(|scheme| {
+            let verdict = match mesh {
+                Ok(mesh) => {
+                    let sharp = LevelSharpness::new(mesh.tags(), Default::default(), Default::default());
+                    match scheme.rules().check(mesh.topology(), &sharp) {
+                        Ok(()) => MethodVerdict { accepts: true, reason: None },
+                        Err(e) => MethodVerdict { accepts: false, reason: Some(e.to_string()) },
+                    }
+                }
+                Err(error) => MethodVerdict { accepts: false, reason: Some(format!("the mesh is not valid: {error}")) },
+            };
+            (scheme.name(), verdict)
+        })
+        .collect()
+}
+
 /// The summary of a valid mesh, its warnings from [`Mesh::warnings`].
 pub fn summarize(mesh: &Mesh, file: Option<&str>) -> Summary {
     summarize_with_warnings(mesh, file, &mesh.warnings())
@@ -146,8 +172,8 @@ pub fn summarize(mesh: &Mesh, file: Option<&str>) -> Summary {
 /// as it can be, with [`Summary::error`] set.
 ///
 /// ```
-/// use subdiv::info::summarize_soup;
-/// use subdiv::io::{read_mesh_from_bytes, Format};
+/// use subdiv_job::info::summarize_soup;
+/// use subdiv_io::{read_mesh_from_bytes, Format};
 /// // Three faces on edge (0, 1).
 /// let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
 /// let soup = read_mesh_from_bytes(obj.as_bytes(), Format::Obj, "fin.obj").unwrap();
@@ -167,7 +193,7 @@ pub fn summarize_soup(soup: PolygonSoup, file: Option<&str>) -> Summary {
 /// [`summarize`] with the warnings validation already found.
 pub fn summarize_with_warnings(mesh: &Mesh, file: Option<&str>, warnings: &[Warning]) -> Summary {
     let (summary, methods) = rayon::join(|| counts(mesh, file, warnings), || method_verdicts(Ok(mesh)));
-    Summary { methods, ..summary }
+    Summary { methods, schemes: scheme_verdicts(Ok(mesh)), ..summary }
 }
 
 /// Everything of a valid mesh's [`Summary`] but the method verdicts (left empty).
@@ -196,6 +222,7 @@ fn counts(mesh: &Mesh, file: Option<&str>, warnings: &[Warning]) -> Summary {
         problems: BTreeMap::new(),
         error: None,
         methods: BTreeMap::new(),
+        schemes: BTreeMap::new(),
     }
 }
 
@@ -242,6 +269,7 @@ fn invalid_summary(file: Option<&str>, soup: &PolygonSoup) -> Summary {
         warnings,
         problems,
         methods: method_verdicts(Err(&d.first_error.as_ref().map_or_else(|| "invalid".to_string(), |e| e.to_string()))),
+        schemes: scheme_verdicts(Err(&d.first_error.as_ref().map_or_else(|| "invalid".to_string(), |e| e.to_string()))),
         error: d.first_error.map(|e| e.to_string()),
     }
 }

@@ -193,6 +193,12 @@ pub fn write(py: Python<'_>, mesh: &PyMesh, path: std::path::PathBuf, normals: b
     detached(py, move || Ok(write_mesh(&path, &mesh, &WriteOptions::default().with_normals(normals))?))
 }
 
+/// `[(name, summary)]` of every subdivision scheme (the scheme table, `Scheme::ALL`).
+#[pyfunction]
+pub fn schemes() -> Vec<(&'static str, &'static str)> {
+    subdiv::Scheme::ALL.iter().map(|s| (s.name(), s.summary())).collect()
+}
+
 /// `[(name, summary)]` of every interpolation method (`Method::ALL`), for the docstring.
 #[pyfunction]
 pub fn methods() -> Vec<(&'static str, &'static str)> {

@@ -36,6 +36,7 @@ fn _subdiv(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(interpolation::subdivide, m)?)?;
     m.add_function(wrap_pyfunction!(interpolation::interpolate, m)?)?;
     m.add_function(wrap_pyfunction!(interpolation::methods, m)?)?;
+    m.add_function(wrap_pyfunction!(interpolation::schemes, m)?)?;
     m.add_function(wrap_pyfunction!(eval::evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(eval::sample, m)?)?;
     m.add_function(wrap_pyfunction!(eval::project, m)?)?;

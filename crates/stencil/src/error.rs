@@ -37,6 +37,10 @@ pub enum StencilError {
     /// A per-face parameter array has the wrong length or an out-of-range value.
     #[error("invalid shape parameter: {0}")]
     InvalidParameter(String),
+    /// A scheme parameter given to a scheme it does not belong to (Loop's β to Catmull-Clark):
+    /// the message names the option and the scheme it belongs to.
+    #[error("{0}")]
+    ParameterNotApplicable(String),
     /// The scheme cannot honour the mesh's tags.
     #[error("{scheme} cannot take these tags: {reason}")]
     TagsNotSupported {

@@ -29,8 +29,8 @@ use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopB
 /// assert_eq!((loop_traits.domain, loop_traits.split), (Domain::Triangle, Split::Triangle));
 /// assert!(loop_traits.triangles_only);
 /// assert_eq!(
-///     "sqrt3".parse::<Scheme>().unwrap_err().to_string(),
-///     "unknown scheme `sqrt3` (expected one of: catmull-clark, loop, doo-sabin, deng-ma)"
+///     "butterfly".parse::<Scheme>().unwrap_err().to_string(),
+///     "unknown scheme `butterfly` (expected one of: catmull-clark, loop, doo-sabin, deng-ma, sqrt3)"
 /// );
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -160,15 +160,15 @@ impl Scheme {
     /// ```
     ///
     /// # Errors
-    /// [`StencilError::InvalidParameter`] for a parameter that does not
+    /// [`StencilError::ParameterNotApplicable`] for a parameter that does not
     /// belong to the scheme, in command-line terms ("--beta applies to
     /// --scheme loop only").
     pub fn with_parameters(self, beta: Option<LoopBeta>, tension: Option<Tension>) -> Result<Self, StencilError> {
         if beta.is_some() && !matches!(self, Scheme::Loop(_)) {
-            return Err(StencilError::InvalidParameter("--beta applies to --scheme loop only".into()));
+            return Err(StencilError::ParameterNotApplicable("--beta applies to --scheme loop only".into()));
         }
         if tension.is_some() && !matches!(self, Scheme::DengMa(_)) {
-            return Err(StencilError::InvalidParameter(
+            return Err(StencilError::ParameterNotApplicable(
                 "--omega/--variable-tension apply to --scheme deng-ma only".into(),
             ));
         }

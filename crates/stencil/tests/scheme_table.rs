@@ -56,7 +56,7 @@ fn every_scheme_round_trips_through_its_name_display_and_serde() {
 #[test]
 fn unknown_names_are_refused_with_the_valid_ones() {
     let names: Vec<&str> = Scheme::ALL.iter().map(Scheme::name).collect();
-    for bad in ["sqrt3", "Loop", "catmull_clark", " loop", ""] {
+    for bad in ["butterfly", "Loop", "catmull_clark", " loop", "", "sqrt-3"] {
         let e = bad.parse::<Scheme>().unwrap_err();
         assert!(matches!(e, StencilError::UnknownScheme { .. }), "{bad}");
         assert_eq!(e.to_string(), format!("unknown scheme `{bad}` (expected one of: {})", names.join(", ")));
@@ -89,12 +89,14 @@ fn with_parameters_sets_its_own_and_refuses_misplaced_parameters() {
             }
         }
         if let Err(e) = with_beta {
-            assert_eq!(e, StencilError::InvalidParameter("--beta applies to --scheme loop only".into()));
+            assert_eq!(e, StencilError::ParameterNotApplicable("--beta applies to --scheme loop only".into()));
         }
         if let Err(e) = with_tension {
             assert_eq!(
                 e,
-                StencilError::InvalidParameter("--omega/--variable-tension apply to --scheme deng-ma only".into())
+                StencilError::ParameterNotApplicable(
+                    "--omega/--variable-tension apply to --scheme deng-ma only".into()
+                )
             );
         }
         assert!(scheme.with_parameters(beta, tension).is_err());

@@ -37,6 +37,7 @@ __all__ = [
     "methods",
     "info",
     "batch",
+    "schemes",
     "evaluate",
     "sample",
     "project",
@@ -100,13 +101,19 @@ def methods() -> "dict[str, str]":
     return dict(_subdiv.methods())
 
 
+def schemes() -> "dict[str, str]":
+    """The subdivision schemes (the scheme table): ``{name: one-line summary}``; the names
+    :func:`subdivide`'s ``scheme`` takes."""
+    return dict(_subdiv.schemes())
+
+
 def subdivide(mesh: Mesh, scheme: str = "catmull-clark", levels: int = 1, limit: bool = False, **options: Any) -> Mesh:
     """Subdivide ``mesh`` ``levels`` times by a plain scheme (the command line's ``subdivide``).
 
     Args:
         mesh: the mesh, with its crease/corner tags and texture coordinates.
-        scheme: ``"doo-sabin"``, ``"catmull-clark"``, ``"loop"`` (triangles) or ``"deng-ma"``
-            (interpolatory).
+        scheme: a name of :func:`schemes`: ``"doo-sabin"``, ``"catmull-clark"``, ``"loop"``
+            (triangles), ``"deng-ma"`` (interpolatory) or ``"sqrt3"`` (√3, triangles).
         levels: subdivision steps (0 with ``limit=True``: the input's limit positions).
         limit: move the final vertices to their limit positions (not for ``deng-ma``).
         **options: ``boundary`` (``"edge-and-corner"`` default, ``"edge-only"``, ``"none"``),

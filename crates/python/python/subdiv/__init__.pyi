@@ -99,6 +99,9 @@ def write(mesh: Mesh, path: PathLike, normals: bool = False) -> None:
 def methods() -> Dict[str, str]:
     """The interpolation methods: {name: one-line summary}."""
 
+def schemes() -> Dict[str, str]:
+    """The subdivision schemes: {name: one-line summary}."""
+
 def evaluate(mesh: Mesh, params: Any, scheme: str = ..., **options: Any) -> Dict[str, Any]: ...
 def sample(
     mesh: Mesh,
