@@ -495,13 +495,13 @@ impl SubdivideOptions {
     /// `levels` steps of `scheme` (its parameters, Loop's β and Deng-Ma's tension, are taken
     /// from it), the defaults otherwise.
     pub fn new(scheme: Scheme, levels: usize) -> Self {
-        let (beta, omega, variable_tension) = match scheme {
-            Scheme::Loop(beta) if beta != LoopBeta::default() => (Some(beta), None, None),
-            Scheme::DengMa(Tension::Global(omega)) if omega != 1.0 => (None, Some(omega), None),
-            Scheme::DengMa(Tension::Variable { lambda }) => (None, None, Some(lambda)),
-            Scheme::CatmullClark | Scheme::DooSabin | Scheme::Sqrt3 | Scheme::Loop(_) | Scheme::DengMa(_) => {
-                (None, None, None)
-            }
+        // The parameters that differ from the scheme's defaults become the options that set them.
+        let (beta, tension) = scheme.parameters();
+        let beta = beta.filter(|&b| b != LoopBeta::default());
+        let (omega, variable_tension) = match tension.filter(|&t| t != Tension::default()) {
+            Some(Tension::Global(omega)) => (Some(omega), None),
+            Some(Tension::Variable { lambda }) => (None, Some(lambda)),
+            None => (None, None),
         };
         Self {
             scheme,

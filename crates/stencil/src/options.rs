@@ -149,6 +149,16 @@ impl Scheme {
         }
     }
 
+    /// The parameters of the scheme, as [`Scheme::with_parameters`] takes them: Loop's β and
+    /// Deng-Ma's tension (`None` for a scheme without that parameter).
+    pub fn parameters(&self) -> (Option<LoopBeta>, Option<Tension>) {
+        match *self {
+            Scheme::Loop(beta) => (Some(beta), None),
+            Scheme::DengMa(tension) => (None, Some(tension)),
+            Scheme::CatmullClark | Scheme::DooSabin | Scheme::Sqrt3 => (None, None),
+        }
+    }
+
     /// The scheme with Loop's β or Deng-Ma's tension set where given (the
     /// scheme's own parameters are kept where not).
     ///
