@@ -4,7 +4,7 @@
 # output file and per record, `sha256  path`, records with their timings and file fingerprints
 # removed. Two binaries that print the same lines wrote the same bytes and the same reports.
 set -euo pipefail
-bin="$1"; out="$2"
+bin="$1"; out="$(mkdir -p "$2" && cd "$2" && pwd)"
 cd "$(dirname "$0")/.."
 rm -rf "$out"; mkdir -p "$out"
 run() { # name, then the batch arguments
@@ -25,11 +25,14 @@ run info info
 python3 - "$out" <<'PY'
 import hashlib, json, pathlib, sys
 out = pathlib.Path(sys.argv[1])
+prefix = str(out.resolve()) + "/"
 def strip(v):
     if isinstance(v, dict):
         return {k: strip(x) for k, x in v.items() if k not in ("seconds", "timing_ms", "fingerprint", "skipped")}
     if isinstance(v, list):
         return [strip(x) for x in v]
+    if isinstance(v, str):
+        return v.replace(prefix, "OUT/")  # output paths, as the records name them
     return v
 for path in sorted(out.rglob("*")):
     if path.is_dir() or path.suffix == ".stderr":

@@ -56,8 +56,9 @@ pub struct BatchArgs {
     /// interpolate: the method and its options (as `subdiv interpolate`).
     #[command(flatten)]
     method: MethodFlags,
-    /// subdivide: write vertex normals (bare); interpolate: zheng-cai, deng-wang's normals file.
-    #[arg(long, num_args = 0..=1, value_name = "FILE")]
+    /// subdivide: write vertex normals (bare `--normals`); interpolate: zheng-cai, deng-wang's
+    /// normals file (`--normals=FILE`: with `=`, so that an input after a bare flag stays an input).
+    #[arg(long, num_args = 0..=1, require_equals = true, value_name = "FILE")]
     normals: Option<Option<PathBuf>>,
     /// subdivide: the scheme; interpolate --method fair: the control mesh's scheme.
     #[arg(long)]

@@ -352,7 +352,13 @@ pub fn interpolate(
     };
 
     let total_ms = total.elapsed().as_secs_f64() * 1e3;
-    let control_mesh = control_out.as_deref().unwrap_or(&result.control);
+    // The report's control mesh is what stands for it: Deng-Ma's is its refined surface
+    // (written as -o, or as the surface alone).
+    let control_mesh = match (&control_out, is_deng_ma, &surface) {
+        (Some(control), _, _) => control.as_ref(),
+        (None, true, Some(surface)) => surface,
+        (None, _, _) => &result.control,
+    };
     let report = Report::new(&mesh, &result, error)
         .with_input_file(input.display().to_string())
         .with_control(control_mesh)

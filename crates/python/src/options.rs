@@ -194,7 +194,21 @@ pub fn interpolate(
     if !tol.is_finite() {
         return Ok(Err(input(format!("--tol must be positive, got {tol}"))));
     }
-    Ok(InterpolateOptions::from_json(&Value::Object(map)).map_err(Error::from))
+    match InterpolateOptions::from_json(&Value::Object(map)) {
+        Ok(options) => Ok(Ok(options)),
+        Err(e) => unexpected_keyword(kw.function, e).map(Err),
+    }
+}
+
+/// A keyword no option has is Python's `TypeError` ("got an unexpected keyword argument"), as
+/// for any function; every other refusal is the job's error.
+fn unexpected_keyword(function: &str, e: subdiv::job::JobError) -> PyResult<Error> {
+    if let Some(name) = e.message.strip_prefix("unknown option `").and_then(|rest| rest.split('`').next()) {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "{function}() got an unexpected keyword argument '{name}'"
+        )));
+    }
+    Ok(e.into())
 }
 
 /// The options of `subdivide(mesh, scheme, levels, limit, **options)`: the job's
@@ -212,9 +226,9 @@ pub fn subdivide(
     if let Err(e) = options_json(kw, &mut map)? {
         return Ok(Err(e));
     }
-    Ok(match Command::from_json("subdivide", &Value::Object(map)) {
-        Ok(Command::Subdivide(o)) => Ok(o),
+    match Command::from_json("subdivide", &Value::Object(map)) {
+        Ok(Command::Subdivide(o)) => Ok(Ok(o)),
         Ok(_) => unreachable!("a subdivide command parses as one"),
-        Err(e) => Err(e.into()),
-    })
+        Err(e) => unexpected_keyword(kw.function, e).map(Err),
+    }
 }

@@ -67,14 +67,14 @@ def test_not_converged():
     "kwargs, message",
     [
         ({"method": "nope"}, "unknown method 'nope' \\(expected one of: nasri, zheng-cai, cheng"),
-        ({"method": "cheng", "shape": 0.5}, "shape applies to method fan-cheng-lai only"),
+        ({"method": "cheng", "shape": 0.5}, "--shape applies to --method fan-cheng-lai only"),
         ({"method": "fan-cheng-lai", "shape": 1.5}, "shape: λ = 1.5 is outside \\(0, 1\\)"),
-        ({"method": "cheng", "normals": {0: [0, 0, 1]}}, "normals applies to method zheng-cai or deng-wang only"),
+        ({"method": "cheng", "normals": {0: [0, 0, 1]}}, "--normals applies to --method zheng-cai or deng-wang only"),
         ({"method": "zheng-cai", "normals": {0: [0, 0, 0]}}, "vertex 0: the normal is zero"),
         ({"method": "cheng", "tol": -1.0}, "tol must be positive, got -1"),
         ({"method": "cheng", "solver": "magic"}, "solver: unknown solver 'magic'"),
-        ({"method": "cheng", "boundary": "sharp"}, "boundary: unknown boundary interpolation `sharp`"),
-        ({"method": "cheng", "subset": [1000]}, "subset vertex 1000 does not exist"),
+        ({"method": "cheng", "boundary": "sharp"}, "unknown boundary interpolation `sharp`"),
+        ({"method": "cheng", "subset": [1000]}, "--subset: vertex 1000 is out of range"),
         ({"method": "deng-ma", "subset": [0]}, "deng-ma passes through every vertex"),
     ],
 )
@@ -141,7 +141,7 @@ def test_fair_interpolates_and_takes_its_options():
     assert ds.error["max_rel"] <= 1e-9
     weighted = subdiv.interpolate(mesh, method="fair", fairness_weight=0.1)
     assert weighted.error["max_rel"] > 1e-6  # a penalty approximates
-    with pytest.raises(ValueError, match="refine applies to method fair only"):
+    with pytest.raises(ValueError, match="--refine applies to --method fair only"):
         subdiv.interpolate(mesh, method="cheng", refine=2)
     with pytest.raises(ValueError, match="Loop scheme needs triangles"):
         subdiv.interpolate(mesh, method="fair", scheme="loop")
