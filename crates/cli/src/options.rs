@@ -145,7 +145,8 @@ pub struct InterpolateFlags {
     /// zheng-cai, deng-wang: per-vertex normals, lines "i nx ny nz" or JSON {"i": [x, y, z]}.
     #[arg(long)]
     pub normals: Option<PathBuf>,
-    /// fair: the control mesh's scheme (default catmull-clark; loop, doo-sabin).
+    /// cheng, fair: the control mesh's scheme (default catmull-clark; cheng: loop, sqrt3; fair: loop,
+    /// doo-sabin).
     #[arg(long)]
     pub scheme: Option<String>,
     /// Levels of --surface (and deng-ma's -o; default 3).
