@@ -79,8 +79,10 @@
 //!   a base level (its first step odd), where these rows are exact on open
 //!   meshes too (`subdiv_stencil::sqrt3`, "Limit points").
 //!
-//! Both S are **positive definite**, so the automatic choice is CG (PIA
-//! converges too: the rows are convex combinations, so spec(A) ⊂ (0, 1]).
+//! Both S are **positive definite**, so the automatic choice is CG. (PIA
+//! converges too where every row is a smooth, curve or corner row: those are
+//! convex combinations, so each block's spectrum lies in (0, 1]; composed
+//! rows of Loop's darts and semi-sharp tags have no such bound.)
 //! Proof, for x on the smooth vertices (the whole mesh when closed, else
 //! the interior block, whose edges all lie in two triangles): with c_v the
 //! diagonal of S and k_v the valence, Σ_T (x_a + x_b + x_c)² = Σ_v k_v x_v² +
