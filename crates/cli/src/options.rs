@@ -145,8 +145,12 @@ pub struct InterpolateFlags {
     /// zheng-cai, deng-wang: per-vertex normals, lines "i nx ny nz" or JSON {"i": [x, y, z]}.
     #[arg(long)]
     pub normals: Option<PathBuf>,
-    /// fair (and cheng): the control mesh's scheme (default catmull-clark).
-    #[arg(long, help = format!("fair: the control mesh's scheme (default catmull-clark): {}", scheme_names()))]
+    /// cheng, fair: the control mesh's scheme (default catmull-clark).
+    #[arg(long, help = format!(
+        "cheng (catmull-clark, loop, sqrt3), fair (catmull-clark, loop, doo-sabin): the control mesh's scheme \
+         (default catmull-clark); the scheme table: {}",
+        scheme_names()
+    ))]
     pub scheme: Option<String>,
     /// Levels of --surface (and deng-ma's -o; default 3).
     #[arg(long)]

@@ -225,7 +225,7 @@ fn misspelled_or_misapplied_options_are_refused_before_anything_runs() {
     let input = fixtures().join("quad/3torus.off").display().to_string();
     for (args, expected) in [
         (vec!["--method", "chen"], "unknown method 'chen'"),
-        (vec!["--method", "cheng", "--scheme", "loop"], "--scheme applies to --method fair only"),
+        (vec!["--method", "nasri", "--scheme", "loop"], "--scheme applies to --method cheng and --method fair only"),
         (vec!["--method", "cheng", "--omega", "0.5"], "--omega applies to --method deng-ma only"),
         (vec!["--method", "cheng", "--limit"], "unknown option `limit`"),
         (vec!["--method", "cheng", "--boundary", "edges"], "unknown boundary interpolation `edges`"),

@@ -1,5 +1,7 @@
 //! Cheng et al.: interpolation by Catmull-Clark surfaces through progressive
-//! iteration (Cheng et al., *Interpolating meshes of arbitrary topology*, CFL in [references]).
+//! iteration (Cheng et al., *Interpolating meshes of arbitrary topology*, CFL in [references]),
+//! and the same construction for Loop and √3 ([`ChengOptions::with_scheme`],
+//! "Other control schemes" below).
 //!
 //! Finds M̂ with A·M̂ = P, where A maps control points to Catmull-Clark limit
 //! points (appendix Eq. 5, corrected by [corrections C1/C2]; A = D·S with
@@ -58,6 +60,46 @@
 //!   2× CG's on the same mesh without them (`subdiv-solve`'s `indefinite`
 //!   bench: 19 against 12 at 524k vertices).
 //!
+//! # Other control schemes (beyond the paper)
+//! Nothing in the progressive iteration is particular to Catmull-Clark: it
+//! needs a control mesh M of the input's topology and a limit matrix L with
+//! L·M = P. [`ChengOptions::with_scheme`] takes every scheme whose limit
+//! points of a control mesh are rows of such a matrix on that mesh's own
+//! vertices:
+//! - **Loop** (`Scheme::Loop(β)`, β from the scheme; triangles):
+//!   L = `subdiv_stencil::limit_matrix_loop_sharp`, row v
+//!   (1 − kγ)v + γΣvⱼ with γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6, correction
+//!   W4), D = γ, S = 3/(8β) on the diagonal and 1 per edge; creases, corners
+//!   and composed rows as for Catmull-Clark.
+//! - **√3** (`Scheme::Sqrt3`, Kobbelt 2000; triangles, interior valence ≥ 3,
+//!   corners but no creases): L = `subdiv_stencil::limit_matrix_sqrt3_sharp`,
+//!   row v (1 − βₙ)v + βₙ/n Σvᵢ with βₙ = 3αₙ/(1 + 3αₙ), αₙ = (4 −
+//!   2cos(2π/n))/9 (Kobbelt §3), D = βₙ/n, S = n(1 − βₙ)/βₙ on the diagonal and
+//!   1 per edge; boundary rows (p₋ + 4p + p₊)/6, corners p. A control mesh is
+//!   a base level (its first step odd), where these rows are exact on open
+//!   meshes too (`subdiv_stencil::sqrt3`, "Limit points").
+//!
+//! Both S are **positive definite**, so the automatic choice is CG. (PIA
+//! converges too where every row is a smooth, curve or corner row: those are
+//! convex combinations, so each block's spectrum lies in (0, 1]; composed
+//! rows of Loop's darts and semi-sharp tags have no such bound.)
+//! Proof, for x on the smooth vertices (the whole mesh when closed, else
+//! the interior block, whose edges all lie in two triangles): with c_v the
+//! diagonal of S and k_v the valence, Σ_T (x_a + x_b + x_c)² = Σ_v k_v x_v² +
+//! 4Σ_edges x_i x_j, so xᵀSx = Σ_v (c_v − k_v/2) x_v² + ½Σ_T (x_a + x_b + x_c)²,
+//! positive when c_v > k_v/2: for Loop kβ < ¾ (Warren's kβ ≤ 9/16, Loop's ≤
+//! 5/8), for √3 βₙ < ⅔, i.e. αₙ < ⅔, true for n ≥ 3. So neither scheme has
+//! Catmull-Clark's degeneracies ([correction C3]) and no warning or refusal
+//! of a solver comes from the matrix; an open mesh is solved boundary first
+//! ((1, 4, 1)/6 blocks), then the interior, a block with composed (Loop
+//! dart or semi-sharp) rows by GMRES (`system.rs`). The error is measured
+//! by the scheme's own limit rules on the control mesh
+//! ([`Interpolant::error`]), which the result's [`Interpolant::scheme`]
+//! names (the report's `control_scheme`). Doo-Sabin's limit points are not
+//! rows over the control mesh's vertices (face centroids of M¹: `nasri`,
+//! `zheng-cai`, `fan-cheng-lai`), and Deng-Ma interpolates by itself
+//! (`deng-ma`): both are refused with the method that takes them.
+//!
 //! [corrections C1/C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 //! [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
 //! [correction C6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c6
@@ -65,29 +107,78 @@
 //! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
 use crate::system::{interpolate_on_input_topology, AutoSolver, Limit};
-use crate::{seconds_since, CommonOptions, InterpError, Interpolant, Method, SolverChoice};
-use subdiv_mesh::Mesh;
+use crate::{seconds_since, CommonOptions, InterpError, Interpolant, Method, Parameter, SolverChoice};
+use subdiv_mesh::{Mesh, Topology};
 use subdiv_solve::Solver;
-use subdiv_stencil::{limit_operator_catmull_clark_sharp, Degeneracy, LimitMatrix, RowKind};
+use subdiv_stencil::{
+    limit_matrix_loop_sharp, limit_matrix_sqrt3_sharp, limit_operator_catmull_clark_sharp, Degeneracy, LevelSharpness,
+    LimitMatrix, RowKind, Scheme, StencilError,
+};
 
 /// Options of [`interpolate`].
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct ChengOptions {
     /// Subset, tolerance, solver.
     pub common: CommonOptions,
+    /// The control mesh's scheme: Catmull-Clark (the default, the paper's),
+    /// Loop (its β as the scheme holds it) or √3 ([`Self::with_scheme`];
+    /// module docs, "Other control schemes").
+    pub scheme: Scheme,
+}
+
+impl Default for ChengOptions {
+    fn default() -> Self {
+        Self { common: CommonOptions::default(), scheme: Scheme::CatmullClark }
+    }
 }
 
 crate::options::common_setters!(ChengOptions);
 
-/// Interpolates the vertices of `mesh` with a Catmull-Clark limit surface.
+impl ChengOptions {
+    /// Sets the control mesh's scheme: Catmull-Clark, Loop (`Scheme::Loop(β)`)
+    /// or √3.
+    ///
+    /// ```
+    /// use subdiv_interp::{cheng, ChengOptions, Scheme};
+    /// let icosahedron = subdiv_mesh::shapes::icosahedron();
+    /// let options = ChengOptions::default().with_scheme(Scheme::Sqrt3)?;
+    /// let result = cheng::interpolate(&icosahedron, &options)?;
+    /// assert_eq!(result.scheme, Scheme::Sqrt3);
+    /// assert!(result.error_all(&icosahedron).max_rel <= 1e-6);
+    /// assert!(ChengOptions::default().with_scheme(Scheme::DooSabin).is_err());
+    /// # Ok::<(), subdiv_interp::InterpError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`InterpError::InvalidParameter`] ([`Parameter::Scheme`]) for a scheme
+    /// without a limit matrix on the control mesh's vertices, naming the
+    /// method that takes it: Doo-Sabin (`nasri`), Deng-Ma (`deng-ma`).
+    pub fn with_scheme(mut self, scheme: Scheme) -> Result<Self, InterpError> {
+        check_scheme(scheme)?;
+        self.scheme = scheme;
+        Ok(self)
+    }
+}
+
+/// Refuses a control scheme the method cannot take ([`ChengOptions::with_scheme`]).
+fn check_scheme(scheme: Scheme) -> Result<(), InterpError> {
+    crate::preconditions::cheng_scheme(scheme).map_err(|reason| InterpError::invalid(Parameter::Scheme, reason))
+}
+
+/// Interpolates the vertices of `mesh` with a limit surface of
+/// [`ChengOptions::scheme`] (default Catmull-Clark).
 ///
 /// # Errors
 /// As every method ([`crate`] docs, "The numeric rule");
-/// [`InterpError::UnsupportedMesh`] for a solver that needs a definite
-/// matrix on a possibly indefinite one; [`InterpError::Unsolvable`] for data
-/// outside the range of a singular A; [`InterpError::Solve`] when the solver fails.
+/// [`InterpError::InvalidParameter`] for a scheme [`ChengOptions::with_scheme`]
+/// refuses; [`InterpError::UnsupportedMesh`] for a mesh the scheme cannot
+/// take (Loop and √3: non-triangles; √3: creases, interior valence 2), or
+/// for a solver that needs a definite matrix on a possibly indefinite one;
+/// [`InterpError::Unsolvable`] for data outside the range of a singular A;
+/// [`InterpError::Solve`] when the solver fails.
 pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, InterpError> {
+    check_scheme(opts.scheme)?;
     crate::numeric::run(Method::Cheng, mesh, Some(&opts.common), |mesh, interpolated| {
         interpolate_prepared(mesh, interpolated, opts)
     })
@@ -122,6 +213,55 @@ pub(crate) fn interpolate_prepared(
     interpolated: Vec<bool>,
     opts: &ChengOptions,
 ) -> Result<Interpolant, InterpError> {
+    match opts.scheme {
+        Scheme::CatmullClark => catmull_clark(mesh, interpolated, opts),
+        Scheme::Loop(beta) => {
+            definite_scheme(mesh, interpolated, opts, |t, sharp| limit_matrix_loop_sharp(t, sharp, beta))
+        }
+        Scheme::Sqrt3 => definite_scheme(mesh, interpolated, opts, limit_matrix_sqrt3_sharp),
+        // Refused by `interpolate` before: the same refusal (never a panic).
+        Scheme::DooSabin | Scheme::DengMa(_) => check_scheme(opts.scheme).and_then(|()| {
+            Err(InterpError::invalid(Parameter::Scheme, format!("{} is not a control scheme of cheng", opts.scheme)))
+        }),
+    }
+}
+
+/// Loop and √3 (module docs, "Other control schemes"): the mesh checked
+/// against the scheme ([`crate::preconditions`]), L built with the tags and
+/// surface options, solved by the automatic choice with CG for the
+/// symmetric blocks (S is positive definite).
+fn definite_scheme(
+    mesh: &Mesh,
+    interpolated: Vec<bool>,
+    opts: &ChengOptions,
+    limit_matrix: impl FnOnce(&Topology, &LevelSharpness) -> Result<LimitMatrix, StencilError>,
+) -> Result<Interpolant, InterpError> {
+    let start = std::time::Instant::now();
+    if let Err(refusal) = crate::preconditions::cheng_mesh(mesh, opts.scheme) {
+        return Err(InterpError::UnsupportedMesh {
+            method: Method::Cheng.name(),
+            reason: refusal.reason,
+            suggestion: refusal.suggestion,
+        });
+    }
+    let sharpness = opts.common.surface.sharpness(mesh.tags());
+    let a = limit_matrix(mesh.topology(), &sharpness)?;
+    let setup = seconds_since(start);
+    interpolate_on_input_topology(
+        Method::Cheng,
+        mesh,
+        interpolated,
+        Limit::Owned(a),
+        setup,
+        opts.scheme,
+        &opts.common,
+        Solver::Cg { jacobi: true },
+        Vec::new(),
+    )
+}
+
+/// The paper's Catmull-Clark A (module docs, "Algorithm").
+fn catmull_clark(mesh: &Mesh, interpolated: Vec<bool>, opts: &ChengOptions) -> Result<Interpolant, InterpError> {
     let start = std::time::Instant::now();
     let sharpness = opts.common.surface.sharpness(mesh.tags());
     let op = limit_operator_catmull_clark_sharp(mesh.topology(), &sharpness)?;

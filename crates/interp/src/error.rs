@@ -30,7 +30,8 @@ pub enum Parameter {
     Refine,
     /// The fair method's fairness weight ([`crate::FairOptions::fairness_weight`]).
     FairnessWeight,
-    /// The fair method's scheme ([`crate::FairOptions::scheme`]).
+    /// The control scheme of `cheng` and `fair` ([`crate::ChengOptions::scheme`],
+    /// [`crate::FairOptions::scheme`]).
     Scheme,
 }
 

@@ -9,7 +9,7 @@
 //! |---|---|---|
 //! | [`nasri`] | Nasri 1987 (via Zheng-Cai §2) | M⁰, Doo-Sabin; solve C·M⁰ = P |
 //! | [`zheng_cai`] | Zheng & Cai 2005 | perturbed first refined mesh M¹, Doo-Sabin |
-//! | [`cheng`] | Cheng et al. | M̂, Catmull-Clark; A·M̂ = P |
+//! | [`cheng`] | Cheng et al. | M̂, Catmull-Clark (or Loop, √3: [`ChengOptions::with_scheme`]); A·M̂ = P |
 //! | [`fan_cheng_lai`] | Fan, Cheng & Lai | phase-one(M̂, λ), Doo-Sabin |
 //! | [`deng_wang`] | Deng & Wang 2010 | M¹ after a modified first step, Loop |
 //! | [`deng_ma`] | Deng & Ma 2011 | none: the scheme interpolates |

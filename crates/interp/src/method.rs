@@ -19,7 +19,8 @@ pub enum Method {
     Nasri,
     /// Zheng & Cai 2005.
     ZhengCai,
-    /// Cheng et al.: Catmull-Clark progressive interpolation.
+    /// Cheng et al.: Catmull-Clark progressive interpolation (also with
+    /// Loop or √3 as the control scheme).
     Cheng,
     /// Fan, Cheng & Lai: two-phase Doo-Sabin progressive interpolation.
     FanChengLai,
@@ -67,7 +68,7 @@ impl Method {
         match self {
             Method::Nasri => "Nasri 1987: Doo-Sabin, the global system C·M⁰ = P",
             Method::ZhengCai => "Zheng & Cai 2005: Doo-Sabin, a few Gauss-Seidel sweeps + exact perturbation of M¹",
-            Method::Cheng => "Cheng et al.: Catmull-Clark, A·M̂ = P",
+            Method::Cheng => "Cheng et al.: Catmull-Clark (or Loop, √3), A·M̂ = P",
             Method::FanChengLai => "Fan, Cheng & Lai: two-phase Doo-Sabin with per-face shape λ",
             Method::DengWang => "Deng & Wang 2010: Loop, explicit modified first step",
             Method::DengMa => "Deng & Ma 2011: interpolatory scheme derived from Doo-Sabin (no control mesh)",

@@ -7,18 +7,21 @@
 //! |---|---|---|
 //! | `nasri`, `zheng-cai`, `fan-cheng-lai` | every valid mesh: any polygons, open or closed, valence 2 | — |
 //! | `cheng` | every valid mesh (valence 2: MINRES on the indefinite A) | data outside the range of a singular A: a closed component with only valence-3 vertices and a bipartite vertex graph (the cube) whose checkerboard c has Σ c_v P_v ≠ 0 |
+//! | `cheng --scheme loop` | triangles, open or closed, every tag | other polygons |
+//! | `cheng --scheme sqrt3` | triangles, open or closed, corner tags on boundary vertices | other polygons, crease and other vertex tags, interior vertices of valence 2 |
 //! | `deng-wang` | triangles; other polygons are triangulated inside the method | a polygon with no valid triangulation over its own corners |
 //! | `deng-ma` | every valid mesh, open or closed | — |
 //! | `fair` (Catmull-Clark, refine 1) | every valid mesh | semi-sharp creases whose limit rows share every control point (rare) |
 //!
 //! The checks look at the mesh with the default options (all vertices
-//! interpolated, the default tolerance); options such as a solver that
-//! needs a definite matrix can still be refused by the method itself.
+//! interpolated, the default tolerance, the default control scheme —
+//! [`Method::check_with_scheme`] takes another); options such as a solver
+//! that needs a definite matrix can still be refused by the method itself.
 
-use crate::{InterpError, Method, SurfaceOptions, DEFAULT_TOL};
+use crate::{FairOptions, InterpError, Method, SurfaceOptions, DEFAULT_TOL};
 use glam::DVec3;
 use subdiv_mesh::{Mesh, PowerOfTwoScale, VertexId};
-use subdiv_stencil::{catmull_clark_kernel, limit_matrix_catmull_clark_sharp, LimitMatrix};
+use subdiv_stencil::{catmull_clark_kernel, limit_matrix_catmull_clark_sharp, LimitMatrix, Scheme, StencilError};
 
 impl Method {
     /// Whether this method interpolates every vertex of `mesh` with its
@@ -32,6 +35,115 @@ impl Method {
             // meshes; semi-sharp tags that spread the limit rows are refused.
             Method::Fair => Ok(()),
         }
+    }
+
+    /// [`Self::check`] with the control scheme `scheme` (`--scheme`) for the
+    /// methods that take one: `cheng` (Catmull-Clark, Loop, √3; module
+    /// table) and `fair` (Catmull-Clark, Loop on triangles, Doo-Sabin); a
+    /// scheme the method refuses is an `Err` too. The other methods have a
+    /// scheme of their own and ignore `scheme`. With Catmull-Clark this is
+    /// [`Self::check`].
+    ///
+    /// ```
+    /// use subdiv_interp::{Method, Scheme};
+    /// let cube = subdiv_mesh::shapes::cube();
+    /// assert!(Method::Cheng.check_with_scheme(&cube, Scheme::CatmullClark).is_ok());
+    /// assert!(Method::Cheng.check_with_scheme(&cube, Scheme::Sqrt3).unwrap_err().contains("triangles"));
+    /// assert!(Method::Cheng.check_with_scheme(&subdiv_mesh::shapes::icosahedron(), Scheme::Sqrt3).is_ok());
+    /// assert!(Method::Cheng.check_with_scheme(&cube, Scheme::DooSabin).is_err());
+    /// ```
+    pub fn check_with_scheme(self, mesh: &Mesh, scheme: Scheme) -> Result<(), String> {
+        match self {
+            Method::Cheng => {
+                cheng_scheme(scheme)?;
+                match scheme {
+                    Scheme::CatmullClark => self.check(mesh),
+                    Scheme::Loop(_) | Scheme::Sqrt3 | Scheme::DooSabin | Scheme::DengMa(_) => {
+                        cheng_mesh(mesh, scheme).map_err(|refusal| refusal.reason)
+                    }
+                }
+            }
+            Method::Fair => {
+                FairOptions::default().with_scheme(scheme).map_err(|e| e.to_string())?;
+                match triangles(mesh, scheme) {
+                    Err(refusal) => Err(refusal.reason),
+                    Ok(()) => self.check(mesh),
+                }
+            }
+            Method::Nasri | Method::ZhengCai | Method::FanChengLai | Method::DengWang | Method::DengMa => {
+                self.check(mesh)
+            }
+        }
+    }
+}
+
+/// Whether `cheng` takes `scheme` as its control scheme: those whose limit
+/// points are rows of a matrix over the control mesh's own vertices
+/// (`cheng` module docs, "Other control schemes"); `Err(reason)` names the
+/// methods for the others.
+pub(crate) fn cheng_scheme(scheme: Scheme) -> Result<(), String> {
+    let takes = "cheng takes catmull-clark, loop and sqrt3 (the schemes whose limit points are rows of a matrix over \
+                 the control mesh's vertices)";
+    match scheme {
+        Scheme::CatmullClark | Scheme::Loop(_) | Scheme::Sqrt3 => Ok(()),
+        Scheme::DooSabin => Err(format!(
+            "{takes}; doo-sabin's limit points are face centroids of the refined mesh: use --method nasri (or \
+             zheng-cai, fan-cheng-lai)"
+        )),
+        Scheme::DengMa(_) => Err(format!("{takes}; deng-ma interpolates by itself: use --method deng-ma")),
+    }
+}
+
+/// Why a method does not take a mesh, and what does.
+#[derive(Debug)]
+pub(crate) struct Refusal {
+    /// What is wrong with the mesh.
+    pub reason: String,
+    /// What works instead.
+    pub suggestion: String,
+}
+
+/// The triangle requirement of a triangles-only scheme
+/// ([`subdiv_stencil::SchemeTraits::triangles_only`]); every mesh passes for the others.
+fn triangles(mesh: &Mesh, scheme: Scheme) -> Result<(), Refusal> {
+    let t = mesh.topology();
+    if !scheme.traits().triangles_only {
+        return Ok(());
+    }
+    match t.face_ids().find(|&f| t.face_size(f) != 3) {
+        None => Ok(()),
+        Some(f) => Err(Refusal {
+            reason: format!("the {scheme} scheme needs triangles and face {f} has {} corners", t.face_size(f)),
+            suggestion: format!(
+                "--method deng-wang (Loop; it triangulates the polygons itself), or triangulate the mesh first \
+                 (subdiv subdivide --scheme {scheme} --triangulate --levels 0), or --scheme catmull-clark"
+            ),
+        }),
+    }
+}
+
+/// Whether `cheng` with control scheme `scheme` takes `mesh` (module table):
+/// Loop needs triangles; √3 triangles, no tags but corners on boundary
+/// vertices ([`subdiv_stencil::sqrt3::check`]) and interior valence ≥ 3.
+/// Catmull-Clark takes every mesh here (its range test is
+/// [`cheng_range`]), and the refused schemes ([`cheng_scheme`]) every mesh
+/// too: they are an invalid parameter, not a mesh's fault.
+pub(crate) fn cheng_mesh(mesh: &Mesh, scheme: Scheme) -> Result<(), Refusal> {
+    triangles(mesh, scheme)?;
+    match scheme {
+        Scheme::Sqrt3 => {
+            let sharp = SurfaceOptions::default().sharpness(mesh.tags());
+            subdiv_stencil::sqrt3::check(mesh.topology(), &sharp).map_err(|e| {
+                let suggestion = match e {
+                    StencilError::TagsNotSupported { .. } => {
+                        "--scheme loop or catmull-clark (they take every crease and corner tag)"
+                    }
+                    _ => "--scheme loop or catmull-clark (they take every valence)",
+                };
+                Refusal { reason: e.to_string(), suggestion: suggestion.to_string() }
+            })
+        }
+        Scheme::CatmullClark | Scheme::Loop(_) | Scheme::DooSabin | Scheme::DengMa(_) => Ok(()),
     }
 }
 

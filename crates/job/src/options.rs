@@ -263,7 +263,7 @@ pub struct InterpolateOptions {
     /// Deng-Wang: μ of Eq. 9.
     #[serde(default)]
     pub mu: Option<f64>,
-    /// Deng-Wang, and `fair` with the Loop scheme: Loop's β.
+    /// Deng-Wang, and `cheng` and `fair` with the Loop scheme: Loop's β.
     #[serde(default, with = "optional_named")]
     pub beta: Option<LoopBeta>,
     /// Deng-Ma: global tension ω ∈ (0, 1].
@@ -278,7 +278,8 @@ pub struct InterpolateOptions {
     /// `fair`: trade interpolation for fairness (the result approximates).
     #[serde(default)]
     pub fairness_weight: Option<f64>,
-    /// `fair`: the control mesh's scheme (default Catmull-Clark).
+    /// `cheng` and `fair`: the control mesh's scheme (default Catmull-Clark; `cheng` also
+    /// takes Loop and √3, `fair` Loop and Doo-Sabin).
     #[serde(default, with = "optional_named")]
     pub scheme: Option<Scheme>,
     /// Memory budget of the refinements, in bytes (default ¾ of the memory available).
@@ -409,13 +410,13 @@ impl InterpolateOptions {
         if self.fairness_weight.is_some() && m != Fair {
             return misplaced("--fairness-weight", "--method fair");
         }
-        if self.scheme.is_some() && m != Fair {
-            return misplaced("--scheme", "--method fair");
+        if self.scheme.is_some() && !matches!(m, Cheng | Fair) {
+            return misplaced("--scheme", "--method cheng and --method fair");
         }
         if self.beta.is_some() {
-            let loop_fair = m == Fair && matches!(self.scheme, Some(Scheme::Loop(_)));
-            if m != DengWang && !loop_fair {
-                return misplaced("--beta", "--method deng-wang and --method fair --scheme loop");
+            let loop_scheme = matches!(m, Cheng | Fair) && matches!(self.scheme, Some(Scheme::Loop(_)));
+            if m != DengWang && !loop_scheme {
+                return misplaced("--beta", "--method deng-wang and --method cheng or fair with --scheme loop");
             }
         }
         if let Some(ShapeValue::Uniform(lambda)) = self.shape {
@@ -680,6 +681,18 @@ mod tests {
         assert!(e.to_string().contains("--format"), "{e}");
         let e = Command::from_json("interpolate", &json!({"method": "fair", "beta": "loop"})).unwrap_err();
         assert!(e.to_string().starts_with("--beta applies to"), "{e}");
+        let e = Command::from_json("interpolate", &json!({"method": "nasri", "scheme": "loop"})).unwrap_err();
+        assert_eq!(e.to_string(), "--scheme applies to --method cheng and --method fair only");
+        let e = Command::from_json("interpolate", &json!({"method": "cheng", "scheme": "sqrt3", "beta": "loop"}))
+            .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--beta applies to --method deng-wang and --method cheng or fair with --scheme loop only"
+        );
+        for (method, scheme) in [("cheng", "sqrt3"), ("cheng", "loop"), ("fair", "loop")] {
+            let o = json!({"method": method, "scheme": scheme, "beta": if scheme == "loop" { json!("loop") } else { json!(null) }});
+            assert!(Command::from_json("interpolate", &o).is_ok(), "{method} --scheme {scheme}");
+        }
         let e = Command::from_json("subdivide", &json!({"scheme": "loop"})).unwrap_err();
         assert!(e.to_string().contains("missing option `levels`"), "{e}");
         let e = Command::from_json("subdivide", &json!({"scheme": "loop", "levels": 1, "omega": 0.5})).unwrap_err();

@@ -25,8 +25,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use subdiv_interp::report::MeshSummary;
 use subdiv_interp::{
-    params, DengMaOptions, DengWangOptions, ErrorStats, FairOptions, FanChengLaiOptions, InterpError, Interpolant,
-    Method, MethodOptions, ParamFileError, Report, Shape, SurfaceOptions, ZhengCaiOptions,
+    params, ChengOptions, DengMaOptions, DengWangOptions, ErrorStats, FairOptions, FanChengLaiOptions, InterpError,
+    Interpolant, Method, MethodOptions, ParamFileError, Report, Shape, SurfaceOptions, ZhengCaiOptions,
 };
 use subdiv_mesh::{DVec3, Mesh};
 use subdiv_stencil::{Options, Scheme, StencilError};
@@ -178,10 +178,12 @@ pub fn method_options(
             options.into()
         }
         Method::DengMa => DengMaOptions::default().with_tension(o.tension().unwrap_or_default()).into(),
+        Method::Cheng => {
+            let scheme = control_scheme(o)?;
+            ChengOptions::default().with_scheme(scheme).map_err(|e| classify(input, o, e))?.into()
+        }
         Method::Fair => {
-            // Loop's β is an option of its own; the scheme names the rules.
-            let scheme = o.scheme.unwrap_or(Scheme::CatmullClark).with_parameters(o.beta, None);
-            let scheme = scheme.map_err(|e| JobError::bad_input(e.to_string()))?;
+            let scheme = control_scheme(o)?;
             let options = FairOptions::default().with_scheme(scheme).map_err(|e| classify(input, o, e))?;
             let mut options = options.with_fairness_weight(o.fairness_weight);
             if let Some(refine) = o.refine {
@@ -201,6 +203,15 @@ pub fn method_options(
         .with_surface(surface)
         .with_subset(subset)
         .map_err(|e| classify(input, o, e))
+}
+
+/// The control scheme of `cheng` and `fair`: `--scheme` (default Catmull-Clark) with Loop's β,
+/// an option of its own (the scheme names the rules).
+fn control_scheme(o: &InterpolateOptions) -> Result<Scheme, JobError> {
+    o.scheme
+        .unwrap_or(Scheme::CatmullClark)
+        .with_parameters(o.beta, None)
+        .map_err(|e| JobError::bad_input(e.to_string()))
 }
 
 /// The method on a mesh in memory: [`method_options`], then [`subdiv_interp::interpolate`];
@@ -494,4 +505,38 @@ pub fn info(
         None => None,
     };
     Ok((summary, error))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+    use subdiv_stencil::LoopBeta;
+
+    /// `--scheme` (with Loop's `--beta`) reaches the options of cheng and fair; absent, both
+    /// keep Catmull-Clark, and cheng's options are its defaults.
+    #[test]
+    fn the_control_scheme_is_passed_on() {
+        let mesh = subdiv_mesh::shapes::icosahedron();
+        let input = Path::new("icosahedron.obj");
+        let options = |json: serde_json::Value| {
+            let o = InterpolateOptions::from_json(&json).unwrap();
+            method_options(input, &o, &mesh, Default::default()).unwrap()
+        };
+        let cheng = |json| match options(json) {
+            MethodOptions::Cheng(o) => o,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(cheng(json!({"method": "cheng"})), ChengOptions::default());
+        assert_eq!(cheng(json!({"method": "cheng", "scheme": "sqrt3"})).scheme, Scheme::Sqrt3);
+        let loop_scheme = cheng(json!({"method": "cheng", "scheme": "loop", "beta": "loop"})).scheme;
+        assert_eq!(loop_scheme, Scheme::Loop(LoopBeta::Loop));
+        let MethodOptions::Fair(fair) = options(json!({"method": "fair", "scheme": "loop"})) else { panic!() };
+        assert_eq!(fair.scheme, Scheme::Loop(LoopBeta::Warren));
+        // A scheme cheng does not take: a bad-input error naming --scheme and the method that takes it.
+        let o = InterpolateOptions::from_json(&json!({"method": "cheng", "scheme": "doo-sabin"})).unwrap();
+        let e = method_options(input, &o, &mesh, Default::default()).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::BadInput);
+        assert!(e.to_string().starts_with("--scheme: ") && e.to_string().contains("--method nasri"), "{e}");
+    }
 }

@@ -50,7 +50,7 @@ pub use error::StencilError;
 pub use limit_matrix::{
     catmull_clark_degeneracy, catmull_clark_kernel, doo_sabin_limit_sites, limit_matrix_catmull_clark,
     limit_matrix_catmull_clark_sharp, limit_matrix_doo_sabin_sharp, limit_matrix_loop, limit_matrix_loop_sharp,
-    limit_matrix_nasri, limit_matrix_sqrt3, limit_matrix_two_phase, limit_matrix_zheng_cai,
+    limit_matrix_nasri, limit_matrix_sqrt3, limit_matrix_sqrt3_sharp, limit_matrix_two_phase, limit_matrix_zheng_cai,
     limit_operator_catmull_clark_sharp, limit_rows_loop_sharp, Degeneracy, DualLimitSite, LimitMatrix, LimitOperator,
     LimitRows, RowKind, RowVisitor, SolveBlocks,
 };

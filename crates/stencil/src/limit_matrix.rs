@@ -23,7 +23,8 @@
 //! Doo-Sabin family's C, Z and B(λ) ([`limit_matrix_doo_sabin_sharp`], on
 //! [`Tags`]: Doo-Sabin has infinitely sharp creases and corners only, no
 //! boundary option and no crease method; "Doo-Sabin with creases and
-//! corners" below).
+//! corners" below). √3 has corners only ([`limit_matrix_sqrt3_sharp`]:
+//! corner tags and the boundary option).
 //!
 //! **Row kinds.** Every row is of one [`RowKind`], listed in
 //! [`LimitMatrix::row_kinds`], decided per vertex by its sharpness
@@ -1258,11 +1259,27 @@ pub fn limit_matrix_loop_sharp(
 /// # Errors
 /// As [`crate::sqrt3::check`] (triangles, interior valence ≥ 3).
 pub fn limit_matrix_sqrt3(t: &Topology) -> Result<LimitMatrix, StencilError> {
-    let sharp = LevelSharpness::plain();
-    crate::sqrt3::check(t, &sharp)?;
+    limit_matrix_sqrt3_sharp(t, &LevelSharpness::plain())
+}
+
+/// [`limit_matrix_sqrt3`] with the corners and the boundary option of
+/// `sharp`, the sharpness of a base level (built by [`LevelSharpness::new`]:
+/// its next step is odd): a corner tag (≥ 10 on a boundary vertex) or,
+/// under `edge-and-corner`, a one-face boundary vertex gives the identity
+/// row; under `edge-only` a one-face boundary vertex keeps the boundary
+/// row (p₋ + 4p + p₊)/6, as [`crate::sqrt3`]'s limit stencil. Every row is
+/// the limit point of its vertex exactly ([`crate::sqrt3`], "Limit points"),
+/// and no row is general: √3 refuses the tags that would make one.
+///
+/// # Errors
+/// As [`crate::sqrt3::check`] (triangles, interior valence ≥ 3, tags other
+/// than corners).
+pub fn limit_matrix_sqrt3_sharp(t: &Topology, sharp: &LevelSharpness) -> Result<LimitMatrix, StencilError> {
+    debug_assert!(!sharp.trisects_next(), "a base level: the masks of an even step's level are not exact");
+    crate::sqrt3::check(t, sharp)?;
     let beta = |v: VertexId| subdiv_rules::sqrt3::beta(t.valence(v));
     let d = t.vertices().map(|v| if t.valence(v) > 0 { beta(v) / t.valence(v) as f64 } else { 1.0 }).collect();
-    let (special, kinds) = special_rows(t, &sharp, CUBIC_B_SPLINE, Scheme::Sqrt3)?;
+    let (special, kinds) = special_rows(t, sharp, CUBIC_B_SPLINE, Scheme::Sqrt3)?;
     Ok(assemble(t, d, special, kinds, |v, rows| {
         let b = beta(v);
         rows.add(v.0, t.valence(v) as f64 * (1.0 - b) / b); // (1 − βₙ)/(βₙ/n)

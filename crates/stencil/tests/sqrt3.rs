@@ -452,6 +452,39 @@ fn the_limit_matrix_is_d_times_a_symmetric_s() {
     }
 }
 
+/// With corner tags and either boundary option, every row of the limit
+/// matrix is the limit point `limit_points_with_options` gives (itself
+/// checked against eight levels of the reference above), a tagged corner's
+/// row is the identity, and the blocks stay of the D·S form.
+#[test]
+fn the_limit_matrix_with_corners_and_boundary_options() {
+    use subdiv_stencil::{limit_matrix_sqrt3_sharp, BoundaryInterpolation, CreaseMethod, RowKind};
+    for (name, mesh) in open_meshes() {
+        let t = mesh.topology();
+        // A corner tag on the first boundary vertex in more than one face.
+        let mut vertices = vec![0.0; t.vertex_count()];
+        let Some(tagged) = t.vertices().find(|&v| t.is_boundary_vertex(v) && t.vertex_face_count(v) > 1) else {
+            continue; // "open fan 3" keeps the pyramid's triangular base: closed
+        };
+        vertices[tagged.index()] = 10.0;
+        let tags = Tags::from_arrays(t, Vec::new(), vertices).unwrap();
+        for boundary in [BoundaryInterpolation::EdgeOnly, BoundaryInterpolation::EdgeAndCorner] {
+            let sharp = LevelSharpness::new(&tags, boundary, CreaseMethod::Uniform);
+            let a = limit_matrix_sqrt3_sharp(t, &sharp).unwrap();
+            let options = Options::new(Scheme::Sqrt3).with_boundary(boundary);
+            let limits = limit_points_with_options(t, &tags, options, mesh.positions()).unwrap().unwrap();
+            let d = diagonal(mesh.positions());
+            for (v, (x, y)) in a.apply(mesh.positions()).iter().zip(&limits).enumerate() {
+                assert!(x.distance(*y) <= 1e-13 * d, "{name}, {boundary:?}: row {v}");
+            }
+            assert_eq!(a.row_kinds[tagged.index()], RowKind::Corner, "{name}");
+            assert!(!a.row_kinds.contains(&RowKind::General), "{name}");
+            let blocks = a.solve_blocks();
+            assert!(a.asymmetric_rows(&blocks.creases).is_empty() && a.asymmetric_rows(&blocks.interior).is_empty());
+        }
+    }
+}
+
 #[test]
 fn corners_stay_and_are_carried_as_tags() {
     let mesh = jittered(&shapes::triangle_grid(2, 2), 7, 0.2);
