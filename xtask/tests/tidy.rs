@@ -73,31 +73,6 @@ const ALLOWED: &[(u8, &str, &str)] = &[
     (1, "crates/job/src/batch/inputs.rs", "std::fs::canonicalize"),
     // Rule 1. The memory budget reads /proc/meminfo and the cgroup limit.
     (1, "crates/job/src/budget.rs", "std::fs::read_to_string"),
-    // Rule 2: subdiv-eval's matches that treat every scheme but Loop as
-    // quads (Doo-Sabin and Deng-Ma never reach them); name the schemes when
-    // the scheme enums move (issue #39).
-    (2, "crates/eval/src/patch_vertex.rs", "match in fn ready"),
-    (2, "crates/eval/src/patch_vertex.rs", "match in fn vertex_limit"),
-    (2, "crates/eval/src/project.rs", "match in fn of"),
-    (2, "crates/eval/src/project.rs", "match in fn smooth_domain_edges"),
-    // Rule 3: moves to interp (issue #39): Zheng-Cai's Eq. 4 and the
-    // two-phase (Fan-Cheng-Lai Eq. 1) first-step masks.
-    (3, "crates/rules/src/doo_sabin.rs", "two_phase_weights"),
-    (3, "crates/rules/src/doo_sabin.rs", "zheng_cai_weights"),
-    // Rule 3: moves to interp (issue #39): the methods' limit matrices.
-    (3, "crates/stencil/src/limit_matrix.rs", "limit_matrix_nasri"),
-    (3, "crates/stencil/src/limit_matrix.rs", "limit_matrix_zheng_cai"),
-    (3, "crates/stencil/src/limit_matrix.rs", "limit_matrix_two_phase"),
-    // Rule 3: moves to interp (issue #39): Cheng's singular-matrix check and
-    // the block order of the methods' solve.
-    (3, "crates/stencil/src/limit_matrix.rs", "Degeneracy"),
-    (3, "crates/stencil/src/limit_matrix.rs", "SolveBlocks"),
-    // Rule 3: moves to interp (issue #39): the first-step rules of
-    // Zheng-Cai and Fan-Cheng-Lai.
-    (3, "crates/stencil/src/doo_sabin.rs", "CornerRule"),
-    // Rule 3: moves to interp (issue #39): Cheng's Eq. 5 limit stencil,
-    // imported under his name.
-    (3, "crates/stencil/src/catmull_clark.rs", "cheng_limit"),
 ];
 
 /// The crates below subdiv-interp (rule 3).

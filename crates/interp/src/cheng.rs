@@ -64,11 +64,12 @@
 //! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 //! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
+use crate::matrices::Degeneracy;
 use crate::system::{interpolate_on_input_topology, AutoSolver, Limit};
 use crate::{seconds_since, CommonOptions, InterpError, Interpolant, Method, SolverChoice};
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
-use subdiv_stencil::{limit_operator_catmull_clark_sharp, Degeneracy, LimitMatrix, RowKind};
+use subdiv_stencil::{limit_operator_catmull_clark_sharp, LimitMatrix, RowKind};
 
 /// Options of [`interpolate`].
 #[derive(Clone, Debug, Default, PartialEq)]
