@@ -120,7 +120,7 @@ fn check_sharp_rows(c: &Case, a: &LimitMatrix) {
     expected.sort_unstable();
     assert_eq!(a.boundary_rows, expected, "{}: the sharp block", c.name);
     // Block lower-triangular: no sharp row reaches outside; the blocks partition the rows.
-    let blocks = solve_blocks(&a);
+    let blocks = solve_blocks(a);
     assert_eq!(blocks.corners.len() + blocks.creases.len() + blocks.interior.len(), a.size());
     let mut sharp_block: Vec<u32> = blocks.corners.iter().chain(&blocks.creases).copied().collect();
     sharp_block.sort_unstable();
