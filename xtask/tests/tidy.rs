@@ -57,41 +57,7 @@ impl std::fmt::Display for Violation {
 
 /// Current violations of the real tree, as (rule, file, item). Only removals
 /// are expected: the test fails when an item here no longer occurs.
-const ALLOWED: &[(u8, &str, &str)] = &[
-    // Rule 1. Output paths are checked (metadata, canonical names, a write
-    // probe) before anything is written: a check of the destination, not a
-    // read; moves to subdiv-io with the other file-system code.
-    (1, "crates/job/src/outputs.rs", "use std::fs"),
-    // Rule 1. `subdiv batch`: input listing, output directory, resume
-    // records; moves to subdiv-io with the other file-system code.
-    (1, "crates/job/src/batch.rs", "std::fs::metadata"),
-    (1, "crates/job/src/batch.rs", "std::fs::canonicalize"),
-    (1, "crates/job/src/batch.rs", "std::fs::create_dir_all"),
-    (1, "crates/job/src/batch.rs", "std::fs::read_to_string"),
-    (1, "crates/job/src/batch.rs", "std::fs::create_dir_all"),
-    (1, "crates/job/src/batch/inputs.rs", "std::fs::read_dir"),
-    (1, "crates/job/src/batch/inputs.rs", "std::fs::canonicalize"),
-    // Rule 1. The memory budget reads /proc/meminfo and the cgroup limit.
-    (1, "crates/job/src/budget.rs", "std::fs::read_to_string"),
-    // Rule 3: moves to interp (issue #39): Zheng-Cai's Eq. 4 and the
-    // two-phase (Fan-Cheng-Lai Eq. 1) first-step masks.
-    (3, "crates/rules/src/doo_sabin.rs", "two_phase_weights"),
-    (3, "crates/rules/src/doo_sabin.rs", "zheng_cai_weights"),
-    // Rule 3: moves to interp (issue #39): the methods' limit matrices.
-    (3, "crates/stencil/src/limit_matrix.rs", "limit_matrix_nasri"),
-    (3, "crates/stencil/src/limit_matrix.rs", "limit_matrix_zheng_cai"),
-    (3, "crates/stencil/src/limit_matrix.rs", "limit_matrix_two_phase"),
-    // Rule 3: moves to interp (issue #39): Cheng's singular-matrix check and
-    // the block order of the methods' solve.
-    (3, "crates/stencil/src/limit_matrix.rs", "Degeneracy"),
-    (3, "crates/stencil/src/limit_matrix.rs", "SolveBlocks"),
-    // Rule 3: moves to interp (issue #39): the first-step rules of
-    // Zheng-Cai and Fan-Cheng-Lai.
-    (3, "crates/stencil/src/doo_sabin.rs", "CornerRule"),
-    // Rule 3: moves to interp (issue #39): Cheng's Eq. 5 limit stencil,
-    // imported under his name.
-    (3, "crates/stencil/src/catmull_clark.rs", "cheng_limit"),
-];
+const ALLOWED: &[(u8, &str, &str)] = &[];
 
 /// The crates below subdiv-interp (rule 3).
 const BELOW_INTERP: &[&str] = &["rules", "mesh", "stencil", "solve", "eval", "io"];

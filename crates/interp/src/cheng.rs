@@ -106,13 +106,14 @@
 //! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 //! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
+use crate::matrices::Degeneracy;
 use crate::system::{interpolate_on_input_topology, AutoSolver, Limit};
 use crate::{seconds_since, CommonOptions, InterpError, Interpolant, Method, Parameter, SolverChoice};
 use subdiv_mesh::{Mesh, Topology};
 use subdiv_solve::Solver;
 use subdiv_stencil::{
-    limit_matrix_loop_sharp, limit_matrix_sqrt3_sharp, limit_operator_catmull_clark_sharp, Degeneracy, LevelSharpness,
-    LimitMatrix, RowKind, Scheme, StencilError,
+    limit_matrix_loop_sharp, limit_matrix_sqrt3_sharp, limit_operator_catmull_clark_sharp, LevelSharpness, LimitMatrix,
+    RowKind, Scheme, StencilError,
 };
 
 /// Options of [`interpolate`].

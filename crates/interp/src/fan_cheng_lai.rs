@@ -6,7 +6,7 @@
 //! (one λ_f ∈ (0, 1) per face), then with standard Doo-Sabin. The limit point
 //! of vertex V is the centroid of its V-face after phase one (Eq. 2,
 //! [correction F1]), so the limit points are B(λ)·M̂ with B = Σ·S (Eq. 5, Prop. 1;
-//! `subdiv_stencil::limit_matrix_two_phase`).
+//! [`crate::matrices::limit_matrix_two_phase`]).
 //!
 //! # Algorithm
 //! 1. Build B(λ) = Σ·S.
@@ -48,6 +48,7 @@
 //! [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
 //! [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
 
+use crate::first_step::CornerRule;
 use crate::system::solve_limit_system;
 use crate::{
     seconds_since, CommonOptions, InterpError, Interpolant, LimitAssociation, Method, Parameter, SolverChoice,
@@ -55,7 +56,7 @@ use crate::{
 use subdiv_mesh::refine::dual_split_tagged;
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
-use subdiv_stencil::doo_sabin::{first_step_tagged, CornerRule};
+use subdiv_stencil::doo_sabin::first_step_tagged;
 use subdiv_stencil::{limit_matrix_doo_sabin_sharp, Scheme, StencilError};
 
 /// The shape parameters λ of phase one.
@@ -122,7 +123,7 @@ pub(crate) fn interpolate_prepared(
         StencilError::InvalidParameter(reason) => InterpError::invalid(Parameter::Shape, reason),
         e => e.into(),
     };
-    let b = limit_matrix_doo_sabin_sharp(t, rule, tags).map_err(bad_shape)?;
+    let b = limit_matrix_doo_sabin_sharp(t, &rule, tags).map_err(bad_shape)?;
     let setup = seconds_since(start);
     let solver = match opts.common.solver {
         SolverChoice::Auto => Solver::Pia,
@@ -151,7 +152,7 @@ pub(crate) fn interpolate_prepared(
     // the refined tags (the pieces of the refined crease polygons) and UVs.
     let (t1, provenance, tags1) = refined;
     let association = LimitAssociation::for_sharp_dual_split(t, tags, &provenance)?;
-    let phase_one = first_step_tagged(t, tags, rule, &solved.x).map_err(bad_shape)?;
+    let phase_one = first_step_tagged(t, tags, &rule, &solved.x).map_err(bad_shape)?;
     let mut warnings = Vec::new();
     let sharp = opts.common.surface.sharpness(tags);
     let uvs =

@@ -60,7 +60,9 @@ pub mod deng_wang;
 mod error;
 pub mod fair;
 pub mod fan_cheng_lai;
+pub mod first_step;
 mod interpolant;
+pub mod matrices;
 mod method;
 pub mod nasri;
 mod numeric;
@@ -78,7 +80,12 @@ pub use deng_wang::DengWangOptions;
 pub use error::{InterpError, Parameter};
 pub use fair::{FairAlgorithm, FairOptions};
 pub use fan_cheng_lai::{FanChengLaiOptions, Shape};
+pub use first_step::CornerRule;
 pub use interpolant::{ErrorStats, Interpolant, LimitAssociation, SolveSummary};
+pub use matrices::{
+    catmull_clark_degeneracy, limit_matrix_nasri, limit_matrix_two_phase, limit_matrix_zheng_cai, solve_blocks,
+    Degeneracy, SolveBlocks,
+};
 pub use method::{interpolate, Method, MethodOptions, UnknownMethod};
 pub use nasri::NasriOptions;
 pub use options::{CommonOptions, SolverChoice, SurfaceOptions, DEFAULT_MAX_ITER, DEFAULT_TOL};

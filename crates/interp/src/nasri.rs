@@ -3,7 +3,7 @@
 //!
 //! Finds the auxiliary mesh M⁰ (input topology) such that the centroid of the
 //! V-face of every interpolated vertex after one **standard** Doo-Sabin step
-//! is its data point: C·M⁰ = P, C = N⁻¹·S (`subdiv_stencil::limit_matrix_nasri`);
+//! is its data point: C·M⁰ = P, C = N⁻¹·S ([`crate::matrices::limit_matrix_nasri`]);
 //! vertices not interpolated keep M⁰ = I (§2: "V_j can simply be set to be I_j").
 //!
 //! # Algorithm
@@ -44,7 +44,7 @@ use crate::system::interpolate_on_input_topology;
 use crate::{seconds_since, CommonOptions, InterpError, Interpolant, Method};
 use subdiv_mesh::Mesh;
 use subdiv_solve::Solver;
-use subdiv_stencil::doo_sabin::CornerRule;
+use subdiv_stencil::doo_sabin::StandardCorners;
 use subdiv_stencil::limit_matrix_doo_sabin_sharp;
 
 /// Options of [`interpolate`].
@@ -76,7 +76,7 @@ pub(crate) fn interpolate_prepared(
     opts: &NasriOptions,
 ) -> Result<Interpolant, InterpError> {
     let start = std::time::Instant::now();
-    let c = limit_matrix_doo_sabin_sharp(mesh.topology(), CornerRule::Standard, mesh.tags())?;
+    let c = limit_matrix_doo_sabin_sharp(mesh.topology(), &StandardCorners, mesh.tags())?;
     let setup = seconds_since(start);
     interpolate_on_input_topology(
         Method::Nasri,

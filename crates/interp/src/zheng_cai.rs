@@ -17,12 +17,12 @@
 //!    (Jacobi, §3.2), at most ITE_MAX times; stop after the first sweep in
 //!    which no vertex moved by more than EPS·d. Eq. 7 is row v of
 //!    Z·M⁰ = I solved for V, where Z = Eq. 6 / 2m
-//!    ([`subdiv_stencil::limit_matrix_zheng_cai`]); the other vertices stay
+//!    ([`crate::matrices::limit_matrix_zheng_cai`]); the other vertices stay
 //!    at V_j = I_j (§2).
 //! 3. First refined mesh (step 3): one step of Eq. 4, V'ᵢ = (Vᵢ + A)/2, with
 //!    the Chaikin points on boundary edges
 //!    ([`subdiv_stencil::doo_sabin::first_step`] with
-//!    `CornerRule::Uniform(0.5)`; M¹'s connectivity, needed from step 4 on,
+//!    [`CornerRule::Uniform`]`(0.5)`; M¹'s connectivity, needed from step 4 on,
 //!    is built beside steps 1-3 on the other core).
 //! 4. Perturbation (step 4): for every interpolated interior vertex with
 //!    V-face W₁…W_m, n = the Newell normal of the W's (Eq. 10) or the
@@ -111,6 +111,7 @@
 //! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 //! [the stopping rule]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
+use crate::first_step::CornerRule;
 use crate::numeric::{max_nan, unit_direction};
 use crate::{
     seconds_since, CommonOptions, InterpError, Interpolant, LimitAssociation, Method, Parameter, SolveSummary,
@@ -120,7 +121,7 @@ use glam::DVec3;
 use subdiv_mesh::refine::DualFace;
 use subdiv_mesh::{newell_normal, Mesh, Topology, VertexId};
 use subdiv_solve::{SolveError, SolveOptions, Solver, SweepOrder};
-use subdiv_stencil::doo_sabin::{self, CornerRule};
+use subdiv_stencil::doo_sabin;
 use subdiv_stencil::{doo_sabin_limit_sites, limit_matrix_doo_sabin_sharp, DualLimitSite, LimitMatrix};
 
 const METHOD: &str = "zheng-cai";
@@ -258,7 +259,7 @@ impl Iteration {
 pub fn auxiliary_mesh(mesh: &Mesh, opts: &ZhengCaiOptions) -> Result<AuxiliaryMesh, InterpError> {
     check_eps(opts)?;
     let prepared = crate::numeric::prepare(Method::ZhengCai, mesh, Some(&opts.common))?;
-    let z = limit_matrix_doo_sabin_sharp(mesh.topology(), CornerRule::Uniform(EQ4_LAMBDA), mesh.tags())?;
+    let z = limit_matrix_doo_sabin_sharp(mesh.topology(), &CornerRule::Uniform(EQ4_LAMBDA), mesh.tags())?;
     let mut aux = auxiliary_from(&prepared.mesh, opts, &z, prepared.interpolated.clone())?;
     prepared.map_back("the auxiliary mesh", aux.mesh.positions_mut())?;
     aux.warnings = prepared.warnings;
@@ -494,12 +495,12 @@ pub(crate) fn interpolate_prepared(
     let (refined, steps) = rayon::join(
         || (subdiv_mesh::refine::dual_split_tagged(t, tags), seconds_since(start)),
         || -> Result<_, InterpError> {
-            let z = limit_matrix_doo_sabin_sharp(t, CornerRule::Uniform(EQ4_LAMBDA), tags)?;
+            let z = limit_matrix_doo_sabin_sharp(t, &CornerRule::Uniform(EQ4_LAMBDA), tags)?;
             let operators_seconds = seconds_since(start);
             let solve_start = std::time::Instant::now();
             // Steps 1-2, then step 3: M¹ = Eq. (4) step of M⁰.
             let aux = auxiliary_from(mesh, opts, &z, si.clone())?;
-            let W = doo_sabin::first_step_tagged(t, tags, CornerRule::Uniform(EQ4_LAMBDA), aux.mesh.positions())?;
+            let W = doo_sabin::first_step_tagged(t, tags, &CornerRule::Uniform(EQ4_LAMBDA), aux.mesh.positions())?;
             Ok((aux, W, operators_seconds, seconds_since(solve_start)))
         },
     );

@@ -254,7 +254,7 @@ proptest! {
             check("fcl", &mesh, &fan_cheng_lai::interpolate(&mesh, &FanChengLaiOptions::default()).unwrap(), Scheme::DooSabin, TOL);
             match cheng::interpolate(&mesh, &ChengOptions::default()) {
                 Ok(r) => { check("cheng", &mesh, &r, Scheme::CatmullClark, TOL); }
-                Err(e) => prop_assert!(subdiv_stencil::catmull_clark_degeneracy(t).is_some(), "cheng failed: {}", e),
+                Err(e) => prop_assert!(subdiv_interp::catmull_clark_degeneracy(t).is_some(), "cheng failed: {}", e),
             }
         }
     }

@@ -9,10 +9,11 @@ mod support;
 use glam::DVec3;
 use proptest::prelude::*;
 use std::collections::HashMap;
+use subdiv_interp::CornerRule;
 use subdiv_interp::{zheng_cai, InterpError, Interpolant, LimitAssociation, Parameter, SolverChoice, ZhengCaiOptions};
 use subdiv_mesh::{newell_normal, shapes, FaceId, FaceList, Mesh, Topology, VertexId};
 use subdiv_solve::{Solver, SweepOrder};
-use subdiv_stencil::doo_sabin::{self, CornerRule};
+use subdiv_stencil::doo_sabin;
 use subdiv_stencil::{apply, Scheme, SubdivisionPlan};
 use support::fixture;
 
@@ -271,7 +272,7 @@ fn independent_check_one_plain_step_of_the_output_has_a_limit_point_at_every_inp
         // (ITE_MAX 0) misses. (With ITE_MAX 5 it may not: Gauss-Seidel solves the
         // octahedron's Z·M⁰ = I exactly in two sweeps.)
         let aux = zheng_cai::auxiliary_mesh(&mesh, &ZhengCaiOptions::default().with_ite_max(0)).unwrap();
-        let (t1, _, r) = doo_sabin::refine(mesh.topology(), CornerRule::Uniform(0.5)).unwrap();
+        let (t1, _, r) = doo_sabin::refine(mesh.topology(), &CornerRule::Uniform(0.5)).unwrap();
         let unperturbed = Mesh::from_topology(t1, apply(&r, aux.mesh.positions()));
         let miss = worst(nearest_distances(&targets, &exposed_limit_points(&unperturbed), d));
         let miss_text = if miss.is_finite() { format!("{miss:.2e}") } else { "> 2.0e-2".into() };
@@ -491,7 +492,7 @@ fn a_subset_is_interpolated_and_the_other_vertices_are_not_perturbed() {
         }
         // ... and their V-faces in M¹ are exactly the plain Eq. 4 step of M⁰.
         let (t1, dual) = subdiv_mesh::refine::dual_split(t);
-        let plain = doo_sabin::first_step(t, CornerRule::Uniform(0.5), aux.mesh.positions()).unwrap();
+        let plain = doo_sabin::first_step(t, &CornerRule::Uniform(0.5), aux.mesh.positions()).unwrap();
         let mut compared = 0;
         for v in t.vertices().filter(|v| others[v.index()]) {
             for &w in t1.face(dual.vertex_face[v.index()].unwrap()) {

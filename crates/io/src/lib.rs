@@ -126,6 +126,7 @@ mod atomic;
 mod base64;
 mod error;
 mod format;
+pub mod fs;
 mod gltf;
 mod obj;
 mod off;

@@ -84,7 +84,7 @@ use std::collections::BTreeMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::{Instant, UNIX_EPOCH};
+use std::time::Instant;
 
 /// What [`BatchError::NoMeshInDirectory`] adds when the mesh files may be
 /// further down.
@@ -213,12 +213,11 @@ impl Fingerprint {
     /// The fingerprint of `input` for `command`; `None` when the file's
     /// metadata cannot be read (a missing file is never skipped).
     pub fn of(input: &Path, command: &Command) -> Option<Self> {
-        let metadata = std::fs::metadata(input).ok()?;
-        let modified = metadata.modified().ok()?.duration_since(UNIX_EPOCH).ok()?;
+        let stamp = subdiv_io::fs::file_stamp(input)?;
         Some(Fingerprint {
-            path: std::fs::canonicalize(input).ok()?.to_string_lossy().into_owned(),
-            size: metadata.len(),
-            modified_ns: u64::try_from(modified.as_nanos()).unwrap_or(u64::MAX),
+            path: subdiv_io::fs::canonical(input)?.to_string_lossy().into_owned(),
+            size: stamp.size,
+            modified_ns: stamp.modified_ns,
             command: command.clone(),
         })
     }
@@ -291,7 +290,8 @@ pub fn run_one_as(
     let mut warnings = Vec::new();
     let (outputs, report, error) = guarded(input, || {
         command.validate()?;
-        std::fs::create_dir_all(out_dir).map_err(|e| JobError::write_failed(format!("{}: {e}", out_dir.display())))?;
+        subdiv_io::fs::ensure_dir(out_dir)
+            .map_err(|e| JobError::write_failed(format!("{}: {e}", out_dir.display())))?;
         let mut job = jobs::Job::new(input, out_dir, name);
         let result = match command {
             Command::Info(o) => job.info(o),
@@ -358,7 +358,8 @@ fn store(path: &Path, record: &Record) -> Result<(), subdiv_io::IoError> {
 /// The stored record at `path` when the input need not run again.
 fn resumable(path: &Path, now: Option<&Fingerprint>, out_dir: &Path) -> Option<Record> {
     let now = now?;
-    let text = std::fs::read_to_string(path).ok()?;
+    // A stored record is small text: read with the special-file check.
+    let text = subdiv_io::read_text(path).ok()?;
     let stored: Record = serde_json::from_str(&text).ok()?;
     let same = stored.fingerprint.as_ref() == Some(now);
     let retry = stored.error.as_ref().is_some_and(|e| !e.kind.is_deterministic());
@@ -385,7 +386,7 @@ pub fn run(
 ) -> Result<Vec<Record>, BatchError> {
     command.validate()?;
     let inputs = expand_inputs(inputs)?;
-    std::fs::create_dir_all(out_dir).map_err(|source| BatchError::Io { path: out_dir.to_path_buf(), source })?;
+    subdiv_io::fs::ensure_dir(out_dir).map_err(|source| BatchError::Io { path: out_dir.to_path_buf(), source })?;
     let names = output_names(&inputs);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.jobs)

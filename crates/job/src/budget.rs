@@ -202,7 +202,9 @@ fn group(n: u64) -> String {
 /// The least of the memory limits that apply to this process, in bytes
 /// (Linux: /proc and the cgroup v2 files); `None` when none can be read.
 fn available_memory() -> Option<u64> {
-    let read = |p: &str| std::fs::read_to_string(p).ok();
+    // Through read_text: regular files only (the special-file check), size
+    // capped; /proc files report size 0 and are read to their end.
+    let read = |p: &str| subdiv_io::read_text(std::path::Path::new(p)).ok();
     let mut limits = Vec::new();
     if let Some(meminfo) = read("/proc/meminfo") {
         limits.extend(field_kib(&meminfo, "MemAvailable:"));

@@ -9,30 +9,9 @@
 
 use crate::error::{ErrorKind, JobError};
 use crate::progress::{Phase, Progress};
-use std::fs;
-use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
+use subdiv_io::fs::{self, Destination, FileIdentity};
 use subdiv_io::{Format, StagedFile};
-
-/// A file identity: (device, inode) when the file exists.
-type FileId = (u64, u64);
-
-fn file_id(path: &Path) -> Option<FileId> {
-    fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
-}
-
-/// `path` with its directory resolved (symbolic links, `..`), whether or not
-/// the file itself exists; `None` when the directory does not exist.
-fn resolved(path: &Path) -> Option<PathBuf> {
-    if let Ok(p) = fs::canonicalize(path) {
-        return Some(p);
-    }
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    Some(fs::canonicalize(dir).ok()?.join(path.file_name()?))
-}
 
 struct Planned {
     flag: String,
@@ -42,7 +21,7 @@ struct Planned {
 
 /// The outputs of one command.
 pub struct Outputs {
-    inputs: Vec<(PathBuf, Option<PathBuf>, Option<FileId>)>,
+    inputs: Vec<(PathBuf, Option<PathBuf>, Option<FileIdentity>)>,
     planned: Vec<Planned>,
     staged: Vec<StagedFile>,
 }
@@ -50,7 +29,7 @@ pub struct Outputs {
 impl Outputs {
     /// Outputs of a command reading `inputs` (the mesh and parameter files).
     pub fn new<'a>(inputs: impl IntoIterator<Item = &'a Path>) -> Self {
-        let inputs = inputs.into_iter().map(|p| (p.to_path_buf(), fs::canonicalize(p).ok(), file_id(p))).collect();
+        let inputs = inputs.into_iter().map(|p| (p.to_path_buf(), fs::canonical(p), fs::file_identity(p))).collect();
         Self { inputs, planned: Vec::new(), staged: Vec::new() }
     }
 
@@ -75,16 +54,16 @@ impl Outputs {
         if path.file_name().is_none() {
             return Err(JobError::bad_input(format!("{flag} {shown}: not a file name")));
         }
-        match fs::metadata(dir) {
-            Ok(m) if m.is_dir() => {}
-            Ok(_) => {
+        match fs::is_directory(dir) {
+            Ok(true) => {}
+            Ok(false) => {
                 return Err(JobError::write_failed(format!("{flag} {shown}: {} is not a directory", dir.display())))
             }
             Err(e) => return Err(JobError::write_failed(format!("{flag} {shown}: directory {}: {e}", dir.display()))),
         }
         let resolved =
-            resolved(path).ok_or_else(|| JobError::write_failed(format!("{flag} {shown}: cannot resolve")))?;
-        let id = file_id(path);
+            fs::resolve(path).ok_or_else(|| JobError::write_failed(format!("{flag} {shown}: cannot resolve")))?;
+        let id = fs::file_identity(path);
         for (input, canonical, input_id) in &self.inputs {
             if canonical.as_ref() == Some(&resolved) || (id.is_some() && id == *input_id) {
                 return Err(JobError::bad_input(format!(
@@ -96,19 +75,19 @@ impl Outputs {
         if let Some(other) = self.planned.iter().find(|p| p.resolved == resolved) {
             return Err(JobError::bad_input(format!("{flag} and {} both name {shown}", other.flag)));
         }
-        match fs::symlink_metadata(path) {
-            Ok(m) if m.is_dir() => return Err(JobError::bad_input(format!("{flag} {shown} is a directory"))),
-            Ok(m) if !m.is_file() && !m.file_type().is_symlink() => {
+        match fs::destination(path) {
+            Destination::Directory => return Err(JobError::bad_input(format!("{flag} {shown} is a directory"))),
+            Destination::Special => {
                 return Err(JobError::bad_input(format!("{flag} {shown} exists and is not a regular file")))
             }
-            Ok(m) if m.file_type().is_symlink() && fs::metadata(path).is_ok_and(|t| !t.is_file()) => {
+            Destination::LinkToNonFile => {
                 return Err(JobError::bad_input(format!(
                     "{flag} {shown} links to something that is not a regular file"
                 )))
             }
-            _ => {}
+            Destination::Absent | Destination::File => {}
         }
-        probe_writable(dir).map_err(|e| {
+        fs::probe_writable(dir).map_err(|e| {
             JobError::write_failed(format!("{flag} {shown}: cannot create files in {}: {e}", dir.display()))
         })?;
         self.planned.push(Planned { flag: flag.to_string(), path: path.to_path_buf(), resolved });
@@ -127,17 +106,6 @@ impl Outputs {
         subdiv_io::commit_all(self.staged).map_err(|e| JobError::from_error(ErrorKind::WriteFailed, &e))?;
         Ok(paths)
     }
-}
-
-/// Creates and removes a file in `dir`: the one reliable test that the
-/// directory accepts new files (permissions, read-only mounts, ACLs).
-fn probe_writable(dir: &Path) -> std::io::Result<()> {
-    // One name per probe: the jobs of a batch probe the same directory at once.
-    static PROBES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let n = PROBES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let probe = dir.join(format!(".subdiv-probe.{}.{n}", std::process::id()));
-    fs::OpenOptions::new().write(true).create_new(true).open(&probe)?;
-    fs::remove_file(&probe)
 }
 
 /// The positions as `format` stores them: `f32` formats round every

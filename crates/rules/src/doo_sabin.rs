@@ -1,5 +1,4 @@
-//! Doo-Sabin masks: the face-corner rule, the first-step variants of the
-//! interpolation methods, and the boundary rule.
+//! Doo-Sabin masks: the face-corner rule and the boundary rule.
 //!
 //! # Face-corner rule
 //!
@@ -15,11 +14,9 @@
 //!
 //! # First-step variants
 //!
-//! Zheng-Cai Eq. 4, V'ᵢ = (Vᵢ + A)/2 with A the face centroid, and Fan-Cheng-Lai
-//! Eq. 1, V'ᵢ = λVᵢ + (1−λ)A with one λ ∈ (0, 1) per face
-//! (Fan, Cheng & Lai §2). Eq. 4 is λ = ½
-//! ([`two_phase_weights`], [`zheng_cai_weights`]). Their face matrix
-//! λI + (1−λ)J/m has eigenvalues 1 and λ ([correction F6]).
+//! The interpolation methods' first steps (Zheng-Cai Eq. 4, Fan-Cheng-Lai
+//! Eq. 1: V'ᵢ = λVᵢ + (1−λ)A) are method rules, in `subdiv-interp`; their
+//! face rows are circulant too ([`circulant_eigenvalue`] applies).
 //!
 //! # Boundary rule
 //!
@@ -192,42 +189,11 @@ pub fn doo_sabin_eigenvalue(m: usize, k: usize) -> f64 {
 
 /// Eigenvalue k of the circulant matrix whose first row is `row`
 /// (`row[j]` = weight of offset j), for a symmetric row (`row[j] == row[m−j]`):
-/// Σⱼ `row[j]`·cos(2πjk/m). Applies to [`doo_sabin_weights`] and
-/// [`two_phase_weights`].
+/// Σⱼ `row[j]`·cos(2πjk/m). Applies to [`doo_sabin_weights`] and to any
+/// symmetric circulant row.
 pub fn circulant_eigenvalue(row: &[f64], k: usize) -> f64 {
     let m = row.len() as f64;
     row.iter().enumerate().map(|(j, w)| w * (2.0 * PI * (j * k) as f64 / m).cos()).sum()
-}
-
-/// Fills `out` (length m) with the first-step row of Fan-Cheng-Lai Eq. 1,
-/// V'ᵢ = λVᵢ + (1−λ)A, A the face centroid: `out[0] = λ + (1−λ)/m`,
-/// `out[k] = (1−λ)/m` for k ≥ 1. The paper takes λ ∈ (0, 1) per face; λ = ½ is
-/// Zheng-Cai Eq. 4.
-///
-/// ```
-/// let mut w = [0.0; 4];
-/// subdiv_rules::two_phase_weights(4, 0.5, &mut w);
-/// assert_eq!(w, [0.625, 0.125, 0.125, 0.125]);
-/// ```
-///
-/// # Panics
-/// If `m < 3` or `out.len() != m`.
-#[inline]
-pub fn two_phase_weights(m: usize, lambda: f64, out: &mut [f64]) {
-    assert!(m >= 3, "a face has at least 3 corners, got {m}");
-    assert_eq!(out.len(), m, "weight buffer length must equal the face size");
-    let share = (1.0 - lambda) / m as f64; // Fan Eq. (1): (1−λ)A = Σ (1−λ)/m V_j
-    out.fill(share);
-    out[0] = lambda + share; // Fan Eq. (1): λV_i
-}
-
-/// Fills `out` with Zheng-Cai's first-step row, Eq. 4: V'ᵢ = (Vᵢ + A)/2, i.e.
-/// [`two_phase_weights`] with λ = ½.
-///
-/// # Panics
-/// If `m < 3` or `out.len() != m`.
-pub fn zheng_cai_weights(m: usize, out: &mut [f64]) {
-    two_phase_weights(m, 0.5, out); // Zheng-Cai Eq. (4)
 }
 
 /// Weights of a new boundary point on a boundary edge, over the edge's end

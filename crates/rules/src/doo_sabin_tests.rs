@@ -16,12 +16,6 @@ fn weights_sum_to_one() {
     for m in 3..=12 {
         let ds: f64 = row(m, doo_sabin_weights).iter().sum();
         assert!((ds - 1.0).abs() < 1e-15, "Doo-Sabin m = {m}: {ds}");
-        let zc: f64 = row(m, zheng_cai_weights).iter().sum();
-        assert!((zc - 1.0).abs() < 1e-15, "Zheng-Cai m = {m}: {zc}");
-        for lambda in [0.1, 0.4, 0.5, 0.85, 1.0] {
-            let tp: f64 = row(m, |m, w| two_phase_weights(m, lambda, w)).iter().sum();
-            assert!((tp - 1.0).abs() < 1e-15, "two-phase m = {m}, λ = {lambda}: {tp}");
-        }
     }
 }
 
@@ -74,33 +68,6 @@ fn circulant_eigenvalue_matches_a_real_eigenvector() {
             let cv: f64 = (0..m).map(|j| w[(j + m - i) % m] * v[j]).sum();
             assert!((cv - lambda * v[i]).abs() < 1e-14, "k = {k}, row {i}");
         }
-    }
-}
-
-#[test]
-fn two_phase_eigenvalues_are_one_and_lambda() {
-    // Correction F6 (docs/REFERENCES.md): λI + (1−λ)J/m has eigenvalues 1 (constant vector) and λ.
-    for m in 3..=12 {
-        for lambda in [0.2, 0.5, 0.85] {
-            let w = row(m, |m, w| two_phase_weights(m, lambda, w));
-            assert!((circulant_eigenvalue(&w, 0) - 1.0).abs() < 1e-15);
-            for k in 1..m {
-                assert!((circulant_eigenvalue(&w, k) - lambda).abs() < 1e-14, "m = {m}, λ = {lambda}, k = {k}");
-            }
-        }
-    }
-}
-
-#[test]
-fn zheng_cai_is_vertex_plus_centroid_over_two() {
-    // Eq. 4 written out: V' = (V + A)/2.
-    let mut rng = Rng::new(4);
-    for m in 3..=9 {
-        let face = rng.points(m, 1.0);
-        let w = row(m, zheng_cai_weights);
-        let a = crate::centroid(&face);
-        let image = combine(&w, &face); // image of corner 0
-        assert!(dist(image, lin2(0.5, face[0], 0.5, a)) < 1e-15);
     }
 }
 
@@ -245,17 +212,6 @@ fn sharp_curve_point_lies_on_the_clamped_bspline() {
 }
 
 proptest! {
-    #[test]
-    fn two_phase_row_is_convex_and_eq1_shaped(m in 3usize..40, lambda in 0.0f64..=1.0) {
-        let w = row(m, |m, w| two_phase_weights(m, lambda, w));
-        prop_assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-14);
-        prop_assert!(w.iter().all(|&x| x >= 0.0));
-        prop_assert!((w[0] - w[1] - lambda).abs() < 1e-15);
-        for k in 1..m {
-            prop_assert!((circulant_eigenvalue(&w, k) - lambda).abs() < 1e-13);
-        }
-    }
-
     #[test]
     fn doo_sabin_row_is_positive_and_sums_to_one(m in 3usize..64) {
         let w = row(m, doo_sabin_weights);

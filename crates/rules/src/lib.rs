@@ -12,7 +12,7 @@
 //!
 //! | module | scheme | source ([references]) |
 //! |---|---|---|
-//! | [`doo_sabin`] | Doo-Sabin, the first-step variants, the boundary rule | Zheng-Cai Eq. 1, 4; Fan-Cheng-Lai Eq. 1 |
+//! | [`doo_sabin`] | Doo-Sabin: the face-corner rule, the boundary rule, crease points, the valence-2 mask (the methods' first-step variants are in subdiv-interp) | Zheng-Cai Eq. 1 |
 //! | [`catmull_clark`] | Catmull-Clark, limit masks, Cheng's limit stencil | Cheng Appendix Eq. 4-5 |
 //! | [`loop_scheme`] | Loop, Warren's or Loop's β, limit masks | Deng-Wang Eq. 1-2, 5-6 |
 //! | [`sqrt3`] | √3 (Kobbelt 2000): face points, αₙ smoothing, the ternary boundary, limit masks with βₙ | Kobbelt 2000 §2-4 (recalled, not a seed) |
@@ -81,7 +81,7 @@ mod test_util;
 
 pub use crease::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Rule};
 pub use curves::CurveScheme;
-pub use doo_sabin::{doo_sabin_weights, two_phase_weights, zheng_cai_weights};
+pub use doo_sabin::doo_sabin_weights;
 pub use loop_scheme::LoopBeta;
 pub use mask::{EdgeMask, VertexKind, VertexMask};
 pub use options::{validate_four_point_tension, OptionsError};

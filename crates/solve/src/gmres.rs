@@ -76,7 +76,7 @@
 //! // Nasri's C of an open 40 × 50 quad grid: the boundary rows are the
 //! // boundary curve's (1, 6, 1)/8, which no interior row mirrors, so S is
 //! // not symmetric.
-//! let m = subdiv_stencil::limit_matrix_nasri(shapes::quad_grid(40, 50).topology());
+//! let m = subdiv_stencil::limit_matrix_doo_sabin(shapes::quad_grid(40, 50).topology());
 //! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! assert!(!a.symmetric());
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [(i % 13) as f64, 1.0, (i as f64).cos()]).collect();

@@ -36,8 +36,8 @@
 //! ```
 //! use subdiv_mesh::shapes;
 //! use subdiv_solve::{jacobi, FactoredMatrix, SolveOptions};
-//! // Zheng-Cai's Z of a 20 × 25 quad torus: strictly diagonally dominant.
-//! let m = subdiv_stencil::limit_matrix_zheng_cai(shapes::torus(20, 25).topology());
+//! // Doo-Sabin's C of a 20 × 25 quad torus: strictly diagonally dominant (9/16 on the diagonal).
+//! let m = subdiv_stencil::limit_matrix_doo_sabin(shapes::torus(20, 25).topology());
 //! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [i as f64, 1.0, -(i as f64)]).collect();
 //! let sol = jacobi(&a, &p, &SolveOptions::default()).unwrap();

@@ -37,7 +37,7 @@
 //! use subdiv_mesh::shapes;
 //! use subdiv_solve::{pia, FactoredMatrix, SolveOptions};
 //! // Nasri's C (Doo-Sabin) of a 12 × 12 quad torus: spec(C) ⊂ [¼, 1].
-//! let m = subdiv_stencil::limit_matrix_nasri(shapes::torus(12, 12).topology());
+//! let m = subdiv_stencil::limit_matrix_doo_sabin(shapes::torus(12, 12).topology());
 //! let a = FactoredMatrix::new(m.d, m.s).unwrap();
 //! let p: Vec<[f64; 3]> = (0..a.n()).map(|i| [i as f64, 1.0, (i % 5) as f64]).collect();
 //! let sol = pia(&a, &p, &SolveOptions::default()).unwrap();

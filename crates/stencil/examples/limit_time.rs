@@ -22,7 +22,7 @@ fn main() {
         let a = subdiv_stencil::limit_matrix_catmull_clark(t);
         times_a.push(s.elapsed().as_secs_f64());
         let s = Instant::now();
-        let c = subdiv_stencil::limit_matrix_nasri(t);
+        let c = subdiv_stencil::limit_matrix_doo_sabin(t);
         times_c.push(s.elapsed().as_secs_f64());
         std::hint::black_box((a, c));
     }

@@ -18,9 +18,7 @@ use crate::{face_ring_size, vertex_kind, RowBuilder, SparseMatrix, Summation};
 use glam::DVec3;
 use subdiv_mesh::refine::quad_split;
 use subdiv_mesh::{EdgeId, FaceId, HalfEdgeId, Topology, VertexId};
-use subdiv_rules::catmull_clark::{
-    edge_point_mask, face_point_weight, limit_mask, limit_stencil as cheng_limit, vertex_point_mask,
-};
+use subdiv_rules::catmull_clark::{edge_point_mask, face_point_weight, limit_mask, vertex_point_mask};
 use subdiv_rules::{Rule, VertexKind};
 
 /// (V + F + E) × V refinement stencil: P₁ = R·P₀ on [`quad_split`]'s numbering.
@@ -250,7 +248,7 @@ fn smooth_limit_row(t: &Topology, v: VertexId, rows: &mut RowBuilder, scratch: &
     sizes.extend(fan.iter().map(|&h| t.face_size(t.he_face(h))));
     edge_w.resize(fan.len(), 0.0);
     far_w.resize(fan.len(), 0.0);
-    let wv = cheng_limit(sizes, edge_w, far_w); // Eq. (5)
+    let wv = subdiv_rules::catmull_clark::limit_stencil(sizes, edge_w, far_w); // Eq. (5)
     rows.add(v.0, wv);
     for (i, &h) in fan.iter().enumerate() {
         let (ring, m) = face_ring(t, h);

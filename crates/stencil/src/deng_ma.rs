@@ -79,7 +79,7 @@
 //! [corrections D2, D5]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#d2
 
 use crate::apply::fill_in_chunks;
-use crate::doo_sabin::{first_step, refinement_stencil as doo_sabin_stencil, CornerRule};
+use crate::doo_sabin::{first_step, refinement_stencil as doo_sabin_stencil, StandardCorners};
 use crate::scheme::{LevelSplit, SchemeRules};
 use crate::sharpness::LevelSharpness;
 use crate::{RowBuilder, SparseMatrix, StencilError};
@@ -282,7 +282,7 @@ pub fn step_positions_tagged(
     assert_eq!(positions.len(), t.vertex_count(), "one point per vertex");
     // §3.3 step 1: the Doo-Sabin images Q of every corner (the first H points
     // of a Doo-Sabin step; its boundary Chaikin points are not used).
-    let images = first_step(t, CornerRule::Standard, positions)?;
+    let images = first_step(t, &StandardCorners, positions)?;
     // §3.3 step 2, per vertex: the centre G, ω_P and (on the sharp polygon)
     // the curve tension; then the moved images Q̄ = P + ω_P (Q − G) per corner.
     let mut centres = vec![Centre::default(); t.vertex_count()];
@@ -509,7 +509,7 @@ pub fn stencil(t: &Topology, omega: f64) -> Result<SparseMatrix, StencilError> {
 pub fn stencil_tagged(t: &Topology, sharp: &LevelSharpness, omega: f64) -> Result<SparseMatrix, StencilError> {
     check_tension(Tension::Global(omega))?;
     check_sharpness(t, sharp)?;
-    let ds = doo_sabin_stencil(t, CornerRule::Standard)?;
+    let ds = doo_sabin_stencil(t, &StandardCorners)?;
     // Row of Q̄_h = P_v + ω(Q_h − G_v): G_v the mean of Q over v's corners
     // (smooth vertices and darts), (P₋ + 6P + P₊)/8 on the sharp polygon, P
     // at a corner.

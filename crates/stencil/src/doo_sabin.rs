@@ -1,10 +1,11 @@
-//! Doo-Sabin operators: the refinement stencil R of the standard step and of
-//! the first-step variants, and the limit stencil, with or without
-//! infinitely sharp creases and corners.
+//! Doo-Sabin operators: the refinement stencil R of a step with any corner
+//! mask, and the limit stencil, with or without infinitely sharp creases and
+//! corners.
 //!
-//! Corner rule: Zheng-Cai Eq. 1 (standard), Eq. 4 (V' = (V + A)/2) or the
-//! two-phase Eq. 1 of Fan-Cheng-Lai (V' = λ_f V + (1 − λ_f)A, one λ per face),
-//! all from `subdiv_rules`. Boundary: every boundary edge a→b gets the two
+//! Corner mask ([`CornerMask`]): the scheme's Eq. 1 ([`StandardCorners`],
+//! from `subdiv_rules::doo_sabin`), or the mask of a first step that an
+//! interpolation method supplies (its rules live in `subdiv-interp`); the
+//! rest of the step does not depend on it. Boundary: every boundary edge a→b gets the two
 //! Chaikin points ¾a + ¼b and ¼a + ¾b, and the faces of
 //! [`subdiv_mesh::refine::dual_split`] close them, so the boundary converges to
 //! the quadratic B-spline of the boundary polygon (rule and its justification:
@@ -115,49 +116,71 @@ use subdiv_mesh::{FaceId, HalfEdgeId, Tags, Topology, VertexId, SHARPNESS_INFINI
 use subdiv_rules::doo_sabin::{
     sharp_curve_point, BoundaryEdgePoint, BOUNDARY_EDGE_POINT, CLAMPED_EDGE_POINT, VALENCE_TWO_LIMIT,
 };
-use subdiv_rules::{doo_sabin_weights, two_phase_weights};
+use subdiv_rules::doo_sabin_weights;
 
-/// Which corner rule the step uses.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum CornerRule<'a> {
-    /// Standard Doo-Sabin weights (Zheng-Cai Eq. 1).
-    Standard,
-    /// V' = λV + (1 − λ)A with one λ ∈ (0, 1) for every face (λ = ½ is
-    /// Zheng-Cai Eq. 4).
-    Uniform(f64),
-    /// V' = λ_f V + (1 − λ_f)A with λ_f per face (Fan-Cheng-Lai Eq. 1).
-    PerFace(&'a [f64]),
-}
+/// The corner mask of a Doo-Sabin step: the image of every corner of a face
+/// as a combination of that face's corners, one row per face (`w[j]` the
+/// weight of the corner j places after the imaged one, so the image of
+/// corner k is Σⱼ w\[j\]·V_{(k+j) mod m}).
+///
+/// The scheme's own steps use [`StandardCorners`] (Eq. 1). A first step may
+/// use another mask (the interpolation methods' first steps, whose rules
+/// live in `subdiv-interp`): every function of this module that takes a
+/// mask keeps the rest of the step — sharp points, faces, the later steps —
+/// as the standard scheme's (module docs, "Creases and corners", step 1).
+/// The limit matrices of [`crate::limit_matrix_doo_sabin_sharp`] need each
+/// face's row to be symmetric (`w[j] == w[m − j]`) for S to be.
+pub trait CornerMask: Sync {
+    /// Checks the mask's parameters against the mesh.
+    ///
+    /// # Errors
+    /// [`StencilError::InvalidParameter`] naming the first bad parameter.
+    fn validate(&self, t: &Topology) -> Result<(), StencilError>;
 
-impl CornerRule<'_> {
-    /// Fills `out` with the row of a face of size `out.len()`.
-    pub(crate) fn weights(&self, face: usize, out: &mut [f64]) {
-        let m = out.len();
-        match *self {
-            CornerRule::Standard => doo_sabin_weights(m, out), // Zheng-Cai Eq. (1)
-            CornerRule::Uniform(lambda) => two_phase_weights(m, lambda, out), // Eq. (4) / Fan Eq. (1)
-            CornerRule::PerFace(lambdas) => two_phase_weights(m, lambdas[face], out), // Fan Eq. (1)
+    /// Fills `out` with the row of face `face`, of size `out.len()` (≥ 3).
+    fn weights(&self, face: FaceId, out: &mut [f64]);
+
+    /// Writes to `out` the images of corners `ks` of face `face`, whose
+    /// vertices are `corners`, of the points `x` (one image per k, in order):
+    /// by default Σⱼ w\[j\]·x\[corners\[(k+j) mod m\]\] with the face's
+    /// [`Self::weights`] (`scratch` holds them). A mask with a closed form may
+    /// evaluate that instead (equal up to round-off).
+    fn images(
+        &self,
+        face: FaceId,
+        corners: &[u32],
+        x: &[DVec3],
+        ks: std::ops::Range<usize>,
+        out: &mut [DVec3],
+        scratch: &mut Vec<f64>,
+    ) {
+        let m = corners.len();
+        scratch.resize(m, 0.0);
+        self.weights(face, scratch);
+        for (k, image) in ks.zip(out) {
+            // Σⱼ w_j·V_{(k+j) mod m}.
+            *image = scratch.iter().enumerate().fold(DVec3::ZERO, |acc, (j, &wj)| {
+                let at = if k + j >= m { k + j - m } else { k + j };
+                acc + wj * x[corners[at] as usize]
+            });
         }
     }
+}
 
-    /// Checks the parameters against the mesh: λ ∈ (0, 1), one per face.
-    pub fn validate(&self, t: &Topology) -> Result<(), StencilError> {
-        let check = |face: Option<usize>, l: f64| {
-            if l > 0.0 && l < 1.0 {
-                Ok(())
-            } else {
-                let at = face.map(|f| format!(" of face {f}")).unwrap_or_default();
-                Err(StencilError::InvalidParameter(format!("λ{at} = {l} is outside (0, 1)")))
-            }
-        };
-        match *self {
-            CornerRule::Standard => Ok(()),
-            CornerRule::Uniform(l) => check(None, l),
-            CornerRule::PerFace(ls) if ls.len() != t.face_count() => {
-                Err(StencilError::InvalidParameter(format!("{} λ values for {} faces", ls.len(), t.face_count())))
-            }
-            CornerRule::PerFace(ls) => ls.iter().enumerate().try_for_each(|(f, &l)| check(Some(f), l)),
-        }
+/// Doo-Sabin's own corner mask, Eq. 1 (Zheng & Cai 2005 §2; module
+/// `subdiv_rules::doo_sabin`, "Face-corner rule"): the mask of every step of
+/// the scheme.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StandardCorners;
+
+impl CornerMask for StandardCorners {
+    /// No parameters: always `Ok`.
+    fn validate(&self, _: &Topology) -> Result<(), StencilError> {
+        Ok(())
+    }
+
+    fn weights(&self, _: FaceId, out: &mut [f64]) {
+        doo_sabin_weights(out.len(), out); // Eq. (1)
     }
 }
 
@@ -207,7 +230,7 @@ fn sharp_point_weights(t: &Topology, point: SharpPoint) -> [(u32, f64); 2] {
 
 /// (H + 2B) × V refinement stencil on [`dual_split`]'s numbering (H corners,
 /// B boundary half-edges): [`refinement_stencil_tagged`] without tags.
-pub fn refinement_stencil(t: &Topology, rule: CornerRule<'_>) -> Result<SparseMatrix, StencilError> {
+pub fn refinement_stencil(t: &Topology, rule: &impl CornerMask) -> Result<SparseMatrix, StencilError> {
     refinement_stencil_tagged(t, &Tags::none(), rule)
 }
 
@@ -221,7 +244,7 @@ pub fn refinement_stencil(t: &Topology, rule: CornerRule<'_>) -> Result<SparseMa
 pub fn refinement_stencil_tagged(
     t: &Topology,
     tags: &Tags,
-    rule: CornerRule<'_>,
+    rule: &impl CornerMask,
 ) -> Result<SparseMatrix, StencilError> {
     rule.validate(t)?;
     let sharp = sharp_points(t, tags)?;
@@ -244,7 +267,7 @@ pub fn refinement_stencil_tagged(
                 let (last, w) = scratch;
                 if *last != Some(f) {
                     w.resize(m, 0.0);
-                    rule.weights(f.index(), w);
+                    rule.weights(f, w);
                     *last = Some(f);
                 }
                 // Image of corner k: Σⱼ w[j]·V_{(k+j) mod m}, i.e. face[k..], then face[..k].
@@ -273,7 +296,7 @@ pub fn refinement_stencil_tagged(
 ///
 /// # Panics
 /// If `x.len()` differs from the vertex count (a caller bug).
-pub fn first_step(t: &Topology, rule: CornerRule<'_>, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
+pub fn first_step(t: &Topology, rule: &impl CornerMask, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
     first_step_tagged(t, &Tags::none(), rule, x)
 }
 
@@ -292,7 +315,7 @@ pub fn first_step(t: &Topology, rule: CornerRule<'_>, x: &[DVec3]) -> Result<Vec
 pub fn first_step_tagged(
     t: &Topology,
     tags: &Tags,
-    rule: CornerRule<'_>,
+    rule: &impl CornerMask,
     x: &[DVec3],
 ) -> Result<Vec<DVec3>, StencilError> {
     rule.validate(t)?;
@@ -310,32 +333,10 @@ pub fn first_step_tagged(
         let mut h = first;
         while h < first + chunk.len() {
             let face = t.face(FaceId(f as u32));
-            let m = face.len();
-            let lambda = match rule {
-                CornerRule::Standard => None,
-                CornerRule::Uniform(l) => Some(l),
-                CornerRule::PerFace(ls) => Some(ls[f]),
-            };
-            let mut centroid = DVec3::ZERO;
-            if lambda.is_some() {
-                centroid = face.iter().map(|&v| x[v as usize]).sum::<DVec3>() / m as f64;
-            } else {
-                w.resize(m, 0.0);
-                rule.weights(f, &mut w);
-            }
             let start = offsets[f] as usize;
             let end = (offsets[f + 1] as usize).min(first + chunk.len());
-            for k in h - start..end - start {
-                chunk[start + k - first] = match lambda {
-                    // Fan-Cheng-Lai Eq. 1, Zheng-Cai Eq. 4: λV + (1 − λ)A, A the face centroid.
-                    Some(l) => l * x[face[k] as usize] + (1.0 - l) * centroid,
-                    // Zheng-Cai Eq. 1: Σⱼ α_j·V_{(k+j) mod m}.
-                    None => w.iter().enumerate().fold(DVec3::ZERO, |acc, (j, &wj)| {
-                        let at = if k + j >= m { k + j - m } else { k + j };
-                        acc + wj * x[face[at] as usize]
-                    }),
-                };
-            }
+            let out = &mut chunk[h - first..end - first];
+            rule.images(FaceId(f as u32), face, x, h - start..end - start, out, &mut w);
             h = end;
             f += 1;
         }
@@ -354,7 +355,7 @@ pub fn first_step_tagged(
 }
 
 /// One Doo-Sabin step: the refined topology with provenance and its stencil.
-pub fn refine(t: &Topology, rule: CornerRule<'_>) -> Result<(Topology, DualProvenance, SparseMatrix), StencilError> {
+pub fn refine(t: &Topology, rule: &impl CornerMask) -> Result<(Topology, DualProvenance, SparseMatrix), StencilError> {
     rule.validate(t)?;
     // Both depend on the coarse topology only: build them on both cores at once.
     let ((topology, provenance), stencil) = rayon::join(|| dual_split(t), || refinement_stencil(t, rule));
@@ -369,7 +370,7 @@ pub fn refine(t: &Topology, rule: CornerRule<'_>) -> Result<(Topology, DualProve
 pub fn refine_tagged(
     t: &Topology,
     tags: &Tags,
-    rule: CornerRule<'_>,
+    rule: &impl CornerMask,
 ) -> Result<(Topology, SharpDualProvenance, Tags, SparseMatrix), StencilError> {
     rule.validate(t)?;
     check_tags(t, tags)?;
@@ -408,7 +409,7 @@ pub fn valence_two_corners(t: &Topology, v: VertexId) -> Option<[(HalfEdgeId, f6
 pub(crate) fn add_valence_two_row(
     t: &Topology,
     corners: &[(HalfEdgeId, f64); 6],
-    rule: CornerRule<'_>,
+    rule: &impl CornerMask,
     scale: f64,
     rows: &mut RowBuilder,
     w: &mut Vec<f64>,
@@ -417,7 +418,7 @@ pub(crate) fn add_valence_two_row(
         let c = t.he_corner(h);
         let face = t.face(c.face);
         w.resize(face.len(), 0.0);
-        rule.weights(c.face.index(), w);
+        rule.weights(c.face, w);
         let (before, from_corner) = face.split_at(c.index as usize);
         for (&column, &wj) in from_corner.iter().chain(before).zip(w.iter()) {
             rows.add(column, scale * weight * wj);
@@ -507,7 +508,7 @@ fn limit_row(t: &Topology, features: &DualFeatures, v: VertexId, rows: &mut RowB
         }
         _ => {
             if let Some(corners) = valence_two_corners(t, v) {
-                add_valence_two_row(t, &corners, CornerRule::Standard, 1.0, rows, w);
+                add_valence_two_row(t, &corners, &StandardCorners, 1.0, rows, w);
             } else {
                 add_face_images(t, v, t.vertex_face_count(v) as f64, rows, w);
             }
@@ -619,11 +620,11 @@ impl SchemeRules for DooSabinRules {
     }
 
     fn stencil(&self, t: &Topology, sharp: &LevelSharpness) -> Result<Option<SparseMatrix>, StencilError> {
-        refinement_stencil_tagged(t, &sharp.tags(t), CornerRule::Standard).map(Some)
+        refinement_stencil_tagged(t, &sharp.tags(t), &StandardCorners).map(Some)
     }
 
     fn step_points(&self, t: &Topology, sharp: &LevelSharpness, x: &[DVec3]) -> Result<Vec<DVec3>, StencilError> {
-        first_step_tagged(t, &sharp.tags(t), CornerRule::Standard, x)
+        first_step_tagged(t, &sharp.tags(t), &StandardCorners, x)
     }
 
     fn limit_points(

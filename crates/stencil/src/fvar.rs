@@ -141,7 +141,7 @@
 //! assert_eq!(refined.values[9], DVec2::new(2.5, 0.5));
 //! ```
 
-use crate::doo_sabin::{self, CornerRule};
+use crate::doo_sabin::{self, StandardCorners};
 use crate::loop_subdivision::require_triangles;
 use crate::sharpness::{EdgeStep, LevelSharpness};
 use crate::{FVarSupport, Scheme, Split, StencilError};
@@ -316,7 +316,7 @@ fn refine_dual(t: &Topology, child: &Topology, channel: &FaceVarying) -> Result<
             first.map_or(DVec3::ZERO, |h| channel.values[channel.indices[h.index()] as usize].extend(0.0))
         })
         .collect();
-    let points = doo_sabin::first_step(t, CornerRule::Standard, &per_vertex)?;
+    let points = doo_sabin::first_step(t, &StandardCorners, &per_vertex)?;
     assert_eq!(points.len(), child.vertex_count(), "child is not the Doo-Sabin split of parent");
     Ok(FaceVarying { values: points.iter().map(|p| p.truncate()).collect(), indices: child.faces().indices().to_vec() })
 }

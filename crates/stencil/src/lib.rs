@@ -10,11 +10,11 @@
 //! |---|---|
 //! | [`catmull_clark`] | refinement R and limit stencil (OpenSubdiv `EDGE_AND_CORNER` boundaries) |
 //! | [`loop_subdivision`] | refinement R and limit stencil, Warren's or Loop's β |
-//! | [`doo_sabin`] | refinement R for the standard step and the first-step variants (Zheng-Cai Eq. 4, two-phase Eq. 1), Chaikin boundary |
+//! | [`doo_sabin`] | refinement R of a step with any corner mask (the standard Eq. 1, or a first step's), Chaikin boundary |
 //! | [`sqrt3`] | √3 (Kobbelt 2000): refinement R of the plain and the boundary-trisecting step, limit stencil, in turn |
 //! | [`deng_ma`] | the interpolatory Deng-Ma step |
 //! | [`mod@subdivide`] | multi-level plans: topology once, geometry as repeated products, on normalised positions ([`normalized`]) |
-//! | [`limit_matrix`] | the methods' limit matrices A = D·S (Nasri C, Zheng-Cai Z, two-phase B(λ), Cheng A, Loop L) |
+//! | [`limit_matrix`] | the schemes' limit matrices A = D·S (Doo-Sabin C with any first-step corner mask, Catmull-Clark A, Loop L, √3), on which `subdiv-interp` builds its methods' |
 //!
 //! ```
 //! use subdiv_mesh::shapes;
@@ -48,11 +48,10 @@ pub mod subdivide;
 pub use apply::{apply, apply_columns, row_sums};
 pub use error::StencilError;
 pub use limit_matrix::{
-    catmull_clark_degeneracy, catmull_clark_kernel, doo_sabin_limit_sites, limit_matrix_catmull_clark,
-    limit_matrix_catmull_clark_sharp, limit_matrix_doo_sabin_sharp, limit_matrix_loop, limit_matrix_loop_sharp,
-    limit_matrix_nasri, limit_matrix_sqrt3, limit_matrix_sqrt3_sharp, limit_matrix_two_phase, limit_matrix_zheng_cai,
-    limit_operator_catmull_clark_sharp, limit_rows_loop_sharp, Degeneracy, DualLimitSite, LimitMatrix, LimitOperator,
-    LimitRows, RowKind, RowVisitor, SolveBlocks,
+    catmull_clark_kernel, doo_sabin_limit_sites, limit_matrix_catmull_clark, limit_matrix_catmull_clark_sharp,
+    limit_matrix_doo_sabin, limit_matrix_doo_sabin_sharp, limit_matrix_loop, limit_matrix_loop_sharp,
+    limit_matrix_sqrt3, limit_matrix_sqrt3_sharp, limit_operator_catmull_clark_sharp, limit_rows_loop_sharp,
+    DualLimitSite, LimitMatrix, LimitOperator, LimitRows, RowKind, RowVisitor,
 };
 pub use options::{Options, Scheme};
 pub(crate) use rows::{RowBuilder, Summation};

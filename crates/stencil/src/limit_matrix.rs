@@ -1,26 +1,30 @@
 //! Limit-point matrices in the factored form **A = D·S** ([limit matrices]).
 //!
-//! Row v of A maps the control points X to the limit point that the method
-//! associates with vertex v; interpolation solves A·X = P. Every matrix is
+//! Row v of A maps the control points X to the limit point of vertex v on
+//! the scheme's surface; interpolation solves A·X = P (the methods that do
+//! live in `subdiv-interp`, which builds its matrices on these). Every matrix is
 //! built directly from the topology as a diagonal D (positive) and a sparse S
 //! that is **exactly symmetric** (entry by entry, bit for bit) on closed
 //! untagged meshes — assembled from symmetric per-face / per-edge
 //! contributions (each entry sums the same multiset of face/edge
 //! contributions in a canonical order), never by symmetrising afterwards.
 //!
-//! | builder | method, first step | D | S (interior vertex v, valence n, faces fᵢ of size mᵢ) |
+//! | builder | scheme, first step | D | S (interior vertex v, valence n, faces fᵢ of size mᵢ) |
 //! |---|---|---|---|
-//! | [`limit_matrix_nasri`] | Nasri, standard Doo-Sabin | 1/n | Σ_f Circ(α_{m_f}) (Zheng-Cai Eq. 1; [correction Z8]) |
-//! | [`limit_matrix_zheng_cai`] | Zheng-Cai Eq. 4 | 1/n | B(½): Eq. 6 divided by 2n ([correction Z7]) |
-//! | [`limit_matrix_two_phase`] | Fan-Cheng-Lai Eq. 1, λ per face | 1/n | Σ_f [λ_f I + (1 − λ_f) J/m_f] (Eq. 2 with [correction F1], Eq. 5) |
-//! | [`limit_matrix_catmull_clark`] | Cheng, Catmull-Clark | 4/(n(n+5)) | appendix Eq. 5 bracket ([corrections C1, C2]) |
+//! | [`limit_matrix_doo_sabin`] | Doo-Sabin, standard (C) | 1/n | Σ_f Circ(α_{m_f}) (Zheng-Cai Eq. 1; [correction Z8]) |
+//! | [`limit_matrix_doo_sabin_sharp`] | Doo-Sabin, first step with any symmetric [`CornerMask`] | 1/n | Σ_f Circ(w_f), w_f the mask's row of face f |
+//! | [`limit_matrix_catmull_clark`] | Catmull-Clark (Cheng's A) | 4/(n(n+5)) | appendix Eq. 5 bracket ([corrections C1, C2]) |
 //! | [`limit_matrix_loop`] | Loop | γ = 1/(k + 3/(8β)) | 3/(8β) on the diagonal, 1 per neighbour (Deng-Wang Eq. 5-6, [correction W4]) |
 //! | [`limit_matrix_sqrt3`] | √3 (Kobbelt 2000) | βₙ/n | n(1 − βₙ)/βₙ on the diagonal, 1 per neighbour ([`crate::sqrt3`]) |
 //!
-//! Cheng's A and Loop's L also come with creases and corners
+//! The interpolation methods' Doo-Sabin matrices (Nasri's C, Zheng-Cai's Z,
+//! Fan-Cheng-Lai's B(λ)) are [`limit_matrix_doo_sabin_sharp`] with their
+//! first steps' masks, in `subdiv-interp`.
+//!
+//! Catmull-Clark's A and Loop's L also come with creases and corners
 //! ([`limit_matrix_catmull_clark_sharp`], [`limit_matrix_loop_sharp`], on a
-//! [`LevelSharpness`]: tags, boundary option, crease method), and so do the
-//! Doo-Sabin family's C, Z and B(λ) ([`limit_matrix_doo_sabin_sharp`], on
+//! [`LevelSharpness`]: tags, boundary option, crease method), and so does the
+//! Doo-Sabin family ([`limit_matrix_doo_sabin_sharp`], on
 //! [`Tags`]: Doo-Sabin has infinitely sharp creases and corners only, no
 //! boundary option and no crease method; "Doo-Sabin with creases and
 //! corners" below). √3 has corners only ([`limit_matrix_sqrt3_sharp`]:
@@ -55,7 +59,7 @@
 //! lower-triangular with the sharp block first. A polygon that runs into a
 //! general row (a dart at its end, a semi-sharp vertex on it) leaves the
 //! block from there up to its corners — under `edge-only` a whole boundary
-//! loop without corner tags. [`LimitMatrix::solve_blocks`] orders a solve:
+//! loop without corner tags. A solve can take the blocks in order:
 //! corners (X = P), then the crease polygons (symmetric (1, 4, 1) blocks —
 //! Doo-Sabin (1, 6, 1) —, coupled to corners only), then the interior (smooth rows, symmetric among
 //! themselves bit for bit, and the general rows and polygons that left);
@@ -74,8 +78,8 @@
 //! only: Catmull-Clark and Loop (p₋ + 4p + p₊)/6, one-face corners p under
 //! `edge-and-corner`; Doo-Sabin (B₋ + 6V + B₊)/8 at every untagged boundary vertex —
 //! the point of the quadratic B-spline boundary at V, which the Chaikin
-//! boundary rule of [`crate::doo_sabin`] produces for the standard and the
-//! two-phase first steps alike. Untagged, the sharp block is the boundary:
+//! boundary rule of [`crate::doo_sabin`] produces whatever the first step's
+//! corner mask. Untagged, the sharp block is the boundary:
 //! the boundary block and the interior block are each of the symmetric D·S
 //! form, and solvers handle open meshes in two symmetric stages (boundary
 //! first, then the interior with the boundary known).
@@ -101,8 +105,8 @@
 //!
 //! **Doo-Sabin with creases and corners** ([`limit_matrix_doo_sabin_sharp`]).
 //! Row v is the limit point of input vertex v on the surface whose first step
-//! uses the method's corner rule (standard, Zheng-Cai Eq. 4, Fan-Cheng-Lai
-//! Eq. 1) and whose later steps are standard Doo-Sabin with the tags
+//! uses a corner mask ([`CornerMask`]: the standard Eq. 1, or a method's
+//! first step) and whose later steps are standard Doo-Sabin with the tags
 //! ([`crate::doo_sabin`], "Creases and corners"): a point of the first
 //! refined mesh M¹ that is a limit point of the standard tagged scheme;
 //! [`doo_sabin_limit_sites`] names it in M¹ for every vertex. A sharp edge is
@@ -153,21 +157,19 @@
 //! open meshes too. Hence without darts and interior valence-2 vertices
 //! spec(A) ⊂ [¼, 1] (C), [½, 1] (Z), [min(½, min λ), 1] (B(λ)): A is never
 //! singular. *General rows* break those bounds and have none of their own:
-//! on 4000 random tagged polygon mixes (`tests/limit_matrices_doo_sabin_creases.rs`)
+//! on 4000 random tagged polygon mixes (`subdiv-interp`'s `tests/limit_matrices_doo_sabin_creases.rs`)
 //! the interior block's smallest |λ| was 0.262 (C), 0.493 (Z, below ½),
 //! 1.62·min λ (B(λ)) with darts, 0.207, 0.383, 1.16·min λ with interior
 //! valence-2 vertices too; every eigenvalue had a positive real part, no
 //! block was singular, but nothing proves that one cannot be.
 //!
 //! [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
-//! [correction Z7]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z7
-//! [correction F1]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f1
 //! [corrections C1, C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 //! [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
 //! [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
 //! [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
-use crate::doo_sabin::CornerRule;
+use crate::doo_sabin::{CornerMask, StandardCorners};
 use crate::sharpness::LevelSharpness;
 use crate::{apply, face_ring_size, RowBuilder, Scheme, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
@@ -214,26 +216,6 @@ pub struct LimitMatrix {
     pub boundary_rows: Vec<u32>,
     /// The kind of every row.
     pub row_kinds: Vec<RowKind>,
-}
-
-/// The order a solve can take ([`LimitMatrix::solve_blocks`]): each set
-/// depends only on itself and the sets before it.
-///
-/// `#[non_exhaustive]`: read through its public fields (a new block is not a
-/// breaking change).
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-#[non_exhaustive]
-pub struct SolveBlocks {
-    /// Identity rows: X = P.
-    pub corners: Vec<u32>,
-    /// Crease and boundary polygon rows of the sharp block: (1, 4, 1)/6
-    /// (Doo-Sabin (1, 6, 1)/8; (2, 5, 1)/8 and (2, 4, 2)/8 next to corners)
-    /// among themselves, symmetric, and corners.
-    pub creases: Vec<u32>,
-    /// Every other row: smooth rows (symmetric among themselves), general
-    /// rows and the crease rows that lean on one ([`LimitMatrix::asymmetric_rows`]
-    /// says whether the block is symmetric).
-    pub interior: Vec<u32>,
 }
 
 impl LimitMatrix {
@@ -317,23 +299,6 @@ impl LimitMatrix {
     /// The rows of one kind, ascending.
     pub fn rows_of(&self, kind: RowKind) -> Vec<u32> {
         (self.row_kinds.iter().enumerate()).filter(|(_, &k)| k == kind).map(|(v, _)| v as u32).collect()
-    }
-
-    /// The rows split in solve order: corners, the crease polygons of the
-    /// sharp block, the interior ([`SolveBlocks`]).
-    pub fn solve_blocks(&self) -> SolveBlocks {
-        let mut sharp = vec![false; self.size()];
-        self.boundary_rows.iter().for_each(|&v| sharp[v as usize] = true);
-        let mut out = SolveBlocks::default();
-        for (v, &kind) in self.row_kinds.iter().enumerate() {
-            let block = match kind {
-                RowKind::Corner => &mut out.corners,
-                _ if sharp[v] => &mut out.creases,
-                _ => &mut out.interior,
-            };
-            block.push(v as u32);
-        }
-        out
     }
 
     /// The rows of `block` (vertex ids) with an entry S\[i\]\[j\], j also in
@@ -795,9 +760,14 @@ fn composed_rows(
     Ok(composed)
 }
 
-/// Doo-Sabin family: the untagged matrix of `rule` (module docs).
-fn limit_matrix_doo_sabin(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMatrix, StencilError> {
-    limit_matrix_doo_sabin_sharp(t, rule, &Tags::none())
+/// Doo-Sabin's plain limit matrix C: every step standard (Eq. 1), row v
+/// the centroid of v's V-face after one step ([`limit_matrix_doo_sabin_sharp`]
+/// with [`StandardCorners`] and no tags). Spectrum ⊂ [¼, 1] on closed
+/// manifold meshes without interior valence-2 vertices ([correction Z8]).
+///
+/// [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
+pub fn limit_matrix_doo_sabin(t: &Topology) -> LimitMatrix {
+    limit_matrix_doo_sabin_sharp(t, &StandardCorners, &Tags::none()).expect("the standard mask has no parameters")
 }
 
 /// The Doo-Sabin limit rule of a vertex (module docs, "Doo-Sabin with
@@ -845,9 +815,9 @@ fn dual_row(t: &Topology, features: &DualFeatures, v: VertexId) -> DualRow {
 }
 
 /// The Doo-Sabin family's matrix with the infinitely sharp creases and
-/// corners of `tags` ([`limit_matrix_nasri`]: `CornerRule::Standard`,
-/// [`limit_matrix_zheng_cai`]: `CornerRule::Uniform(0.5)`,
-/// [`limit_matrix_two_phase`]: `CornerRule::PerFace`): V × V, row v the limit
+/// corners of `tags`, for a first step with the corner mask `rule`
+/// ([`StandardCorners`]: Doo-Sabin's own, [`limit_matrix_doo_sabin`]; the
+/// interpolation methods supply theirs): V × V, row v the limit
 /// point of input vertex v on the surface whose first step uses `rule` and
 /// whose later steps are standard Doo-Sabin with the tags
 /// ([`crate::doo_sabin::first_step_tagged`], [`dual_split_tagged`](subdiv_mesh::refine::dual_split_tagged)):
@@ -873,33 +843,33 @@ fn dual_row(t: &Topology, features: &DualFeatures, v: VertexId) -> DualRow {
 ///
 /// ```
 /// use subdiv_mesh::{shapes, EdgeTag, TagList, Tags};
-/// use subdiv_stencil::{doo_sabin::CornerRule, limit_matrix_doo_sabin_sharp, limit_matrix_zheng_cai, RowKind};
+/// use subdiv_stencil::{doo_sabin::StandardCorners, limit_matrix_doo_sabin, limit_matrix_doo_sabin_sharp, RowKind};
 /// let cube = shapes::cube();
 /// let t = cube.topology();
 /// // The top loop 4-5-7-6 sharp: a closed crease of four vertices.
 /// let loop_edges = [(4, 5), (5, 7), (7, 6), (6, 4)];
 /// let creases = loop_edges.iter().map(|&(a, b)| EdgeTag { a, b, sharpness: 10.0 }).collect();
 /// let tags = Tags::from_list(t, &TagList { creases, corners: Vec::new() }).unwrap();
-/// let z = limit_matrix_doo_sabin_sharp(t, CornerRule::Uniform(0.5), &tags).unwrap();
-/// assert_eq!(z.rows_of(RowKind::Crease), [4, 5, 6, 7]);
+/// let c = limit_matrix_doo_sabin_sharp(t, &StandardCorners, &tags).unwrap();
+/// assert_eq!(c.rows_of(RowKind::Crease), [4, 5, 6, 7]);
 /// // Crease rows (B₋ + 6V + B₊)/8 along the loop, whatever the first step.
-/// assert_eq!((z.d[4], z.s.get(4, 4), z.s.get(4, 5), z.s.get(4, 0)), (0.125, Some(&6.0), Some(&1.0), None));
-/// // The smooth rows are Zheng-Cai's untagged ones.
-/// let plain = limit_matrix_zheng_cai(t);
-/// assert_eq!(z.rows_of(RowKind::Smooth), [0, 1, 2, 3]);
-/// assert_eq!(z.s.outer_view(0).unwrap().data(), plain.s.outer_view(0).unwrap().data());
+/// assert_eq!((c.d[4], c.s.get(4, 4), c.s.get(4, 5), c.s.get(4, 0)), (0.125, Some(&6.0), Some(&1.0), None));
+/// // The smooth rows are the untagged ones.
+/// let plain = limit_matrix_doo_sabin(t);
+/// assert_eq!(c.rows_of(RowKind::Smooth), [0, 1, 2, 3]);
+/// assert_eq!(c.s.outer_view(0).unwrap().data(), plain.s.outer_view(0).unwrap().data());
 /// ```
 ///
 /// # Errors
 /// [`StencilError::SemiSharpDooSabin`] for a semi-sharp tag (Doo-Sabin has
-/// infinitely sharp creases and corners only), [`StencilError::InvalidParameter`]
-/// for a bad λ.
+/// infinitely sharp creases and corners only), the mask's
+/// [`CornerMask::validate`] error for its bad parameters.
 ///
 /// # Panics
 /// If `tags` were made for another topology (a caller bug).
 pub fn limit_matrix_doo_sabin_sharp(
     t: &Topology,
-    rule: CornerRule<'_>,
+    rule: &impl CornerMask,
     tags: &Tags,
 ) -> Result<LimitMatrix, StencilError> {
     rule.validate(t)?;
@@ -935,9 +905,9 @@ pub fn limit_matrix_doo_sabin_sharp(
     }
     Ok(assemble(t, d, special, kinds, |v, out| match rows[v.index()] {
         DualRow::Smooth => {
-            // Zheng-Cai Eq. (1) / (4), Fan-Cheng-Lai Eq. (1). Face block Circ(w):
-            // symmetric because w[k] = w[m − k] (α depends on cos only).
-            add_fan_row(t, v, out, 0.0, 0.0, |face, w| rule.weights(face.index(), w));
+            // Σ_f of the mask's face block Circ(w) (Eq. 1: α depends on cos
+            // only): symmetric when w[k] = w[m − k], as CornerMask asks.
+            add_fan_row(t, v, out, 0.0, 0.0, |face, w| rule.weights(face, w));
         }
         DualRow::ValenceTwo(corners) => {
             // No V-face: the valence-2 mask on the first step's images (the
@@ -954,7 +924,7 @@ pub fn limit_matrix_doo_sabin_sharp(
             for c in t.vertex_corners(v) {
                 let face = t.face(c.face);
                 weights.resize(face.len(), 0.0);
-                rule.weights(c.face.index(), &mut weights);
+                rule.weights(c.face, &mut weights);
                 let (before, from_v) = face.split_at(c.index as usize);
                 for (&column, &wj) in from_v.iter().chain(before).zip(&weights) {
                     out.add(column, wj / n);
@@ -1127,34 +1097,10 @@ fn add_fan_row(
     rows.add(v.0, centre);
 }
 
-/// Nasri's C: standard Doo-Sabin, limit of vertex v = centroid of its V-face
-/// after one step. Spectrum ⊂ [¼, 1] on closed manifold meshes ([correction Z8]).
-///
-/// [correction Z8]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z8
-pub fn limit_matrix_nasri(t: &Topology) -> LimitMatrix {
-    limit_matrix_doo_sabin(t, CornerRule::Standard).expect("the standard rule has no parameters")
-}
-
-/// Zheng-Cai's Z: first step Eq. 4, V' = (V + A)/2; Eq. 6 divided by 2n,
-/// equal to B(½). Strictly diagonally dominant, spectrum ⊂ [½, 1] ([correction Z7]).
-///
-/// [correction Z7]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#z7
-pub fn limit_matrix_zheng_cai(t: &Topology) -> LimitMatrix {
-    limit_matrix_doo_sabin(t, CornerRule::Uniform(0.5)).expect("λ = ½ is valid")
-}
-
-/// Fan-Cheng-Lai's B(λ): two-phase first step with λ per face (Eq. 2, Eq. 5).
-/// Spectrum ⊂ [min λ, 1] ([correction F6]).
-///
-/// [correction F6]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#f6
-pub fn limit_matrix_two_phase(t: &Topology, rule: CornerRule<'_>) -> Result<LimitMatrix, StencilError> {
-    limit_matrix_doo_sabin(t, rule)
-}
-
 /// Cheng's Catmull-Clark A: D = 4/(n(n+5)), S from appendix Eq. 5 ([corrections C1,
 /// C2]), assembled as the quadratic form Σ_faces (Σx)²/m + Σ_edges
 /// (xᵢ + xⱼ)²/2 + Σ_v n(n−3)/4 x_v² (correct as printed: [Cheng's corrections]).
-/// Spectrum ⊂ [0, 1] only when every valence is ≥ 3 ([`catmull_clark_degeneracy`]).
+/// Spectrum ⊂ [0, 1] only when every valence is ≥ 3 (`subdiv_interp::catmull_clark_degeneracy`).
 ///
 /// [corrections C1, C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
 /// [Cheng's corrections]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#cheng-et-al-cfl
@@ -1362,42 +1308,6 @@ pub fn limit_rows_loop_sharp(
         d.push(dv);
     }
     Ok(LimitRows { vertices: vertices.to_vec(), kinds, d, s: rows.build(t.vertex_count()) })
-}
-
-/// Why Cheng's A cannot be inverted safely on a mesh ([limit matrices], [correction C3]).
-///
-/// [correction C3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c3
-/// [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Degeneracy {
-    /// A closed component whose vertices all have valence 3 and whose vertex
-    /// graph is bipartite (the cube, even prisms): the ±1 checkerboard vector
-    /// on that component is in the kernel of A, exactly.
-    Singular {
-        /// A vertex of the component.
-        vertex: VertexId,
-    },
-    /// An interior vertex of valence 2: the term n(n−3)/4 of S is negative
-    /// there, which voids the proof that A is positive definite, and A may be
-    /// indefinite. Measured: a lone valence-2 vertex between two quads leaves
-    /// it definite (λ_min ≈ 0.098 on a 24 × 16 torus), two adjacent ones give
-    /// a negative eigenvalue (≈ −0.023), the pillow λ_min = −1/7; solvers
-    /// must treat A as possibly indefinite (MINRES, LDLᵀ).
-    Indefinite {
-        /// The valence-2 vertex.
-        vertex: VertexId,
-    },
-}
-
-/// Structural test for the two known ways Cheng's A fails to be positive
-/// definite. `None` means every interior valence is ≥ 3 and no closed
-/// component is an all-valence-3 bipartite mesh (A is then nonsingular in
-/// every case we know; its spectrum lies in (0, 1]).
-pub fn catmull_clark_degeneracy(t: &Topology) -> Option<Degeneracy> {
-    if let Some(v) = t.vertices().find(|&v| !t.is_boundary_vertex(v) && t.vertex_face_count(v) == 2) {
-        return Some(Degeneracy::Indefinite { vertex: v });
-    }
-    catmull_clark_kernel(t).first().map(|c| Degeneracy::Singular { vertex: c[0].0 })
 }
 
 /// A basis of the kernel of Cheng's A that the structure gives: one ±1

@@ -4,12 +4,15 @@
 //! de Boor evaluator of quadratic B-splines written here, and 8 levels of
 //! brute-force refinement — never against the operators' own output.
 
+mod common;
+use common::Mask;
+
 use glam::DVec3;
 use std::sync::OnceLock;
 use subdiv_mesh::refine::{dual_split_tagged, DualFeatures};
 use subdiv_mesh::{shapes, EdgeTag, Mesh, TagList, Tags, Topology, VertexId, VertexTag, SHARPNESS_INFINITE};
 use subdiv_rules::curves;
-use subdiv_stencil::doo_sabin::{self, CornerRule};
+use subdiv_stencil::doo_sabin;
 use subdiv_stencil::{apply, row_sums, StencilError};
 
 // ---------------------------------------------------------------- fixtures
@@ -85,7 +88,7 @@ fn refine_levels(mesh: &Mesh, tags: &Tags, levels: usize) -> Vec<Level> {
         let last = out.last().expect("level 0");
         let (topology, _, tags) = dual_split_tagged(&last.topology, &last.tags);
         let positions =
-            doo_sabin::first_step_tagged(&last.topology, &last.tags, CornerRule::Standard, &last.positions).unwrap();
+            doo_sabin::first_step_tagged(&last.topology, &last.tags, &Mask::Standard, &last.positions).unwrap();
         assert_eq!(positions.len(), topology.vertex_count());
         out.push(Level { topology, tags, positions });
     }
@@ -311,13 +314,13 @@ fn stencil_rows_sum_to_one_and_the_step_is_the_stencil() {
             let (t, x) = (&level.topology, &level.positions);
             let d = bbox_diagonal(x);
             let lambdas: Vec<f64> = (0..t.face_count()).map(|f| 0.3 + 0.4 * (f % 5) as f64 / 5.0).collect();
-            for rule in [CornerRule::Standard, CornerRule::Uniform(0.5), CornerRule::PerFace(&lambdas)] {
-                let r = doo_sabin::refinement_stencil_tagged(t, &level.tags, rule).unwrap();
+            for rule in [Mask::Standard, Mask::Uniform(0.5), Mask::PerFace(&lambdas)] {
+                let r = doo_sabin::refinement_stencil_tagged(t, &level.tags, &rule).unwrap();
                 assert_eq!(r.rows(), dual_split_tagged(t, &level.tags).0.vertex_count(), "{name} L{k}");
                 for (i, s) in row_sums(&r).iter().enumerate() {
                     assert!((s - 1.0).abs() <= 1e-14, "{name} L{k} {rule:?}: row {i} sums to {s:.17}");
                 }
-                let step = doo_sabin::first_step_tagged(t, &level.tags, rule, x).unwrap();
+                let step = doo_sabin::first_step_tagged(t, &level.tags, &rule, x).unwrap();
                 let product = apply(&r, x);
                 let gap = step.iter().zip(&product).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max);
                 assert!(gap <= 1e-15 * d, "{name} L{k} {rule:?}: step vs R·x {gap:e}");
@@ -342,16 +345,16 @@ fn empty_tags_give_the_untagged_operators_bit_for_bit() {
         let (t, x) = (mesh.topology(), mesh.positions());
         let zero = Tags::from_arrays(t, vec![0.0; t.edge_count()], vec![0.0; t.vertex_count()]).unwrap();
         for tags in [Tags::none(), zero] {
-            for rule in [CornerRule::Standard, CornerRule::Uniform(0.5)] {
+            for rule in [Mask::Standard, Mask::Uniform(0.5)] {
                 let (a, b) = (
-                    doo_sabin::refinement_stencil(t, rule).unwrap(),
-                    doo_sabin::refinement_stencil_tagged(t, &tags, rule).unwrap(),
+                    doo_sabin::refinement_stencil(t, &rule).unwrap(),
+                    doo_sabin::refinement_stencil_tagged(t, &tags, &rule).unwrap(),
                 );
                 assert_eq!((a.indptr().raw_storage(), a.indices()), (b.indptr().raw_storage(), b.indices()));
                 assert!(a.data().iter().zip(b.data()).all(|(p, q)| p.to_bits() == q.to_bits()));
                 let (p, q) = (
-                    doo_sabin::first_step(t, rule, x).unwrap(),
-                    doo_sabin::first_step_tagged(t, &tags, rule, x).unwrap(),
+                    doo_sabin::first_step(t, &rule, x).unwrap(),
+                    doo_sabin::first_step_tagged(t, &tags, &rule, x).unwrap(),
                 );
                 assert_eq!(bits(&p), bits(&q));
             }
@@ -360,8 +363,8 @@ fn empty_tags_give_the_untagged_operators_bit_for_bit() {
             let (a, b) = (doo_sabin::limit_stencil(t), doo_sabin::limit_stencil_tagged(t, &tags).unwrap());
             assert_eq!(a.indices(), b.indices());
             assert!(a.data().iter().zip(b.data()).all(|(p, q)| p.to_bits() == q.to_bits()));
-            let (plain, _, _) = doo_sabin::refine(t, CornerRule::Standard).unwrap();
-            let (tagged, _, new_tags, _) = doo_sabin::refine_tagged(t, &tags, CornerRule::Standard).unwrap();
+            let (plain, _, _) = doo_sabin::refine(t, &Mask::Standard).unwrap();
+            let (tagged, _, new_tags, _) = doo_sabin::refine_tagged(t, &tags, &Mask::Standard).unwrap();
             assert_eq!(format!("{plain:?}"), format!("{tagged:?}"));
             assert!(new_tags.is_empty());
         }
@@ -381,11 +384,11 @@ fn semi_sharp_tags_are_a_typed_error() {
     let vertex_tags = Tags::from_arrays(t, vec![], vertices).unwrap();
     for (tags, what) in [(edge_tags, format!("edge {}", e.0)), (vertex_tags, "vertex 7".to_string())] {
         let results = [
-            doo_sabin::refinement_stencil_tagged(t, &tags, CornerRule::Standard).err(),
-            doo_sabin::first_step_tagged(t, &tags, CornerRule::Standard, cube.positions()).err(),
+            doo_sabin::refinement_stencil_tagged(t, &tags, &Mask::Standard).err(),
+            doo_sabin::first_step_tagged(t, &tags, &Mask::Standard, cube.positions()).err(),
             doo_sabin::limit_stencil_tagged(t, &tags).err(),
             doo_sabin::limit_points_tagged(t, &tags, cube.positions()).err(),
-            doo_sabin::refine_tagged(t, &tags, CornerRule::Standard).err(),
+            doo_sabin::refine_tagged(t, &tags, &Mask::Standard).err(),
         ];
         for err in results {
             match err {

@@ -15,10 +15,12 @@ use sharp_cases::{all_cases, constructed_cases, pinched_crop_case, Case};
 use std::collections::{HashMap, HashSet};
 use subdiv_mesh::{shapes, EdgeId, Mesh, Tags, Topology, VertexId};
 use subdiv_rules::crease::is_infinite;
-use subdiv_stencil::doo_sabin::CornerRule;
+use subdiv_stencil::doo_sabin::StandardCorners;
 use subdiv_stencil::limit_matrix::{
     limit_matrix_catmull_clark_sharp, limit_matrix_doo_sabin_sharp, limit_matrix_loop_sharp, RowKind,
 };
+mod common;
+use common::solve_blocks;
 use subdiv_stencil::{
     limit_matrix_catmull_clark, limit_matrix_loop, BoundaryInterpolation, CreaseMethod, LevelSharpness, LimitMatrix,
     LoopBeta, Options, Scheme, SparseMatrix, StencilError, SubdivisionPlan,
@@ -98,7 +100,7 @@ fn check_sharp_rows(c: &Case, a: &LimitMatrix) {
     expected.sort_unstable();
     assert_eq!(a.boundary_rows, expected, "{}: the sharp block", c.name);
     // Block lower-triangular: no sharp row reaches outside; the blocks partition the rows.
-    let blocks = a.solve_blocks();
+    let blocks = solve_blocks(a);
     assert_eq!(blocks.corners.len() + blocks.creases.len() + blocks.interior.len(), a.size());
     let mut sharp_block: Vec<u32> = blocks.corners.iter().chain(&blocks.creases).copied().collect();
     sharp_block.sort_unstable();
@@ -238,7 +240,7 @@ fn row_kinds_follow_the_vertex_rules() {
     assert_eq!((interior_crease, general), (vec![id(2, 2)], vec![id(1, 2), id(3, 2)]));
     let a = c.matrix();
     assert!(!a.boundary_rows.contains(&id(2, 2)), "a crease row next to darts leaves the sharp block");
-    assert!(a.solve_blocks().interior.contains(&id(2, 2)));
+    assert!(solve_blocks(&a).interior.contains(&id(2, 2)));
 }
 
 /// Where the general rows break the symmetry, `asymmetric_rows` says so; the
@@ -247,7 +249,7 @@ fn row_kinds_follow_the_vertex_rules() {
 fn asymmetric_rows_find_the_general_rows() {
     for c in all_cases() {
         let a = c.matrix();
-        let interior = a.solve_blocks().interior;
+        let interior = solve_blocks(&a).interior;
         let asym: HashSet<u32> = a.asymmetric_rows(&interior).into_iter().collect();
         let general: HashSet<u32> = a.rows_of(RowKind::General).into_iter().collect();
         if general.is_empty() && interior.iter().all(|&v| a.row_kinds[v as usize] == RowKind::Smooth) {
@@ -313,12 +315,10 @@ fn doo_sabin_matrices_refuse_semi_sharp_tags_and_loop_refuses_polygons() {
     let cube = shapes::cube();
     let t = cube.topology();
     let semi = sharp_cases::tags(&cube, &[(4, 5, 2.0)], &[]);
-    for rule in [CornerRule::Standard, CornerRule::Uniform(0.5)] {
-        let err = limit_matrix_doo_sabin_sharp(t, rule, &semi).unwrap_err();
-        assert!(matches!(err, StencilError::SemiSharpDooSabin { .. }), "{err}");
-    }
-    let plain = limit_matrix_doo_sabin_sharp(t, CornerRule::Standard, &Tags::none()).unwrap();
-    assert_eq!(plain.s, subdiv_stencil::limit_matrix_nasri(t).s);
+    let err = limit_matrix_doo_sabin_sharp(t, &StandardCorners, &semi).unwrap_err();
+    assert!(matches!(err, StencilError::SemiSharpDooSabin { .. }), "{err}");
+    let plain = limit_matrix_doo_sabin_sharp(t, &StandardCorners, &Tags::none()).unwrap();
+    assert_eq!(plain.s, subdiv_stencil::limit_matrix_doo_sabin(t).s);
     let tags = sharp_cases::tags(&cube, &[(4, 5, 10.0)], &[]);
     let sharp = LevelSharpness::new(&tags, BoundaryInterpolation::EdgeAndCorner, CreaseMethod::Uniform);
     let err = limit_matrix_loop_sharp(t, &sharp, LoopBeta::Loop).unwrap_err();
@@ -394,7 +394,7 @@ fn spectra_of_the_blocks_with_creases() {
     const EPS: f64 = 1e-12;
     for c in all_cases().into_iter().filter(|c| c.mesh.topology().vertex_count() <= 300) {
         let a = c.matrix();
-        let blocks = a.solve_blocks();
+        let blocks = solve_blocks(&a);
         let mut line = format!("{}:", c.name);
         if !blocks.creases.is_empty() {
             let ev = block_eigenvalues(&a, &blocks.creases);
@@ -428,7 +428,7 @@ fn spectra_of_the_blocks_with_creases() {
     for (name, m) in [("tetrahedron (CC), 3-vertex crease loop", 3), ("torus 6×4, ring s=10", 4)] {
         let c = constructed_cases().into_iter().find(|c| c.name == name).unwrap();
         let a = c.matrix();
-        let ev = block_eigenvalues(&a, &a.solve_blocks().creases);
+        let ev = block_eigenvalues(&a, &solve_blocks(&a).creases);
         let mut expected: Vec<f64> =
             (0..m).map(|k| (4.0 + 2.0 * (std::f64::consts::TAU * k as f64 / m as f64).cos()) / 6.0).collect();
         expected.sort_by(f64::total_cmp);

@@ -7,7 +7,7 @@
 use glam::DVec3;
 use subdiv_mesh::refine::{dual_split, quad_split, triangle_split};
 use subdiv_mesh::{shapes, Mesh, PowerOfTwoScale, Topology};
-use subdiv_stencil::doo_sabin::{self, CornerRule};
+use subdiv_stencil::doo_sabin::{self, StandardCorners};
 use subdiv_stencil::{apply, catmull_clark, deng_ma, loop_subdivision, sqrt3, subdivide, LevelSharpness};
 use subdiv_stencil::{LoopBeta, Scheme, StencilError, SubdivisionPlan, Tension};
 
@@ -53,7 +53,7 @@ fn raw_subdivide(mesh: &Mesh, scheme: Scheme, levels: usize) -> Vec<DVec3> {
     let mut x = mesh.positions().to_vec();
     for _ in 0..levels {
         let (next_t, next_x) = match scheme {
-            Scheme::DooSabin => (dual_split(&t).0, doo_sabin::first_step(&t, CornerRule::Standard, &x).unwrap()),
+            Scheme::DooSabin => (dual_split(&t).0, doo_sabin::first_step(&t, &StandardCorners, &x).unwrap()),
             Scheme::CatmullClark => (quad_split(&t), catmull_clark::step_points(&t, &x)),
             Scheme::Loop(beta) => (triangle_split(&t).unwrap(), loop_subdivision::step_points(&t, beta, &x).unwrap()),
             Scheme::DengMa(tension) => (quad_split(&t), deng_ma::step_positions(&t, &x, tension).unwrap()),

@@ -3,13 +3,14 @@
 //! curve schemes, brute-force subdivision), never against our own output.
 
 mod common;
+use common::Mask;
 
 use glam::DVec3;
 use subdiv_mesh::refine::{DualFace, DualVertex};
 use subdiv_mesh::shapes::{self, SplitMix64};
 use subdiv_mesh::{Mesh, Topology, VertexId};
 use subdiv_rules::curves;
-use subdiv_stencil::doo_sabin::{self, CornerRule};
+use subdiv_stencil::doo_sabin;
 use subdiv_stencil::{apply, catmull_clark, deng_ma, loop_subdivision, row_sums};
 use subdiv_stencil::{LoopBeta, Scheme, SparseMatrix, SubdivisionPlan, Tension};
 
@@ -137,8 +138,8 @@ fn every_stencil_row_sums_to_one() {
         }
         let mut rng = SplitMix64(7);
         let lambdas: Vec<f64> = (0..t.face_count()).map(|_| 0.05 + 0.9 * rng.next_f64()).collect();
-        for rule in [CornerRule::Uniform(0.5), CornerRule::Uniform(0.85), CornerRule::PerFace(&lambdas)] {
-            assert_affine(name, &format!("doo-sabin {rule:?}"), &doo_sabin::refinement_stencil(t, rule).unwrap());
+        for rule in [Mask::Uniform(0.5), Mask::Uniform(0.85), Mask::PerFace(&lambdas)] {
+            assert_affine(name, &format!("doo-sabin {rule:?}"), &doo_sabin::refinement_stencil(t, &rule).unwrap());
         }
     }
     assert!(count > 100);
@@ -173,16 +174,16 @@ fn doo_sabin_first_step_equals_the_stencil_product() {
         let d = mesh.bbox_diagonal();
         let mut rng = SplitMix64(3);
         let lambdas: Vec<f64> = (0..t.face_count()).map(|_| 0.05 + 0.9 * rng.next_f64()).collect();
-        for rule in [CornerRule::Standard, CornerRule::Uniform(0.5), CornerRule::PerFace(&lambdas)] {
-            let direct = doo_sabin::first_step(t, rule, x).unwrap();
-            let product = apply(&doo_sabin::refinement_stencil(t, rule).unwrap(), x);
+        for rule in [Mask::Standard, Mask::Uniform(0.5), Mask::PerFace(&lambdas)] {
+            let direct = doo_sabin::first_step(t, &rule, x).unwrap();
+            let product = apply(&doo_sabin::refinement_stencil(t, &rule).unwrap(), x);
             assert_eq!(direct.len(), product.len(), "{name}, {rule:?}");
             let gap = max_dist(&direct, &product);
             assert!(gap <= 1e-15 * d, "{name}, {rule:?}: {gap:e}");
         }
     }
     let cube = shapes::cube();
-    assert!(doo_sabin::first_step(cube.topology(), CornerRule::PerFace(&[2.0]), cube.positions()).is_err());
+    assert!(doo_sabin::first_step(cube.topology(), &Mask::PerFace(&[2.0]), cube.positions()).is_err());
 }
 
 /// The limit points evaluated row by row (what surfaces and error reports

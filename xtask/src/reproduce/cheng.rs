@@ -198,7 +198,7 @@ fn solve_all(
     let (name, mesh) = (&model.name, &model.mesh);
     let n = mesh.topology().vertex_count();
     let a = if two_phase {
-        subdiv_stencil::limit_matrix_two_phase(mesh.topology(), subdiv_stencil::doo_sabin::CornerRule::Uniform(0.5))?
+        subdiv_interp::limit_matrix_two_phase(mesh.topology(), subdiv_interp::CornerRule::Uniform(0.5))?
     } else {
         limit_matrix_catmull_clark(mesh.topology())
     };
@@ -312,8 +312,9 @@ fn valence_2_note(table: &mut Table, models: &[Model], runs: &BTreeMap<(String, 
 /// fixtures, the two-phase B(½) on both): the spectra are size-independent,
 /// so these counts are too.
 fn matrix_products(ctx: &Ctx, table: &mut Table) -> Result<()> {
+    use subdiv_interp::{limit_matrix_two_phase, CornerRule};
     use subdiv_solve::SolveOptions;
-    use subdiv_stencil::{doo_sabin::CornerRule, limit_matrix_loop, limit_matrix_two_phase, LimitMatrix, LoopBeta};
+    use subdiv_stencil::{limit_matrix_loop, LimitMatrix, LoopBeta};
     let files: &[&str] = if ctx.quick {
         &["quad/spot_control_mesh.obj", "tri/eight.off"]
     } else {

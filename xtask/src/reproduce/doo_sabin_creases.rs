@@ -6,7 +6,7 @@
 use crate::render::{side_by_side, stack, Camera, Canvas, Image, Style, Up, View};
 use anyhow::Result;
 use subdiv_mesh::{DVec3, EdgeTag, Mesh, TagList, Tags, SHARPNESS_INFINITE};
-use subdiv_stencil::doo_sabin::{self, CornerRule};
+use subdiv_stencil::doo_sabin::{self, StandardCorners};
 
 const PANEL: u32 = 400;
 /// The sharp polygon: a strong orange.
@@ -28,7 +28,7 @@ fn creases(mesh: &Mesh, pairs: &[(u32, u32)]) -> Result<Tags> {
 fn refine(mesh: &Mesh, tags: &Tags) -> Result<(Mesh, Tags)> {
     let (mut t, mut tags, mut x) = (mesh.topology().clone(), tags.clone(), mesh.positions().to_vec());
     for _ in 0..LEVELS {
-        let next = doo_sabin::first_step_tagged(&t, &tags, CornerRule::Standard, &x)?;
+        let next = doo_sabin::first_step_tagged(&t, &tags, &StandardCorners, &x)?;
         let (t2, _, tags2) = subdiv_mesh::refine::dual_split_tagged(&t, &tags);
         (t, tags, x) = (t2, tags2, next);
     }

@@ -46,6 +46,20 @@ pub fn fixture(rel: &str) -> Mesh {
     load(&fixtures().join(rel))
 }
 
+/// A fixture by file stem: `fixtures/<dir>/<stem>.{obj,off}` for the
+/// collection's subfolders, in lookup order (panics if missing).
+pub fn fixture_named(stem: &str) -> Mesh {
+    for dir in ["canonical", "quad", "tri", "poly", "open"] {
+        for ext in ["obj", "off"] {
+            let p = fixtures().join(dir).join(format!("{stem}.{ext}"));
+            if p.is_file() {
+                return load(&p);
+            }
+        }
+    }
+    panic!("fixture {stem} not found")
+}
+
 /// Every limit point the plain scheme exposes on `control`.
 pub fn candidate_limit_points(control: &Mesh, plain: Scheme) -> Vec<DVec3> {
     subdiv_interp::verify::candidate_limit_points(control, plain).expect("plain scheme applies")

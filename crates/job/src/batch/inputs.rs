@@ -35,8 +35,8 @@ pub fn expand_inputs(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, BatchError> {
     for input in inputs {
         let before = files.len();
         if input.is_dir() {
-            let listing = std::fs::read_dir(input).map_err(|source| BatchError::Io { path: input.clone(), source })?;
-            let mut entries: Vec<PathBuf> = listing.filter_map(|e| e.ok().map(|e| e.path())).collect();
+            let mut entries =
+                subdiv_io::fs::list_dir(input).map_err(|source| BatchError::Io { path: input.clone(), source })?;
             let subdirectories = entries.iter().any(|p| p.is_dir());
             entries.retain(|p| is_mesh_file(p));
             if entries.is_empty() {
@@ -69,7 +69,7 @@ pub fn expand_inputs(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, BatchError> {
 
 /// The file's canonical path when it resolves, else the path as given.
 fn identity(path: &Path) -> PathBuf {
-    std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
+    subdiv_io::fs::canonical(path).unwrap_or_else(|| path.to_path_buf())
 }
 
 /// The name of an input's outputs: its file stem, made safe for a file name

@@ -26,12 +26,13 @@
 use glam::DVec3;
 use nalgebra::{DMatrix, SymmetricEigen};
 use std::collections::{BTreeSet, HashMap};
+use subdiv_interp::{limit_matrix_nasri, limit_matrix_two_phase, limit_matrix_zheng_cai, solve_blocks, CornerRule};
 use subdiv_mesh::refine::{dual_split_tagged, DualFace, SharpPoint};
 use subdiv_mesh::{shapes, EdgeId, EdgeTag, FaceId, Mesh, TagList, Tags, Topology, VertexId, VertexTag};
-use subdiv_stencil::doo_sabin::{self, CornerRule};
+use subdiv_stencil::doo_sabin;
 use subdiv_stencil::{
-    doo_sabin_limit_sites, limit_matrix_doo_sabin_sharp, limit_matrix_nasri, limit_matrix_two_phase,
-    limit_matrix_zheng_cai, subdivide, DualLimitSite, LimitMatrix, RowKind, Scheme, StencilError,
+    doo_sabin_limit_sites, limit_matrix_doo_sabin_sharp, subdivide, DualLimitSite, LimitMatrix, RowKind, Scheme,
+    StencilError,
 };
 
 // ---------------------------------------------------------------- fixtures
@@ -281,7 +282,7 @@ fn read_off_refined(
     x: &[DVec3],
 ) -> (Vec<DVec3>, Vec<Option<DualLimitSite>>) {
     let (t1, prov, tags1) = dual_split_tagged(t, tags);
-    let x1 = doo_sabin::first_step_tagged(t, tags, rule, x).unwrap();
+    let x1 = doo_sabin::first_step_tagged(t, tags, &rule, x).unwrap();
     let s = sharpness(t, tags);
     let nh = t.half_edge_count() as u32;
     let mut v_faces: Vec<Vec<FaceId>> = vec![Vec::new(); t.vertex_count()];
@@ -322,7 +323,7 @@ fn read_off_refined(
             let (a, b) = (fan[0].0, fan[1].0);
             let (t2, prov2, x2) = second.get_or_insert_with(|| {
                 let (t2, prov2, _) = dual_split_tagged(&t1, &tags1);
-                let x2 = doo_sabin::first_step_tagged(&t1, &tags1, CornerRule::Standard, &x1).unwrap();
+                let x2 = doo_sabin::first_step_tagged(&t1, &tags1, &CornerRule::Standard, &x1).unwrap();
                 (t2, prov2, x2)
             });
             let e = edge_between(&t1, a, b);
@@ -366,7 +367,7 @@ fn rows_are_the_limit_points_read_off_the_first_refined_mesh() {
         let (t1, prov, _) = dual_split_tagged(t, &c.tags);
         let sites = doo_sabin_limit_sites(t, &c.tags, &prov).unwrap();
         for (m, rule) in rules(&l) {
-            let a = limit_matrix_doo_sabin_sharp(t, rule, &c.tags).unwrap();
+            let a = limit_matrix_doo_sabin_sharp(t, &rule, &c.tags).unwrap();
             for (i, row) in a.to_csr().outer_iterator().enumerate() {
                 let sum: f64 = row.data().iter().sum();
                 assert!((sum - 1.0).abs() < 1e-14, "{m} on {}: row {i} sums to {sum}", c.name);
@@ -385,7 +386,7 @@ fn rows_are_the_limit_points_read_off_the_first_refined_mesh() {
                     assert!(gap <= 1e-14 * d, "{m} on {}: vertex {v} is {gap:e} off M¹'s limit", c.name);
                     assert_eq!(Some(unordered(sites[v])), found[v], "{m} on {}: site of {v}", c.name);
                 }
-                let x1 = doo_sabin::first_step_tagged(t, &c.tags, rule, &x).unwrap();
+                let x1 = doo_sabin::first_step_tagged(t, &c.tags, &rule, &x).unwrap();
                 let at_sites: Vec<DVec3> = sites.iter().map(|s| s.point(&t1, &x1).unwrap_or(DVec3::NAN)).collect();
                 let gap = max_gap(&read, &at_sites);
                 assert!(gap <= 1e-14 * d, "{m} on {}: sites' points {gap:e} off", c.name);
@@ -419,8 +420,8 @@ fn row_kinds_and_rows_follow_the_tags() {
         let l = lambdas(t);
         let s = sharpness(t, &c.tags);
         for (m, rule) in rules(&l) {
-            let a = limit_matrix_doo_sabin_sharp(t, rule, &c.tags).unwrap();
-            let plain = limit_matrix_doo_sabin_sharp(t, rule, &Tags::none()).unwrap();
+            let a = limit_matrix_doo_sabin_sharp(t, &rule, &c.tags).unwrap();
+            let plain = limit_matrix_doo_sabin_sharp(t, &rule, &Tags::none()).unwrap();
             let mut count = HashMap::new();
             for v in t.vertices() {
                 let i = v.index();
@@ -495,8 +496,8 @@ fn blocks_are_triangular_and_symmetric_where_promised() {
         let expected_creases: Vec<u32> =
             (0..t.vertex_count() as u32).filter(|&v| is_crease(v) && !reaches_dart[piece[v as usize]]).collect();
         for (m, rule) in rules(&l) {
-            let a = limit_matrix_doo_sabin_sharp(t, rule, &c.tags).unwrap();
-            let blocks = a.solve_blocks();
+            let a = limit_matrix_doo_sabin_sharp(t, &rule, &c.tags).unwrap();
+            let blocks = solve_blocks(&a);
             assert_eq!(blocks.corners, a.rows_of(RowKind::Corner), "{m} on {}", c.name);
             assert_eq!(blocks.creases, expected_creases, "{m} on {}: the crease block", c.name);
             let mut sharp_block: Vec<u32> = blocks.corners.iter().chain(&blocks.creases).copied().collect();
@@ -605,8 +606,8 @@ fn block_spectra() {
         let l = lambdas(t);
         let lmin = l.iter().copied().fold(1.0, f64::min);
         for (m, rule) in rules(&l) {
-            let a = limit_matrix_doo_sabin_sharp(t, rule, &c.tags).unwrap();
-            let blocks = a.solve_blocks();
+            let a = limit_matrix_doo_sabin_sharp(t, &rule, &c.tags).unwrap();
+            let blocks = solve_blocks(&a);
             for (piece, closed) in crease_pieces(&a, &blocks.creases) {
                 let n = piece.len();
                 let mut expected: Vec<f64> = (0..n)
@@ -708,7 +709,7 @@ fn untagged_and_zero_tags_give_the_untagged_matrices_bit_for_bit() {
             ("B(λ)", CornerRule::PerFace(&l), limit_matrix_two_phase(t, CornerRule::PerFace(&l)).unwrap()),
         ] {
             for tags in [Tags::none(), zero.clone()] {
-                let a = limit_matrix_doo_sabin_sharp(t, rule, &tags).unwrap();
+                let a = limit_matrix_doo_sabin_sharp(t, &rule, &tags).unwrap();
                 assert!(same(&a, &plain), "{m}: tags {:?}", tags.edge_values().len());
             }
         }
@@ -741,7 +742,7 @@ fn semi_sharp_tags_and_bad_lambdas_are_typed_errors() {
     let l = lambdas(t);
     for tags in [&semi_edge, &semi_vertex] {
         for (m, rule) in rules(&l) {
-            let err = limit_matrix_doo_sabin_sharp(t, rule, tags).unwrap_err();
+            let err = limit_matrix_doo_sabin_sharp(t, &rule, tags).unwrap_err();
             assert!(matches!(err, StencilError::SemiSharpDooSabin { .. }), "{m}: {err}");
         }
         let (_, prov, _) = dual_split_tagged(t, tags);
@@ -749,7 +750,7 @@ fn semi_sharp_tags_and_bad_lambdas_are_typed_errors() {
     }
     let sharp = tags(t, &CUBE_TOP, &[]);
     for bad in [CornerRule::Uniform(1.0), CornerRule::PerFace(&l[..3])] {
-        let err = limit_matrix_doo_sabin_sharp(t, bad, &sharp).unwrap_err();
+        let err = limit_matrix_doo_sabin_sharp(t, &bad, &sharp).unwrap_err();
         assert!(matches!(err, StencilError::InvalidParameter(_)), "{err}");
     }
 }
@@ -799,8 +800,8 @@ fn brute_force_limits_of_all_rules() {
             })
             .collect();
         for (m, rule) in rules(&l) {
-            let predicted = limit_matrix_doo_sabin_sharp(t, rule, &c.tags).unwrap().apply(&x);
-            let x1 = doo_sabin::first_step_tagged(t, &c.tags, rule, &x).unwrap();
+            let predicted = limit_matrix_doo_sabin_sharp(t, &rule, &c.tags).unwrap().apply(&x);
+            let x1 = doo_sabin::first_step_tagged(t, &c.tags, &rule, &x).unwrap();
             let mut mesh = Mesh::from_topology(t1.clone(), x1).with_tags(tags1.clone());
             let mut gaps: Vec<Vec<f64>> = vec![Vec::new(); t.vertex_count()];
             // The ends of each crease vertex's sharp segment on the last level.
@@ -948,7 +949,7 @@ fn spectra_of_random_tagged_meshes() {
         let l: Vec<f64> = (0..t.face_count()).map(|_| 0.05 + 0.9 * rng.next_f64()).collect();
         let lmin = l.iter().copied().fold(1.0, f64::min);
         for (k, (m, rule)) in rules(&l).into_iter().enumerate() {
-            let a = limit_matrix_doo_sabin_sharp(t, rule, &tags).unwrap();
+            let a = limit_matrix_doo_sabin_sharp(t, &rule, &tags).unwrap();
             if seed % 8 == 0 {
                 // The rows, again: the limit points read off M¹.
                 let x = random_points(&mesh, seed);
@@ -956,7 +957,7 @@ fn spectra_of_random_tagged_meshes() {
                 let gap = max_gap(&read, &a.apply(&x));
                 assert!(gap <= 1e-14 * mesh.bbox_diagonal(), "{m}, seed {seed}: rows {gap:e} off M¹'s limits");
             }
-            let blocks = a.solve_blocks();
+            let blocks = solve_blocks(&a);
             for (piece, _) in crease_pieces(&a, &blocks.creases) {
                 let ev = symmetric_block_eigenvalues(&a, &piece);
                 assert!(ev[0] >= 0.5 - EPS && ev[ev.len() - 1] <= 1.0 + EPS, "{m}, seed {seed}: piece {ev:?}");
@@ -1003,7 +1004,7 @@ fn results_do_not_depend_on_the_thread_count() {
         let (_, prov, _) = dual_split_tagged(t, &tags);
         let sites = doo_sabin_limit_sites(t, &tags, &prov).unwrap();
         let matrices: Vec<LimitMatrix> =
-            rules(&l).iter().map(|&(_, rule)| limit_matrix_doo_sabin_sharp(t, rule, &tags).unwrap()).collect();
+            rules(&l).iter().map(|&(_, rule)| limit_matrix_doo_sabin_sharp(t, &rule, &tags).unwrap()).collect();
         (sites, matrices)
     };
     let (sites, many) = build();

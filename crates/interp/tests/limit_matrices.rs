@@ -4,17 +4,20 @@
 //!
 //! [limit matrices]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-limit-matrices-and-the-stopping-rule
 
-mod common;
-use common::fixture;
+mod support;
 use glam::DVec3;
 use nalgebra::{DMatrix, SymmetricEigen};
+use subdiv_interp::{
+    catmull_clark_degeneracy, limit_matrix_nasri, limit_matrix_two_phase, limit_matrix_zheng_cai, CornerRule,
+    Degeneracy,
+};
 use subdiv_mesh::refine::DualFace;
 use subdiv_mesh::{shapes, Mesh, Topology};
-use subdiv_stencil::doo_sabin::{self, CornerRule};
+use subdiv_stencil::doo_sabin;
 use subdiv_stencil::{
-    apply, catmull_clark_degeneracy, limit_matrix_catmull_clark, limit_matrix_loop, limit_matrix_nasri,
-    limit_matrix_two_phase, limit_matrix_zheng_cai, Degeneracy, LimitMatrix, LoopBeta, Scheme, SubdivisionPlan,
+    apply, limit_matrix_catmull_clark, limit_matrix_loop, LimitMatrix, LoopBeta, Scheme, SubdivisionPlan,
 };
+use support::fixture_named as fixture;
 
 fn closed_polygon_meshes() -> Vec<(&'static str, Mesh)> {
     vec![
@@ -351,7 +354,7 @@ fn brute_force_doo_sabin_limits() {
         ] {
             let predicted = a.apply(mesh.positions());
             // First step with the method's rule, then standard Doo-Sabin.
-            let (t1, prov, r1) = doo_sabin::refine(t, rule).unwrap();
+            let (t1, prov, r1) = doo_sabin::refine(t, &rule).unwrap();
             let p1 = apply(&r1, mesh.positions());
             let plan = SubdivisionPlan::new(&t1, Scheme::DooSabin, 7).unwrap();
             let interior: Vec<usize> = t.vertices().filter(|&v| !t.is_boundary_vertex(v)).map(|v| v.index()).collect();
@@ -568,7 +571,7 @@ fn row_kinds_of_the_untagged_matrices() {
             assert_eq!(a.boundary_rows, sharp, "{m} on {name}");
             let general: std::collections::HashSet<usize> =
                 a.rows_of(RowKind::General).into_iter().map(|v| v as usize).collect();
-            for v in a.asymmetric_rows(&a.solve_blocks().interior) {
+            for v in a.asymmetric_rows(&subdiv_interp::solve_blocks(&a).interior) {
                 let row = a.s.outer_view(v as usize).unwrap();
                 let near =
                     general.contains(&(v as usize)) || row.indices().iter().any(|&j| general.contains(&(j as usize)));
