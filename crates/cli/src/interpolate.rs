@@ -33,10 +33,10 @@ pub struct InterpolateArgs {
 /// Runs `subdiv interpolate`.
 pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
     let options = InterpolateOptions::from_json(&args.flags.to_json())?;
-    let mut paths = InterpolateOutputs::default();
-    paths.control.clone_from(&args.output);
-    paths.surface.clone_from(&args.surface);
-    paths.report.clone_from(&args.report);
+    let paths = InterpolateOutputs::default()
+        .with_control(args.output.clone())
+        .with_surface(args.surface.clone())
+        .with_report(args.report.clone());
     let done = run::interpolate(&args.mesh, &options, &paths, &mut progress::Terminal::default())?;
     let (error, report) = (&done.error, &done.report);
     progress::summary(format!(

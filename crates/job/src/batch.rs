@@ -233,7 +233,7 @@ pub struct Record {
     /// The files written (none on error).
     pub outputs: Vec<String>,
     /// The report: `info`: the [`crate::info::Summary`]; `interpolate`: the
-    /// [`crate::Report`] (`--report`'s JSON); `subdivide`: scheme, levels,
+    /// [`subdiv_interp::Report`] (`--report`'s JSON); `subdivide`: scheme, levels,
     /// limit, input and output counts. `null` on error, except `info` of an
     /// invalid mesh, which has both.
     pub report: Option<serde_json::Value>,

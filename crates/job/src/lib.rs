@@ -27,7 +27,7 @@
 //! subdiv_io::write_mesh(&input, &subdiv_mesh::shapes::torus(8, 6), &Default::default())?;
 //! let json = serde_json::json!({"method": "cheng", "tol": 1e-9});
 //! let Command::Interpolate(options) = Command::from_json("interpolate", &json)? else { unreachable!() };
-//! let outputs = run::InterpolateOutputs { control: Some(dir.join("control.obj")), ..Default::default() };
+//! let outputs = run::InterpolateOutputs::default().with_control(Some(dir.join("control.obj")));
 //! let done = run::interpolate(&input, &options, &outputs, &mut Silent)?;
 //! assert!(done.error.max_rel <= 1e-9 && done.outputs.len() == 1);
 //! std::fs::remove_dir_all(&dir)?;

@@ -43,6 +43,23 @@ pub struct InterpolateOutputs {
     pub report: Option<PathBuf>,
 }
 
+impl InterpolateOutputs {
+    /// With the control mesh written to `path` (`None`: not written).
+    pub fn with_control(self, path: Option<PathBuf>) -> Self {
+        Self { control: path, ..self }
+    }
+
+    /// With the surface written to `path`.
+    pub fn with_surface(self, path: Option<PathBuf>) -> Self {
+        Self { surface: path, ..self }
+    }
+
+    /// With the report written to `path`.
+    pub fn with_report(self, path: Option<PathBuf>) -> Self {
+        Self { report: path, ..self }
+    }
+}
+
 /// What [`interpolate`] did.
 #[derive(Debug)]
 #[non_exhaustive]

@@ -273,7 +273,8 @@ Args:
         fair: ``refine`` (K, the control mesh is the input refined K times; default 1),
         ``fairness_weight`` (w > 0: minimise misfit² + w·energy, the result approximates;
         default: exact interpolation), ``scheme`` (``"catmull-clark"``, ``"loop"`` with
-        ``beta``, ``"doo-sabin"``).
+        ``beta``, ``"doo-sabin"``); cheng: ``scheme`` (``"catmull-clark"`` default, ``"loop"``
+        with ``beta``, ``"sqrt3"``: the control mesh of that scheme's limit surface).
 
 Returns:
     An :class:`Interpolation`: ``.control`` (:class:`Mesh`), ``.report`` (the command line's
