@@ -67,7 +67,7 @@ use subdiv_mesh::refine::{sqrt3_split, Sqrt3Provenance, Sqrt3Vertex};
 use subdiv_mesh::{EdgeId, MeshError, Topology, VertexId};
 use subdiv_rules::crease::SHARPNESS_INFINITE;
 use subdiv_rules::sqrt3::{limit_mask, trisection_mask, vertex_point_mask, FACE_POINT};
-use subdiv_rules::VertexKind;
+use subdiv_rules::{VertexKind, VertexMask};
 
 const NAME: &str = "sqrt3";
 
@@ -144,17 +144,7 @@ fn refinement_row(t: &Topology, sharp: &LevelSharpness, p: &Sqrt3Provenance, i: 
             }
             let kind = kind(t, sharp, v);
             // Kobbelt §3: (1 − αₙ)p + αₙ/n Σpᵢ; §4: boundary (4p₋ + 19p + 4p₊)/27 in an even step, else p.
-            let mask = vertex_point_mask(kind, t.valence(v), p.trisects);
-            rows.add(v.0, mask.vertex);
-            match kind {
-                VertexKind::Interior => t.vertex_neighbors(v).for_each(|n| rows.add(n.0, mask.interior_neighbor)),
-                VertexKind::Boundary => {
-                    let (prev, next) = t.boundary_neighbors(v).expect("a boundary vertex");
-                    rows.add(prev.0, mask.boundary_neighbor);
-                    rows.add(next.0, mask.boundary_neighbor);
-                }
-                VertexKind::Corner => {}
-            }
+            add_vertex_mask(t, v, kind, &vertex_point_mask(kind, t.valence(v), p.trisects), rows);
         }
         Sqrt3Vertex::Centroid(f) => {
             for &c in t.face(f) {
@@ -184,7 +174,13 @@ fn limit_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, rows: &mut RowBu
         return;
     }
     let kind = kind(t, sharp, v);
-    let mask = limit_mask(kind, t.valence(v)); // p∞ = (1 − βₙ)p + βₙ/n Σpᵢ; boundary (p₋ + 4p + p₊)/6; corner p
+    // p∞ = (1 − βₙ)p + βₙ/n Σpᵢ; boundary (p₋ + 4p + p₊)/6; corner p
+    add_vertex_mask(t, v, kind, &limit_mask(kind, t.valence(v)), rows);
+}
+
+/// `mask` at vertex `v` of kind `kind`: its own weight, then the interior neighbours' (all of
+/// them) or the boundary neighbours' (the two along the boundary); a corner has its own only.
+fn add_vertex_mask(t: &Topology, v: VertexId, kind: VertexKind, mask: &VertexMask, rows: &mut RowBuilder) {
     rows.add(v.0, mask.vertex);
     match kind {
         VertexKind::Interior => t.vertex_neighbors(v).for_each(|n| rows.add(n.0, mask.interior_neighbor)),

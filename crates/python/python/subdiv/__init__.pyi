@@ -165,7 +165,7 @@ def interpolate(
     Methods:
         nasri: Nasri 1987: Doo-Sabin, the global system C·M⁰ = P
         zheng-cai: Zheng & Cai 2005: Doo-Sabin, a few Gauss-Seidel sweeps + exact perturbation of M¹
-        cheng: Cheng et al.: Catmull-Clark, A·M̂ = P
+        cheng: Cheng et al.: Catmull-Clark (or Loop, √3), A·M̂ = P
         fan-cheng-lai: Fan, Cheng & Lai: two-phase Doo-Sabin with per-face shape λ
         deng-wang: Deng & Wang 2010: Loop, explicit modified first step
         deng-ma: Deng & Ma 2011: interpolatory scheme derived from Doo-Sabin (no control mesh)
