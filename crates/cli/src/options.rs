@@ -35,6 +35,12 @@ pub struct SurfaceFlags {
     /// linear-boundaries, linear-corners-plus2, linear-corners-plus1, linear-corners-only, linear-none.
     #[arg(long)]
     pub fvar: Option<String>,
+    /// Catmull-Clark's rule for triangles: catmark (default) or smooth (OpenSubdiv's
+    /// TRI_SUB_SMOOTH: rounder over triangles). A mesh file's own option tags (`t
+    /// interpolateboundary`, `t creasemethod`, `t facevaryinginterpolateboundary`, `t
+    /// smoothtriangles`) apply where these options are not given.
+    #[arg(long)]
+    pub triangle_rule: Option<String>,
     /// Crease and corner tags besides the file's own: JSON {"creases": [[v0, v1, s], …],
     /// "corners": [[v, s], …]}, 0-based vertices, sharpness 0 smooth … ≥ 10 infinitely sharp.
     #[arg(long)]
@@ -47,7 +53,7 @@ pub struct SurfaceFlags {
     /// of the memory available). Larger results are refused with exit 2.
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
     pub max_memory: Option<u64>,
-    /// Loop's β: warren (default) or loop (Loop's original, OpenSubdiv's).
+    /// Loop's β: loop (default: Loop's original, OpenSubdiv's) or warren.
     #[arg(long)]
     pub beta: Option<String>,
 }
@@ -56,6 +62,7 @@ impl SurfaceFlags {
     pub fn put(&self, map: &mut Map<String, Value>) {
         put_given!(map,
             "boundary" => &self.boundary, "crease_method" => &self.crease_method, "fvar" => &self.fvar,
+            "triangle_rule" => &self.triangle_rule,
             "tags" => &self.tags, "feature_angle" => self.feature_angle, "max_memory" => self.max_memory,
             "beta" => &self.beta);
     }

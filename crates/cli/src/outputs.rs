@@ -24,7 +24,8 @@ impl Outputs {
         Ok(self.0.other(flag, path)?)
     }
 
-    /// Checks and stages a mesh output (with vertex normals when `normals`).
+    /// Checks and stages a control mesh output (with vertex normals when `normals`; hole faces
+    /// kept).
     pub fn stage_mesh(
         &mut self,
         flag: &str,
@@ -32,7 +33,7 @@ impl Outputs {
         mesh: &subdiv_mesh::Mesh,
         normals: bool,
     ) -> Result<(), Failure> {
-        Ok(self.0.stage_mesh(flag, path, mesh, normals, &mut crate::progress::Terminal::default())?)
+        Ok(self.0.stage_mesh(flag, path, mesh, normals, false, &mut crate::progress::Terminal::default())?)
     }
 
     /// Adds a staged output (one of the planned paths).

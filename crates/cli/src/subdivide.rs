@@ -7,7 +7,7 @@ use crate::options::{named, SubdivideFlags};
 use crate::progress;
 use std::path::PathBuf;
 use subdiv::job::{Command, SubdivideOptions};
-use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, Options, Scheme};
+use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, Options, Scheme, TriangleRule};
 
 /// OpenSubdiv's surface options on the command line of the evaluation commands.
 #[derive(clap::Args, Debug)]
@@ -26,12 +26,19 @@ pub struct SurfaceArgs {
     /// linear-none (smooth everywhere, seams as boundaries).
     #[arg(long, default_value = "linear-all", value_parser = named::<FVarInterpolation>)]
     pub fvar: FVarInterpolation,
+    /// Catmull-Clark's rule for triangles: catmark, or smooth (OpenSubdiv's TRI_SUB_SMOOTH).
+    #[arg(long, default_value = "catmark", value_parser = named::<TriangleRule>)]
+    pub triangle_rule: TriangleRule,
 }
 
 impl SurfaceArgs {
     /// The options for `scheme`.
     pub fn options(&self, scheme: Scheme) -> Options {
-        Options::new(scheme).with_boundary(self.boundary).with_crease_method(self.crease_method).with_fvar(self.fvar)
+        Options::new(scheme)
+            .with_boundary(self.boundary)
+            .with_crease_method(self.crease_method)
+            .with_fvar(self.fvar)
+            .with_triangle_rule(self.triangle_rule)
     }
 }
 

@@ -33,7 +33,7 @@ fn fair_writes_control_meshes_whose_error_checks_out_independently() {
     for (input, extra, plain, vertices_per) in [
         ("quad/spot_control_mesh.obj", vec![], Scheme::CatmullClark, "V+E+F"),
         ("open/halftunnel.off", vec!["--refine", "2"], Scheme::CatmullClark, ""),
-        ("tri/eight.off", vec!["--scheme", "loop"], Scheme::Loop(LoopBeta::Warren), "V+E"),
+        ("tri/eight.off", vec!["--scheme", "loop"], Scheme::Loop(LoopBeta::Loop), "V+E"),
         ("poly/P.off", vec!["--scheme", "doo-sabin"], Scheme::DooSabin, "H"),
         ("poly/mpi.off", vec!["--refine", "0"], Scheme::CatmullClark, "V"),
     ] {

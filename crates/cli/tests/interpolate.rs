@@ -39,7 +39,7 @@ fn every_method_writes_outputs_whose_error_checks_out_independently() {
         ("cheng", "quad/spot_control_mesh.obj", Scheme::CatmullClark, 1e-6),
         ("cheng", "open/halftunnel.off", Scheme::CatmullClark, 1e-6),
         ("fan-cheng-lai", "poly/P.off", Scheme::DooSabin, 1e-6),
-        ("deng-wang", "tri/eight.off", Scheme::Loop(LoopBeta::Warren), 1e-12),
+        ("deng-wang", "tri/eight.off", Scheme::Loop(LoopBeta::Loop), 1e-12),
         ("deng-ma", "canonical/cube_quad.obj", Scheme::DengMa(Default::default()), 1e-12),
     ] {
         let input_path = fixtures().join(input);
@@ -201,7 +201,7 @@ fn deng_wang_triangulates_polygon_meshes() {
         let data = load(&input_path);
         let written = load(&control);
         assert!(written.topology().faces().all_of_size(3));
-        let plain = Scheme::Loop(LoopBeta::Warren);
+        let plain = Scheme::Loop(LoopBeta::Loop);
         let gap =
             nearest_gap(data.positions(), &candidate_limit_points(&written, plain).unwrap(), data.bbox_diagonal());
         assert!(gap <= 1e-12, "{input}: independent error {gap:e}");

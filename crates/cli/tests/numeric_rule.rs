@@ -35,7 +35,7 @@ fn tetrahedron(name: &str, f: impl Fn(DVec3) -> DVec3) -> PathBuf {
 fn plain(method: &str) -> Scheme {
     match method {
         "cheng" => Scheme::CatmullClark,
-        "deng-wang" => Scheme::Loop(LoopBeta::Warren),
+        "deng-wang" => Scheme::Loop(LoopBeta::Loop),
         "deng-ma" => Scheme::DengMa(Default::default()),
         _ => Scheme::DooSabin,
     }

@@ -446,7 +446,7 @@ impl LimitSurface {
         }
         let t = mesh.topology();
         let tags = mesh.tags().clone();
-        let sharp = LevelSharpness::new(&tags, options.boundary, options.crease_method);
+        let sharp = options.sharpness(&tags);
         options.scheme.rules().check(t, &sharp)?;
         let (mut topology, mut local_tags, mut vertex_map) = (t.clone(), tags.clone(), None);
         if traits.split == Split::Dual {
@@ -455,10 +455,15 @@ impl LimitSurface {
                 (topology, local_tags, vertex_map) = (cut, Tags::none(), Some(std::sync::Arc::new(original)));
             }
         }
+        // Holes (tags, boundary `none`) are no part of the surface: no domains.
+        let holes = subdiv_stencil::holes::base_holes(t, &tags, options);
         let mut domains = Vec::new();
         let mut face_domains = Vec::with_capacity(t.face_count() + 1);
         for f in t.face_ids() {
             face_domains.push(domains.len() as u32);
+            if holes.get(f.index()) == Some(&true) {
+                continue;
+            }
             let n = match traits.split {
                 // An n-gon of the quad split: one ptex quad per corner.
                 Split::Quad if t.face_size(f) != 4 => t.face_size(f),

@@ -287,7 +287,7 @@ fn derivatives_normals_and_continuity() {
 /// Infinitely sharp creases along `edges` (pairs of vertices).
 fn creased(mesh: Mesh, edges: &[(u32, u32)]) -> Mesh {
     let creases = edges.iter().map(|&(a, b)| EdgeTag { a, b, sharpness: 10.0 }).collect();
-    let tags = Tags::from_list(mesh.topology(), &TagList { creases, corners: vec![] }).unwrap();
+    let tags = Tags::from_list(mesh.topology(), &TagList { creases, corners: vec![], ..Default::default() }).unwrap();
     mesh.with_tags(tags)
 }
 
@@ -430,7 +430,7 @@ fn unsupported_cases_are_typed() {
     let corner = grid.clone().with_tags(
         Tags::from_list(
             grid.topology(),
-            &TagList { creases: vec![], corners: vec![VertexTag { vertex: 4, sharpness: 10.0 }] },
+            &TagList { creases: vec![], corners: vec![VertexTag { vertex: 4, sharpness: 10.0 }], ..Default::default() },
         )
         .unwrap(),
     );
@@ -441,7 +441,11 @@ fn unsupported_cases_are_typed() {
     let dart = cube.clone().with_tags(
         Tags::from_list(
             cube.topology(),
-            &TagList { creases: vec![EdgeTag { a: f0[0], b: f0[1], sharpness: 10.0 }], corners: vec![] },
+            &TagList {
+                creases: vec![EdgeTag { a: f0[0], b: f0[1], sharpness: 10.0 }],
+                corners: vec![],
+                ..Default::default()
+            },
         )
         .unwrap(),
     );

@@ -122,6 +122,7 @@ fn keeps_tags_and_recovers_a_creased_cube() {
             .map(|(&a, &b)| subdiv_mesh::EdgeTag { a, b, sharpness: 2.0 })
             .collect(),
         corners: Vec::new(),
+        ..Default::default()
     };
     let tags = Tags::from_list(t, &list).unwrap();
     let tagged = cube.clone().with_tags(tags);

@@ -195,8 +195,11 @@ fn catmull_clark_creases_and_corners() {
         .map(|k| subdiv_mesh::EdgeTag { a: f0[k], b: f0[(k + 1) % 4], sharpness: if k == 0 { 10.0 } else { 1.5 } })
         .collect();
     creases.truncate(3);
-    let list =
-        subdiv_mesh::TagList { creases, corners: vec![subdiv_mesh::VertexTag { vertex: f0[2], sharpness: 10.0 }] };
+    let list = subdiv_mesh::TagList {
+        creases,
+        corners: vec![subdiv_mesh::VertexTag { vertex: f0[2], sharpness: 10.0 }],
+        ..Default::default()
+    };
     let tags = subdiv_mesh::Tags::from_list(t, &list).unwrap();
     check_limit_surface("creased cube", &cube.clone().with_tags(tags), Options::new(Scheme::CatmullClark), 1000);
 }
@@ -259,7 +262,10 @@ fn doo_sabin_creases_and_valence_two() {
     let f0 = cube.topology().face(subdiv_mesh::FaceId(0)).to_vec();
     let n = f0.len();
     let creases = (0..n).map(|k| subdiv_mesh::EdgeTag { a: f0[k], b: f0[(k + 1) % n], sharpness: 10.0 }).collect();
-    let tags = subdiv_mesh::Tags::from_list(cube.topology(), &subdiv_mesh::TagList { creases, corners: vec![] });
+    let tags = subdiv_mesh::Tags::from_list(
+        cube.topology(),
+        &subdiv_mesh::TagList { creases, corners: vec![], ..Default::default() },
+    );
     let creased = cube.clone().with_tags(tags.unwrap());
     check_limit_surface("doo-sabin creased cube", &creased, Options::new(Scheme::DooSabin), 400);
 }

@@ -180,9 +180,11 @@ fn check_scheme(scheme: Scheme) -> Result<(), InterpError> {
 /// [`InterpError::Solve`] when the solver fails.
 pub fn interpolate(mesh: &Mesh, opts: &ChengOptions) -> Result<Interpolant, InterpError> {
     check_scheme(opts.scheme)?;
-    crate::numeric::run(Method::Cheng, mesh, Some(&opts.common), |mesh, interpolated| {
+    let mut result = crate::numeric::run(Method::Cheng, mesh, Some(&opts.common), |mesh, interpolated| {
         interpolate_prepared(mesh, interpolated, opts)
-    })
+    })?;
+    result.parameters.record_scheme(opts.scheme);
+    Ok(result)
 }
 
 /// The structural degeneracies of Cheng's A ([`Degeneracy`], [correction C3]) with

@@ -205,7 +205,7 @@
 //!     .map(|(a, b)| EdgeTag { a, b, sharpness: SHARPNESS_INFINITE })
 //!     .to_vec();
 //! let corners = vec![VertexTag { vertex: 0, sharpness: SHARPNESS_INFINITE }];
-//! let tags = Tags::from_list(cube.topology(), &TagList { creases, corners }).unwrap();
+//! let tags = Tags::from_list(cube.topology(), &TagList { creases, corners, ..Default::default() }).unwrap();
 //! let cube = cube.with_tags(tags);
 //! let result = deng_wang::interpolate(&cube, &DengWangOptions::default()).unwrap();
 //! // The 4 crease edges became 8 halves in M¹, the corner stays.

@@ -442,7 +442,7 @@ pub(crate) fn interpolate_prepared(
     result.method = Method::Fair;
     result.parameters.refine = Some(opts.refine);
     result.parameters.fairness_weight = opts.fairness_weight;
-    result.parameters.scheme = Some(opts.scheme.name().to_string());
+    result.parameters.record_scheme(opts.scheme);
     Ok(result)
 }
 

@@ -100,6 +100,7 @@ pub use subdiv_mesh::{DVec3, Mesh, MeshError};
 pub use subdiv_solve::{IterationObserver, SolveError, Solver};
 pub use subdiv_stencil::{
     BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, Options, Scheme, StencilError, Tension,
+    TriangleRule,
 };
 
 /// Seconds elapsed since `start`.

@@ -4,7 +4,7 @@
 
 use crate::{
     cheng, deng_ma, deng_wang, fair, fan_cheng_lai, nasri, zheng_cai, ChengOptions, CommonOptions, DengMaOptions,
-    DengWangOptions, FairOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, SolverChoice,
+    DengWangOptions, FairOptions, FanChengLaiOptions, InterpError, Interpolant, NasriOptions, Scheme, SolverChoice,
     SurfaceOptions, ZhengCaiOptions,
 };
 use std::fmt;
@@ -316,6 +316,7 @@ method_options_from!(
 /// # Errors
 /// The method's [`InterpError`].
 pub fn interpolate(mesh: &Mesh, options: &MethodOptions) -> Result<Interpolant, InterpError> {
+    check_holes(mesh, options)?;
     match options {
         MethodOptions::Nasri(o) => nasri::interpolate(mesh, o),
         MethodOptions::ZhengCai(o) => zheng_cai::interpolate(mesh, o),
@@ -325,6 +326,36 @@ pub fn interpolate(mesh: &Mesh, options: &MethodOptions) -> Result<Interpolant, 
         MethodOptions::DengMa(o) => deng_ma::interpolate(mesh, o),
         MethodOptions::Fair(o) => fair::interpolate(mesh, o),
     }
+}
+
+/// Holes (`subdiv_stencil::holes`) are kept by the methods whose control
+/// mesh is the input's topology under Catmull-Clark or Loop (`cheng`, `fair`
+/// with either scheme) and by `deng-ma` (its surface is refined on the quad
+/// split); the others make their control mesh by a split that mixes faces
+/// (Doo-Sabin's dual split, Deng-Wang's triangulated first step) and refuse
+/// a mesh with holes rather than lose them.
+fn check_holes(mesh: &Mesh, options: &MethodOptions) -> Result<(), InterpError> {
+    let holes = mesh.tags().hole_count();
+    let keeps = match options {
+        MethodOptions::Cheng(o) => matches!(o.scheme, Scheme::CatmullClark | Scheme::Loop(_)),
+        MethodOptions::Fair(o) => matches!(o.scheme, Scheme::CatmullClark | Scheme::Loop(_)),
+        MethodOptions::DengMa(_) => true,
+        MethodOptions::Nasri(_)
+        | MethodOptions::ZhengCai(_)
+        | MethodOptions::FanChengLai(_)
+        | MethodOptions::DengWang(_) => false,
+    };
+    if holes == 0 || keeps {
+        return Ok(());
+    }
+    Err(InterpError::UnsupportedMesh {
+        method: options.method().name(),
+        reason: format!(
+            "the mesh has {holes} hole face(s), which this method's control mesh cannot keep (holes stay on \
+             Catmull-Clark and Loop control meshes of the input's topology, as in OpenSubdiv)"
+        ),
+        suggestion: "use --method cheng or --method fair (Catmull-Clark or Loop), or remove the hole tags".into(),
+    })
 }
 
 #[cfg(test)]

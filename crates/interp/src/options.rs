@@ -2,7 +2,7 @@
 
 use crate::{InterpError, Parameter};
 use subdiv_solve::{IterationObserver, Solver};
-use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Options, Scheme};
+use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Options, Scheme, TriangleRule};
 
 /// Default tolerance: max over interpolated vertices of |P − AX| / d.
 pub const DEFAULT_TOL: f64 = 1e-6;
@@ -44,9 +44,17 @@ pub struct SurfaceOptions {
     pub crease_method: CreaseMethod,
     /// How face-varying data (UVs) is interpolated.
     pub fvar: FVarInterpolation,
+    /// Catmull-Clark's rule for triangles (OpenSubdiv's `TriangleSubdivision`).
+    pub triangle_rule: TriangleRule,
 }
 
 impl SurfaceOptions {
+    /// Sets Catmull-Clark's triangle rule.
+    pub fn with_triangle_rule(mut self, triangle_rule: TriangleRule) -> Self {
+        self.triangle_rule = triangle_rule;
+        self
+    }
+
     /// Sets the boundary option.
     pub fn with_boundary(mut self, boundary: BoundaryInterpolation) -> Self {
         self.boundary = boundary;
@@ -67,13 +75,17 @@ impl SurfaceOptions {
 
     /// The subdivision options of `scheme` with these surface options.
     pub fn for_scheme(self, scheme: Scheme) -> Options {
-        Options::new(scheme).with_boundary(self.boundary).with_crease_method(self.crease_method).with_fvar(self.fvar)
+        Options::new(scheme)
+            .with_boundary(self.boundary)
+            .with_crease_method(self.crease_method)
+            .with_fvar(self.fvar)
+            .with_triangle_rule(self.triangle_rule)
     }
 
     /// The per-level sharpness of `tags` under these options (boundary
-    /// option and crease method).
+    /// option, crease method, triangle rule).
     pub fn sharpness(self, tags: &subdiv_mesh::Tags) -> subdiv_stencil::LevelSharpness {
-        subdiv_stencil::LevelSharpness::new(tags, self.boundary, self.crease_method)
+        self.for_scheme(Scheme::CatmullClark).sharpness(tags)
     }
 }
 

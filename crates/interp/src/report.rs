@@ -22,12 +22,26 @@ pub struct TagCounts {
     pub infinitely_sharp: usize,
     /// Of both, those in (0, 10) (semi-sharp: they decay level by level).
     pub semi_sharp: usize,
+    /// Faces tagged as holes (left out of the JSON when none).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub holes: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl TagCounts {
     /// The tags of a validated mesh.
     pub fn of_mesh(mesh: &Mesh) -> Self {
-        Self::of(mesh.tags().edge_values().iter().copied(), mesh.tags().vertex_values().iter().copied())
+        let tags = mesh.tags();
+        let counts = Self::of(tags.edge_values().iter().copied(), tags.vertex_values().iter().copied());
+        counts.with_holes(tags.hole_count())
+    }
+
+    /// The same counts with `holes` hole faces.
+    pub fn with_holes(self, holes: usize) -> Self {
+        Self { holes, ..self }
     }
 
     /// The counts of edge sharpness values `creases` and vertex sharpness
@@ -42,6 +56,7 @@ impl TagCounts {
             corners: corners.len(),
             infinitely_sharp,
             semi_sharp: creases.len() + corners.len() - infinitely_sharp,
+            holes: 0,
         }
     }
 }
@@ -246,7 +261,8 @@ pub struct Parameters {
     /// Deng-Wang's μ.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mu: Option<f64>,
-    /// Deng-Wang's Loop β (`warren`, `loop`).
+    /// Loop's β (`loop`, `warren`): Deng-Wang's, and cheng's or fair's with
+    /// the Loop scheme.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub beta: Option<String>,
     /// Prescribed normals given (Deng-Wang).
@@ -270,7 +286,8 @@ pub struct Parameters {
     /// The fair method's fairness weight w (`None`: exact constraints).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fairness_weight: Option<f64>,
-    /// The fair method's scheme (`catmull-clark`, `loop`, `doo-sabin`).
+    /// The control scheme of cheng and fair (`catmull-clark`, `loop`,
+    /// `doo-sabin`, `sqrt3`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scheme: Option<String>,
     /// The fair method's energy (1) of its result, relative to d²
@@ -280,6 +297,16 @@ pub struct Parameters {
     /// Vertices interpolated (every method).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub interpolated_vertices: Option<usize>,
+}
+
+impl Parameters {
+    /// Records a method's control `scheme` and, for Loop, its β.
+    pub(crate) fn record_scheme(&mut self, scheme: subdiv_stencil::Scheme) {
+        self.scheme = Some(scheme.name().to_string());
+        if let (Some(beta), _) = scheme.parameters() {
+            self.beta = Some(beta.to_string());
+        }
+    }
 }
 
 /// The report of one interpolation: what `subdiv interpolate --report`

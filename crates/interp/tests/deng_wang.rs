@@ -252,7 +252,7 @@ fn polygon_fixtures_are_triangulated_and_interpolated() {
         assert!(polygons > 0, "{name} has only triangles");
         let result =
             deng_wang::interpolate(&mesh, &DengWangOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
-        assert_eq!(result.scheme, Scheme::Loop(LoopBeta::Warren));
+        assert_eq!(result.scheme, Scheme::Loop(LoopBeta::Loop));
         assert_eq!(result.parameters.triangulated_faces, Some(polygons));
         let triangles: usize = t.face_ids().map(|f| t.face_size(f) - 2).sum();
         assert_eq!(
@@ -272,7 +272,7 @@ fn polygon_fixtures_are_triangulated_and_interpolated() {
         assert_eq!(c.face_count(), 4 * triangles, "{name}");
         assert_eq!(c.euler_characteristic(), t.euler_characteristic(), "{name}");
         let err = result.error(mesh.positions(), &used(&mesh), d);
-        let from_file = error_from_written_control_mesh(&mesh, &result.control, LoopBeta::Warren, name);
+        let from_file = error_from_written_control_mesh(&mesh, &result.control, LoopBeta::Loop, name);
         println!(
             "| {name} | {} | {} | {polygons} | {} | {:.2e} | {from_file:.2e} |",
             t.vertex_count(),
@@ -401,9 +401,9 @@ fn subset_interpolates_the_chosen_vertices_and_loop_rule_elsewhere() {
         let d = mesh.bbox_diagonal();
         let err = result.error(mesh.positions(), &flags, d);
         assert!(err.max_rel <= 1e-12, "{name}: subset error {:.2e}", err.max_rel);
-        assert!(independent_error(&mesh, &result, LoopBeta::Warren, &flags) <= 1e-12);
+        assert!(independent_error(&mesh, &result, LoopBeta::Loop, &flags) <= 1e-12);
         // The others: the plain Loop vertex point of M⁰ (rows 0..V of R).
-        let r = loop_subdivision::refinement_stencil(t, LoopBeta::Warren).unwrap();
+        let r = loop_subdivision::refinement_stencil(t, LoopBeta::Loop).unwrap();
         let plain = apply(&r, mesh.positions());
         for v in (0..n).filter(|&v| !flags[v]) {
             assert!(result.control.positions()[v].distance(plain[v]) <= 1e-14 * d, "{name}: vertex {v}");

@@ -282,9 +282,10 @@ fn fnv(points: &[DVec3]) -> u64 {
 
 /// Untagged meshes with the options they are run with, and the FNV-1a hash
 /// of their control points as the code before tags existed computed them
-/// (commit 2e196a3, this file's `untagged_cases` with a printing test).
+/// (commit 2e196a3, this file's `untagged_cases` with a printing test), with
+/// Warren's β, the default then.
 fn untagged_cases() -> Vec<(&'static str, Mesh, DengWangOptions, u64)> {
-    let d = DengWangOptions::default;
+    let d = || DengWangOptions::default().with_beta(LoopBeta::Warren);
     let torus = jittered(&shapes::torus(12, 8), 0.05);
     let mut torus_opts = d().with_mu(0.25).with_beta(LoopBeta::Loop);
     torus_opts.common.subset = Some((0..torus.topology().vertex_count() as u32).step_by(2).collect());

@@ -44,6 +44,7 @@ fn tags(t: &Topology, creases: &[(u32, u32)], corners: &[u32]) -> Tags {
     let list = TagList {
         creases: creases.iter().map(|&(a, b)| EdgeTag { a, b, sharpness: INFINITE }).collect(),
         corners: corners.iter().map(|&vertex| VertexTag { vertex, sharpness: INFINITE }).collect(),
+        ..Default::default()
     };
     Tags::from_list(t, &list).expect("the test tags name edges and vertices of the mesh")
 }
@@ -733,12 +734,16 @@ fn untagged_and_zero_tags_give_the_untagged_matrices_bit_for_bit() {
 fn semi_sharp_tags_and_bad_lambdas_are_typed_errors() {
     let cube = shapes::cube();
     let t = cube.topology();
-    let semi_edge =
-        Tags::from_list(t, &TagList { creases: vec![EdgeTag { a: 4, b: 5, sharpness: 2.5 }], corners: Vec::new() })
-            .unwrap();
-    let semi_vertex =
-        Tags::from_list(t, &TagList { creases: Vec::new(), corners: vec![VertexTag { vertex: 3, sharpness: 9.5 }] })
-            .unwrap();
+    let semi_edge = Tags::from_list(
+        t,
+        &TagList { creases: vec![EdgeTag { a: 4, b: 5, sharpness: 2.5 }], corners: Vec::new(), ..Default::default() },
+    )
+    .unwrap();
+    let semi_vertex = Tags::from_list(
+        t,
+        &TagList { creases: Vec::new(), corners: vec![VertexTag { vertex: 3, sharpness: 9.5 }], ..Default::default() },
+    )
+    .unwrap();
     let l = lambdas(t);
     for tags in [&semi_edge, &semi_vertex] {
         for (m, rule) in rules(&l) {

@@ -184,10 +184,10 @@ pub enum ReadWarning {
         /// Which faces or primitives have them and which do not.
         reason: String,
     },
-    /// OBJ tag lines (`t NAME …`) whose name is neither `crease` nor
-    /// `corner`: OpenSubdiv's `interpolateboundary`, `creasemethod`, `hole`,
-    /// `facevaryingpropagatecorners`, …. They are well formed but not applied
-    /// (the options they set are the caller's, e.g. command-line flags).
+    /// OBJ tag lines (`t NAME …`) of a name the reader does not apply:
+    /// OpenSubdiv's hierarchical edits (`vertexedit`, `edgeedit`,
+    /// `faceedit`, which OpenSubdiv 3 does not apply either) and unknown
+    /// names. They are well formed but not applied.
     TagsIgnored {
         /// The file being read.
         path: PathBuf,
@@ -235,7 +235,8 @@ impl fmt::Display for ReadWarning {
                 let plural = if *lines == 1 { "line" } else { "lines" };
                 write!(
                     f,
-                    "{}: {lines} tag {plural} not applied ({}{more}): only crease and corner tags are read",
+                    "{}: {lines} tag {plural} not applied ({}{more}): hierarchical edits and unknown tags are not \
+                     supported (crease, corner, hole and OpenSubdiv's option tags are)",
                     Location(path, Some(*line)),
                     names.join(", ")
                 )

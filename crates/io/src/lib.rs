@@ -147,7 +147,9 @@ pub use format::Format;
 pub use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, Mesh, MeshError, PolygonSoup, TagList, VertexTag};
 pub use tag_file::{parse_tag_json, read_tag_file, TAG_FILE_LIMIT};
 pub use text_file::{read_text, TEXT_FILE_LIMIT};
-pub use validated::{load_mesh, load_mesh_with_warnings, view_for_format, write_mesh, LeftOut, WriteOptions};
+pub use validated::{
+    faces_without_holes, load_mesh, load_mesh_with_warnings, view_for_format, write_mesh, LeftOut, WriteOptions,
+};
 
 use error::Ctx;
 

@@ -35,8 +35,20 @@
 //!   NI/2 (pair k gets float k).
 //! - `t corner NI/NF/0 v… s…`: corner sharpness of vertices (0-based); NF is
 //!   1 or NI.
-//! - Any other name (`interpolateboundary`, `creasemethod`, `hole`, …) is
-//!   checked for form and not applied ([`ReadWarning::TagsIgnored`]).
+//! - `t hole NI/0/0 f…`: faces (0-based) that are holes
+//!   ([`TagList::holes`]).
+//! - OpenSubdiv's option tags, as its regression harness reads them
+//!   (`far_utils.h`, `GetSdcOptions`) into [`TagList::options`]:
+//!   `interpolateboundary 1/0/0 K` (0 none, 1 edge-and-corner, 2
+//!   edge-only), `facevaryinginterpolateboundary 1/0/0 K` (0 linear-none …
+//!   5 linear-all), `creasemethod 0/0/1 normal|chaikin`, `smoothtriangles
+//!   0/0/1 catmark|smooth`; another value is a parse error.
+//! - `facevaryingpropagatecorners` is refused (a parse error: OpenSubdiv 3
+//!   has no such option).
+//! - Any other name (the hierarchical edits `vertexedit`, `edgeedit`,
+//!   `faceedit`, which OpenSubdiv 3 does not apply either, …) is checked for
+//!   form and not applied, with a warning naming it
+//!   ([`ReadWarning::TagsIgnored`]).
 //!
 //! A `t` line whose counts do not match its values, a crease with an odd
 //! number of integers, a float count other than those above, a value that is
@@ -55,13 +67,15 @@
 //! coordinates are given, 1-based `f` lines (`f a/t`, `f a//a` with normals,
 //! `f a/t/a` with both), then one `t crease 2/1/0 a b s` line per crease tag
 //! and one `t corner 1/1/0 v s` line per corner tag, sharpness in the
-//! shortest form that reads back to the same `f32`.
+//! shortest form that reads back to the same `f32`, `t hole` lines, and the
+//! option tags of the options the mesh carries.
 
 use glam::{DVec2, DVec3};
 use std::collections::HashMap;
 use std::io::{self, Write};
 use std::path::Path;
-use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, PolygonSoup, TagList, VertexTag};
+use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, FileOptions, PolygonSoup, TagList, VertexTag};
+use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, TriangleRule};
 
 use crate::error::{Ctx, IoError, ReadWarning};
 use crate::text::{
@@ -524,11 +538,84 @@ fn read_tag<'a>(
                 tags.corners.push(VertexTag { vertex: vertex(v)?, sharpness });
             }
         }
+        b"hole" => {
+            if ni == 0 || nf != 0 {
+                return Err(bad(format!("hole tag needs face indices and no floats, found {ni}/{nf}")));
+            }
+            for &f in ints {
+                tags.holes.push(parse_bounded::<u32>(f, "face index").map_err(|m| bad(format!("tag 'hole': {m}")))?);
+            }
+        }
+        b"interpolateboundary" | b"facevaryinginterpolateboundary" | b"creasemethod" | b"smoothtriangles" => {
+            read_option_tag(name, ints, &rest[nf..], &mut tags.options)
+                .map_err(|m| bad(format!("tag '{shown}': {m}")))?;
+        }
+        b"facevaryingpropagatecorners" => {
+            return Err(bad("tag 'facevaryingpropagatecorners' is not supported (OpenSubdiv 3 has no such option: \
+                 remove the line or choose a face-varying interpolation)"
+                .to_owned()));
+        }
         _ => {
             if let Some(t) = ints.iter().find(|t| parse_integer(t) == Err(IntError::NotInteger)) {
                 return Err(bad(format!("tag '{shown}': integer '{}' is not an integer", show(t))));
             }
             ignored.add(name, line);
+        }
+    }
+    Ok(())
+}
+
+/// One of OpenSubdiv's option tags (`regression/common/far_utils.h`,
+/// `GetSdcOptions`): `interpolateboundary 1/0/0 K` (0 none, 1
+/// edge-and-corner, 2 edge-only), `facevaryinginterpolateboundary 1/0/0 K`
+/// (0 linear-none … 5 linear-all, in `Sdc::Options::FVarLinearInterpolation`
+/// order), `creasemethod 0/0/1 normal|chaikin`, `smoothtriangles 0/0/1
+/// catmark|smooth`. A later line of the same option replaces an earlier one.
+fn read_option_tag(name: &[u8], ints: &[&[u8]], strings: &[&[u8]], options: &mut FileOptions) -> Result<(), String> {
+    let one_int = |max: usize| -> Result<usize, String> {
+        let [value] = ints else { return Err(format!("expects one integer, found {}", ints.len())) };
+        let k: usize = parse_bounded(value, "value")?;
+        if k > max {
+            return Err(format!("value {k} is not one of 0..={max}"));
+        }
+        Ok(k)
+    };
+    let one_string = || -> Result<&[u8], String> {
+        match strings {
+            [value] => Ok(value),
+            _ => Err(format!("expects one string, found {}", strings.len())),
+        }
+    };
+    match name {
+        b"interpolateboundary" => {
+            use BoundaryInterpolation as B;
+            options.boundary = Some([B::None, B::EdgeAndCorner, B::EdgeOnly][one_int(2)?]);
+        }
+        b"facevaryinginterpolateboundary" => {
+            use FVarInterpolation as F;
+            let modes = [
+                F::LinearNone,
+                F::LinearCornersOnly,
+                F::LinearCornersPlus1,
+                F::LinearCornersPlus2,
+                F::LinearBoundaries,
+                F::LinearAll,
+            ];
+            options.fvar = Some(modes[one_int(5)?]);
+        }
+        b"creasemethod" => {
+            options.crease_method = Some(match one_string()? {
+                b"normal" => CreaseMethod::Uniform,
+                b"chaikin" => CreaseMethod::Chaikin,
+                other => return Err(format!("'{}' is neither 'normal' nor 'chaikin'", show(other))),
+            });
+        }
+        _ => {
+            options.triangle_rule = Some(match one_string()? {
+                b"catmark" => TriangleRule::Catmark,
+                b"smooth" => TriangleRule::Smooth,
+                other => return Err(format!("'{}' is neither 'catmark' nor 'smooth'", show(other))),
+            });
         }
     }
     Ok(())
@@ -590,6 +677,51 @@ pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()>
         for t in &tags.corners {
             writeln!(out, "t corner 1/1/0 {} {:?}", t.vertex, t.sharpness)?;
         }
+        for chunk in tags.holes.chunks(HOLES_PER_LINE) {
+            write!(out, "t hole {}/0/0", chunk.len())?;
+            for f in chunk {
+                write!(out, " {f}")?;
+            }
+            writeln!(out)?;
+        }
+        write_option_tags(&tags.options, out)?;
+    }
+    Ok(())
+}
+
+/// Face indices per `t hole` line written.
+const HOLES_PER_LINE: usize = 32;
+
+/// The options a mesh carries as OpenSubdiv's option tags ([`read_option_tag`]'s inverse).
+fn write_option_tags(options: &FileOptions, out: &mut impl Write) -> io::Result<()> {
+    if let Some(boundary) = options.boundary {
+        let k = match boundary {
+            BoundaryInterpolation::None => 0,
+            BoundaryInterpolation::EdgeAndCorner => 1,
+            BoundaryInterpolation::EdgeOnly => 2,
+        };
+        writeln!(out, "t interpolateboundary 1/0/0 {k}")?;
+    }
+    if let Some(fvar) = options.fvar {
+        let k = match fvar {
+            FVarInterpolation::LinearNone => 0,
+            FVarInterpolation::LinearCornersOnly => 1,
+            FVarInterpolation::LinearCornersPlus1 => 2,
+            FVarInterpolation::LinearCornersPlus2 => 3,
+            FVarInterpolation::LinearBoundaries => 4,
+            FVarInterpolation::LinearAll => 5,
+        };
+        writeln!(out, "t facevaryinginterpolateboundary 1/0/0 {k}")?;
+    }
+    if let Some(method) = options.crease_method {
+        let name = match method {
+            CreaseMethod::Uniform => "normal",
+            CreaseMethod::Chaikin => "chaikin",
+        };
+        writeln!(out, "t creasemethod 0/0/1 {name}")?;
+    }
+    if let Some(rule) = options.triangle_rule {
+        writeln!(out, "t smoothtriangles 0/0/1 {rule}")?;
     }
     Ok(())
 }

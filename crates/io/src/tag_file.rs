@@ -2,13 +2,14 @@
 //! no place for them (everything but OBJ), as JSON:
 //!
 //! ```json
-//! {"creases": [[0, 1, 2.5], [1, 2, 10]], "corners": [[3, 10]]}
+//! {"creases": [[0, 1, 2.5], [1, 2, 10]], "corners": [[3, 10]], "holes": [7, 8]}
 //! ```
 //!
 //! - `creases`: `[v0, v1, sharpness]` entries, the edge between vertices
-//!   `v0` and `v1` (0-based); `corners`: `[v, sharpness]` entries. Both keys
-//!   are optional; any other key, a key given twice, or a top level that is
-//!   not an object is an error.
+//!   `v0` and `v1` (0-based); `corners`: `[v, sharpness]` entries; `holes`:
+//!   face indices (0-based), faces that are holes (OpenSubdiv's `t hole`).
+//!   Every key is optional; any other key, a key given twice, or a top level
+//!   that is not an object is an error.
 //! - A vertex index is a non-negative integer below 2³² (`3` or `3.0`, not
 //!   `3.5`); a sharpness is a number ≥ 0 (0 smooth, ≥ 10 infinitely sharp),
 //!   stored as the nearest `f32`, as OpenSubdiv stores it.
@@ -103,19 +104,22 @@ impl<'de> Visitor<'de> for TagFile {
     type Value = TagList;
 
     fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(r#"a tag object {"creases": [[v0, v1, sharpness], …], "corners": [[v, sharpness], …]}"#)
+        f.write_str(
+            r#"a tag object {"creases": [[v0, v1, sharpness], …], "corners": [[v, sharpness], …], "holes": [f, …]}"#,
+        )
     }
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<TagList, A::Error> {
         let mut list = TagList::default();
-        let (mut creases, mut corners) = (false, false);
+        let (mut creases, mut corners, mut holes) = (false, false, false);
         while let Some(key) = map.next_key::<String>()? {
             let seen = match key.as_str() {
                 "creases" => &mut creases,
                 "corners" => &mut corners,
+                "holes" => &mut holes,
                 other => {
                     return Err(A::Error::custom(format!(
-                        r#"unknown key "{}" (a tag file has "creases" and "corners")"#,
+                        r#"unknown key "{}" (a tag file has "creases", "corners" and "holes")"#,
                         show(other.as_bytes())
                     )))
                 }
@@ -123,12 +127,21 @@ impl<'de> Visitor<'de> for TagFile {
             if std::mem::replace(seen, true) {
                 return Err(A::Error::custom(format!(r#"key "{key}" appears twice"#)));
             }
-            if key == "creases" {
-                list.creases =
-                    map.next_value_seed(Entries { key: "creases", shape: "[v0, v1, sharpness]", convert: crease })?;
-            } else {
-                list.corners =
-                    map.next_value_seed(Entries { key: "corners", shape: "[v, sharpness]", convert: corner })?;
+            match key.as_str() {
+                "creases" => {
+                    list.creases =
+                        map.next_value_seed(Entries { key: "creases", shape: "[v0, v1, sharpness]", convert: crease })?
+                }
+                "corners" => {
+                    list.corners =
+                        map.next_value_seed(Entries { key: "corners", shape: "[v, sharpness]", convert: corner })?
+                }
+                _ => {
+                    let faces = map.next_value::<Vec<Value>>()?;
+                    list.holes = (faces.iter().enumerate())
+                        .map(|(k, f)| index(f, "face index").map_err(|m| A::Error::custom(format!("holes[{k}]: {m}"))))
+                        .collect::<Result<_, _>>()?;
+                }
             }
         }
         Ok(list)
@@ -224,22 +237,28 @@ fn corner(items: &[Value]) -> Result<VertexTag, String> {
 
 /// A vertex index: an integer (integral numbers such as `3.0` included) in `0..2³²`.
 fn vertex(value: &Value) -> Result<u32, String> {
+    index(value, "vertex index")
+}
+
+/// An index (`what`: "vertex index", "face index"): an integer (integral
+/// numbers such as `3.0` included) in `0..2³²`.
+fn index(value: &Value, what: &str) -> Result<u32, String> {
     let Value::Number(n) = value else {
-        return Err(format!("vertex index {} is not a number", brief(value)));
+        return Err(format!("{what} {} is not a number", brief(value)));
     };
     if let Some(u) = n.as_u64() {
-        return u32::try_from(u).map_err(|_| format!("vertex index {u} out of range (at most {})", u32::MAX));
+        return u32::try_from(u).map_err(|_| format!("{what} {u} out of range (at most {})", u32::MAX));
     }
     if let Some(i) = n.as_i64() {
-        return Err(format!("vertex index {i} is negative"));
+        return Err(format!("{what} {i} is negative"));
     }
     let x = n.as_f64().unwrap_or(f64::NAN);
     if x.fract() != 0.0 {
-        Err(format!("vertex index {n} is not an integer"))
+        Err(format!("{what} {n} is not an integer"))
     } else if x < 0.0 {
-        Err(format!("vertex index {n} is negative"))
+        Err(format!("{what} {n} is negative"))
     } else if x > f64::from(u32::MAX) {
-        Err(format!("vertex index {n} out of range (at most {})", u32::MAX))
+        Err(format!("{what} {n} out of range (at most {})", u32::MAX))
     } else {
         Ok(x as u32)
     }

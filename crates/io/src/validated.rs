@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use subdiv_mesh::{DVec3, Mesh, TagList};
+use subdiv_mesh::{DVec3, FaceId, FaceList, FaceVarying, Mesh, TagList};
 
 use crate::{read_mesh_with_warnings, write_mesh_as, Format, IoError, MeshView, ReadWarning};
 use std::fmt;
@@ -117,7 +117,7 @@ pub fn write_mesh(path: impl AsRef<Path>, mesh: &Mesh, options: &WriteOptions) -
         return Err(IoError::InvalidMesh { path: path.to_path_buf(), message });
     }
     let normals = options.normals.then(|| mesh.vertex_normals());
-    let tags = (options.tags && format.carries_tags() && !mesh.tags().is_empty())
+    let tags = (options.tags && format.carries_tags() && !mesh.tags().is_blank())
         .then(|| mesh.tags().to_list(mesh.topology()));
     let view = MeshView {
         positions: mesh.positions(),
@@ -142,6 +142,8 @@ pub enum LeftOut {
         creases: usize,
         /// Corner tags not written.
         corners: usize,
+        /// Hole tags not written.
+        holes: usize,
     },
     /// The texture coordinates (OBJ, PLY and glTF keep them).
     Uvs {
@@ -153,10 +155,13 @@ pub enum LeftOut {
 impl fmt::Display for LeftOut {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            LeftOut::Tags { format, creases, corners } => write!(
-                f,
-                "{format} has no crease tags: {creases} crease and {corners} corner tags not written (OBJ keeps them)"
-            ),
+            LeftOut::Tags { format, creases, corners, holes } => {
+                write!(f, "{format} has no tags: {creases} crease and {corners} corner tags")?;
+                if *holes > 0 {
+                    write!(f, ", {holes} hole tags")?;
+                }
+                write!(f, " not written (OBJ keeps them)")
+            }
             LeftOut::Uvs { format } => {
                 write!(f, "{format} has no texture coordinates: not written (OBJ, PLY and glTF keep them)")
             }
@@ -182,7 +187,10 @@ pub fn view_for_format<'a>(
         if format.carries_tags() {
             view = view.with_tags(tags);
         } else {
-            left_out.push(LeftOut::Tags { format, creases: tags.creases.len(), corners: tags.corners.len() });
+            let (creases, corners, holes) = (tags.creases.len(), tags.corners.len(), tags.holes.len());
+            if creases + corners + holes > 0 {
+                left_out.push(LeftOut::Tags { format, creases, corners, holes });
+            }
         }
     }
     if let Some(uvs) = mesh.uvs() {
@@ -193,6 +201,26 @@ pub fn view_for_format<'a>(
         }
     }
     (view, left_out)
+}
+
+/// The faces of `mesh` that are not holes, with their texture coordinates:
+/// what a refined surface writes (OpenSubdiv draws no hole face; the
+/// vertices stay, numbered as on the level). `None` when no face is a hole.
+pub fn faces_without_holes(mesh: &Mesh) -> Option<(FaceList, Option<FaceVarying>)> {
+    let tags = mesh.tags();
+    if tags.hole_count() == 0 {
+        return None;
+    }
+    let faces = mesh.topology().faces();
+    let kept = (0..faces.len()).filter(|&f| !tags.is_hole(FaceId(f as u32)));
+    let kept_faces = FaceList::from_faces(kept.clone().map(|f| faces.face(f)));
+    let uvs = mesh.uvs().map(|uvs| {
+        let offsets = faces.offsets();
+        let indices =
+            kept.flat_map(|f| uvs.indices[offsets[f] as usize..offsets[f + 1] as usize].iter().copied()).collect();
+        FaceVarying { values: uvs.values.clone(), indices }
+    });
+    Some((kept_faces, uvs))
 }
 
 /// Reads a mesh file and validates it ([`crate::read_mesh`], then

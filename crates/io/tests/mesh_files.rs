@@ -20,6 +20,7 @@ fn tagged_cube() -> Mesh {
     let list = TagList {
         creases: vec![EdgeTag { a: a.0, b: b.0, sharpness: 2.5 }],
         corners: vec![VertexTag { vertex: 6, sharpness: 10.0 }],
+        ..Default::default()
     };
     let tags = Tags::from_list(t, &list).unwrap();
     let values = cube.positions().iter().map(|p| DVec2::new(p.x, p.y)).collect();
@@ -209,7 +210,7 @@ fn load_mesh_with_warnings_gives_the_readers_then_the_meshs() {
 
     let dir = scratch_dir("mesh_files_warnings");
     let path = dir.join("both.obj");
-    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 7 7 7\nf 1 2 4\nf 1 4 3\nt interpolateboundary 1/0/0 2\n";
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 7 7 7\nf 1 2 4\nf 1 4 3\nt vertexedit 0/0/0\n";
     std::fs::write(&path, obj).unwrap();
     let (_, warnings) = load_mesh_with_warnings(&path).unwrap();
     assert!(

@@ -119,6 +119,7 @@ fn seeds() -> Vec<(Format, Vec<u8>)> {
     let tags = subdiv_io::TagList {
         creases: vec![EdgeTag { a: 0, b: 1, sharpness: 2.5 }, EdgeTag { a: 1, b: 4, sharpness: 10.0 }],
         corners: vec![VertexTag { vertex: 4, sharpness: 0.5 }],
+        ..Default::default()
     };
     let textured = MeshView::new(&positions, &faces).with_uvs(&uvs).with_tags(&tags);
     for format in [Format::Obj, Format::PlyAscii, Format::PlyBinary, Format::Gltf] {

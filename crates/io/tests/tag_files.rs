@@ -45,7 +45,7 @@ fn malformed_tag_files_are_parse_errors_naming_the_entry() {
         (r#"{"creases": [[0, 1, null]]}"#, "creases[0]: sharpness null is not a number"),
         (r#"{"corners": [[0]]}"#, "corners[0]: expected [v, sharpness], found 1 values"),
         (r#"{"corners": [[1, 1], [2, "sharp"]]}"#, r#"corners[1]: sharpness "sharp" is not a number"#),
-        (r#"{"corner": []}"#, r#"unknown key "corner" (a tag file has "creases" and "corners")"#),
+        (r#"{"corner": []}"#, r#"unknown key "corner" (a tag file has "creases", "corners" and "holes")"#),
         (r#"{"creases": [], "creases": []}"#, r#"key "creases" appears twice"#),
         (r#"{"creases": [[0, 1, 1e999]]}"#, "number out of range"),
         ("{} {}", "trailing characters"),

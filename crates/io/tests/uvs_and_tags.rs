@@ -45,6 +45,7 @@ fn seamed_square() -> PolygonSoup {
             EdgeTag { a: 3, b: 0, sharpness: f32::MAX },
         ],
         corners: vec![VertexTag { vertex: 1, sharpness: 10.0 }, VertexTag { vertex: 3, sharpness: 1e-7 }],
+        ..Default::default()
     };
     PolygonSoup { uvs: Some(uvs), tags, ..PolygonSoup::new(positions, faces) }
 }
@@ -178,25 +179,70 @@ fn obj_tags_the_validator_refuses_are_read_as_written() {
 }
 
 #[test]
-fn obj_other_tags_are_checked_not_applied_and_reported_once() {
+fn obj_opensubdiv_option_and_hole_tags_are_applied() {
     let src = format!(
         "{SQUARE}f 1 2 3 4\nt interpolateboundary 1/0/0 2\nt crease 2/1/0 0 1 1\nt creasemethod 0/0/1 chaikin\n\
-         t hole 1/0/0 0\nt hole 1/0/0 0\n"
+         t hole 1/0/0 0\nt facevaryinginterpolateboundary 1/0/0 0\nt smoothtriangles 0/0/1 smooth\n"
     );
     let (soup, warnings) = obj_warnings(&src);
+    assert!(warnings.is_empty(), "{warnings:?}");
     assert_eq!(soup.tags.creases.len(), 1);
+    assert_eq!(soup.tags.holes, [0]);
+    let options = soup.tags.options;
+    assert_eq!(options.boundary.map(|b| b.to_string()).as_deref(), Some("edge-only"));
+    assert_eq!(options.crease_method.map(|m| m.to_string()).as_deref(), Some("chaikin"));
+    assert_eq!(options.fvar.map(|m| m.to_string()).as_deref(), Some("linear-none"));
+    assert_eq!(options.triangle_rule.map(|m| m.to_string()).as_deref(), Some("smooth"));
+    // Each of far_utils.h's integer codes, in Sdc's order.
+    for (k, name) in ["none", "edge-and-corner", "edge-only"].iter().enumerate() {
+        let (soup, _) = obj_warnings(&format!("{SQUARE}f 1 2 3 4\nt interpolateboundary 1/0/0 {k}\n"));
+        assert_eq!(soup.tags.options.boundary.unwrap().to_string(), *name);
+    }
+    let modes = ["linear-none", "linear-corners-only", "linear-corners-plus1", "linear-corners-plus2"];
+    for (k, name) in modes.iter().chain(&["linear-boundaries", "linear-all"]).enumerate() {
+        let (soup, _) = obj_warnings(&format!("{SQUARE}f 1 2 3 4\nt facevaryinginterpolateboundary 1/0/0 {k}\n"));
+        assert_eq!(soup.tags.options.fvar.unwrap().to_string(), *name);
+    }
+    // Written back as the same lines, and read back to the same list (the mesh keeps them).
+    let (mesh, _) = Mesh::from_soup(soup).unwrap();
+    assert!(mesh.tags().is_hole(subdiv_mesh::FaceId(0)));
+    assert_eq!(mesh.tags().options(), options);
+    let dir = std::env::temp_dir().join(format!("subdiv-io-option-tags-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("square.obj");
+    subdiv_io::write_mesh(&path, &mesh, &subdiv_io::WriteOptions::default()).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    for line in [
+        "t hole 1/0/0 0",
+        "t interpolateboundary 1/0/0 2",
+        "t facevaryinginterpolateboundary 1/0/0 0",
+        "t creasemethod 0/0/1 chaikin",
+        "t smoothtriangles 0/0/1 smooth",
+    ] {
+        assert!(text.lines().any(|l| l == line), "{line} not in\n{text}");
+    }
+    let again = subdiv_io::load_mesh(&path).unwrap();
+    assert_eq!(again.tags(), mesh.tags());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn obj_hierarchical_edits_are_reported_not_applied_and_bad_option_values_refused() {
+    let src = format!("{SQUARE}f 1 2 3 4\nt vertexedit 4/3/3 1 4 1 0 0 0 1 add P value\nt faceedit 2/0/1 1 0 hole\n");
+    let (_, warnings) = obj_warnings(&src);
     assert_eq!(
         warnings,
         vec![ReadWarning::TagsIgnored {
             path: "t.obj".into(),
             line: 6,
-            lines: 4,
-            names: vec!["interpolateboundary".into(), "creasemethod".into(), "hole".into()],
+            lines: 2,
+            names: vec!["vertexedit".into(), "faceedit".into()],
         }]
     );
-    assert_eq!(
-        warnings[0].to_string(),
-        "t.obj:6: 4 tag lines not applied (interpolateboundary, creasemethod, hole): only crease and corner tags are read"
+    assert!(
+        warnings[0].to_string().contains("hierarchical edits and unknown tags are not supported"),
+        "{}",
+        warnings[0]
     );
     // At most NAMES_KEPT names, then an ellipsis.
     let many: String = (0..20).map(|i| format!("t name{i} 0/0/0\n")).collect();
@@ -204,6 +250,19 @@ fn obj_other_tags_are_checked_not_applied_and_reported_once() {
     let ReadWarning::TagsIgnored { lines, names, .. } = &warnings[0] else { panic!("{warnings:?}") };
     assert_eq!((*lines, names.len()), (20, ReadWarning::NAMES_KEPT));
     assert!(warnings[0].to_string().contains("name7, …)"), "{}", warnings[0]);
+    for (line, message) in [
+        ("t interpolateboundary 1/0/0 3", "value 3 is not one of 0..=2"),
+        ("t interpolateboundary 0/0/0", "expects one integer, found 0"),
+        ("t facevaryinginterpolateboundary 1/0/0 6", "value 6 is not one of 0..=5"),
+        ("t creasemethod 0/0/1 sharp", "'sharp' is neither 'normal' nor 'chaikin'"),
+        ("t smoothtriangles 0/0/1 loop", "'loop' is neither 'catmark' nor 'smooth'"),
+        ("t hole 1/1/0 0 1.0", "hole tag needs face indices and no floats"),
+        ("t facevaryingpropagatecorners 1/0/0 1", "facevaryingpropagatecorners' is not supported"),
+    ] {
+        let e = obj_error(&format!("{SQUARE}f 1 2 3 4\n{line}\n"));
+        assert!(e.to_string().contains(message), "{line}: {e}");
+        assert!(e.to_string().contains("t.obj:6"), "{line}: {e}");
+    }
 }
 
 #[test]
@@ -226,7 +285,7 @@ fn malformed_tag_lines_are_parse_errors_naming_the_line() {
         ("t crease 2/1/0 0 1 sharp", "float 'sharp' is not a number"),
         ("t corner 0/1/0 1", "corner tag names no vertex"),
         ("t corner 2/3/0 0 1 1 1 1", "2 vertices and 3 floats"),
-        ("t hole 1/0/0 first", "tag 'hole': integer 'first' is not an integer"),
+        ("t hole 1/0/0 first", "tag 'hole': face index 'first' is not an integer"),
         ("t creasemethod 0/0/1", "declares 0/0/1 values but has 0"),
     ] {
         let e = obj_error(&format!("{SQUARE}f 1 2 3 4\n{line}\n"));
@@ -572,8 +631,10 @@ fn writers_refuse_texture_coordinates_and_tags_that_do_not_fit_the_mesh() {
     let soup = seamed_square();
     let short = FaceVarying { indices: vec![0, 1, 2], ..soup.uvs.clone().unwrap() };
     let beyond = FaceVarying { indices: vec![0, 1, 2, 0, 1, 5], ..soup.uvs.clone().unwrap() };
-    let bad_tags = TagList { creases: vec![EdgeTag { a: 0, b: 4, sharpness: 1.0 }], corners: Vec::new() };
-    let bad_corner = TagList { creases: Vec::new(), corners: vec![VertexTag { vertex: 7, sharpness: 1.0 }] };
+    let bad_tags =
+        TagList { creases: vec![EdgeTag { a: 0, b: 4, sharpness: 1.0 }], corners: Vec::new(), ..Default::default() };
+    let bad_corner =
+        TagList { creases: Vec::new(), corners: vec![VertexTag { vertex: 7, sharpness: 1.0 }], ..Default::default() };
     let view = MeshView::new(&soup.positions, &soup.faces);
     for format in Format::ALL {
         for (uvs, message) in [(&short, "3 texture coordinate indices for 6 face corners"), (&beyond, "corner 5")] {
@@ -599,7 +660,7 @@ fn writers_refuse_texture_coordinates_and_tags_that_do_not_fit_the_mesh() {
 fn read_mesh_with_warnings_reads_files_and_reports_their_warnings() {
     let dir = common::scratch_dir("warnings");
     let path = dir.join("two_objects.obj");
-    std::fs::write(&path, format!("{SQUARE}vt 0 0\nf 1/1 2/1 3/1\nf 1 3 4\nt hole 1/0/0 1\n")).unwrap();
+    std::fs::write(&path, format!("{SQUARE}vt 0 0\nf 1/1 2/1 3/1\nf 1 3 4\nt faceedit 0/0/0\n")).unwrap();
     let mut calls = 0;
     let (soup, warnings) = read_mesh_with_warnings(&path, &mut |_, _| calls += 1).unwrap();
     assert!(calls >= 2);

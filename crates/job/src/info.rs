@@ -70,6 +70,10 @@ pub struct Summary {
     pub bbox_diagonal: Option<f64>,
     /// Crease and corner tags (OBJ `t` lines); boundaries are not counted.
     pub tags: TagCounts,
+    /// The subdivision options the file sets for itself (OpenSubdiv's option tags: `boundary`,
+    /// `crease_method`, `fvar`, `triangle_rule`), by name; left out of the JSON when none.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub file_options: BTreeMap<&'static str, String>,
     /// Texture coordinates (face-varying values), when the file has them.
     pub uvs: Option<UvCounts>,
     /// Warning-level defects (isolated vertices, zero-area faces), one line each.
@@ -84,6 +88,20 @@ pub struct Summary {
     /// Per subdivision scheme of the scheme table ([`Scheme::ALL`]): do its rules take this
     /// mesh with its tags (OpenSubdiv's default options), and if not, why.
     pub schemes: BTreeMap<&'static str, MethodVerdict>,
+}
+
+/// The options a file sets, by option name ([`Summary::file_options`]).
+fn option_names(options: subdiv_mesh::FileOptions) -> BTreeMap<&'static str, String> {
+    let subdiv_mesh::FileOptions { boundary, crease_method, fvar, triangle_rule } = options;
+    [
+        ("boundary", boundary.map(|o| o.to_string())),
+        ("crease_method", crease_method.map(|o| o.to_string())),
+        ("fvar", fvar.map(|o| o.to_string())),
+        ("triangle_rule", triangle_rule.map(|o| o.to_string())),
+    ]
+    .into_iter()
+    .filter_map(|(name, value)| Some((name, value?)))
+    .collect()
 }
 
 /// The texture-coordinate channel of a [`Summary`].
@@ -217,6 +235,7 @@ fn counts(mesh: &Mesh, file: Option<&str>, warnings: &[Warning]) -> Summary {
         isolated_vertices: t.vertices().filter(|&v| t.is_isolated(v)).count(),
         bbox_diagonal: Some(mesh.bbox_diagonal()),
         tags: TagCounts::of_mesh(mesh),
+        file_options: option_names(mesh.tags().options()),
         uvs: mesh.uvs().map(|uvs| UvCounts::of(uvs, t.faces(), t.vertex_count())),
         warnings: warnings.iter().map(ToString::to_string).collect(),
         problems: BTreeMap::new(),
@@ -264,7 +283,9 @@ fn invalid_summary(file: Option<&str>, soup: &PolygonSoup) -> Summary {
         tags: TagCounts::of(
             soup.tags.creases.iter().map(|t| t.sharpness),
             soup.tags.corners.iter().map(|t| t.sharpness),
-        ),
+        )
+        .with_holes(soup.tags.holes.len()),
+        file_options: option_names(soup.tags.options),
         uvs: soup.uvs.as_ref().map(|uvs| UvCounts::of(uvs, &soup.faces, soup.positions.len())),
         warnings,
         problems,

@@ -46,7 +46,8 @@ pub mod run;
 
 pub use error::{in_option_terms, one_line, ErrorKind, JobError};
 pub use options::{
-    Command, InfoOptions, InterpolateOptions, Parameter, ShapeValue, SubdivideOptions, TagOptions, COMMAND_NAMES,
+    Command, InfoOptions, InterpolateOptions, Parameter, ShapeValue, SubdivideOptions, SurfaceChoice, TagOptions,
+    COMMAND_NAMES,
 };
 pub use progress::{Phase, Progress, Silent, Warnings};
 pub use run::{interpolate_mesh, method_options, subdivide_mesh};

@@ -35,6 +35,8 @@ pub fn load_tagged_mesh(path: &Path, tags: &TagOptions, progress: &mut dyn Progr
     let given = mesh.tags().to_list(t);
     list.creases.extend(given.creases);
     list.corners = given.corners;
+    list.holes = given.holes;
+    list.options = given.options;
     let tags =
         subdiv_mesh::Tags::from_list(t, &list).map_err(|e| JobError::bad_input(format!("{}: {e}", path.display())))?;
     Ok(mesh.with_tags(tags))
@@ -48,6 +50,7 @@ fn load_mesh_with_tags(path: &Path, tag_file: Option<&Path>, progress: &mut dyn 
         let tags = subdiv_io::read_tag_file(file).map_err(|e| JobError::from_error(ErrorKind::BadInput, &e))?;
         soup.tags.creases.extend(tags.creases);
         soup.tags.corners.extend(tags.corners);
+        soup.tags.holes.extend(tags.holes);
     }
     progress.begin(Phase::Validate, &format!("validating {}", path.display()), 0);
     let validated = Mesh::from_soup(soup);

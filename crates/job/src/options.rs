@@ -21,8 +21,10 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::fmt::Display;
 use std::path::PathBuf;
 use std::str::FromStr;
+use subdiv_interp::SurfaceOptions;
 use subdiv_interp::{Method, SolverChoice};
-use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, Scheme, Tension};
+use subdiv_mesh::FileOptions;
+use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, Scheme, Tension, TriangleRule};
 
 /// One command, run on one mesh ([`crate::run`]) or on every input of a batch ([`crate::batch`]).
 ///
@@ -186,6 +188,60 @@ pub struct TagOptions {
     pub feature_angle: Option<f64>,
 }
 
+/// OpenSubdiv's surface options as a command gives them (`--boundary`, `--crease-method`,
+/// `--fvar`, `--triangle-rule`): each `None` when not given, and then the mesh file's own option
+/// tags (`t interpolateboundary` …, [`FileOptions`]) decide, and then the default. Shared by
+/// [`InterpolateOptions`] and [`SubdivideOptions`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[non_exhaustive]
+pub struct SurfaceChoice {
+    /// Boundary interpolation.
+    #[serde(default, with = "optional_named", skip_serializing_if = "Option::is_none")]
+    pub boundary: Option<BoundaryInterpolation>,
+    /// Semi-sharp crease decay.
+    #[serde(default, with = "optional_named", skip_serializing_if = "Option::is_none")]
+    pub crease_method: Option<CreaseMethod>,
+    /// Face-varying (texture coordinate) interpolation.
+    #[serde(default, with = "optional_named", skip_serializing_if = "Option::is_none")]
+    pub fvar: Option<FVarInterpolation>,
+    /// Catmull-Clark's triangle rule.
+    #[serde(default, with = "optional_named", skip_serializing_if = "Option::is_none")]
+    pub triangle_rule: Option<TriangleRule>,
+}
+
+impl SurfaceChoice {
+    /// Every option, resolved: the command's where given, else the file's, else the default.
+    pub fn resolve(&self, file: FileOptions) -> FileOptions {
+        FileOptions {
+            boundary: Some(self.boundary.or(file.boundary).unwrap_or_default()),
+            crease_method: Some(self.crease_method.or(file.crease_method).unwrap_or_default()),
+            fvar: Some(self.fvar.or(file.fvar).unwrap_or_default()),
+            triangle_rule: Some(self.triangle_rule.or(file.triangle_rule).unwrap_or_default()),
+        }
+    }
+
+    /// The subdivision options of `scheme` under these choices and the file's options.
+    pub fn options(&self, scheme: Scheme, file: FileOptions) -> subdiv_stencil::Options {
+        let r = self.resolve(file);
+        subdiv_stencil::Options::new(scheme)
+            .with_boundary(r.boundary.unwrap_or_default())
+            .with_crease_method(r.crease_method.unwrap_or_default())
+            .with_fvar(r.fvar.unwrap_or_default())
+            .with_triangle_rule(r.triangle_rule.unwrap_or_default())
+    }
+
+    /// The interpolation methods' surface options under these choices and the file's options.
+    pub fn surface_options(&self, file: FileOptions) -> SurfaceOptions {
+        let r = self.resolve(file);
+        SurfaceOptions::default()
+            .with_boundary(r.boundary.unwrap_or_default())
+            .with_crease_method(r.crease_method.unwrap_or_default())
+            .with_fvar(r.fvar.unwrap_or_default())
+            .with_triangle_rule(r.triangle_rule.unwrap_or_default())
+    }
+}
+
 /// A per-vertex or per-face parameter: a parameter file's path, or its content inline (the
 /// JSON form of the file: `{"3": [0, 0, 1]}`, `[0, 4, 7]`, …), which the Python package passes.
 /// Both are read by the one parser, [`subdiv_interp::params`].
@@ -227,15 +283,9 @@ pub struct InterpolateOptions {
     /// input's is no format the writers know).
     #[serde(default)]
     pub format: Option<String>,
-    /// Boundary interpolation.
-    #[serde(default, with = "named")]
-    pub boundary: BoundaryInterpolation,
-    /// Semi-sharp crease decay.
-    #[serde(default, with = "named")]
-    pub crease_method: CreaseMethod,
-    /// Face-varying (texture coordinate) interpolation.
-    #[serde(default, with = "named")]
-    pub fvar: FVarInterpolation,
+    /// OpenSubdiv's surface options (each defaulting to the file's, then OpenSubdiv's).
+    #[serde(default, flatten)]
+    pub surface: SurfaceChoice,
     /// Tags besides the file's.
     #[serde(default, flatten)]
     pub tags: TagOptions,
@@ -318,9 +368,7 @@ impl InterpolateOptions {
             solver: SolverChoice::Auto,
             levels: default_levels(),
             format: None,
-            boundary: BoundaryInterpolation::default(),
-            crease_method: CreaseMethod::default(),
-            fvar: FVarInterpolation::default(),
+            surface: SurfaceChoice::default(),
             tags: TagOptions::default(),
             subset: None,
             normals: None,
@@ -457,7 +505,7 @@ pub struct SubdivideOptions {
     /// Move the final vertices to their limit positions (not Deng-Ma).
     #[serde(default)]
     pub limit: bool,
-    /// Loop's β (default Warren's).
+    /// Loop's β (default Loop's, as OpenSubdiv).
     #[serde(default, with = "optional_named")]
     pub beta: Option<LoopBeta>,
     /// Deng-Ma: global tension ω (default 1).
@@ -466,15 +514,9 @@ pub struct SubdivideOptions {
     /// Deng-Ma: variable tension λ.
     #[serde(default)]
     pub variable_tension: Option<f64>,
-    /// Boundary interpolation.
-    #[serde(default, with = "named")]
-    pub boundary: BoundaryInterpolation,
-    /// Semi-sharp crease decay.
-    #[serde(default, with = "named")]
-    pub crease_method: CreaseMethod,
-    /// Face-varying interpolation.
-    #[serde(default, with = "named")]
-    pub fvar: FVarInterpolation,
+    /// OpenSubdiv's surface options (each defaulting to the file's, then OpenSubdiv's).
+    #[serde(default, flatten)]
+    pub surface: SurfaceChoice,
     /// Tags besides the file's.
     #[serde(default, flatten)]
     pub tags: TagOptions,
@@ -511,9 +553,7 @@ impl SubdivideOptions {
             beta,
             omega,
             variable_tension,
-            boundary: BoundaryInterpolation::default(),
-            crease_method: CreaseMethod::default(),
-            fvar: FVarInterpolation::default(),
+            surface: SurfaceChoice::default(),
             tags: TagOptions::default(),
             triangulate: false,
             normals: false,
@@ -559,12 +599,10 @@ impl SubdivideOptions {
         self.scheme.with_parameters(self.beta, tension).map_err(|e| JobError::bad_input(e.to_string()))
     }
 
-    /// The subdivision options these name.
-    pub fn options(&self) -> subdiv_stencil::Options {
-        subdiv_stencil::Options::new(self.scheme_with_parameters().unwrap_or(self.scheme))
-            .with_boundary(self.boundary)
-            .with_crease_method(self.crease_method)
-            .with_fvar(self.fvar)
+    /// The subdivision options these name for a mesh whose file sets `file` (the options given
+    /// here win).
+    pub fn options(&self, file: FileOptions) -> subdiv_stencil::Options {
+        self.surface.options(self.scheme_with_parameters().unwrap_or(self.scheme), file)
     }
 }
 
@@ -641,15 +679,15 @@ mod tests {
         let mut interpolate = InterpolateOptions::new(Method::ZhengCai).with_format("ply");
         interpolate.ite_max = Some(3);
         interpolate.solver = SolverChoice::Use(subdiv_solve::Solver::Minres);
-        interpolate.boundary = BoundaryInterpolation::EdgeOnly;
+        interpolate.surface.boundary = Some(BoundaryInterpolation::EdgeOnly);
         interpolate.normals = Some(Parameter::Inline(json!({"3": [0.0, 0.0, 1.0]})));
         interpolate.tags.feature_angle = Some(30.0);
         let mut fair = InterpolateOptions::new(Method::Fair);
         fair.scheme = Some(Scheme::Loop(LoopBeta::default())); // by name: β is its own option
-        fair.beta = Some(LoopBeta::Loop);
+        fair.beta = Some(LoopBeta::Warren);
         fair.refine = Some(2);
-        let mut subdivide = SubdivideOptions::new(Scheme::Loop(LoopBeta::Warren), 2);
-        subdivide.beta = Some(LoopBeta::Loop);
+        let mut subdivide = SubdivideOptions::new(Scheme::Loop(LoopBeta::Loop), 2);
+        subdivide.beta = Some(LoopBeta::Warren);
         for command in [
             Command::Info(InfoOptions { strict: true }),
             Command::Interpolate(interpolate),

@@ -158,13 +158,16 @@ pub fn require_finite(
 
 impl Outputs {
     /// Checks and stages a mesh output (with vertex normals when `normals`),
-    /// showing the bytes written on a progress bar.
+    /// showing the bytes written on a progress bar. A `surface` (a refined
+    /// mesh) is written without its hole faces, as OpenSubdiv draws it; a
+    /// control mesh keeps them, tagged where the format has tags.
     pub fn stage_mesh(
         &mut self,
         flag: &str,
         path: &Path,
         mesh: &subdiv_mesh::Mesh,
         normals: bool,
+        surface: bool,
         progress: &mut dyn Progress,
     ) -> Result<(), JobError> {
         let format = Format::from_path(path).map_err(|e| JobError::bad_input(format!("{flag} {e}")))?;
@@ -172,8 +175,16 @@ impl Outputs {
         require_finite(&format!("{flag} {}", path.display()), mesh, n.as_deref())?;
         let positions = as_written(flag, path, format, mesh.positions())?;
         // Tags and texture coordinates where the format has a place for them.
-        let tags = mesh.tags().to_list(mesh.topology());
+        let mut tags = mesh.tags().to_list(mesh.topology());
+        let without_holes = if surface { subdiv_io::faces_without_holes(mesh) } else { None };
+        if without_holes.is_some() {
+            tags.holes.clear();
+        }
         let (mut view, left_out) = subdiv_io::view_for_format(mesh, &positions, &tags, format);
+        if let Some((faces, uvs)) = &without_holes {
+            view.faces = faces;
+            view.uvs = view.uvs.and(uvs.as_ref());
+        }
         if let Some(n) = &n {
             view = view.with_normals(n);
         }

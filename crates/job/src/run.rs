@@ -26,7 +26,7 @@ use std::time::Instant;
 use subdiv_interp::report::MeshSummary;
 use subdiv_interp::{
     params, ChengOptions, DengMaOptions, DengWangOptions, ErrorStats, FairOptions, FanChengLaiOptions, InterpError,
-    Interpolant, Method, MethodOptions, ParamFileError, Report, Shape, SurfaceOptions, ZhengCaiOptions,
+    Interpolant, Method, MethodOptions, ParamFileError, Report, Shape, ZhengCaiOptions,
 };
 use subdiv_mesh::{DVec3, Mesh};
 use subdiv_stencil::{Options, Scheme, StencilError};
@@ -210,8 +210,7 @@ pub fn method_options(
         }
         method => MethodOptions::new(method),
     };
-    let surface =
-        SurfaceOptions::default().with_boundary(o.boundary).with_crease_method(o.crease_method).with_fvar(o.fvar);
+    let surface = o.surface.surface_options(mesh.tags().options());
     options
         .with_tol(o.tol)
         .with_max_iter(o.max_iter)
@@ -376,7 +375,13 @@ pub fn interpolate(
             Some(s) => s.clone(),
             None => refine_surface(&result, progress)?,
         })),
-        (Some(_), false) => Some(Cow::Borrowed(&result.control)),
+        (Some(_), false) => Some(match written_options(&result.control, result.options()) {
+            Some(options) => {
+                let tags = result.control.tags().clone().with_options(options);
+                Cow::Owned(result.control.clone().with_tags(tags))
+            }
+            None => Cow::Borrowed(&result.control),
+        }),
     };
 
     let total_ms = total.elapsed().as_secs_f64() * 1e3;
@@ -392,10 +397,10 @@ pub fn interpolate(
         .with_control(control_mesh)
         .with_total_ms(total_ms);
     if let (Some(path), Some(control)) = (&paths.control, &control_out) {
-        outputs.stage_mesh("--output", path, control, is_deng_ma, progress)?;
+        outputs.stage_mesh("--output", path, control, is_deng_ma, is_deng_ma, progress)?;
     }
     if let (Some(path), Some(s)) = (&paths.surface, &surface) {
-        outputs.stage_mesh("--surface", path, s, true, progress)?;
+        outputs.stage_mesh("--surface", path, s, true, true, progress)?;
     }
     if let Some(path) = &paths.report {
         let text = serde_json::to_string_pretty(&report)
@@ -408,12 +413,38 @@ pub fn interpolate(
     Ok(Interpolated { outputs: written, report, error })
 }
 
+/// The options a control mesh of Catmull-Clark or Loop carries into its file, so that an
+/// OpenSubdiv-based tool reading its option tags (`t interpolateboundary` …) makes the same
+/// surface of it: the boundary option on an open mesh, the crease method with semi-sharp tags,
+/// the face-varying mode with texture coordinates, the triangle rule for Catmull-Clark with
+/// triangles. `None` when none applies and the mesh carries none.
+fn written_options(control: &Mesh, options: Options) -> Option<subdiv_mesh::FileOptions> {
+    let t = control.topology();
+    let tags = control.tags();
+    if !matches!(options.scheme, Scheme::CatmullClark | Scheme::Loop(_)) {
+        return None;
+    }
+    let semi_sharp = |s: &f32| *s > 0.0 && *s < subdiv_mesh::SHARPNESS_INFINITE;
+    let written = subdiv_mesh::FileOptions {
+        boundary: (!t.is_closed()).then_some(options.boundary),
+        crease_method: (tags.edge_values().iter().chain(tags.vertex_values()).any(semi_sharp))
+            .then_some(options.crease_method),
+        fvar: control.uvs().map(|_| options.fvar),
+        triangle_rule: (options.scheme == Scheme::CatmullClark && t.faces().iter().any(|f| f.len() == 3))
+            .then_some(options.triangle_rule),
+    };
+    (written != tags.options()).then_some(written)
+}
+
 /// The report of [`subdivide`]: scheme, levels, limit, input and output counts.
 #[derive(Clone, Debug, Serialize)]
 #[non_exhaustive]
 pub struct SubdivideReport {
     /// [`subdiv_stencil::Scheme::name`].
     pub scheme: &'static str,
+    /// Loop's β (`loop`, `warren`); absent for the other schemes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub beta: Option<String>,
     /// Subdivision steps.
     pub levels: usize,
     /// Limit positions.
@@ -449,13 +480,15 @@ pub fn subdivide(
     let format = outputs.mesh("--output", output)?;
     let mesh = load_tagged_mesh(input, &o.tags, progress)?;
     let (mesh, refined, dropped) = subdivide_mesh(input, mesh, o, Some(format), progress)?;
-    outputs.stage_mesh("--output", output, &refined, o.normals, progress)?;
+    outputs.stage_mesh("--output", output, &refined, o.normals, true, progress)?;
     let written = outputs.commit()?;
     warn_all(progress, dropped.as_slice());
     let mut input_summary = MeshSummary::of(&mesh);
     input_summary.file = Some(input.display().to_string());
+    let scheme = o.options(mesh.tags().options()).scheme;
     let report = SubdivideReport {
-        scheme: o.options().scheme.name(),
+        scheme: scheme.name(),
+        beta: scheme.parameters().0.map(|beta| beta.to_string()),
         levels: o.levels,
         limit: o.limit,
         input: input_summary,
@@ -485,7 +518,7 @@ pub fn subdivide_mesh(
             .map_err(|e| JobError::bad_input(format!("{shown}: --triangulate: {e}")))?
             .mesh;
     }
-    let options = o.options();
+    let options = o.options(mesh.tags().options());
     // Normals and limit positions: one more array per vertex each.
     let vertex_arrays = u64::from(o.normals) + u64::from(o.limit);
     MemoryBudget::given_or_available(o.max_memory, "--max-memory")
@@ -546,10 +579,10 @@ mod tests {
         };
         assert_eq!(cheng(json!({"method": "cheng"})), ChengOptions::default());
         assert_eq!(cheng(json!({"method": "cheng", "scheme": "sqrt3"})).scheme, Scheme::Sqrt3);
-        let loop_scheme = cheng(json!({"method": "cheng", "scheme": "loop", "beta": "loop"})).scheme;
-        assert_eq!(loop_scheme, Scheme::Loop(LoopBeta::Loop));
+        let loop_scheme = cheng(json!({"method": "cheng", "scheme": "loop", "beta": "warren"})).scheme;
+        assert_eq!(loop_scheme, Scheme::Loop(LoopBeta::Warren));
         let MethodOptions::Fair(fair) = options(json!({"method": "fair", "scheme": "loop"})) else { panic!() };
-        assert_eq!(fair.scheme, Scheme::Loop(LoopBeta::Warren));
+        assert_eq!(fair.scheme, Scheme::Loop(LoopBeta::Loop));
         // A scheme cheng does not take: a bad-input error naming --scheme and the method that takes it.
         let o = InterpolateOptions::from_json(&json!({"method": "cheng", "scheme": "doo-sabin"})).unwrap();
         let e = method_options(input, &o, &mesh, Default::default()).unwrap_err();

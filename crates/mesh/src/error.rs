@@ -136,6 +136,14 @@ pub enum MeshError {
         /// Its number of corners.
         size: usize,
     },
+    /// A hole tag names a face that does not exist.
+    #[error("hole tag: face {face} does not exist (the mesh has {face_count} faces)")]
+    TagFaceOutOfRange {
+        /// The face index given (0-based).
+        face: u32,
+        /// Number of faces.
+        face_count: usize,
+    },
     /// A crease tag names two vertices that share no edge.
     #[error("crease tag {a}-{b}: vertices {a} and {b} share no edge")]
     TagNotAnEdge {

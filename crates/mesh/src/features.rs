@@ -124,7 +124,7 @@ pub fn feature_edges(mesh: &Mesh, angle_degrees: f64) -> FeatureEdges {
             EdgeTag { a: a.0, b: b.0, sharpness: SHARPNESS_INFINITE }
         })
         .collect();
-    FeatureEdges { threshold_radians, edges, list: TagList { creases, corners: Vec::new() }, angles }
+    FeatureEdges { threshold_radians, edges, list: TagList { creases, ..TagList::default() }, angles }
 }
 
 #[cfg(test)]

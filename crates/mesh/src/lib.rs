@@ -93,7 +93,7 @@ pub use geometry::{
 pub use ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 pub use mesh::{Mesh, Rejected, ZERO_AREA_REL};
 pub use soup::{FaceGroups, FaceList, PolygonSoup};
-pub use tags::{EdgeTag, FaceVarying, TagList, Tags, VertexTag, SHARPNESS_INFINITE, SHARPNESS_SMOOTH};
+pub use tags::{EdgeTag, FaceVarying, FileOptions, TagList, Tags, VertexTag, SHARPNESS_INFINITE, SHARPNESS_SMOOTH};
 pub use topology::{Corner, Topology};
 pub use triangulate::{check_triangulation, triangulate, Triangulation};
 pub use validate::{diagnose, Diagnosis};

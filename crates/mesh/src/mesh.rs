@@ -328,7 +328,8 @@ impl PolygonSoup {
             (self.tags.creases.iter()).filter_map(|t| Some(EdgeTag { a: new(t.a)?, b: new(t.b)?, ..*t })).collect();
         let corners =
             (self.tags.corners.iter()).filter_map(|t| Some(VertexTag { vertex: new(t.vertex)?, ..*t })).collect();
-        let tags = TagList { creases, corners };
+        // Faces keep their numbers: hole tags and the file's options stay as they are.
+        let tags = TagList { creases, corners, holes: self.tags.holes.clone(), options: self.tags.options };
         (PolygonSoup { positions, faces, groups: self.groups.clone(), tags, uvs: self.uvs.clone() }, map)
     }
 }

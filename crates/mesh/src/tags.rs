@@ -15,9 +15,10 @@
 //! written back as tags).
 
 use crate::error::MeshError;
-use crate::ids::{EdgeId, VertexId};
+use crate::ids::{EdgeId, FaceId, VertexId};
 use crate::topology::Topology;
 use glam::DVec2;
+use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, TriangleRule};
 
 /// Sharpness of a smooth edge or vertex.
 pub const SHARPNESS_SMOOTH: f32 = 0.0;
@@ -45,32 +46,66 @@ pub struct VertexTag {
     pub sharpness: f32,
 }
 
-/// Tags by vertex indices, as a file or a tag file gives them (unvalidated;
-/// [`crate::Mesh::from_soup`] checks them). A later tag of the same edge or
-/// vertex replaces an earlier one.
+/// Subdivision options a mesh file sets for itself, as OpenSubdiv's shapes
+/// do with `t` lines (`interpolateboundary`, `creasemethod`,
+/// `facevaryinginterpolateboundary`, `smoothtriangles`): `None` where the
+/// file says nothing. They travel with the mesh so that a command applies
+/// them (an option given on the command line wins) and a writer keeps them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FileOptions {
+    /// Boundary interpolation.
+    pub boundary: Option<BoundaryInterpolation>,
+    /// Semi-sharp crease decay.
+    pub crease_method: Option<CreaseMethod>,
+    /// Face-varying interpolation.
+    pub fvar: Option<FVarInterpolation>,
+    /// Catmull-Clark's triangle rule.
+    pub triangle_rule: Option<TriangleRule>,
+}
+
+impl FileOptions {
+    /// Whether the file sets no option.
+    pub fn is_empty(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+/// Tags by vertex and face indices, as a file or a tag file gives them
+/// (unvalidated; [`crate::Mesh::from_soup`] checks them). A later tag of the
+/// same edge or vertex replaces an earlier one.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TagList {
     /// Crease tags.
     pub creases: Vec<EdgeTag>,
     /// Corner tags.
     pub corners: Vec<VertexTag>,
+    /// Faces tagged as holes (OpenSubdiv's `t hole`, 0-based): refined for
+    /// their neighbours' sake, not part of the surface.
+    pub holes: Vec<u32>,
+    /// The subdivision options the file sets.
+    pub options: FileOptions,
 }
 
 impl TagList {
-    /// Whether there is no tag at all.
+    /// Whether there is no tag at all (no crease, corner, hole or option).
     pub fn is_empty(&self) -> bool {
-        self.creases.is_empty() && self.corners.is_empty()
+        self.creases.is_empty() && self.corners.is_empty() && self.holes.is_empty() && self.options.is_empty()
     }
 }
 
-/// Validated sharpness tags of a topology: one value per edge and per vertex
-/// (stored only when some value is non-zero).
+/// Validated tags of a topology: sharpness, one value per edge and per
+/// vertex (stored only when some value is non-zero), the faces that are
+/// holes, and the subdivision options the file set.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Tags {
     /// Per edge, or empty when every edge is smooth.
     edges: Vec<f32>,
     /// Per vertex, or empty when every vertex is smooth.
     vertices: Vec<f32>,
+    /// Per face, or empty when no face is a hole.
+    holes: Vec<bool>,
+    /// The file's subdivision options.
+    options: FileOptions,
 }
 
 fn check_sharpness(value: f32, what: impl FnOnce() -> String) -> Result<f32, MeshError> {
@@ -116,7 +151,23 @@ impl Tags {
         if vertices.iter().all(|&s| s <= 0.0) {
             vertices = Vec::new();
         }
-        Self { edges, vertices }
+        Self { edges, vertices, holes: Vec::new(), options: FileOptions::default() }
+    }
+
+    /// The same tags with the faces where `holes` is true as holes (`holes`
+    /// empty, or one flag per face of the topology the tags belong to).
+    pub fn with_holes(mut self, mut holes: Vec<bool>) -> Self {
+        if !holes.contains(&true) {
+            holes = Vec::new();
+        }
+        self.holes = holes;
+        self
+    }
+
+    /// The same tags with the file's subdivision options `options`.
+    pub fn with_options(mut self, options: FileOptions) -> Self {
+        self.options = options;
+        self
     }
 
     /// Resolves tags by vertex indices on `t`: each crease pair must be an
@@ -149,12 +200,46 @@ impl Tags {
             let v = in_range(tag.vertex)?;
             vertices[v.index()] = check_sharpness(tag.sharpness, || format!("corner {}", tag.vertex))?;
         }
-        Ok(Self::compact(edges, vertices))
+        let mut holes = if list.holes.is_empty() { Vec::new() } else { vec![false; t.face_count()] };
+        for &face in &list.holes {
+            let flag = (holes.get_mut(face as usize))
+                .ok_or(MeshError::TagFaceOutOfRange { face, face_count: t.face_count() })?;
+            *flag = true;
+        }
+        Ok(Self::compact(edges, vertices).with_holes(holes).with_options(list.options))
     }
 
-    /// Whether every edge and vertex is smooth.
+    /// Whether every edge and vertex is smooth: the subdivision rules are the
+    /// untagged ones (holes and file options do not change them).
     pub fn is_empty(&self) -> bool {
         self.edges.is_empty() && self.vertices.is_empty()
+    }
+
+    /// Whether there is nothing a file would carry: no sharpness, no hole,
+    /// no option.
+    pub fn is_blank(&self) -> bool {
+        self.is_empty() && self.holes.is_empty() && self.options.is_empty()
+    }
+
+    /// Whether face `f` is a hole.
+    #[inline]
+    pub fn is_hole(&self, f: FaceId) -> bool {
+        self.holes.get(f.index()).copied().unwrap_or(false)
+    }
+
+    /// Per-face hole flags, or an empty slice when no face is a hole.
+    pub fn holes(&self) -> &[bool] {
+        &self.holes
+    }
+
+    /// Number of faces that are holes.
+    pub fn hole_count(&self) -> usize {
+        self.holes.iter().filter(|&&h| h).count()
+    }
+
+    /// The subdivision options the file set.
+    pub fn options(&self) -> FileOptions {
+        self.options
     }
 
     /// Sharpness of edge `e` (0 when untagged).
@@ -204,7 +289,8 @@ impl Tags {
             .filter(|(_, &s)| s > 0.0)
             .map(|(v, &sharpness)| VertexTag { vertex: v as u32, sharpness })
             .collect();
-        TagList { creases, corners }
+        let holes = (self.holes.iter().enumerate()).filter(|(_, &h)| h).map(|(f, _)| f as u32).collect();
+        TagList { creases, corners, holes, options: self.options }
     }
 }
 

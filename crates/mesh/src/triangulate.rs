@@ -138,8 +138,13 @@ pub fn triangulate(mesh: &Mesh) -> Result<Triangulation, MeshError> {
         groups.clone()
     };
     // Tags name vertex pairs, which stay edges; each triangle corner is a
-    // corner of its source face and keeps that corner's texture coordinate.
-    let tags = mesh.tags().to_list(t);
+    // corner of its source face and keeps that corner's texture coordinate;
+    // the triangles of a hole are holes.
+    let mut tags = mesh.tags().to_list(t);
+    if !tags.holes.is_empty() {
+        let hole = |f: &FaceId| mesh.tags().is_hole(*f);
+        tags.holes = (source_face.iter().enumerate()).filter(|(_, f)| hole(f)).map(|(k, _)| k as u32).collect();
+    }
     let uvs = mesh.uvs().map(|uvs| {
         let offsets = t.faces().offsets();
         let indices = (corners.chunks_exact(3).zip(&source_face))

@@ -21,12 +21,14 @@ impl From<EvalError> for Error {
     }
 }
 
-/// The surface options of `scheme` and the keyword arguments (as `subdivide` takes them).
+/// The surface options of `scheme` and the keyword arguments (as `subdivide` takes them), the
+/// mesh's own option tags (`file`) where the keywords give none.
 fn surface_options(
     py: Python<'_>,
     function: &'static str,
     scheme: &str,
     kwargs: Option<Bound<'_, PyDict>>,
+    file: subdiv::mesh::FileOptions,
 ) -> PyResult<Options> {
     let mut kw = Kwargs::new(function, kwargs.map(|d| d.copy()).transpose()?);
     let plan = options::subdivide(scheme, 1, false, &mut kw)?;
@@ -36,7 +38,7 @@ fn surface_options(
             input(format!("{function}: triangulate does not apply (triangulate the mesh first)")).into_pyerr(py)
         );
     }
-    Ok(plan.options())
+    Ok(plan.options(file))
 }
 
 /// `(n, 3)` rows `[face, u, v]` or `(n, 4)` rows `[face, corner, u, v]` as parameters.
@@ -79,7 +81,7 @@ pub fn evaluate<'py>(
     scheme: &str,
     options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let surface_options = surface_options(py, "evaluate", scheme, options)?;
+    let surface_options = surface_options(py, "evaluate", scheme, options, mesh.inner.tags().options())?;
     let params = parameters(params).raise(py)?;
     let input_mesh = mesh.inner.clone();
     let samples = detached(py, move || {
@@ -127,7 +129,7 @@ pub fn sample<'py>(
     seed: u64,
     options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let surface_options = surface_options(py, "sample", scheme, options)?;
+    let surface_options = surface_options(py, "sample", scheme, options, mesh.inner.tags().options())?;
     let how = match (per_face, count) {
         (Some(n), None) => Ok(Err(n)),
         (None, Some(n)) => Ok(Ok(n)),
@@ -162,7 +164,7 @@ pub fn project<'py>(
     scheme: &str,
     options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let surface_options = surface_options(py, "project", scheme, options)?;
+    let surface_options = surface_options(py, "project", scheme, options, mesh.inner.tags().options())?;
     let queries: Vec<DVec3> = with_positions(points, |p| Ok(p.iter().map(|&q| DVec3::from_array(q)).collect()))?;
     let input_mesh = mesh.inner.clone();
     let found: Vec<Projection> =
@@ -189,7 +191,7 @@ pub fn fit<'py>(
     smoothness: f64,
     options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<(PyMesh, Vec<Bound<'py, PyDict>>)> {
-    let surface_options = surface_options(py, "fit", scheme, options)?;
+    let surface_options = surface_options(py, "fit", scheme, options, control.inner.tags().options())?;
     let target = match target.extract::<PyRef<'_, PyMesh>>() {
         Ok(mesh) => FitTarget::from_mesh(&mesh.inner),
         Err(_) => FitTarget::cloud(with_positions(target, |p| Ok(p.iter().map(|&q| DVec3::from_array(q)).collect()))?),

@@ -30,6 +30,7 @@
 //! [correction C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c2
 
 use crate::mask::{EdgeMask, VertexKind, VertexMask};
+use crate::TriangleRule;
 
 /// Weight of each corner in the face point of an m-sided face: 1/m
 /// (Appendix Eq. 4, third line).
@@ -75,6 +76,40 @@ pub fn edge_point_mask(m_left: usize, m_right: Option<usize>) -> EdgeMask {
     // Correction C2 (docs/REFERENCES.md): e_i = (V + E_i + f_{i−1} + f_i)/4, each face point expanded over
     // its corners.
     EdgeMask { end: 0.25 * (1.0 + fl + fr), left: 0.25 * fl, right: 0.25 * fr }
+}
+
+/// [`edge_point_mask`] under a [`TriangleRule`]. With
+/// [`TriangleRule::Smooth`] an interior edge next to a triangle takes
+/// OpenSubdiv's `TRI_SUB_SMOOTH` weights (`Sdc::Scheme<CATMARK>::
+/// assignSmoothMaskForEdge`, after Hbr): each face point weighs
+/// f = ½(w₀ + w₁), wᵢ = 0.470 for a triangle and ¼ otherwise, each endpoint
+/// ½(1 − 2f) — expanded over the faces' corners as in [`edge_point_mask`].
+/// Edges between two non-triangles and boundary edges are unchanged.
+///
+/// ```
+/// use subdiv_rules::catmull_clark::{edge_point_mask, edge_point_mask_with};
+/// use subdiv_rules::TriangleRule;
+/// assert_eq!(edge_point_mask_with(3, Some(4), TriangleRule::Catmark), edge_point_mask(3, Some(4)));
+/// let smooth = edge_point_mask_with(3, Some(3), TriangleRule::Smooth);
+/// // f = 0.47 per face point, 0.03 per endpoint: 0.03 + 2·0.47/3 at each end.
+/// assert!((smooth.end - (0.03 + 2.0 * 0.47 / 3.0)).abs() < 1e-15);
+/// assert!((2.0 * smooth.end + smooth.left + smooth.right - 1.0).abs() < 1e-15);
+/// ```
+///
+/// # Panics
+/// If a face has fewer than 3 corners.
+pub fn edge_point_mask_with(m_left: usize, m_right: Option<usize>, rule: TriangleRule) -> EdgeMask {
+    match (rule, m_right) {
+        (TriangleRule::Smooth, Some(m_right)) if m_left == 3 || m_right == 3 => {
+            const SMOOTH_TRIANGLE_WEIGHT: f64 = 0.470;
+            let w = |m: usize| if m == 3 { SMOOTH_TRIANGLE_WEIGHT } else { 0.25 };
+            let f = 0.5 * (w(m_left) + w(m_right));
+            let v = 0.5 * (1.0 - 2.0 * f);
+            let (fl, fr) = (face_point_weight(m_left), face_point_weight(m_right));
+            EdgeMask { end: v + f * (fl + fr), left: f * fl, right: f * fr }
+        }
+        _ => edge_point_mask(m_left, m_right),
+    }
 }
 
 /// Vertex-point mask. Interior vertex of valence n:

@@ -235,6 +235,19 @@ pub enum FVarInterpolation {
     LinearAll,
 }
 
+/// How Catmull-Clark treats triangles (`Sdc::Options::TriangleSubdivision`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TriangleRule {
+    /// Triangles are faces like any other (Catmull-Clark's rules).
+    #[default]
+    Catmark,
+    /// OpenSubdiv's `TRI_SUB_SMOOTH` (after Hbr): the edge points of an
+    /// edge between two faces weigh a triangle's face point by 0.470 instead
+    /// of ¼ ([`crate::catmull_clark::edge_point_mask_with`]), which rounds the
+    /// surface over triangles. Level 0 only: every later face is a quad.
+    Smooth,
+}
+
 /// The names of an option's values, as on the command line.
 macro_rules! named {
     ($ty:ty, $what:literal, $($variant:ident = $name:literal),+ $(,)?) => {
@@ -285,6 +298,7 @@ named!(
     LinearBoundaries = "linear-boundaries",
     LinearAll = "linear-all"
 );
+named!(TriangleRule, "triangle rule", Catmark = "catmark", Smooth = "smooth");
 // Loop's β by name (`--beta warren|loop`): the same names, parser and messages as the options above.
 named!(crate::LoopBeta, "Loop β", Warren = "warren", Loop = "loop");
 

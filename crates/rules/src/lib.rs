@@ -79,7 +79,7 @@ mod vec3;
 #[cfg(test)]
 mod test_util;
 
-pub use crease::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Rule};
+pub use crease::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Rule, TriangleRule};
 pub use curves::CurveScheme;
 pub use doo_sabin::doo_sabin_weights;
 pub use loop_scheme::LoopBeta;

@@ -30,15 +30,17 @@ use crate::mask::{EdgeMask, VertexKind, VertexMask};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum LoopBeta {
     /// Warren's β: 3/16 for k = 3, 3/(8k) for k > 3 (Deng-Wang Eq. 2,
-    /// [correction W2]). The default, as in libigl.
+    /// [correction W2]), as in libigl; Deng and Wang (2010) chose it.
     ///
     /// [correction W2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w2
-    #[default]
     Warren,
     /// Loop's original β = (1/k)[5/8 − (3/8 + ¼cos(2π/k))²] (Deng-Wang Remark,
-    /// [correction W3]), as in OpenSubdiv.
+    /// [correction W3]). The default, as in OpenSubdiv — the evaluator of
+    /// Blender, USD/Hydra and RenderMan — so that a Loop control mesh written
+    /// here means the same surface there.
     ///
     /// [correction W3]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w3
+    #[default]
     Loop,
 }
 

@@ -32,7 +32,7 @@ fn betas_and_gammas_in_closed_form() {
     }
     assert!((LoopBeta::Loop.beta(6) - 1.0 / 16.0).abs() < 1e-16);
     assert!((LoopBeta::Loop.beta(3) - 3.0 / 16.0).abs() < 1e-16);
-    assert_eq!(LoopBeta::default(), LoopBeta::Warren);
+    assert_eq!(LoopBeta::default(), LoopBeta::Loop); // OpenSubdiv's
 }
 
 /// The (k+1)×(k+1) 1-ring subdivision matrix: node 0 the centre, node j the

@@ -18,8 +18,8 @@ use crate::{face_ring_size, vertex_kind, RowBuilder, SparseMatrix, Summation};
 use glam::DVec3;
 use subdiv_mesh::refine::quad_split;
 use subdiv_mesh::{EdgeId, FaceId, HalfEdgeId, Topology, VertexId};
-use subdiv_rules::catmull_clark::{edge_point_mask, face_point_weight, limit_mask, vertex_point_mask};
-use subdiv_rules::{Rule, VertexKind};
+use subdiv_rules::catmull_clark::{edge_point_mask_with, face_point_weight, limit_mask, vertex_point_mask};
+use subdiv_rules::{Rule, TriangleRule, VertexKind};
 
 /// (V + F + E) × V refinement stencil: P₁ = R·P₀ on [`quad_split`]'s numbering.
 ///
@@ -87,12 +87,12 @@ fn refinement_row(t: &Topology, sharp: &LevelSharpness, i: usize, rows: &mut Row
     } else {
         let e = EdgeId((i - nv - nf) as u32);
         match sharp.edge_step(t, e) {
-            EdgeStep::Smooth => edge_point_row(t, e, 1.0, rows),
+            EdgeStep::Smooth => edge_point_row(t, e, sharp.triangle_rule(), 1.0, rows),
             EdgeStep::Midpoint => midpoint_row(t, e, 1.0, rows),
             EdgeStep::Blend(s) => {
                 // OpenSubdiv's semi-sharp edge: s·midpoint + (1 − s)·smooth.
                 midpoint_row(t, e, s, rows);
-                edge_point_row(t, e, 1.0 - s, rows);
+                edge_point_row(t, e, sharp.triangle_rule(), 1.0 - s, rows);
             }
         }
     }
@@ -178,13 +178,14 @@ fn smooth_vertex_row(t: &Topology, v: VertexId, scale: f64, rows: &mut RowBuilde
 
 /// Row of the new edge point of `e`: [correction C2], e = (V + Eᵢ + fᵢ₋₁ + fᵢ)/4 with
 /// the face points expanded (the corners of each face other than the ends);
-/// the midpoint on the boundary; times `scale`.
+/// the midpoint on the boundary; OpenSubdiv's weights next to a triangle
+/// under [`TriangleRule::Smooth`]; times `scale`.
 ///
 /// [correction C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c2
-fn edge_point_row(t: &Topology, e: EdgeId, scale: f64, rows: &mut RowBuilder) {
+fn edge_point_row(t: &Topology, e: EdgeId, rule: TriangleRule, scale: f64, rows: &mut RowBuilder) {
     let h = t.edge_half_edge(e);
     let twin = t.he_twin(h);
-    let mask = edge_point_mask(t.face_size(t.he_face(h)), twin.map(|g| t.face_size(t.he_face(g))));
+    let mask = edge_point_mask_with(t.face_size(t.he_face(h)), twin.map(|g| t.face_size(t.he_face(g))), rule);
     rows.add(t.he_from(h).0, scale * mask.end);
     rows.add(t.he_to(h).0, scale * mask.end);
     for (side, w) in [(Some(h), mask.left), (twin, mask.right)] {

@@ -58,7 +58,7 @@
 //! // The cube's top loop (z = 1) creased: it stays a planar curve, the top flat.
 //! let cube = shapes::cube();
 //! let creases = [(4, 5), (5, 7), (7, 6), (6, 4)].map(|(a, b)| EdgeTag { a, b, sharpness: SHARPNESS_INFINITE });
-//! let tags = Tags::from_list(cube.topology(), &TagList { creases: creases.to_vec(), corners: vec![] }).unwrap();
+//! let tags = Tags::from_list(cube.topology(), &TagList { creases: creases.to_vec(), corners: vec![], ..Default::default() }).unwrap();
 //! let options = Options::new(Scheme::DengMa(Tension::default()));
 //! let refined = subdivide(&cube.with_tags(tags), options, 3, false).unwrap();
 //! let t = refined.topology();

@@ -630,9 +630,10 @@ impl Step<'_> {
         match self.scheme {
             Scheme::CatmullClark | Scheme::DengMa(_) => {
                 // Correction C2 (docs/REFERENCES.md): (V + E + f_left + f_right)/4, the face points expanded
-                // over their corners.
+                // over their corners; OpenSubdiv's weights next to a triangle under the smooth
+                // triangle rule, as for the positions.
                 let size = |x: HalfEdgeId| t.face_size(t.he_face(x));
-                let mask = catmull_clark::edge_point_mask(size(h), Some(size(g)));
+                let mask = catmull_clark::edge_point_mask_with(size(h), Some(size(g)), self.sharp.triangle_rule());
                 sum.add(scale * mask.end, self.value(h));
                 sum.add(scale * mask.end, self.value(t.he_next(h)));
                 for (side, w) in [(h, mask.left), (g, mask.right)] {

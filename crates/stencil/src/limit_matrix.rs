@@ -344,8 +344,11 @@ fn row_rule(t: &Topology, sharp: &LevelSharpness, v: VertexId) -> RowRule {
     if t.is_isolated(v) {
         return RowRule::Corner;
     }
+    // A smooth row is one step composed with the limit mask: not with the
+    // smooth-triangle edge points (`LevelSharpness::smooth_triangle_at`), a general row then.
+    let smooth = || if sharp.smooth_triangle_at(t, v) { RowRule::General } else { RowRule::Smooth };
     if sharp.is_untagged() && !t.is_boundary_vertex(v) {
-        return RowRule::Smooth; // fast path: nothing sharp can be at v
+        return smooth(); // fast path: nothing sharp can be at v
     }
     let vertex = sharp.vertex(t, v);
     // The incoming boundary edge (not in the fan) is infinitely sharp.
@@ -365,7 +368,7 @@ fn row_rule(t: &Topology, sharp: &LevelSharpness, v: VertexId) -> RowRule {
         return RowRule::General;
     }
     match (infinite, sharp.limit_rule(t, v)) {
-        (0, _) => RowRule::Smooth,
+        (0, _) => smooth(),
         (2, (Rule::Crease, Some((a, b)))) => RowRule::Crease(a, b),
         _ => RowRule::General, // a dart: OpenSubdiv's limit after the first step
     }
@@ -706,7 +709,9 @@ fn crop(t: &Topology, sharp: &LevelSharpness, tracked: &[u32]) -> Crop {
         to_level.iter().map(|&v| tags.vertex_sharpness(VertexId(v))).collect()
     };
     let tags = Tags::from_arrays(&topology, edges, vertices).expect("the level's tags are valid values");
-    Crop { topology, sharpness: LevelSharpness::new(&tags, sharp.boundary(), sharp.method()), to_level }
+    let sharpness =
+        LevelSharpness::new(&tags, sharp.boundary(), sharp.method()).with_triangle_rule(sharp.triangle_rule());
+    Crop { topology, sharpness, to_level }
 }
 
 /// `m` with column c renamed `map[c]` (columns that meet are summed), `columns` wide.
@@ -849,7 +854,7 @@ fn dual_row(t: &Topology, features: &DualFeatures, v: VertexId) -> DualRow {
 /// // The top loop 4-5-7-6 sharp: a closed crease of four vertices.
 /// let loop_edges = [(4, 5), (5, 7), (7, 6), (6, 4)];
 /// let creases = loop_edges.iter().map(|&(a, b)| EdgeTag { a, b, sharpness: 10.0 }).collect();
-/// let tags = Tags::from_list(t, &TagList { creases, corners: Vec::new() }).unwrap();
+/// let tags = Tags::from_list(t, &TagList { creases, corners: Vec::new(), ..Default::default() }).unwrap();
 /// let c = limit_matrix_doo_sabin_sharp(t, &StandardCorners, &tags).unwrap();
 /// assert_eq!(c.rows_of(RowKind::Crease), [4, 5, 6, 7]);
 /// // Crease rows (B₋ + 6V + B₊)/8 along the loop, whatever the first step.
@@ -1391,6 +1396,7 @@ mod tests {
                 EdgeTag { a: id(2, 2), b: id(3, 2), sharpness: 10.0 },
             ],
             corners: vec![VertexTag { vertex: id(4, 4), sharpness: 10.0 }],
+            ..Default::default()
         };
         let tags = Tags::from_list(grid.topology(), &list).unwrap();
         let cases = [

@@ -4,13 +4,15 @@
 //! passed to every layer.
 
 use crate::scheme::{Domain, FVarSupport, SchemeTraits, Split};
+use crate::LevelSharpness;
 use crate::StencilError;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::fmt;
 use std::str::FromStr;
+use subdiv_mesh::Tags;
 use subdiv_rules::constants::DEFAULT_DENG_MA_OMEGA;
 use subdiv_rules::deng_ma::Tension;
-use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta};
+use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, TriangleRule};
 
 /// A subdivision scheme with the parameters that belong to it alone: the
 /// one table of schemes. Everything the other layers ask of a scheme that is
@@ -50,11 +52,11 @@ pub enum Scheme {
 }
 
 impl Scheme {
-    /// Every scheme, each with its default parameters (Warren's β, ω = 1), in
+    /// Every scheme, each with its default parameters (Loop's β, ω = 1), in
     /// the order help texts list them.
     pub const ALL: [Scheme; 5] = [
         Scheme::CatmullClark,
-        Scheme::Loop(LoopBeta::Warren),
+        Scheme::Loop(LoopBeta::Loop),
         Scheme::DooSabin,
         Scheme::DengMa(Tension::Global(DEFAULT_DENG_MA_OMEGA)),
         Scheme::Sqrt3,
@@ -265,6 +267,9 @@ pub struct Options {
     pub crease_method: CreaseMethod,
     /// How face-varying data (UVs) is interpolated.
     pub fvar: FVarInterpolation,
+    /// Catmull-Clark's rule for triangles (OpenSubdiv's `TriangleSubdivision`);
+    /// the other schemes ignore it.
+    pub triangle_rule: TriangleRule,
 }
 
 impl From<Scheme> for Options {
@@ -288,6 +293,7 @@ impl Options {
             boundary: BoundaryInterpolation::default(),
             crease_method: CreaseMethod::default(),
             fvar: FVarInterpolation::default(),
+            triangle_rule: TriangleRule::default(),
         }
     }
 
@@ -311,6 +317,17 @@ impl Options {
         Self { fvar, ..self }
     }
 
+    /// With another triangle rule (Catmull-Clark).
+    pub fn with_triangle_rule(self, triangle_rule: TriangleRule) -> Self {
+        Self { triangle_rule, ..self }
+    }
+
+    /// The base level's rules for a mesh with `tags`: the tags with the
+    /// boundary option, the crease method and the triangle rule.
+    pub fn sharpness(&self, tags: &Tags) -> LevelSharpness {
+        LevelSharpness::new(tags, self.boundary, self.crease_method).with_triangle_rule(self.triangle_rule)
+    }
+
     /// Checks every parameter's range (the one place: Deng-Ma's tension).
     ///
     /// # Errors
@@ -318,6 +335,12 @@ impl Options {
     pub fn validate(&self) -> Result<(), StencilError> {
         if let Scheme::DengMa(tension) = self.scheme {
             tension.validate().map_err(|e| StencilError::InvalidParameter(e.to_string()))?;
+        }
+        if self.triangle_rule == TriangleRule::Smooth && self.scheme != Scheme::CatmullClark {
+            return Err(StencilError::InvalidParameter(format!(
+                "the smooth triangle rule is Catmull-Clark's (OpenSubdiv's TRI_SUB_SMOOTH), not {}'s",
+                self.scheme
+            )));
         }
         Ok(())
     }

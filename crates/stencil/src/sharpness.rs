@@ -19,7 +19,7 @@
 use std::sync::OnceLock;
 use subdiv_mesh::{EdgeId, HalfEdgeId, Tags, Topology, VertexId};
 use subdiv_rules::crease::{decrement, fractional_weight, is_sharp, is_smooth, vertex_rule, SHARPNESS_INFINITE};
-use subdiv_rules::{BoundaryInterpolation, CreaseMethod, Rule};
+use subdiv_rules::{BoundaryInterpolation, CreaseMethod, Rule, TriangleRule};
 
 /// Largest valence whose incident sharpness fits the stack buffers below;
 /// larger valences use a heap buffer.
@@ -45,6 +45,10 @@ pub struct LevelSharpness {
     /// steps, `crate::sqrt3`); false on a base level, flipped by each √3
     /// split. The one piece of level state that is not a tag.
     trisects_next: bool,
+    /// Catmull-Clark's triangle rule on this level (OpenSubdiv's
+    /// `TriangleSubdivision`); a refined level is [`TriangleRule::Catmark`]
+    /// (the quad split leaves no triangle).
+    triangle_rule: TriangleRule,
 }
 
 impl PartialEq for LevelSharpness {
@@ -54,6 +58,7 @@ impl PartialEq for LevelSharpness {
             && (self.boundary == other.boundary)
             && (self.method == other.method)
             && (self.trisects_next == other.trisects_next)
+            && (self.triangle_rule == other.triangle_rule)
     }
 }
 
@@ -182,7 +187,33 @@ impl LevelSharpness {
     }
 
     fn from_values(edges: Vec<f32>, vertices: Vec<f32>, boundary: BoundaryInterpolation, method: CreaseMethod) -> Self {
-        Self { edges, vertices, boundary, method, touched: OnceLock::new(), trisects_next: false }
+        Self {
+            edges,
+            vertices,
+            boundary,
+            method,
+            touched: OnceLock::new(),
+            trisects_next: false,
+            triangle_rule: TriangleRule::Catmark,
+        }
+    }
+
+    /// The same level with Catmull-Clark's triangle rule `rule` (the other
+    /// schemes ignore it).
+    pub fn with_triangle_rule(self, rule: TriangleRule) -> Self {
+        Self { triangle_rule: rule, ..self }
+    }
+
+    /// Catmull-Clark's triangle rule on this level.
+    pub fn triangle_rule(&self) -> TriangleRule {
+        self.triangle_rule
+    }
+
+    /// Whether `v` is in a triangle whose edges take
+    /// [`TriangleRule::Smooth`]'s weights on this level: the one-step limit
+    /// rows (Cheng's Eq. 5) do not hold there, the limit needs a step first.
+    pub fn smooth_triangle_at(&self, t: &Topology, v: VertexId) -> bool {
+        self.triangle_rule == TriangleRule::Smooth && t.vertex_fan(v).iter().any(|&h| t.face_size(t.he_face(h)) == 3)
     }
 
     /// √3: a level with these vertex values (no edge tags) whose next step
@@ -210,7 +241,9 @@ impl LevelSharpness {
     /// Whether the rules are those of an untagged mesh with OpenSubdiv's
     /// `EDGE_AND_CORNER` boundary: the schemes' plain masks apply as they are.
     pub fn is_plain(&self) -> bool {
-        self.is_untagged() && self.boundary == BoundaryInterpolation::EdgeAndCorner
+        self.is_untagged()
+            && self.boundary == BoundaryInterpolation::EdgeAndCorner
+            && self.triangle_rule == TriangleRule::Catmark
     }
 
     /// The boundary option.

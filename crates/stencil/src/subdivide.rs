@@ -7,6 +7,7 @@
 //! check that every output coordinate is a finite f64
 //! ([`StencilError::NotRepresentable`] otherwise).
 
+use crate::holes;
 use crate::normalized::{map_back, normalize};
 use crate::scheme::SchemeRules;
 use crate::sharpness::LevelSharpness;
@@ -140,7 +141,7 @@ pub fn limit_points_with_options(
     let options = options.into();
     options.validate()?;
     let rules = options.scheme.rules();
-    let sharp = LevelSharpness::new(tags, options.boundary, options.crease_method);
+    let sharp = options.sharpness(tags);
     rules.check(t, &sharp)?;
     let (scale, scaled) = normalize(positions);
     let Some(limits) = limit_points_of(rules.as_ref(), options.scheme, t, &sharp, &scaled, true) else {
@@ -198,7 +199,7 @@ impl SubdivisionPlan {
         let options = options.into();
         options.validate()?;
         let rules = options.scheme.rules();
-        let base_sharpness = LevelSharpness::new(tags, options.boundary, options.crease_method);
+        let base_sharpness = options.sharpness(tags);
         // Also with 0 levels: the plan's limit points need what the scheme needs.
         rules.check(t, &base_sharpness)?;
         let mut out: Vec<Refinement> = Vec::with_capacity(levels);
@@ -359,7 +360,14 @@ impl SubdivisionPlan {
             }
             None => None,
         };
-        let refined = Mesh::from_topology(t.clone(), positions).with_tags(sharp.tags(t));
+        let mut holes = holes::base_holes(&self.base, mesh.tags(), &self.options);
+        let mut coarse = &self.base;
+        for level in &self.levels {
+            holes = holes::child_holes(self.scheme(), coarse, &holes)?;
+            coarse = &level.topology;
+        }
+        let tags = if self.levels.is_empty() { mesh.tags().clone() } else { sharp.tags(t) };
+        let refined = Mesh::from_topology(t.clone(), positions).with_tags(tags.with_holes(holes));
         Ok(refined.with_uvs(uvs).expect("the refined channel has one value per refined face corner"))
     }
 }
@@ -443,15 +451,17 @@ fn subdivide_observed(
     options.validate()?;
     let scheme = options.scheme;
     let rules = scheme.rules();
-    let mut sharp = LevelSharpness::new(mesh.tags(), options.boundary, options.crease_method);
+    let mut sharp = options.sharpness(mesh.tags());
     // Also with 0 levels and limit: Loop's limit mask needs triangles.
     rules.check(mesh.topology(), &sharp)?;
     let mut fine: Option<Topology> = None; // None: still the input's connectivity
     let (scale, mut positions) = normalize(mesh.positions());
     let mut uvs = mesh.uvs().map(Cow::Borrowed);
+    let mut holes = holes::base_holes(mesh.topology(), mesh.tags(), &options);
     for level in 0..levels {
         let coarse = fine.as_ref().unwrap_or(mesh.topology());
         check_size(coarse, scheme)?;
+        holes = holes::child_holes(scheme, coarse, &holes)?;
         // The refined connectivity on one core, the points on the other.
         let (split, next) =
             rayon::join(|| rules.split(coarse, &sharp), || rules.step_points(coarse, &sharp, &positions));
@@ -475,14 +485,17 @@ fn subdivide_observed(
     map_back_checked(scheme, scale, &mut positions, mesh.positions(), copies_input(scheme, levels, limit))?;
     Ok(match fine {
         Some(t) => {
-            let tags = sharp.into_tags(&t);
+            let tags = sharp.into_tags(&t).with_holes(holes);
             let uvs = uvs.map(Cow::into_owned);
             Mesh::from_topology(t, positions)
                 .with_tags(tags)
                 .with_uvs(uvs)
                 .expect("the refined channel has one value per refined face corner")
         }
-        None => mesh.with_positions(positions),
+        None => {
+            let tags = mesh.tags().clone().with_holes(holes);
+            mesh.with_positions(positions).with_tags(tags)
+        }
     })
 }
 

@@ -27,6 +27,7 @@ fn tags(t: &Topology, creases: &[(u32, u32)], corners: &[u32]) -> Tags {
     let list = TagList {
         creases: creases.iter().map(|&(a, b)| EdgeTag { a, b, sharpness: SHARPNESS_INFINITE }).collect(),
         corners: corners.iter().map(|&vertex| VertexTag { vertex, sharpness: SHARPNESS_INFINITE }).collect(),
+        ..Default::default()
     };
     Tags::from_list(t, &list).expect("the test tags name edges and vertices of the mesh")
 }
@@ -725,9 +726,14 @@ fn semi_sharp_tags_are_refused_naming_the_element() {
     let t = grid.topology();
     let (a, b) = (g6(2, 3), g6(3, 3));
     let e = t.find_edge(VertexId(a), VertexId(b)).unwrap();
-    let semi_edge = Tags::from_list(t, &TagList { creases: vec![EdgeTag { a, b, sharpness: 2.5 }], corners: vec![] });
-    let semi_vertex =
-        Tags::from_list(t, &TagList { creases: vec![], corners: vec![VertexTag { vertex: 24, sharpness: 1.0 }] });
+    let semi_edge = Tags::from_list(
+        t,
+        &TagList { creases: vec![EdgeTag { a, b, sharpness: 2.5 }], corners: vec![], ..Default::default() },
+    );
+    let semi_vertex = Tags::from_list(
+        t,
+        &TagList { creases: vec![], corners: vec![VertexTag { vertex: 24, sharpness: 1.0 }], ..Default::default() },
+    );
     let (ea, eb) = t.edge_vertices(e); // the edge's own direction, as the message names it
     let cases = [
         (semi_edge.unwrap(), format!("edge {} (vertices {ea}-{eb})", e.0), 2.5),
@@ -758,13 +764,16 @@ fn what_does_not_change_the_rules_does_not_change_the_surface() {
         let list = TagList {
             creases: row.iter().map(|&(a, b)| EdgeTag { a, b, sharpness }).collect(),
             corners: vec![VertexTag { vertex: g6(2, 5), sharpness: corner }],
+            ..Default::default()
         };
         Tags::from_list(t, &list).unwrap()
     };
     // A semi-sharp tag on a boundary edge: boundary edges are sharp anyway.
-    let on_boundary =
-        Tags::from_list(t, &TagList { creases: vec![EdgeTag { a: 0, b: 1, sharpness: 2.5 }], corners: vec![] })
-            .unwrap();
+    let on_boundary = Tags::from_list(
+        t,
+        &TagList { creases: vec![EdgeTag { a: 0, b: 1, sharpness: 2.5 }], corners: vec![], ..Default::default() },
+    )
+    .unwrap();
     for tension in TENSIONS {
         let reference = hash(run(&grid, &at(10.0, 10.0), deng_ma(tension), 3).positions());
         // Any value ≥ 10 is infinitely sharp; the crease method decays semi-sharp values only.

@@ -22,6 +22,7 @@ fn tags(t: &Topology, creases: &[(u32, u32)], corners: &[u32]) -> Tags {
     let list = TagList {
         creases: creases.iter().map(|&(a, b)| EdgeTag { a, b, sharpness: SHARPNESS_INFINITE }).collect(),
         corners: corners.iter().map(|&vertex| VertexTag { vertex, sharpness: SHARPNESS_INFINITE }).collect(),
+        ..Default::default()
     };
     Tags::from_list(t, &list).expect("the test tags name edges and vertices of the mesh")
 }

@@ -421,7 +421,7 @@ fn linear_all_is_bilinear() {
 fn seam_with_crease(sharpness: f32) -> (Mesh, FaceVarying) {
     let mesh = shapes::quad_grid(4, 4);
     let channel = charted(&mesh, |f| u32::from(f.index() % 4 >= 2));
-    let list = TagList { creases: vec![EdgeTag { a: 11, b: 12, sharpness }], corners: vec![] };
+    let list = TagList { creases: vec![EdgeTag { a: 11, b: 12, sharpness }], corners: vec![], ..Default::default() };
     let tags = Tags::from_list(mesh.topology(), &list).unwrap();
     (mesh.with_tags(tags), channel)
 }
@@ -637,6 +637,7 @@ fn tagged_big() -> Mesh {
     let list = TagList {
         creases: (0..60).map(|i| EdgeTag { a: 121 * 50 + i, b: 121 * 50 + i + 1, sharpness: 1.5 }).collect(),
         corners: vec![VertexTag { vertex: 121 * 20 + 30, sharpness: 2.0 }],
+        ..Default::default()
     };
     let tags = Tags::from_list(mesh.topology(), &list).unwrap();
     mesh.with_tags(tags)

@@ -7,7 +7,7 @@ use anyhow::Result;
 use serde_json::json;
 use subdiv_interp::{deng_ma, deng_wang, DengMaOptions, DengWangOptions, Interpolant};
 use subdiv_mesh::Mesh;
-use subdiv_stencil::Tension;
+use subdiv_stencil::{LoopBeta, Tension};
 
 /// Length-weighted mean squared dihedral angle over interior edges (a
 /// discrete bending energy; 0 for a plane, small for fair surfaces).
@@ -55,7 +55,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     for (file, mesh) in &models {
         let is_sphere = file.contains("icosphere");
         for mu in [0.0, 0.125, 0.25, 0.375, 0.5] {
-            let r = deng_wang::interpolate(mesh, &DengWangOptions::default().with_mu(mu))?;
+            let r = deng_wang::interpolate(mesh, &DengWangOptions::default().with_beta(LoopBeta::Warren).with_mu(mu))?;
             let s = r.surface(3)?;
             let e = max_error(mesh, &r);
             let dev = if is_sphere { sci(deviation(&s)) } else { "—".into() };

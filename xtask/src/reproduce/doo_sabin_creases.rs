@@ -19,6 +19,7 @@ fn creases(mesh: &Mesh, pairs: &[(u32, u32)]) -> Result<Tags> {
     let list = TagList {
         creases: pairs.iter().map(|&(a, b)| EdgeTag { a, b, sharpness: SHARPNESS_INFINITE }).collect(),
         corners: Vec::new(),
+        ..Default::default()
     };
     Ok(Tags::from_list(mesh.topology(), &list)?)
 }

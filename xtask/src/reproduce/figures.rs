@@ -9,7 +9,7 @@ use subdiv_interp::{
     FanChengLaiOptions, Interpolant, NasriOptions, Shape, ZhengCaiOptions,
 };
 use subdiv_mesh::Mesh;
-use subdiv_stencil::Tension;
+use subdiv_stencil::{LoopBeta, Tension};
 
 const PANEL: u32 = 420;
 const DATA_DOTS: ([u8; 3], f32) = ([220, 40, 40], 2.6);
@@ -113,7 +113,7 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
         "Nasri 1987 (Zheng-Cai Fig. 4(d-e)): auxiliary mesh M⁰ from C·M⁰ = P and its Doo-Sabin surface.",
     )?;
     let bunny = ctx.fixture("tri/bunny_npm.obj")?;
-    let r = deng_wang::interpolate(&bunny, &DengWangOptions::default())?;
+    let r = deng_wang::interpolate(&bunny, &DengWangOptions::default().with_beta(LoopBeta::Warren))?;
     save(
         ctx,
         &mut table,
@@ -195,7 +195,12 @@ pub fn run(ctx: &Ctx) -> Result<Table> {
     let eight = ctx.fixture("tri/eight.off")?;
     let mus: Vec<(String, Interpolant)> = [0.0, 0.25, 0.5]
         .iter()
-        .map(|&mu| Ok((format!("μ = {mu}"), deng_wang::interpolate(&eight, &DengWangOptions::default().with_mu(mu))?)))
+        .map(|&mu| {
+            Ok((
+                format!("μ = {mu}"),
+                deng_wang::interpolate(&eight, &DengWangOptions::default().with_beta(LoopBeta::Warren).with_mu(mu))?,
+            ))
+        })
         .collect::<Result<_>>()?;
     save(
         ctx,

@@ -115,6 +115,10 @@ pub fn dyadic_error(mesh: &Mesh, options: Options, levels: usize) -> f64 {
         if sharp.limit_rule(mt, subdiv_mesh::VertexId(vertex)).0 == subdiv_rules::Rule::Dart {
             return;
         }
+        // Holes (boundary `none` makes the boundary faces holes) have no surface.
+        if surface.face_domains(param.face).is_empty() {
+            return;
+        }
         let s = surface.evaluate(mesh.positions(), param).unwrap_or_else(|e| panic!("{param:?}: {e}"));
         let e = (s.position - refined.positions()[vertex as usize]).length() / d;
         assert!(e.is_finite(), "{param:?}");

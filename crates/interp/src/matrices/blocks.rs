@@ -60,6 +60,7 @@ mod tests {
                 EdgeTag { a: id(3, 2), b: id(3, 3), sharpness: 1.5 },
             ],
             corners: vec![VertexTag { vertex: id(4, 4), sharpness: 10.0 }],
+            ..Default::default()
         };
         let tags = Tags::from_list(grid.topology(), &list).unwrap();
         let sharp = LevelSharpness::new(&tags, Default::default(), Default::default());

@@ -12,6 +12,7 @@ pub fn tagged(mesh: &Mesh, creases: &[(u32, u32, f32)], corners: &[(u32, f32)]) 
     let list = TagList {
         creases: creases.iter().map(|&(a, b, sharpness)| EdgeTag { a, b, sharpness }).collect(),
         corners: corners.iter().map(|&(vertex, sharpness)| VertexTag { vertex, sharpness }).collect(),
+        ..Default::default()
     };
     let tags = Tags::from_list(mesh.topology(), &list).expect("valid tags");
     mesh.clone().with_tags(tags)

@@ -101,6 +101,7 @@ pub fn tags(mesh: &Mesh, creases: &[(u32, u32, f32)], corners: &[(u32, f32)]) ->
     let list = TagList {
         creases: creases.iter().map(|&(a, b, sharpness)| EdgeTag { a, b, sharpness }).collect(),
         corners: corners.iter().map(|&(vertex, sharpness)| VertexTag { vertex, sharpness }).collect(),
+        ..Default::default()
     };
     Tags::from_list(mesh.topology(), &list).unwrap()
 }
