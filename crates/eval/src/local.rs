@@ -164,7 +164,7 @@ pub(crate) fn submesh(
     let vertices: Vec<f32> = picked.parent_vertex.iter().map(|&v| tags.vertex_sharpness(VertexId(v))).collect();
     let local_tags =
         Tags::from_arrays(&topo, edges, vertices).map_err(|e| EvalError::Internal(format!("local tags: {e}")))?;
-    let sharp = LevelSharpness::new(&local_tags, options.boundary, options.crease_method);
+    let sharp = LevelSharpness::from_options(&local_tags, options);
     let (out, root) = match rows {
         Some((rows, width)) => {
             let mut out = vec![0.0; n * width];

@@ -446,7 +446,7 @@ impl LimitSurface {
         }
         let t = mesh.topology();
         let tags = mesh.tags().clone();
-        let sharp = LevelSharpness::new(&tags, options.boundary, options.crease_method);
+        let sharp = LevelSharpness::from_options(&tags, options);
         options.scheme.rules().check(t, &sharp)?;
         let (mut topology, mut local_tags, mut vertex_map) = (t.clone(), tags.clone(), None);
         if traits.split == Split::Dual {

@@ -2,7 +2,7 @@
 
 use crate::{InterpError, Parameter};
 use subdiv_solve::{IterationObserver, Solver};
-use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Options, Scheme};
+use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, DartLimit, FVarInterpolation, Options, Scheme};
 
 /// Default tolerance: max over interpolated vertices of |P − AX| / d.
 pub const DEFAULT_TOL: f64 = 1e-6;
@@ -31,7 +31,12 @@ pub enum SolverChoice {
 /// boundary rule of their own and infinitely sharp tags only, which never
 /// decay. `fvar` says how the input's texture coordinates are refined where
 /// the control mesh is a refined mesh (Zheng-Cai, Fan-Cheng-Lai, Deng-Wang)
-/// and on the surface.
+/// and on the surface. `dart_limit` says which limit point the Catmull-Clark
+/// and Loop limit rows give a dart (infinitely sharp crease ending inside):
+/// its exact limit by default, so the surface itself passes through the
+/// data there; [`DartLimit::SmoothMask`] interpolates under OpenSubdiv's
+/// `Far::PrimvarRefiner::Limit` instead (the control mesh OpenSubdiv's limit
+/// stencils map onto the data).
 ///
 /// `#[non_exhaustive]`: build it with `Default` and the `with_*` setters, so
 /// that a new option is not a breaking change.
@@ -44,6 +49,8 @@ pub struct SurfaceOptions {
     pub crease_method: CreaseMethod,
     /// How face-varying data (UVs) is interpolated.
     pub fvar: FVarInterpolation,
+    /// Which limit point a dart gets.
+    pub dart_limit: DartLimit,
 }
 
 impl SurfaceOptions {
@@ -65,15 +72,25 @@ impl SurfaceOptions {
         self
     }
 
+    /// Sets the dart limit.
+    pub fn with_dart_limit(mut self, dart_limit: DartLimit) -> Self {
+        self.dart_limit = dart_limit;
+        self
+    }
+
     /// The subdivision options of `scheme` with these surface options.
     pub fn for_scheme(self, scheme: Scheme) -> Options {
-        Options::new(scheme).with_boundary(self.boundary).with_crease_method(self.crease_method).with_fvar(self.fvar)
+        Options::new(scheme)
+            .with_boundary(self.boundary)
+            .with_crease_method(self.crease_method)
+            .with_fvar(self.fvar)
+            .with_dart_limit(self.dart_limit)
     }
 
     /// The per-level sharpness of `tags` under these options (boundary
-    /// option and crease method).
+    /// option, crease method, dart limit).
     pub fn sharpness(self, tags: &subdiv_mesh::Tags) -> subdiv_stencil::LevelSharpness {
-        subdiv_stencil::LevelSharpness::new(tags, self.boundary, self.crease_method)
+        subdiv_stencil::LevelSharpness::new(tags, self.boundary, self.crease_method).with_dart_limit(self.dart_limit)
     }
 }
 

@@ -10,7 +10,7 @@ use std::fmt;
 use std::str::FromStr;
 use subdiv_rules::constants::DEFAULT_DENG_MA_OMEGA;
 use subdiv_rules::deng_ma::Tension;
-use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta};
+use subdiv_rules::{BoundaryInterpolation, CreaseMethod, DartLimit, FVarInterpolation, LoopBeta};
 
 /// A subdivision scheme with the parameters that belong to it alone: the
 /// one table of schemes. Everything the other layers ask of a scheme that is
@@ -229,9 +229,12 @@ impl<'de> Deserialize<'de> for Scheme {
 }
 
 /// Everything that changes the limit surface (and the face-varying data on
-/// it). Defaults as OpenSubdiv's Far tools use them: Catmull-Clark,
-/// `edge-and-corner` boundaries, uniform creasing, `linear-all` face-varying
-/// data.
+/// it), and the one choice of which limit point a dart gets. Defaults as
+/// OpenSubdiv's Far tools use them: Catmull-Clark, `edge-and-corner`
+/// boundaries, uniform creasing, `linear-all` face-varying data; except at
+/// darts, which get their exact limit ([`DartLimit::Exact`]) where
+/// OpenSubdiv's limit stencils take the smooth mask
+/// ([`DartLimit::SmoothMask`]).
 ///
 /// `#[non_exhaustive]`: build it with [`Options::new`] (or [`Default`]) and
 /// the `with_*` setters (one per field); the fields stay public for
@@ -265,6 +268,9 @@ pub struct Options {
     pub crease_method: CreaseMethod,
     /// How face-varying data (UVs) is interpolated.
     pub fvar: FVarInterpolation,
+    /// Which limit point a dart gets (the limit stencils of Catmull-Clark
+    /// and Loop; refinement is the same either way).
+    pub dart_limit: DartLimit,
 }
 
 impl From<Scheme> for Options {
@@ -288,6 +294,7 @@ impl Options {
             boundary: BoundaryInterpolation::default(),
             crease_method: CreaseMethod::default(),
             fvar: FVarInterpolation::default(),
+            dart_limit: DartLimit::default(),
         }
     }
 
@@ -309,6 +316,12 @@ impl Options {
     /// With another face-varying interpolation.
     pub fn with_fvar(self, fvar: FVarInterpolation) -> Self {
         Self { fvar, ..self }
+    }
+
+    /// With another dart limit ([`DartLimit::SmoothMask`]: OpenSubdiv's
+    /// limit stencils and `Far::PrimvarRefiner::Limit`).
+    pub fn with_dart_limit(self, dart_limit: DartLimit) -> Self {
+        Self { dart_limit, ..self }
     }
 
     /// Checks every parameter's range (the one place: Deng-Ma's tension).

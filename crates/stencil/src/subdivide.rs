@@ -140,7 +140,7 @@ pub fn limit_points_with_options(
     let options = options.into();
     options.validate()?;
     let rules = options.scheme.rules();
-    let sharp = LevelSharpness::new(tags, options.boundary, options.crease_method);
+    let sharp = LevelSharpness::from_options(tags, &options);
     rules.check(t, &sharp)?;
     let (scale, scaled) = normalize(positions);
     let Some(limits) = limit_points_of(rules.as_ref(), options.scheme, t, &sharp, &scaled, true) else {
@@ -198,7 +198,7 @@ impl SubdivisionPlan {
         let options = options.into();
         options.validate()?;
         let rules = options.scheme.rules();
-        let base_sharpness = LevelSharpness::new(tags, options.boundary, options.crease_method);
+        let base_sharpness = LevelSharpness::from_options(tags, &options);
         // Also with 0 levels: the plan's limit points need what the scheme needs.
         rules.check(t, &base_sharpness)?;
         let mut out: Vec<Refinement> = Vec::with_capacity(levels);
@@ -443,7 +443,7 @@ fn subdivide_observed(
     options.validate()?;
     let scheme = options.scheme;
     let rules = scheme.rules();
-    let mut sharp = LevelSharpness::new(mesh.tags(), options.boundary, options.crease_method);
+    let mut sharp = LevelSharpness::from_options(mesh.tags(), &options);
     // Also with 0 levels and limit: Loop's limit mask needs triangles.
     rules.check(mesh.topology(), &sharp)?;
     let mut fine: Option<Topology> = None; // None: still the input's connectivity
