@@ -33,9 +33,10 @@
 //! irregular vertex; deeper parameters are refined on demand, and at an
 //! irregular vertex itself the position and tangents come from the dominant
 //! eigenvectors of the local subdivision matrix (`patch_vertex` module docs:
-//! the limit mask — also at darts, where `subdivide --limit` uses
-//! OpenSubdiv's smooth-mask approximation — and tangent masks that equal the
-//! parametric derivatives wherever those exist).
+//! the limit mask — at darts too, where it is the limit stencils' exact dart
+//! mask, unless the options ask for OpenSubdiv's smooth-mask approximation,
+//! `DartLimit::SmoothMask` — and tangent masks that equal the parametric
+//! derivatives wherever those exist).
 //!
 //! Doo-Sabin is evaluated on closed and open meshes, with infinitely sharp
 //! creases (the boundary rule on each side) and at interior vertices of

@@ -3,9 +3,13 @@
 //! corner — the parameter is a corner of ever smaller irregular patches, and
 //! the surface there is evaluated at the vertex itself.
 //!
-//! * Position: the scheme's limit mask (`SchemeRules::limit_stencil`, the
-//!   masks `subdivide --limit` uses), exact once no semi-sharp value is left
-//!   near the vertex and the level is not a tagged base level.
+//! * Position: the dominant left eigenvector of the local subdivision
+//!   matrix S, which is the scheme's limit mask (`SchemeRules::limit_stencil`,
+//!   the masks `subdivide --limit` uses; at a dart the exact dart mask,
+//!   `DartLimit::Exact`), exact once no semi-sharp value is left near the
+//!   vertex and the level is not a tagged base level. Under
+//!   `DartLimit::SmoothMask` the limit stencils take OpenSubdiv's smooth
+//!   mask at darts; the evaluator still returns the limit itself.
 //! * Derivatives: the parametric derivatives degenerate at an extraordinary
 //!   vertex (they scale like (2λ)ᵏ, λ the subdominant eigenvalue of the local
 //!   subdivision matrix S). We return the *tangent masks*: with Π the spectral
@@ -89,9 +93,10 @@ pub(crate) fn vertex_limit(
     }
     // The limit mask: S's left eigenvector of eigenvalue 1 (power iteration
     // on Sᵀ, converging like λ₁ⁱᵗ). The schemes' closed-form masks are the
-    // same vector, except at a dart, where `--limit` (as OpenSubdiv's
-    // `Limit`) uses the smooth mask: an approximation that changes level by
-    // level, while this is the limit.
+    // same vector, darts included (their exact mask); only under
+    // `DartLimit::SmoothMask` does `--limit` (as OpenSubdiv's `Limit`) use
+    // the smooth mask at a dart, an approximation that changes level by
+    // level, while this stays the limit.
     let mut l0 = vec![1.0 / n as f64; n];
     let mut next0 = vec![0.0; n];
     for _ in 0..ITERATIONS {

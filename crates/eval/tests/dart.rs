@@ -1,14 +1,16 @@
-//! At a dart (a vertex with one sharp edge) `subdivide --limit` uses the
-//! smooth limit mask, as OpenSubdiv's `Limit` does: an approximation whose
-//! value changes level by level. The evaluator returns the limit itself (the
-//! dominant left eigenvector of the local subdivision matrix): the levels'
-//! `--limit` points must converge to it geometrically, and Aitken's
-//! extrapolation of the last three must agree with it.
+//! At a dart (a vertex with one infinitely sharp edge) the evaluator returns
+//! the limit itself (the dominant left eigenvector of the local subdivision
+//! matrix), and so does `subdivide --limit` by default
+//! (`DartLimit::Exact`: the dart's own mask): the two agree at every level.
+//! Under `DartLimit::SmoothMask` `--limit` uses the smooth limit mask, as
+//! OpenSubdiv's `Limit` does: an approximation whose value changes level by
+//! level; those points must converge to the evaluator's geometrically, and
+//! Aitken's extrapolation of the last three must agree with it.
 
 use subdiv_eval::{LimitSurface, SurfaceParam};
 use subdiv_mesh::{shapes, Mesh, Tags};
 use subdiv_rules::LoopBeta;
-use subdiv_stencil::{Options, Scheme};
+use subdiv_stencil::{DartLimit, Options, Scheme};
 
 fn with_edge_tags(mesh: &Mesh, edges: &[u32]) -> Mesh {
     let t = mesh.topology();
@@ -22,6 +24,25 @@ fn with_edge_tags(mesh: &Mesh, edges: &[u32]) -> Mesh {
 fn check_dart(mesh: &Mesh, options: Options, vertex: u32, param: SurfaceParam) {
     let surface = LimitSurface::new(mesh, &options).unwrap();
     let ours = surface.evaluate(mesh.positions(), param).unwrap().position;
+    // The limit row (the dart mask) at every level is the evaluator's point.
+    let d = mesh.bbox_diagonal();
+    for l in 0..=4 {
+        let row = subdiv_stencil::subdivide(mesh, options, l, true).unwrap().positions()[vertex as usize];
+        let gap = (row - ours).length() / d;
+        assert!(gap < 1e-12, "level {l}: the limit row is {gap:e}·d from the evaluator");
+    }
+    // The same point as weights: the evaluator's stencil is the plan's limit row.
+    let stencil = surface.stencil(param).unwrap();
+    let plan = subdiv_stencil::SubdivisionPlan::with_tags(mesh.topology(), mesh.tags(), options, 0).unwrap();
+    let limit = plan.limit_stencil().unwrap().unwrap();
+    let mut dense = vec![0.0; mesh.positions().len()];
+    limit.outer_view(vertex as usize).unwrap().iter().for_each(|(j, &w)| dense[j] += w);
+    stencil.indices.iter().zip(&stencil.position).for_each(|(&j, &w)| dense[j as usize] -= w);
+    let off = dense.iter().fold(0.0f64, |m, w| m.max(w.abs()));
+    assert!(off < 1e-12, "the evaluator's weights differ from the limit row by {off:e}");
+
+    // OpenSubdiv's smooth mask: an approximation that converges to the limit.
+    let options = options.with_dart_limit(DartLimit::SmoothMask);
     let levels: Vec<_> = (1..=8)
         .map(|l| subdiv_stencil::subdivide(mesh, options, l, true).unwrap().positions()[vertex as usize])
         .collect();

@@ -45,15 +45,19 @@
 //!   (`subdiv_stencil::limit_matrix_catmull_clark_sharp`): smooth rows keep
 //!   Eq. 5, crease vertices (two infinitely sharp edges) the cubic B-spline
 //!   (p₋ + 4p + p₊)/6 of their crease polygon, corners p, and darts and every
-//!   vertex a semi-sharp value reaches the composed limit row OpenSubdiv
-//!   evaluates after ⌈s⌉ levels. Solved corners, crease polygons
+//!   vertex a semi-sharp value reaches the composed limit row after ⌈s⌉
+//!   levels (as OpenSubdiv's `Limit`, except at darts with an infinitely
+//!   sharp edge: their exact limit, unless [`crate::SurfaceOptions`] asks
+//!   for `DartLimit::SmoothMask`). Solved corners, crease polygons
 //!   (tridiagonal / circulant (1, 4, 1)/6, spectrum in [⅓, 1]), then the
 //!   interior (GMRES when composed rows make it nonsymmetric). The degeneracy
 //!   checks look at the rows: a valence-2 vertex on a crease is harmless, and
 //!   the cube's checkerboard kernel goes with a crease vertex or a corner but
 //!   not with a dart (A·c is tested). The control mesh keeps the input's
 //!   tags and UVs; OpenSubdiv's limit of the written file passes through the
-//!   data (`fixtures/peer/creases-interpolation/`).
+//!   data (`fixtures/peer/creases-interpolation/`), wherever no infinitely
+//!   sharp dart is (there OpenSubdiv's `Limit` takes the smooth mask; our
+//!   limit, the exact one, passes through the data).
 //! - Default solver CG (Jacobi-preconditioned): the spectrum of A is
 //!   size-independent, so it needs a few tens of products where PIA needs
 //!   hundreds. With valence-2 vertices MINRES, whose matvecs stay within

@@ -174,13 +174,14 @@
 //! Untagged input with `edge-and-corner` boundaries takes the plain masks of
 //! M⁰'s topology and gives the bits it gave before tags existed; on tagged
 //! input, vertex and edge points away from the tags use the same formulas
-//! and are bit-identical to the untagged run. Darts: the limit this contract
-//! uses is OpenSubdiv's smooth limit mask at the dart, which differs from
-//! the limit of refinement (the crease edge's midpoint rule breaks the
-//! smooth mask's invariance) by ~2e-4·d on a 12 × 8 torus; refining M¹
-//! converges there to that point (test
-//! `refining_the_control_mesh_converges_onto_the_data`), as it does for
-//! plain Loop.
+//! and are bit-identical to the untagged run. Darts (an infinitely sharp
+//! crease ending inside): the limit this contract uses is the dart's exact
+//! limit (`DartLimit::Exact`, the left eigenvector of the dart's own
+//! subdivision matrix), so refining M¹ converges onto the data there too,
+//! at ½ per level (test `refining_the_control_mesh_converges_onto_the_data`);
+//! [`crate::SurfaceOptions::dart_limit`] = `DartLimit::SmoothMask` takes
+//! OpenSubdiv's smooth limit mask instead, which misses the limit of
+//! refinement by ~2e-4·d on a 12 × 8 torus.
 //!
 //! ```
 //! use subdiv_interp::{deng_wang, DengWangOptions};
@@ -629,7 +630,7 @@ fn vertex_points(
 }
 
 /// The vertex point of old vertex `v` from its general limit row in M¹
-/// (OpenSubdiv's limit after the levels its semi-sharp values or its dart
+/// (the limit masks after the levels its semi-sharp values or its dart
 /// need): w_v p¹ + Σ_c w_c x_c = p⁰ over M¹'s closed 1-ring of v, whose
 /// other vertices are all edge points (known); so p¹ = (p⁰ − Σ_c w_c x_c)/w_v.
 fn general_vertex_point(

@@ -99,8 +99,8 @@ pub use zheng_cai::ZhengCaiOptions;
 pub use subdiv_mesh::{DVec3, Mesh, MeshError};
 pub use subdiv_solve::{IterationObserver, SolveError, Solver};
 pub use subdiv_stencil::{
-    BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, Options, Scheme, StencilError, Tension,
-    TriangleRule,
+    BoundaryInterpolation, CreaseMethod, DartLimit, FVarInterpolation, LoopBeta, Options, Scheme, StencilError,
+    Tension, TriangleRule,
 };
 
 /// Seconds elapsed since `start`.

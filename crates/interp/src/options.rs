@@ -2,7 +2,9 @@
 
 use crate::{InterpError, Parameter};
 use subdiv_solve::{IterationObserver, Solver};
-use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Options, Scheme, TriangleRule};
+use subdiv_stencil::{
+    BoundaryInterpolation, CreaseMethod, DartLimit, FVarInterpolation, Options, Scheme, TriangleRule,
+};
 
 /// Default tolerance: max over interpolated vertices of |P − AX| / d.
 pub const DEFAULT_TOL: f64 = 1e-6;
@@ -31,7 +33,12 @@ pub enum SolverChoice {
 /// boundary rule of their own and infinitely sharp tags only, which never
 /// decay. `fvar` says how the input's texture coordinates are refined where
 /// the control mesh is a refined mesh (Zheng-Cai, Fan-Cheng-Lai, Deng-Wang)
-/// and on the surface.
+/// and on the surface. `dart_limit` says which limit point the Catmull-Clark
+/// and Loop limit rows give a dart (infinitely sharp crease ending inside):
+/// its exact limit by default, so the surface itself passes through the
+/// data there; [`DartLimit::SmoothMask`] interpolates under OpenSubdiv's
+/// `Far::PrimvarRefiner::Limit` instead (the control mesh OpenSubdiv's limit
+/// stencils map onto the data).
 ///
 /// `#[non_exhaustive]`: build it with `Default` and the `with_*` setters, so
 /// that a new option is not a breaking change.
@@ -46,6 +53,8 @@ pub struct SurfaceOptions {
     pub fvar: FVarInterpolation,
     /// Catmull-Clark's rule for triangles (OpenSubdiv's `TriangleSubdivision`).
     pub triangle_rule: TriangleRule,
+    /// Which limit point a dart gets.
+    pub dart_limit: DartLimit,
 }
 
 impl SurfaceOptions {
@@ -73,6 +82,12 @@ impl SurfaceOptions {
         self
     }
 
+    /// Sets the dart limit.
+    pub fn with_dart_limit(mut self, dart_limit: DartLimit) -> Self {
+        self.dart_limit = dart_limit;
+        self
+    }
+
     /// The subdivision options of `scheme` with these surface options.
     pub fn for_scheme(self, scheme: Scheme) -> Options {
         Options::new(scheme)
@@ -80,10 +95,11 @@ impl SurfaceOptions {
             .with_crease_method(self.crease_method)
             .with_fvar(self.fvar)
             .with_triangle_rule(self.triangle_rule)
+            .with_dart_limit(self.dart_limit)
     }
 
     /// The per-level sharpness of `tags` under these options (boundary
-    /// option, crease method, triangle rule).
+    /// option, crease method, triangle rule, dart limit).
     pub fn sharpness(self, tags: &subdiv_mesh::Tags) -> subdiv_stencil::LevelSharpness {
         self.for_scheme(Scheme::CatmullClark).sharpness(tags)
     }

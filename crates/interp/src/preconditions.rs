@@ -6,7 +6,7 @@
 //! | method | takes | refuses |
 //! |---|---|---|
 //! | `nasri`, `zheng-cai`, `fan-cheng-lai` | every valid mesh: any polygons, open or closed, valence 2 | — |
-//! | `cheng` | every valid mesh (valence 2: MINRES on the indefinite A) | data outside the range of a singular A: a closed component with only valence-3 vertices and a bipartite vertex graph (the cube) whose checkerboard c has Σ c_v P_v ≠ 0 |
+//! | `cheng` | every valid mesh (valence 2: MINRES on the indefinite A) | data outside the range of a singular A: a closed component with only valence-3 vertices and a bipartite vertex graph (the cube) whose checkerboard c has Σ c_v P_v ≠ 0 (where c is also A's left null vector; with a dart there, the solve decides) |
 //! | `cheng --scheme loop` | triangles, open or closed, every tag | other polygons |
 //! | `cheng --scheme sqrt3` | triangles, open or closed, corner tags on boundary vertices | other polygons, crease and other vertex tags, interior vertices of valence 2 |
 //! | `deng-wang` | triangles; other polygons are triangulated inside the method | a polygon with no valid triangulation over its own corners |
@@ -149,11 +149,24 @@ pub(crate) fn cheng_mesh(mesh: &Mesh, scheme: Scheme) -> Result<(), Refusal> {
 
 /// Data outside the range of a singular Catmull-Clark A: for each closed
 /// all-valence-3 bipartite component with checkerboard c (A·c = 0, D
-/// constant on it), every residual r = P − A·X has c·r = c·P, so
+/// constant on it) that is also a left null vector (cᵀA = 0: A symmetric
+/// there), every residual r = P − A·X has c·r = c·P, so
 /// max_v |r_v| ≥ |c·P| / n_c; interpolation to `tol`·d is possible only if
-/// |c·P| / n_c ≤ tol·d (and then the solver finds it).
+/// |c·P| / n_c ≤ tol·d (and then the solver finds it). A dart's exact limit
+/// row breaks the symmetry (the cube with one crease edge: A·c = 0 still,
+/// but the left null vector is not c); there the solve itself says whether
+/// the data are in the range.
 pub(crate) fn cheng_range(mesh: &Mesh, tol: f64) -> Result<(), String> {
-    let kernel = cheng_kernel(mesh, None);
+    let built = if mesh.tags().is_empty() || catmull_clark_kernel(mesh.topology()).is_empty() {
+        None
+    } else {
+        let sharp = SurfaceOptions::default().sharpness(mesh.tags());
+        limit_matrix_catmull_clark_sharp(mesh.topology(), &sharp).ok()
+    };
+    let mut kernel = cheng_kernel(mesh, built.as_ref());
+    if let Some(a) = &built {
+        kernel.retain(|c| is_left_null(a, c));
+    }
     if kernel.is_empty() {
         return Ok(());
     }
@@ -211,6 +224,18 @@ pub(crate) fn cheng_kernel(mesh: &Mesh, a: Option<&LimitMatrix>) -> Vec<Vec<(Ver
         a.apply(&x).iter().all(|y| y.abs().max_element() <= 1e-12)
     });
     kernel
+}
+
+/// Whether the sparse vector `c` (vertex, value) is a left null vector of
+/// `a`: cᵀA = 0 to round-off.
+fn is_left_null(a: &LimitMatrix, c: &[(VertexId, f64)]) -> bool {
+    let csr = a.to_csr();
+    let mut y = vec![0.0; a.size()];
+    for &(v, s) in c {
+        let row = csr.outer_view(v.index()).expect("a row per vertex");
+        row.iter().for_each(|(j, &w)| y[j] += s * w);
+    }
+    y.iter().all(|x| x.abs() <= 1e-12)
 }
 
 /// The methods other than `except` that take `mesh` ([`Method::check`]).

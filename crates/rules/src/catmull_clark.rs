@@ -1,6 +1,6 @@
 //! Catmull-Clark masks: face, edge and vertex points with OpenSubdiv's
 //! `EDGE_AND_CORNER` boundary rules, the limit masks, and Cheng's general-mesh
-//! limit stencil.
+//! limit stencil, and the limit mask of a dart ([`dart_limit_mask`]).
 //!
 //! Source: Cheng et al., *Interpolating meshes of arbitrary topology* (CFL in [references]),
 //! Appendix Eq. 4 (the step) and Eq. 5 (the limit stencil), with [correction C1]
@@ -17,6 +17,7 @@
 //! | edge point | (V + E + f_left + f_right)/4 | midpoint | — |
 //! | vertex point | (n−2)/n V + Σ Eᵢ/n² + Σ fᵢ/n² | (E₋ + 6V + E₊)/8 | V |
 //! | limit, all quads | (n²V + 4ΣEᵢ + ΣFᵢ)/(n(n+5)) | (E₋ + 4V + E₊)/6 | V |
+//! | limit at a dart, all quads | [`dart_limit_mask`]: the eigenvector of the dart's 1-ring | — | — |
 //!
 //! The interior limit mask needs all faces around V to be quads (true after
 //! one step); [`limit_stencil`] is the same limit expressed on the unrefined
@@ -29,7 +30,7 @@
 //! [how the error is measured]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-how-the-error-is-measured
 //! [correction C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c2
 
-use crate::mask::{EdgeMask, VertexKind, VertexMask};
+use crate::mask::{dart_ring_shape, DartMask, EdgeMask, VertexKind, VertexMask};
 use crate::TriangleRule;
 
 /// Weight of each corner in the face point of an m-sided face: 1/m
@@ -168,6 +169,67 @@ pub fn limit_mask(kind: VertexKind, valence: usize) -> VertexMask {
         }
         VertexKind::Corner => VertexMask::IDENTITY,
     }
+}
+
+/// Limit-point mask of an interior **dart** of valence n on an all-quad fan:
+/// a vertex V with vertex sharpness 0 and exactly one incident edge, VE₀,
+/// infinitely sharp (weights and fan numbering: [`DartMask`]).
+///
+/// Refinement keeps the smooth vertex rule at V but gives VE₀ the crease
+/// rule, its midpoint, at every level, so the closed 1-ring subdivision
+/// matrix S on the 2n + 1 points (V, E₀…Eₙ₋₁, F₀…Fₙ₋₁) is not the smooth
+/// one: V' = (n−2)/n V + 1/n² ΣEᵢ + 1/n² Σfᵢ, E₀' = (V + E₀)/2, the other
+/// Eᵢ' = (V + Eᵢ + fᵢ₋₁ + fᵢ)/4, Fᵢ' = fᵢ = (V + Eᵢ + Fᵢ + Eᵢ₊₁)/4. The
+/// limit is the dominant left eigenvector of the local subdivision matrix
+/// (e.g. Halstead, Kass & DeRose 1993; Biermann, Levin & Zorin 2000, HKD93
+/// and BLZ00 in [references]): lᵀS = lᵀ with Σl = 1, which here differs from
+/// the smooth mask [`limit_mask`] (what OpenSubdiv's limit stencils and
+/// `Far::PrimvarRefiner::Limit` use at a dart).
+///
+/// Closed form, from lᵀS = lᵀ column by column with weight 1 on V and êⱼ the
+/// weight of Eⱼ for 0 < j < n, ê₀ = êₙ = 0 (E₀' is a midpoint: no face
+/// term, no neighbour term):
+///
+/// ```text
+/// column Fⱼ:          fⱼ = 1/(3n²) + (êⱼ + êⱼ₊₁)/12
+/// column Eⱼ, 0<j<n:  7eⱼ = 20/n² + êⱼ₋₁ + êⱼ₊₁
+///   ⇒ eⱼ = (4/n²)(1 − (ρʲ + ρⁿ⁻ʲ)/(1 + ρⁿ)),  ρ = (7 − 3√5)/2 = φ⁻⁴ (ρ² − 7ρ + 1 = 0)
+/// column E₀:          e₀ = 10/(3n²) + (e₁ + eₙ₋₁)/6
+/// ```
+///
+/// then every weight divided by 1 + Σe + Σf. The smooth mask's 4/n² and
+/// 1/n² are the constant solution of the same equations (no crease); the
+/// quotient (ρʲ + ρⁿ⁻ʲ)/(1 + ρⁿ) is L₂|ₙ₋₂ⱼ| / L₂ₙ (Lucas numbers), so the
+/// weights are rational: at n = 3,
+/// (162V + 80E₀ + 60(E₁ + E₂) + 11(F₀ + F₂) + 16F₁)/400 where the smooth
+/// mask is (9V + 4ΣEᵢ + ΣFᵢ)/24. The powers of ρ are taken as products, so
+/// any valence works (ρⁿ underflows to 0).
+///
+/// ```
+/// use subdiv_rules::catmull_clark::dart_limit_mask;
+/// let m = dart_limit_mask(3);
+/// assert!((m.vertex - 0.405).abs() < 1e-15 && (m.edge[0] - 0.2).abs() < 1e-15);
+/// assert!((m.edge[1] - 0.15).abs() < 1e-15 && (m.far_corner[1] - 0.04).abs() < 1e-15);
+/// assert!((m.total() - 1.0).abs() < 1e-15);
+/// ```
+///
+/// A valence below 2 (no manifold mesh has one) gets the identity.
+///
+/// [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
+pub fn dart_limit_mask(valence: usize) -> DartMask {
+    let n = valence;
+    if n < 2 {
+        return DartMask::identity(n, n);
+    }
+    let nf = n as f64;
+    let rho = 2.0 / (7.0 + 3.0 * 5f64.sqrt()); // ρ = (7 − 3√5)/2, without the cancellation
+    let u = dart_ring_shape(rho, n);
+    // ê_j: the ring weights, 0 at j = 0 and j = n (the crease).
+    let ring = |j: usize| if j % n == 0 { 0.0 } else { 4.0 / (nf * nf) * (1.0 - u[j]) }; // e_j = (4/n²)(1 − u_j)
+    let far_corner = (0..n).map(|j| 1.0 / (3.0 * nf * nf) + (ring(j) + ring(j + 1)) / 12.0).collect(); // f_j
+    let mut edge: Vec<f64> = (0..n).map(ring).collect();
+    edge[0] = 10.0 / (3.0 * nf * nf) + (edge[1] + edge[n - 1]) / 6.0; // e₀ = 10/(3n²) + (e₁ + eₙ₋₁)/6
+    DartMask { vertex: 1.0, edge, far_corner }.normalized()
 }
 
 /// Cheng's limit stencil of an interior vertex on an arbitrary polygon mesh

@@ -1,5 +1,5 @@
 use super::*;
-use crate::test_util::{dominant_left_eigenvector, Rng};
+use crate::test_util::{dominant_left_eigenvector, left_fixed_point, Rng};
 use crate::vec3::{add, dist, scale, Point3};
 
 #[test]
@@ -225,5 +225,134 @@ fn regular_masks_are_the_bicubic_bspline_ones() {
 fn face_point_weight_is_the_correctly_rounded_reciprocal() {
     for m in 3..200 {
         assert_eq!(face_point_weight(m).to_bits(), (1.0 / m as f64).to_bits(), "m = {m}");
+    }
+}
+
+/// The (2n+1)×(2n+1) subdivision matrix of a dart's closed 1-ring on an
+/// all-quad fan. Nodes: 0 = V, 1..=n = Eᵢ, n+1..=2n = Fᵢ (quad i = V, Eᵢ, Fᵢ,
+/// Eᵢ₊₁); VE₀ is infinitely sharp: E₀' = (V + E₀)/2, the rest smooth,
+/// assembled from this module's step masks.
+fn dart_one_ring(n: usize) -> Vec<Vec<f64>> {
+    let size = 2 * n + 1;
+    let (e, f) = (|i: usize| 1 + i % n, |i: usize| 1 + n + i % n);
+    let face_point = |i: usize| {
+        let mut row = vec![0.0; size];
+        for node in [0, e(i), f(i), e(i + 1)] {
+            row[node] += face_point_weight(4);
+        }
+        row
+    };
+    let vm = vertex_point_mask(VertexKind::Interior, n);
+    let (smooth, crease) = (edge_point_mask(4, Some(4)), edge_point_mask(4, None));
+    let mut s = vec![vec![0.0; size]; size];
+    // V's own weight in one expression: n face-point shares added one by one
+    // would round n times (1e-14 at n = 100).
+    s[0][0] = vm.vertex + n as f64 * vm.face * face_point_weight(4);
+    for i in 0..n {
+        s[0][e(i)] += vm.interior_neighbor;
+        for (k, w) in face_point(i).iter().enumerate().skip(1) {
+            s[0][k] += vm.face * w;
+        }
+        if i == 0 {
+            s[e(0)][0] += crease.end;
+            s[e(0)][e(0)] += crease.end;
+        } else {
+            // The edge mask's end weight holds the face points' share of the ends.
+            s[e(i)][0] += smooth.end;
+            s[e(i)][e(i)] += smooth.end;
+            for node in [e(i - 1), f(i - 1)] {
+                s[e(i)][node] += smooth.left;
+            }
+            for node in [f(i), e(i + 1)] {
+                s[e(i)][node] += smooth.right;
+            }
+        }
+        s[f(i)] = face_point(i);
+    }
+    s
+}
+
+/// The mask as one row over [`dart_one_ring`]'s nodes.
+fn dart_row(mask: &DartMask) -> Vec<f64> {
+    let mut row = vec![mask.vertex];
+    row.extend(&mask.edge);
+    row.extend(&mask.far_corner);
+    row
+}
+
+const DART_VALENCES: [usize; 15] = [2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 16, 30, 100, 160];
+
+#[test]
+fn dart_mask_sums_to_one_at_any_valence() {
+    for n in DART_VALENCES.into_iter().chain([1000, 100_000]) {
+        let mask = dart_limit_mask(n);
+        assert_eq!((mask.edge.len(), mask.far_corner.len()), (n, n));
+        // The sum of n weights rounds n times.
+        assert!((mask.total() - 1.0).abs() < 1e-14 + 1e-16 * n as f64, "n = {n}: {}", mask.total());
+        assert!(mask.edge.iter().chain(&mask.far_corner).all(|&w| w > 0.0), "n = {n}: a weight underflowed");
+    }
+    // No manifold fan has fewer than 2 edges: the identity, no panic.
+    assert_eq!(dart_limit_mask(0), DartMask { vertex: 1.0, edge: vec![], far_corner: vec![] });
+    assert_eq!(dart_limit_mask(1), DartMask { vertex: 1.0, edge: vec![0.0], far_corner: vec![0.0] });
+}
+
+#[test]
+fn dart_mask_is_the_left_eigenvector_of_the_dart_one_ring() {
+    for n in DART_VALENCES {
+        let s = dart_one_ring(n);
+        let l = dart_row(&dart_limit_mask(n));
+        // lᵀS = lᵀ to round-off.
+        for j in 0..s.len() {
+            let image: f64 = (0..s.len()).map(|i| l[i] * s[i][j]).sum();
+            assert!((image - l[j]).abs() < 1e-14, "n = {n}, column {j}: {image} vs {}", l[j]);
+        }
+        // The closed form is the solution of lᵀ(S − I) = 0, Σl = 1, and it is
+        // the dominant one (power iteration converges to it).
+        let solved = left_fixed_point(&s);
+        let power = dominant_left_eigenvector(&s);
+        for (j, &w) in l.iter().enumerate() {
+            assert!((solved[j] - w).abs() < 1e-13, "n = {n}, node {j}: solved {} vs {w}", solved[j]);
+            assert!((power[j] - w).abs() < 1e-12, "n = {n}, node {j}: power iteration {} vs {w}", power[j]);
+        }
+    }
+}
+
+#[test]
+fn dart_mask_is_symmetric_about_the_crease_and_differs_from_the_smooth_mask() {
+    for n in DART_VALENCES {
+        let mask = dart_limit_mask(n);
+        for i in 1..n {
+            assert_eq!(mask.edge[i], mask.edge[n - i], "n = {n}, E{i}");
+        }
+        for i in 0..n {
+            assert_eq!(mask.far_corner[i], mask.far_corner[n - 1 - i], "n = {n}, F{i}");
+        }
+        let smooth = limit_mask(VertexKind::Interior, n);
+        assert!((mask.vertex - smooth.vertex).abs() > 1e-5, "n = {n}: V {} vs smooth {}", mask.vertex, smooth.vertex);
+        assert!(mask.edge[0] > smooth.interior_neighbor, "n = {n}: the crease's end pulls");
+    }
+}
+
+#[test]
+fn dart_mask_in_exact_arithmetic() {
+    // n = 3: (162V + 80E₀ + 60(E₁ + E₂) + 11(F₀ + F₂) + 16F₁)/400; the
+    // Lucas-number form of the docs: eⱼ/(4/n²) = 1 − L₂|ₙ₋₂ⱼ|/L₂ₙ.
+    let m = dart_limit_mask(3);
+    let expected = [162.0, 80.0, 60.0, 60.0, 11.0, 16.0, 11.0].map(|w| w / 400.0);
+    for (got, want) in dart_row(&m).iter().zip(expected) {
+        assert!((got - want).abs() < 1e-16, "{got} vs {want}");
+    }
+    // n = 4 (solved in rationals): (752V + 210E₀ + 160(E₁ + E₃) + 180E₂ + 29(F₀ + F₃) + 44(F₁ + F₂))/1608.
+    let expected = [752.0, 210.0, 160.0, 180.0, 160.0, 29.0, 44.0, 44.0, 29.0].map(|w| w / 1608.0);
+    for (got, want) in dart_row(&dart_limit_mask(4)).iter().zip(expected) {
+        assert!((got - want).abs() < 1e-16, "{got} vs {want}");
+    }
+    let lucas = |k: usize| (0..k).fold((2.0f64, 1.0f64), |(a, b), _| (b, a + b)).0;
+    for n in [4usize, 5, 6, 9] {
+        let u = dart_ring_shape(2.0 / (7.0 + 3.0 * 5f64.sqrt()), n);
+        for (j, &uj) in u.iter().enumerate() {
+            let exact = lucas(2 * n.abs_diff(2 * j)) / lucas(2 * n);
+            assert!((uj - exact).abs() < 1e-15, "n = {n}, j = {j}: {uj} vs {exact}");
+        }
     }
 }

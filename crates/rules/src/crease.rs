@@ -67,7 +67,8 @@ pub fn decrement(s: f32) -> f32 {
 pub enum Rule {
     /// No sharp edge: the scheme's smooth mask.
     Smooth,
-    /// One sharp edge: the smooth mask (the crease fades out here).
+    /// One sharp edge: the smooth mask (the crease fades out here); its
+    /// limit point: [`DartLimit`].
     Dart,
     /// Two sharp edges: the crease (curve) mask along them.
     Crease,
@@ -248,6 +249,28 @@ pub enum TriangleRule {
     Smooth,
 }
 
+/// Which limit point a dart gets (a vertex with vertex sharpness 0 and one
+/// sharp incident edge). Not an option of OpenSubdiv's `Sdc::Options`: it
+/// chooses between the limit of refinement and OpenSubdiv's shortcut, which
+/// give different limit *points* of the same surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DartLimit {
+    /// The limit of refinement where the dart's edge is infinitely sharp:
+    /// the dominant left eigenvector of the dart's local subdivision matrix
+    /// ([`crate::catmull_clark::dart_limit_mask`],
+    /// [`crate::loop_scheme::dart_limit_mask`]), the point patch-based
+    /// evaluators show. A dart whose edge is still semi-sharp keeps the
+    /// smooth mask (its rule changes on the way: refine until the value has
+    /// decayed).
+    #[default]
+    Exact,
+    /// The smooth limit mask, as OpenSubdiv's limit stencils and
+    /// `Far::PrimvarRefiner::Limit`: not the limit of refinement at a dart
+    /// (the crease edge's midpoints pull it away by ~10⁻³ of the model's
+    /// size on coarse meshes).
+    SmoothMask,
+}
+
 /// The names of an option's values, as on the command line.
 macro_rules! named {
     ($ty:ty, $what:literal, $($variant:ident = $name:literal),+ $(,)?) => {
@@ -299,6 +322,7 @@ named!(
     LinearAll = "linear-all"
 );
 named!(TriangleRule, "triangle rule", Catmark = "catmark", Smooth = "smooth");
+named!(DartLimit, "dart limit", Exact = "exact", SmoothMask = "smooth-mask");
 // Loop's β by name (`--beta warren|loop`): the same names, parser and messages as the options above.
 named!(crate::LoopBeta, "Loop β", Warren = "warren", Loop = "loop");
 
@@ -354,5 +378,9 @@ mod tests {
             assert_eq!(m.to_string().parse::<BoundaryInterpolation>(), Ok(m));
         }
         assert!("sharp".parse::<CreaseMethod>().unwrap_err().contains("uniform, chaikin"));
+        for &m in DartLimit::ALL {
+            assert_eq!(m.name().parse::<DartLimit>(), Ok(m));
+        }
+        assert_eq!(DartLimit::SmoothMask.to_string(), "smooth-mask");
     }
 }

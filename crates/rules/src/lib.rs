@@ -13,18 +13,19 @@
 //! | module | scheme | source ([references]) |
 //! |---|---|---|
 //! | [`doo_sabin`] | Doo-Sabin: the face-corner rule, the boundary rule, crease points, the valence-2 mask (the methods' first-step variants are in subdiv-interp) | Zheng-Cai Eq. 1 |
-//! | [`catmull_clark`] | Catmull-Clark, limit masks, Cheng's limit stencil | Cheng Appendix Eq. 4-5 |
-//! | [`loop_scheme`] | Loop, Warren's or Loop's β, limit masks | Deng-Wang Eq. 1-2, 5-6 |
+//! | [`catmull_clark`] | Catmull-Clark, limit masks (darts too), Cheng's limit stencil | Cheng Appendix Eq. 4-5 |
+//! | [`loop_scheme`] | Loop, Warren's or Loop's β, limit masks (darts too) | Deng-Wang Eq. 1-2, 5-6 |
 //! | [`sqrt3`] | √3 (Kobbelt 2000): face points, αₙ smoothing, the ternary boundary, limit masks with βₙ | Kobbelt 2000 §2-4 (recalled, not a seed) |
 //! | [`deng_ma`] | Deng-Ma interpolatory scheme: moved vertices, ω_P | Deng-Ma §3.3-3.4 |
 //! | [`curves`] | Chaikin, cubic B-spline, 4-point (variable tension) | Deng-Ma §3.1 |
 //! | [`crease`] | sharpness decay, vertex rules, semi-sharp weights | OpenSubdiv `Sdc::Crease` (DeRose, Kass & Truong 1998) |
 //!
 //! Key types: [`VertexMask`] and [`EdgeMask`] (weights over named neighbours),
+//! [`DartMask`] (a dart's limit: one weight per fan position),
 //! [`VertexKind`] (interior / boundary / corner), [`Rule`] and the sharpness
 //! rules of [`crease`] (OpenSubdiv's `Sdc::Crease`: decay, Chaikin, vertex
 //! rules, semi-sharp transitions), the option enums [`BoundaryInterpolation`],
-//! [`CreaseMethod`], [`FVarInterpolation`], [`CurveScheme`]. Default parameters live
+//! [`CreaseMethod`], [`FVarInterpolation`], [`DartLimit`], [`CurveScheme`]. Default parameters live
 //! in [`constants`]. Corrections to the papers follow [the corrections to the
 //! papers] and are cited by id ("correction C1", D1, W4, …) on the line that
 //! applies them.
@@ -79,10 +80,10 @@ mod vec3;
 #[cfg(test)]
 mod test_util;
 
-pub use crease::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Rule, TriangleRule};
+pub use crease::{BoundaryInterpolation, CreaseMethod, DartLimit, FVarInterpolation, Rule, TriangleRule};
 pub use curves::CurveScheme;
 pub use doo_sabin::doo_sabin_weights;
 pub use loop_scheme::LoopBeta;
-pub use mask::{EdgeMask, VertexKind, VertexMask};
+pub use mask::{DartMask, EdgeMask, VertexKind, VertexMask};
 pub use options::{validate_four_point_tension, OptionsError};
 pub use vec3::{centroid, Point3};

@@ -12,6 +12,7 @@
 //! | vertex point | (1 − kβ)p + βΣpⱼ | (p₋ + 6p + p₊)/8 | p |
 //! | edge point | ⅜(a + b) + ⅛(c + d) | (a + b)/2 | — |
 //! | limit | (1 − kγ)p + γΣpⱼ, γ = 1/(k + 3/(8β)) | (p₋ + 4p + p₊)/6 | p |
+//! | limit at a dart | [`dart_limit_mask`]: the eigenvector of the dart's 1-ring | — | — |
 //!
 //! All masks act on the unrefined mesh directly (Loop's rules are 1-ring
 //! closed). The formulas are the published ones for k ≥ 3; for smaller k they
@@ -24,7 +25,7 @@
 
 use std::f64::consts::PI;
 
-use crate::mask::{EdgeMask, VertexKind, VertexMask};
+use crate::mask::{dart_ring_shape, DartMask, EdgeMask, VertexKind, VertexMask};
 
 /// Which β the Loop vertex rule uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -140,6 +141,60 @@ pub fn limit_mask(kind: VertexKind, valence: usize, beta: LoopBeta) -> VertexMas
         }
         VertexKind::Corner => VertexMask::IDENTITY,
     }
+}
+
+/// Limit-point mask of an interior **dart** of valence k: a vertex V with
+/// vertex sharpness 0 and exactly one incident edge, VE₀, infinitely sharp
+/// (weights and fan numbering: [`DartMask`], with no far corners).
+///
+/// Refinement keeps the smooth vertex rule at V but gives VE₀ the crease
+/// rule, its midpoint, at every level, so the closed 1-ring subdivision
+/// matrix S on the k + 1 points (V, E₀…Eₖ₋₁) is not the smooth one:
+/// V' = (1 − kβ)V + βΣEᵢ, E₀' = (V + E₀)/2, the other
+/// Eᵢ' = ⅜(V + Eᵢ) + ⅛(Eᵢ₋₁ + Eᵢ₊₁). The limit is the dominant left
+/// eigenvector of the local subdivision matrix (e.g. Halstead, Kass & DeRose
+/// 1993; Biermann, Levin & Zorin 2000, HKD93 and BLZ00 in [references]):
+/// lᵀS = lᵀ with Σl = 1, which here differs from the smooth mask
+/// [`limit_mask`] (what OpenSubdiv's limit stencils and
+/// `Far::PrimvarRefiner::Limit` use at a dart).
+///
+/// Closed form, from lᵀS = lᵀ column by column with weight 1 on V and êⱼ the
+/// weight of Eⱼ for 0 < j < k, ê₀ = êₖ = 0 (E₀' is a midpoint: no
+/// neighbour term):
+///
+/// ```text
+/// column Eⱼ, 0<j<k:  5eⱼ = 8β + êⱼ₋₁ + êⱼ₊₁
+///   ⇒ eⱼ = (8β/3)(1 − (ρʲ + ρᵏ⁻ʲ)/(1 + ρᵏ)),  ρ = (5 − √21)/2 (ρ² − 5ρ + 1 = 0)
+/// column E₀:          e₀ = 2β + (e₁ + eₖ₋₁)/4
+/// ```
+///
+/// then every weight divided by 1 + Σe. The smooth mask's γ/(1 − kγ) = 8β/3
+/// is the constant solution of the same equation (no crease). The powers of
+/// ρ are taken as products, so any valence works (ρᵏ underflows to 0).
+///
+/// ```
+/// use subdiv_rules::loop_scheme::dart_limit_mask;
+/// use subdiv_rules::LoopBeta;
+/// let m = dart_limit_mask(6, LoopBeta::Warren);
+/// assert!((m.total() - 1.0).abs() < 1e-15 && m.far_corner.is_empty());
+/// assert_eq!(m.edge[1], m.edge[5]);
+/// assert!(m.edge[0] > m.edge[3] && m.edge[3] > m.edge[1]); // the crease pulls, its sides give way
+/// ```
+///
+/// A valence below 2 (no manifold mesh has one) gets the identity.
+///
+/// [references]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md
+pub fn dart_limit_mask(valence: usize, beta: LoopBeta) -> DartMask {
+    let k = valence;
+    if k < 2 {
+        return DartMask::identity(k, 0);
+    }
+    let b = beta.beta(k);
+    let rho = 2.0 / (5.0 + 21f64.sqrt()); // ρ = (5 − √21)/2, without the cancellation
+    let u = dart_ring_shape(rho, k);
+    let mut edge: Vec<f64> = (0..k).map(|j| if j == 0 { 0.0 } else { 8.0 * b / 3.0 * (1.0 - u[j]) }).collect(); // e_j
+    edge[0] = 2.0 * b + (edge[1] + edge[k - 1]) / 4.0; // e₀ = 2β + (e₁ + eₖ₋₁)/4
+    DartMask { vertex: 1.0, edge, far_corner: Vec::new() }.normalized()
 }
 
 #[cfg(test)]

@@ -1,5 +1,6 @@
 use super::*;
-use crate::test_util::dominant_left_eigenvector;
+use crate::mask::DartMask;
+use crate::test_util::{dominant_left_eigenvector, left_fixed_point};
 
 const BETAS: [LoopBeta; 2] = [LoopBeta::Warren, LoopBeta::Loop];
 
@@ -96,4 +97,87 @@ fn boundary_limit_mask_is_the_left_eigenvector_of_the_boundary_curve() {
     let l = dominant_left_eigenvector(&s);
     let lm = limit_mask(VertexKind::Boundary, 4, LoopBeta::Warren);
     assert!((l[0] - lm.boundary_neighbor).abs() < 1e-14 && (l[1] - lm.vertex).abs() < 1e-14);
+}
+
+/// [`one_ring`] of a dart: ring vertex 0 at the end of the infinitely sharp
+/// edge, whose new point is the midpoint (V + E₀)/2.
+fn dart_one_ring(k: usize, beta: LoopBeta) -> Vec<Vec<f64>> {
+    let mut s = one_ring(k, beta);
+    let crease = edge_point_mask(true);
+    s[1] = vec![0.0; k + 1];
+    s[1][0] = crease.end;
+    s[1][1] = crease.end;
+    s
+}
+
+fn dart_row(mask: &DartMask) -> Vec<f64> {
+    std::iter::once(mask.vertex).chain(mask.edge.iter().copied()).collect()
+}
+
+const DART_VALENCES: [usize; 14] = [2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 16, 30, 100];
+
+#[test]
+fn dart_mask_sums_to_one_at_any_valence() {
+    for beta in BETAS {
+        for k in DART_VALENCES.into_iter().chain([1000, 100_000]) {
+            let mask = dart_limit_mask(k, beta);
+            assert_eq!((mask.edge.len(), mask.far_corner.len()), (k, 0));
+            // The sum of k weights rounds k times.
+            assert!((mask.total() - 1.0).abs() < 1e-14 + 1e-16 * k as f64, "{beta:?}, k = {k}: {}", mask.total());
+            assert!(mask.edge.iter().all(|&w| w > 0.0), "{beta:?}, k = {k}");
+        }
+        assert_eq!(dart_limit_mask(0, beta), DartMask { vertex: 1.0, edge: vec![], far_corner: vec![] });
+        assert_eq!(dart_limit_mask(1, beta), DartMask { vertex: 1.0, edge: vec![0.0], far_corner: vec![] });
+    }
+}
+
+#[test]
+fn dart_mask_is_the_left_eigenvector_of_the_dart_one_ring() {
+    for beta in BETAS {
+        for k in DART_VALENCES {
+            let s = dart_one_ring(k, beta);
+            let l = dart_row(&dart_limit_mask(k, beta));
+            for j in 0..=k {
+                let image: f64 = (0..=k).map(|i| l[i] * s[i][j]).sum();
+                assert!((image - l[j]).abs() < 1e-14, "{beta:?}, k = {k}, column {j}: {image} vs {}", l[j]);
+            }
+            let (solved, power) = (left_fixed_point(&s), dominant_left_eigenvector(&s));
+            for (j, &w) in l.iter().enumerate() {
+                assert!((solved[j] - w).abs() < 1e-13, "{beta:?}, k = {k}, node {j}: solved {}", solved[j]);
+                assert!((power[j] - w).abs() < 1e-12, "{beta:?}, k = {k}, node {j}: power {}", power[j]);
+            }
+        }
+    }
+}
+
+#[test]
+fn dart_mask_is_symmetric_about_the_crease_and_differs_from_the_smooth_mask() {
+    for beta in BETAS {
+        for k in DART_VALENCES {
+            let mask = dart_limit_mask(k, beta);
+            for i in 1..k {
+                assert_eq!(mask.edge[i], mask.edge[k - i], "{beta:?}, k = {k}, E{i}");
+            }
+            let smooth = limit_mask(VertexKind::Interior, k, beta);
+            let off = (mask.vertex - smooth.vertex).abs();
+            assert!(off > 1e-4, "{beta:?}, k = {k}: V {} vs smooth {}", mask.vertex, smooth.vertex);
+            assert!(mask.edge[0] > smooth.interior_neighbor, "{beta:?}, k = {k}: the crease's end pulls");
+        }
+    }
+}
+
+#[test]
+fn dart_mask_in_exact_arithmetic() {
+    // Solved in rationals: k = 6 (Warren's β = Loop's β = 1/16),
+    // (220V + 42E₀ + 29(E₁ + E₅) + 35(E₂ + E₄) + 36E₃)/426; k = 4, Warren's β = 3/32,
+    // (368V + 105E₀ + 72(E₁ + E₃) + 84E₂)/701.
+    let cases: [(usize, &[f64], f64); 2] =
+        [(6, &[220.0, 42.0, 29.0, 35.0, 36.0, 35.0, 29.0], 426.0), (4, &[368.0, 105.0, 72.0, 84.0, 72.0], 701.0)];
+    for (k, weights, den) in cases {
+        for beta in BETAS.into_iter().filter(|&b| k == 6 || b == LoopBeta::Warren) {
+            for (got, want) in dart_row(&dart_limit_mask(k, beta)).iter().zip(weights) {
+                assert!((got - want / den).abs() < 1e-16, "{beta:?}, k = {k}: {got} vs {}", want / den);
+            }
+        }
+    }
 }

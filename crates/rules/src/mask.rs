@@ -117,3 +117,67 @@ impl EdgeMask {
         2.0 * self.end + self.left * (m_left - 2) as f64 + m_right.map_or(0.0, |m| self.right * (m - 2) as f64)
     }
 }
+
+/// Weights of a vertex-centred mask that is not uniform around its vertex:
+/// the limit point of a **dart** ([`crate::catmull_clark::dart_limit_mask`],
+/// [`crate::loop_scheme::dart_limit_mask`]).
+///
+/// The fan of the dart V (valence n) is numbered from its sharp edge: E₀ is
+/// the far end of the infinitely sharp edge VE₀, E₁…Eₙ₋₁ follow in fan order
+/// and face i lies between Eᵢ and Eᵢ₊₁ (indices mod n). The new point is
+///
+/// ```text
+/// vertex·V + Σᵢ edge[i]·Eᵢ + Σᵢ far_corner[i]·Fᵢ
+/// ```
+///
+/// where Fᵢ is the corner of quad i = (V, Eᵢ, Fᵢ, Eᵢ₊₁) diagonal to V
+/// (Catmull-Clark; `far_corner` is empty for Loop, whose triangles have no
+/// far corner). The masks are symmetric about the crease
+/// (`edge[i] == edge[n − i]`, `far_corner[i] == far_corner[n − 1 − i]`), so
+/// either direction around the fan gives the same point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DartMask {
+    /// Weight of the dart V.
+    pub vertex: f64,
+    /// `edge[i]`: weight of the edge neighbour Eᵢ, E₀ the crease's far end.
+    pub edge: Vec<f64>,
+    /// `far_corner[i]`: weight of the far corner Fᵢ of quad i (empty for Loop).
+    pub far_corner: Vec<f64>,
+}
+
+impl DartMask {
+    /// Sum of all weights (1: the masks are affine).
+    pub fn total(&self) -> f64 {
+        self.vertex + self.edge.iter().sum::<f64>() + self.far_corner.iter().sum::<f64>()
+    }
+
+    /// The identity over a fan of `n` edges and `far_corners` far corners: the
+    /// answer for a degenerate valence (below 2), which no manifold mesh has.
+    pub(crate) fn identity(n: usize, far_corners: usize) -> Self {
+        Self { vertex: 1.0, edge: vec![0.0; n], far_corner: vec![0.0; far_corners] }
+    }
+
+    /// Divides every weight by their sum.
+    pub(crate) fn normalized(mut self) -> Self {
+        let total = self.total();
+        self.vertex /= total;
+        self.edge.iter_mut().for_each(|w| *w /= total);
+        self.far_corner.iter_mut().for_each(|w| *w /= total);
+        self
+    }
+}
+
+/// The ring weights' shape at a dart: uⱼ = (ρʲ + ρⁿ⁻ʲ)/(1 + ρⁿ) for
+/// j = 0..=n, the solution of uⱼ₋₁ − (ρ + 1/ρ)uⱼ + uⱼ₊₁ = 0 (0 < j < n) with
+/// u₀ = uₙ = 1, for 0 < ρ < 1. Powers of ρ are built by products, so a large
+/// n underflows to 0 instead of overflowing (ρⁿ ≈ 0: uⱼ = ρʲ + ρⁿ⁻ʲ).
+pub(crate) fn dart_ring_shape(rho: f64, n: usize) -> Vec<f64> {
+    let mut powers = Vec::with_capacity(n + 1);
+    let mut p = 1.0;
+    for _ in 0..=n {
+        powers.push(p);
+        p *= rho;
+    }
+    let den = 1.0 + powers[n];
+    (0..=n).map(|j| (powers[j] + powers[n - j]) / den).collect()
+}

@@ -171,3 +171,37 @@ pub fn dominant_left_eigenvector(s: &[Vec<f64>]) -> Vec<f64> {
     }
     x
 }
+
+/// The solution of lᵀ(S − I) = 0 with Σl = 1 by dense Gaussian elimination
+/// with partial pivoting (the last equation replaced by the normalisation):
+/// the left eigenvector of eigenvalue 1 of a simple eigenvalue, without
+/// assuming it dominant. An independent check of closed-form limit masks.
+pub fn left_fixed_point(s: &[Vec<f64>]) -> Vec<f64> {
+    let n = s.len();
+    // Row j of the system: column j of S − I; the last row Σl = 1.
+    let mut a: Vec<Vec<f64>> =
+        (0..n).map(|j| (0..n).map(|i| s[i][j] - if i == j { 1.0 } else { 0.0 }).collect()).collect();
+    let mut b = vec![0.0; n];
+    a[n - 1].fill(1.0);
+    b[n - 1] = 1.0;
+    for c in 0..n {
+        let p = (c..n).max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs())).expect("a row");
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..n {
+            let f = a[r][c] / a[c][c];
+            if f != 0.0 {
+                for k in c..n {
+                    a[r][k] -= f * a[c][k];
+                }
+                b[r] -= f * b[c];
+            }
+        }
+    }
+    let mut x = vec![0.0; n];
+    for r in (0..n).rev() {
+        let tail: f64 = (r + 1..n).map(|k| a[r][k] * x[k]).sum();
+        x[r] = (b[r] - tail) / a[r][r];
+    }
+    x
+}

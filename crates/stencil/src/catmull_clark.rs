@@ -18,7 +18,9 @@ use crate::{face_ring_size, vertex_kind, RowBuilder, SparseMatrix, Summation};
 use glam::DVec3;
 use subdiv_mesh::refine::quad_split;
 use subdiv_mesh::{EdgeId, FaceId, HalfEdgeId, Topology, VertexId};
-use subdiv_rules::catmull_clark::{edge_point_mask_with, face_point_weight, limit_mask, vertex_point_mask};
+use subdiv_rules::catmull_clark::{
+    dart_limit_mask, edge_point_mask_with, face_point_weight, limit_mask, vertex_point_mask,
+};
 use subdiv_rules::{Rule, TriangleRule, VertexKind};
 
 /// (V + F + E) × V refinement stencil: P₁ = R·P₀ on [`quad_split`]'s numbering.
@@ -208,19 +210,31 @@ type LimitScratch = (Vec<usize>, Vec<f64>, Vec<f64>);
 
 /// Row v of the limit stencil on any polygon mesh, by the vertex's rule at
 /// this level ([`LevelSharpness::limit_rule`]). Smooth: Cheng's Eq. 5 (one
-/// step composed with the quad limit mask, [corrections C1/C2]); dart: the smooth
+/// step composed with the quad limit mask, [corrections C1/C2]); dart whose
+/// edge is infinitely sharp, under [`DartLimit::Exact`]
+/// ([`LevelSharpness::exact_dart_edge`]): its exact limit, [`dart_limit_row`];
+/// other darts (a semi-sharp edge, or [`DartLimit::SmoothMask`]): the smooth
 /// quad limit mask on an all-quad fan, as OpenSubdiv's `Limit` (Eq. 5 on
 /// other fans); crease: (E₋ + 4V + E₊)/6 along its sharp edges (the cubic
 /// B-spline of the crease polygon); corner: V. Exact where no semi-sharp
 /// value is left around v (refine until the tags have decayed first).
 ///
 /// [corrections C1/C2]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#c1
+/// [`DartLimit::Exact`]: subdiv_rules::DartLimit::Exact
+/// [`DartLimit::SmoothMask`]: subdiv_rules::DartLimit::SmoothMask
 fn limit_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, rows: &mut RowBuilder, scratch: &mut LimitScratch) {
     if t.is_isolated(v) {
         rows.add(v.0, 1.0);
         return;
     }
-    match sharp.limit_rule(t, v) {
+    let rule = sharp.limit_rule(t, v);
+    if rule.0 == Rule::Dart {
+        if let Some(crease) = sharp.exact_dart_edge(t, v) {
+            dart_limit_row(t, v, crease, sharp.triangle_rule(), rows);
+            return;
+        }
+    }
+    match rule {
         (Rule::Dart, _) if t.vertex_fan(v).iter().all(|&h| t.face_size(t.he_face(h)) == 4) => {
             let fan = t.vertex_fan(v);
             let mask = limit_mask(VertexKind::Interior, fan.len()); // (n²V + 4ΣEᵢ + ΣFᵢ)/(n(n+5))
@@ -238,6 +252,41 @@ fn limit_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, rows: &mut RowBu
             rows.add(a.0, 1.0 / 6.0);
         }
         (Rule::Corner, _) | (Rule::Crease, None) => rows.add(v.0, 1.0),
+    }
+}
+
+/// The exact limit of the dart `v` whose fan edge `fan[crease]` is
+/// infinitely sharp: the dominant left eigenvector of its 1-ring's
+/// subdivision matrix ([`dart_limit_mask`], E₀ the crease's far end). On an
+/// all-quad fan the mask itself; on any other fan the mask composed with one
+/// step (the dart's fan is all quads after it: V' by the smooth vertex rule,
+/// E₀' the crease midpoint, the other Eᵢ' smooth edge points, Fᵢ' the face
+/// points), so the row is exact on a base level too.
+fn dart_limit_row(t: &Topology, v: VertexId, crease: usize, rule: TriangleRule, rows: &mut RowBuilder) {
+    let fan = t.vertex_fan(v);
+    let n = fan.len();
+    let mask = dart_limit_mask(n);
+    // Fan position (crease + i) mod n is the mask's Eᵢ and face i (Eᵢ, Fᵢ, Eᵢ₊₁).
+    let at = |i: usize| fan[(crease + i) % n];
+    if fan.iter().all(|&h| t.face_size(t.he_face(h)) == 4) {
+        rows.add(v.0, mask.vertex);
+        for i in 0..n {
+            let (ring, _) = face_ring(t, at(i));
+            rows.add(ring(1), mask.edge[i]);
+            rows.add(ring(2), mask.far_corner[i]);
+        }
+        return;
+    }
+    smooth_vertex_row(t, v, mask.vertex, rows); // V' (Eq. 4)
+    for i in 0..n {
+        let h = at(i);
+        if i == 0 {
+            midpoint_row(t, t.he_edge(h), mask.edge[0], rows); // E₀' = (V + E₀)/2
+        } else {
+            edge_point_row(t, t.he_edge(h), rule, mask.edge[i], rows); // Eᵢ' (correction C2)
+        }
+        let face = t.face(t.he_face(h));
+        rows.add_all(face, mask.far_corner[i] * face_point_weight(face.len())); // Fᵢ' = fᵢ
     }
 }
 

@@ -615,7 +615,8 @@ impl SchemeRules for DooSabinRules {
         let tags = sharp.tags(t);
         check_tags(t, &tags)?;
         let (topology, _, child) = subdiv_mesh::refine::dual_split_tagged(t, &tags);
-        let sharpness = LevelSharpness::new(&child, sharp.boundary(), sharp.method());
+        let sharpness =
+            LevelSharpness::new(&child, sharp.boundary(), sharp.method()).with_dart_limit(sharp.dart_limit());
         Ok(LevelSplit { topology, sharpness, dual: None })
     }
 

@@ -60,7 +60,7 @@ pub use scheme::{Domain, FVarSupport, LevelSplit, SchemeRules, SchemeTraits, Spl
 pub use sharpness::{EdgeStep, LevelSharpness, VertexStep};
 pub use subdiv_rules::deng_ma::Tension;
 pub use subdiv_rules::LoopBeta;
-pub use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, Rule, TriangleRule};
+pub use subdiv_rules::{BoundaryInterpolation, CreaseMethod, DartLimit, FVarInterpolation, Rule, TriangleRule};
 pub use subdivide::{
     limit_points_with_options, subdivide, subdivide_for_output, Refinement, Subdivided, SubdivisionPlan,
 };

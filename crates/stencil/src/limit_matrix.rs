@@ -48,10 +48,13 @@
 //! - [`RowKind::General`]: everything else — darts (one sharp edge) and every
 //!   vertex whose limit involves a semi-sharp value: the row of the composed
 //!   limit L·R_k⋯R_1 that [`crate::SubdivisionPlan::limit_stencil`] gives
-//!   (OpenSubdiv's `Limit` after ⌈largest semi-sharp value⌉ levels, at least
-//!   one), D = 1, S = that row. Such rows break the symmetric D·S form; and
-//!   the Doo-Sabin rows of darts (D = 1) and of interior valence-2 vertices
-//!   (D = 1/n = ½, S = 2 × the mask) are of this kind too.
+//!   (the limit masks after ⌈largest semi-sharp value⌉ levels, at least one,
+//!   as OpenSubdiv's `Limit`; at a dart whose edge is infinitely sharp the
+//!   dart's exact mask, or OpenSubdiv's smooth one under
+//!   [`crate::DartLimit::SmoothMask`], as `sharp` says), D = 1, S = that
+//!   row. Such rows break the symmetric D·S form; and the Doo-Sabin rows
+//!   of darts (D = 1) and of interior valence-2 vertices (D = 1/n = ½,
+//!   S = 2 × the mask) are of this kind too.
 //!
 //! **Blocks.** Crease and corner rows depend only on their crease polygon's
 //! vertices. [`LimitMatrix::boundary_rows`] is the **sharp block**: the
@@ -370,7 +373,7 @@ fn row_rule(t: &Topology, sharp: &LevelSharpness, v: VertexId) -> RowRule {
     match (infinite, sharp.limit_rule(t, v)) {
         (0, _) => smooth(),
         (2, (Rule::Crease, Some((a, b)))) => RowRule::Crease(a, b),
-        _ => RowRule::General, // a dart: OpenSubdiv's limit after the first step
+        _ => RowRule::General, // a dart: its limit row after the first step
     }
 }
 
@@ -709,8 +712,9 @@ fn crop(t: &Topology, sharp: &LevelSharpness, tracked: &[u32]) -> Crop {
         to_level.iter().map(|&v| tags.vertex_sharpness(VertexId(v))).collect()
     };
     let tags = Tags::from_arrays(&topology, edges, vertices).expect("the level's tags are valid values");
-    let sharpness =
-        LevelSharpness::new(&tags, sharp.boundary(), sharp.method()).with_triangle_rule(sharp.triangle_rule());
+    let sharpness = LevelSharpness::new(&tags, sharp.boundary(), sharp.method())
+        .with_triangle_rule(sharp.triangle_rule())
+        .with_dart_limit(sharp.dart_limit());
     Crop { topology, sharpness, to_level }
 }
 

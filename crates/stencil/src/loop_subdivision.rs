@@ -15,7 +15,7 @@ use crate::{RowBuilder, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
 use subdiv_mesh::refine::triangle_split;
 use subdiv_mesh::{EdgeId, MeshError, Topology, VertexId};
-use subdiv_rules::loop_scheme::{edge_point_mask, limit_mask, vertex_point_mask};
+use subdiv_rules::loop_scheme::{dart_limit_mask, edge_point_mask, limit_mask, vertex_point_mask};
 use subdiv_rules::{LoopBeta, Rule, VertexKind, VertexMask};
 
 pub(crate) fn require_triangles(t: &Topology) -> Result<(), StencilError> {
@@ -159,18 +159,37 @@ pub fn refine(t: &Topology, beta: LoopBeta) -> Result<(Topology, SparseMatrix), 
     Ok((topology, stencil))
 }
 
-/// Row v of the limit stencil by the vertex's rule at this level: smooth and
-/// dart (1 − kγ)p + γΣpⱼ with γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6,
-/// [correction W4]); crease (p₋ + 4p + p₊)/6 along its sharp edges; corner p. Exact where
-/// no semi-sharp value is left around v.
+/// Row v of the limit stencil by the vertex's rule at this level: smooth
+/// (1 − kγ)p + γΣpⱼ with γ = 1/(k + 3/(8β)) (Deng-Wang Eq. 5-6,
+/// [correction W4]); a dart whose edge is infinitely sharp, under
+/// [`DartLimit::Exact`] ([`LevelSharpness::exact_dart_edge`]): its exact
+/// limit, [`dart_limit_mask`] (the dominant left eigenvector of its 1-ring's
+/// subdivision matrix, E₀ the crease's far end); other darts (a semi-sharp
+/// edge, or [`DartLimit::SmoothMask`], OpenSubdiv's `Limit`): the smooth
+/// mask; crease (p₋ + 4p + p₊)/6 along its sharp edges; corner p. Exact
+/// where no semi-sharp value is left around v.
 ///
 /// [correction W4]: https://github.com/subdiv/subdiv/blob/main/docs/REFERENCES.md#w4
+/// [`DartLimit::Exact`]: subdiv_rules::DartLimit::Exact
+/// [`DartLimit::SmoothMask`]: subdiv_rules::DartLimit::SmoothMask
 fn limit_row(t: &Topology, sharp: &LevelSharpness, v: VertexId, beta: LoopBeta, rows: &mut RowBuilder) {
     if t.is_isolated(v) {
         rows.add(v.0, 1.0);
-    } else {
-        add_vertex_mask(rows, t, v, sharp.limit_rule(t, v), |kind| limit_mask(kind, t.valence(v), beta), 1.0);
+        return;
     }
+    let rule = sharp.limit_rule(t, v);
+    if rule.0 == Rule::Dart {
+        if let Some(crease) = sharp.exact_dart_edge(t, v) {
+            let fan = t.vertex_fan(v);
+            let mask = dart_limit_mask(fan.len(), beta);
+            rows.add(v.0, mask.vertex);
+            for (i, &w) in mask.edge.iter().enumerate() {
+                rows.add(t.he_to(fan[(crease + i) % fan.len()]).0, w); // Eᵢ, E₀ at the crease
+            }
+            return;
+        }
+    }
+    add_vertex_mask(rows, t, v, rule, |kind| limit_mask(kind, t.valence(v), beta), 1.0);
 }
 
 /// V × V limit stencil: row v gives the limit point of vertex v

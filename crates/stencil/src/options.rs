@@ -12,7 +12,7 @@ use std::str::FromStr;
 use subdiv_mesh::Tags;
 use subdiv_rules::constants::DEFAULT_DENG_MA_OMEGA;
 use subdiv_rules::deng_ma::Tension;
-use subdiv_rules::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, TriangleRule};
+use subdiv_rules::{BoundaryInterpolation, CreaseMethod, DartLimit, FVarInterpolation, LoopBeta, TriangleRule};
 
 /// A subdivision scheme with the parameters that belong to it alone: the
 /// one table of schemes. Everything the other layers ask of a scheme that is
@@ -231,9 +231,12 @@ impl<'de> Deserialize<'de> for Scheme {
 }
 
 /// Everything that changes the limit surface (and the face-varying data on
-/// it). Defaults as OpenSubdiv's Far tools use them: Catmull-Clark,
-/// `edge-and-corner` boundaries, uniform creasing, `linear-all` face-varying
-/// data.
+/// it), and the one choice of which limit point a dart gets. Defaults as
+/// OpenSubdiv's Far tools use them: Catmull-Clark, `edge-and-corner`
+/// boundaries, uniform creasing, `linear-all` face-varying data; except at
+/// darts, which get their exact limit ([`DartLimit::Exact`]) where
+/// OpenSubdiv's limit stencils take the smooth mask
+/// ([`DartLimit::SmoothMask`]).
 ///
 /// `#[non_exhaustive]`: build it with [`Options::new`] (or [`Default`]) and
 /// the `with_*` setters (one per field); the fields stay public for
@@ -270,6 +273,9 @@ pub struct Options {
     /// Catmull-Clark's rule for triangles (OpenSubdiv's `TriangleSubdivision`);
     /// the other schemes ignore it.
     pub triangle_rule: TriangleRule,
+    /// Which limit point a dart gets (the limit stencils of Catmull-Clark
+    /// and Loop; refinement is the same either way).
+    pub dart_limit: DartLimit,
 }
 
 impl From<Scheme> for Options {
@@ -294,6 +300,7 @@ impl Options {
             crease_method: CreaseMethod::default(),
             fvar: FVarInterpolation::default(),
             triangle_rule: TriangleRule::default(),
+            dart_limit: DartLimit::default(),
         }
     }
 
@@ -323,9 +330,15 @@ impl Options {
     }
 
     /// The base level's rules for a mesh with `tags`: the tags with the
-    /// boundary option, the crease method and the triangle rule.
+    /// boundary option, the crease method, the triangle rule and the dart limit.
     pub fn sharpness(&self, tags: &Tags) -> LevelSharpness {
-        LevelSharpness::new(tags, self.boundary, self.crease_method).with_triangle_rule(self.triangle_rule)
+        LevelSharpness::from_options(tags, self)
+    }
+
+    /// With another dart limit ([`DartLimit::SmoothMask`]: OpenSubdiv's
+    /// limit stencils and `Far::PrimvarRefiner::Limit`).
+    pub fn with_dart_limit(self, dart_limit: DartLimit) -> Self {
+        Self { dart_limit, ..self }
     }
 
     /// Checks every parameter's range (the one place: Deng-Ma's tension).

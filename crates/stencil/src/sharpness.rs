@@ -16,10 +16,13 @@
 //! `CreaseMethod::subdivide_edge_sharpness` of the parent values at v, so a
 //! row can be computed before (or while) the child connectivity is built.
 
+use crate::Options;
 use std::sync::OnceLock;
 use subdiv_mesh::{EdgeId, HalfEdgeId, Tags, Topology, VertexId};
-use subdiv_rules::crease::{decrement, fractional_weight, is_sharp, is_smooth, vertex_rule, SHARPNESS_INFINITE};
-use subdiv_rules::{BoundaryInterpolation, CreaseMethod, Rule, TriangleRule};
+use subdiv_rules::crease::{
+    decrement, fractional_weight, is_infinite, is_sharp, is_smooth, vertex_rule, SHARPNESS_INFINITE,
+};
+use subdiv_rules::{BoundaryInterpolation, CreaseMethod, DartLimit, Rule, TriangleRule};
 
 /// Largest valence whose incident sharpness fits the stack buffers below;
 /// larger valences use a heap buffer.
@@ -37,6 +40,8 @@ pub struct LevelSharpness {
     vertices: Vec<f32>,
     boundary: BoundaryInterpolation,
     method: CreaseMethod,
+    /// Which limit point a dart gets (read by the limit rows only).
+    dart_limit: DartLimit,
     /// Per vertex: whether a tag touches it (its own, or one of an edge at
     /// it), computed on first use from the sharp edges alone, so the rows of
     /// the many untouched vertices of a tagged level cost one lookup.
@@ -57,6 +62,7 @@ impl PartialEq for LevelSharpness {
             && (self.vertices == other.vertices)
             && (self.boundary == other.boundary)
             && (self.method == other.method)
+            && (self.dart_limit == other.dart_limit)
             && (self.trisects_next == other.trisects_next)
             && (self.triangle_rule == other.triangle_rule)
     }
@@ -171,9 +177,23 @@ fn crease_ends(rule: Rule, sharpness: &[f32], ends: &[u32]) -> Option<(VertexId,
 }
 
 impl LevelSharpness {
-    /// The base level of a mesh with `tags` under the given options.
+    /// The base level of a mesh with `tags` under the given options (darts
+    /// with [`DartLimit::Exact`]; [`Self::with_dart_limit`] to change it).
     pub fn new(tags: &Tags, boundary: BoundaryInterpolation, method: CreaseMethod) -> Self {
         Self::from_values(tags.edge_values().to_vec(), tags.vertex_values().to_vec(), boundary, method)
+    }
+
+    /// The base level of a mesh with `tags` under `options` (boundary
+    /// option, crease method, dart limit, triangle rule).
+    pub fn from_options(tags: &Tags, options: &Options) -> Self {
+        Self::new(tags, options.boundary, options.crease_method)
+            .with_dart_limit(options.dart_limit)
+            .with_triangle_rule(options.triangle_rule)
+    }
+
+    /// With another dart limit; kept by every level refined from this one.
+    pub fn with_dart_limit(self, dart_limit: DartLimit) -> Self {
+        Self { dart_limit, ..self }
     }
 
     /// The rules of an untagged mesh with `edge-and-corner` boundaries.
@@ -192,6 +212,7 @@ impl LevelSharpness {
             vertices,
             boundary,
             method,
+            dart_limit: DartLimit::default(),
             touched: OnceLock::new(),
             trisects_next: false,
             triangle_rule: TriangleRule::Catmark,
@@ -254,6 +275,11 @@ impl LevelSharpness {
     /// The crease method.
     pub fn method(&self) -> CreaseMethod {
         self.method
+    }
+
+    /// Which limit point a dart gets.
+    pub fn dart_limit(&self) -> DartLimit {
+        self.dart_limit
     }
 
     /// Sharpness of edge `e` as the rules see it: infinite on the boundary,
@@ -385,6 +411,25 @@ impl LevelSharpness {
         (rule, crease_ends(rule, sharp, incident.ends.as_slice()))
     }
 
+    /// Where `v`'s limit is the exact dart limit
+    /// ([`subdiv_rules::catmull_clark::dart_limit_mask`],
+    /// [`subdiv_rules::loop_scheme::dart_limit_mask`]): the position in
+    /// `v`'s fan of its one sharp edge when `v` is a dart ([`Self::limit_rule`])
+    /// whose edge is infinitely sharp and the dart limit is
+    /// [`DartLimit::Exact`]; `None` otherwise (a dart whose edge is still
+    /// semi-sharp changes its rule on the way: it keeps the smooth mask).
+    pub fn exact_dart_edge(&self, t: &Topology, v: VertexId) -> Option<usize> {
+        if self.dart_limit != DartLimit::Exact || self.untouched(t, v) || t.is_boundary_vertex(v) {
+            return None; // a boundary vertex has two sharp edges at least: never a dart
+        }
+        if self.limit_rule(t, v).0 != Rule::Dart {
+            return None;
+        }
+        let fan = t.vertex_fan(v);
+        let at = fan.iter().position(|&h| is_sharp(self.edge(t, t.he_edge(h))))?;
+        is_infinite(self.edge(t, t.he_edge(fan[at]))).then_some(at)
+    }
+
     /// Sharpness of the half of edge `e` at its end `v` after the step.
     fn child_half(&self, t: &Topology, e: EdgeId, v: VertexId) -> f32 {
         let s = self.edge(t, e);
@@ -450,6 +495,7 @@ impl LevelSharpness {
         };
         let compact = |v: Vec<f32>| if v.iter().all(|&s| is_smooth(s)) { Vec::new() } else { v };
         LevelSharpness::from_values(edges, compact(vertices), self.boundary, self.method)
+            .with_dart_limit(self.dart_limit)
     }
 
     /// The tags of this level as a user sees them (what a file stores):

@@ -100,19 +100,21 @@ pub fn dyadic_error(mesh: &Mesh, options: Options, levels: usize) -> f64 {
     let refined = subdiv_stencil::subdivide(mesh, options, levels, true).expect("subdivide --limit");
     let d = mesh.bbox_diagonal();
     let rt = refined.topology();
-    // A dart's `--limit` point is OpenSubdiv's smooth-mask approximation,
-    // which changes with the level (tests/dart.rs checks darts against the
-    // levels' convergence instead).
+    // A dart's `--limit` point is its exact limit where its edge is
+    // infinitely sharp (`DartLimit::Exact`), else OpenSubdiv's smooth-mask
+    // approximation, which changes with the level (tests/dart.rs checks
+    // those against the levels' convergence instead).
     // The masks are applied where no semi-sharp value is left: a vertex is
     // judged by its rule at that level (old vertices keep their numbers).
-    let at_level = subdiv_stencil::LevelSharpness::new(refined.tags(), options.boundary, options.crease_method);
+    let at_level = subdiv_stencil::LevelSharpness::from_options(refined.tags(), &options);
     let extra = at_level.largest_semi_sharp(rt).map_or(0, |s| s.ceil() as usize);
     let masked = subdiv_stencil::subdivide(mesh, options, levels + extra, false).expect("subdivide");
-    let sharp = subdiv_stencil::LevelSharpness::new(masked.tags(), options.boundary, options.crease_method);
+    let sharp = subdiv_stencil::LevelSharpness::from_options(masked.tags(), &options);
     let mt = masked.topology();
     let mut worst: f64 = 0.0;
     let mut check = |param: SurfaceParam, vertex: u32| {
-        if sharp.limit_rule(mt, subdiv_mesh::VertexId(vertex)).0 == subdiv_rules::Rule::Dart {
+        let v = subdiv_mesh::VertexId(vertex);
+        if sharp.limit_rule(mt, v).0 == subdiv_rules::Rule::Dart && sharp.exact_dart_edge(mt, v).is_none() {
             return;
         }
         // Holes (boundary `none` makes the boundary faces holes) have no surface.

@@ -26,7 +26,7 @@ pub struct Case {
 impl Case {
     /// The level-0 sharpness of the case.
     pub fn sharpness(&self) -> LevelSharpness {
-        LevelSharpness::new(&self.tags, self.options.boundary, self.options.crease_method)
+        LevelSharpness::from_options(&self.tags, &self.options)
     }
 
     /// The tagged limit matrix of the case's scheme.
