@@ -243,7 +243,18 @@ pub fn interpolate_mesh(
     observer: subdiv_solve::IterationObserver,
 ) -> Result<Interpolant, JobError> {
     let options = method_options(input, o, mesh, observer)?;
-    subdiv_interp::interpolate(mesh, &options).map_err(|e| classify(input, o, e))
+    let result = subdiv_interp::interpolate(mesh, &options).map_err(|e| classify(input, o, e))?;
+    Ok(with_written_options(result))
+}
+
+/// `result` with the options its surface needs in its control mesh's tags ([`written_options`]),
+/// so that every writer (the command, the batch, the Python package) writes them.
+fn with_written_options(mut result: Interpolant) -> Interpolant {
+    if let Some(options) = written_options(&result.control, result.options()) {
+        let tags = result.control.tags().clone().with_options(options);
+        result.control = result.control.with_tags(tags);
+    }
+    result
 }
 
 /// The parameter files of `o`: inputs that no output may overwrite.
@@ -308,7 +319,7 @@ pub fn interpolate(
     let result =
         options.and_then(|options| subdiv_interp::interpolate(&mesh, &options).map_err(|e| classify(input, o, e)));
     progress.solver_end();
-    let mut result = result?;
+    let mut result = with_written_options(result?);
     let mut warnings = Vec::new();
     let d = mesh.bbox_diagonal();
 
@@ -375,13 +386,7 @@ pub fn interpolate(
             Some(s) => s.clone(),
             None => refine_surface(&result, progress)?,
         })),
-        (Some(_), false) => Some(match written_options(&result.control, result.options()) {
-            Some(options) => {
-                let tags = result.control.tags().clone().with_options(options);
-                Cow::Owned(result.control.clone().with_tags(tags))
-            }
-            None => Cow::Borrowed(&result.control),
-        }),
+        (Some(_), false) => Some(Cow::Borrowed(&result.control)),
     };
 
     let total_ms = total.elapsed().as_secs_f64() * 1e3;
