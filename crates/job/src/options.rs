@@ -211,34 +211,19 @@ pub struct SurfaceChoice {
 }
 
 impl SurfaceChoice {
-    /// Every option, resolved: the command's where given, else the file's, else the default.
-    pub fn resolve(&self, file: FileOptions) -> FileOptions {
-        FileOptions {
-            boundary: Some(self.boundary.or(file.boundary).unwrap_or_default()),
-            crease_method: Some(self.crease_method.or(file.crease_method).unwrap_or_default()),
-            fvar: Some(self.fvar.or(file.fvar).unwrap_or_default()),
-            triangle_rule: Some(self.triangle_rule.or(file.triangle_rule).unwrap_or_default()),
-        }
+    /// The surface options under these choices and the file's options `file`: each the
+    /// command's where given, else the file's, else the default.
+    pub fn surface_options(&self, file: FileOptions) -> SurfaceOptions {
+        SurfaceOptions::default()
+            .with_boundary(self.boundary.or(file.boundary).unwrap_or_default())
+            .with_crease_method(self.crease_method.or(file.crease_method).unwrap_or_default())
+            .with_fvar(self.fvar.or(file.fvar).unwrap_or_default())
+            .with_triangle_rule(self.triangle_rule.or(file.triangle_rule).unwrap_or_default())
     }
 
     /// The subdivision options of `scheme` under these choices and the file's options.
     pub fn options(&self, scheme: Scheme, file: FileOptions) -> subdiv_stencil::Options {
-        let r = self.resolve(file);
-        subdiv_stencil::Options::new(scheme)
-            .with_boundary(r.boundary.unwrap_or_default())
-            .with_crease_method(r.crease_method.unwrap_or_default())
-            .with_fvar(r.fvar.unwrap_or_default())
-            .with_triangle_rule(r.triangle_rule.unwrap_or_default())
-    }
-
-    /// The interpolation methods' surface options under these choices and the file's options.
-    pub fn surface_options(&self, file: FileOptions) -> SurfaceOptions {
-        let r = self.resolve(file);
-        SurfaceOptions::default()
-            .with_boundary(r.boundary.unwrap_or_default())
-            .with_crease_method(r.crease_method.unwrap_or_default())
-            .with_fvar(r.fvar.unwrap_or_default())
-            .with_triangle_rule(r.triangle_rule.unwrap_or_default())
+        self.surface_options(file).for_scheme(scheme)
     }
 }
 

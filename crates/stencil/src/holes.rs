@@ -44,11 +44,12 @@ pub fn base_holes(t: &Topology, tags: &Tags, options: &Options) -> Vec<bool> {
         excluded[a.index()] = true;
         excluded[b.index()] = true;
     }
+    if !excluded.contains(&true) {
+        return holes;
+    }
+    holes.resize(t.face_count(), false);
     for v in t.vertices().filter(|v| excluded[v.index()]) {
         for &h in t.vertex_fan(v) {
-            if holes.is_empty() {
-                holes = vec![false; t.face_count()];
-            }
             holes[t.he_face(h).index()] = true;
         }
     }

@@ -17,6 +17,8 @@
 //!
 //! Run with `--nocapture` for the table of every shape.
 
+mod sharp_cases;
+
 use glam::DVec3;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -94,18 +96,6 @@ fn read_level(path: &Path) -> (Vec<DVec3>, usize) {
         }
     }
     (points, faces)
-}
-
-/// Limit points of a `limit.txt` (comment lines skipped).
-fn read_limits(path: &Path) -> Vec<DVec3> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    text.lines()
-        .filter(|l| !l.trim().is_empty() && !l.starts_with('#'))
-        .map(|l| {
-            let c: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
-            DVec3::new(c[0], c[1], c[2])
-        })
-        .collect()
 }
 
 /// The largest distance from a point of `a` to its nearest point of `b`, both ways, found
@@ -222,7 +212,7 @@ fn every_shape_refines_and_limits_as_opensubdiv() {
                 failures.push(format!("{name} L{level}: point sets {dev:.2e}·d apart"));
             }
         }
-        let limits = read_limits(&reference.join("limit.txt"));
+        let limits = sharp_cases::read_points(&reference.join("limit.txt"));
         let skip = shortcut_vertices(mesh.topology(), mesh.tags());
         let ours = limit_points_with_options(mesh.topology(), mesh.tags(), options, mesh.positions())
             .expect("the shapes' schemes have limit masks")
