@@ -116,12 +116,16 @@ pub fn write_mesh(path: impl AsRef<Path>, mesh: &Mesh, options: &WriteOptions) -
         let message = format!("vertex {v} at {p} is not finite (NaN or infinite)");
         return Err(IoError::InvalidMesh { path: path.to_path_buf(), message });
     }
-    let normals = options.normals.then(|| mesh.vertex_normals());
-    let tags = (options.tags && format.carries_tags() && !mesh.tags().is_blank())
-        .then(|| mesh.tags().to_list(mesh.topology()));
+    // A non-manifold mesh's cover is written welded: the input's vertices, not their copies.
+    let normals = options.normals.then(|| match mesh.welds() {
+        Some(welds) => welds.weld(&mesh.vertex_normals()),
+        None => mesh.vertex_normals(),
+    });
+    let (positions, faces, tags) = mesh.welded();
+    let tags = (options.tags && format.carries_tags() && !tags.is_empty()).then_some(tags);
     let view = MeshView {
-        positions: mesh.positions(),
-        faces: mesh.topology().faces(),
+        positions: &positions,
+        faces: &faces,
         normals: normals.as_deref(),
         uvs: mesh.uvs().filter(|_| options.uvs),
         tags: tags.as_ref(),

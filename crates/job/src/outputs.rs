@@ -171,16 +171,26 @@ impl Outputs {
         progress: &mut dyn Progress,
     ) -> Result<(), JobError> {
         let format = Format::from_path(path).map_err(|e| JobError::bad_input(format!("{flag} {e}")))?;
-        let n = normals.then(|| mesh.vertex_normals());
+        // A non-manifold mesh's cover is written welded: the input's vertices, not their copies.
+        let weld = |values: Vec<subdiv_mesh::DVec3>| match mesh.welds() {
+            Some(welds) => welds.weld(&values),
+            None => values,
+        };
+        let n = normals.then(|| weld(mesh.vertex_normals()));
         require_finite(&format!("{flag} {}", path.display()), mesh, n.as_deref())?;
-        let positions = as_written(flag, path, format, mesh.positions())?;
+        let (welded_positions, welded_faces, mut tags) = mesh.welded();
+        let positions = as_written(flag, path, format, &welded_positions)?;
         // Tags and texture coordinates where the format has a place for them.
-        let mut tags = mesh.tags().to_list(mesh.topology());
         let without_holes = if surface { subdiv_io::faces_without_holes(mesh) } else { None };
+        let without_holes = without_holes.map(|(faces, uvs)| match mesh.welds() {
+            Some(welds) => (welds.weld_faces(&faces), uvs),
+            None => (faces, uvs),
+        });
         if without_holes.is_some() {
             tags.holes.clear();
         }
         let (mut view, left_out) = subdiv_io::view_for_format(mesh, &positions, &tags, format);
+        view.faces = &welded_faces;
         if let Some((faces, uvs)) = &without_holes {
             view.faces = faces;
             view.uvs = view.uvs.and(uvs.as_ref());

@@ -275,6 +275,9 @@ pub enum Warning {
         /// The degenerate faces, ascending.
         faces: Vec<u32>,
     },
+    /// Non-manifold edges and vertices, refined as OpenSubdiv does
+    /// (infinitely sharp; [`crate::nonmanifold`]).
+    NonManifold(Box<crate::NonManifoldReport>),
 }
 
 impl std::fmt::Display for Warning {
@@ -290,6 +293,17 @@ impl std::fmt::Display for Warning {
             }
             Warning::ZeroAreaFaces { faces } => {
                 write!(f, "{} zero-area faces: {}", faces.len(), list(faces))
+            }
+            Warning::NonManifold(report) => {
+                write!(
+                    f,
+                    "non-manifold: {} edges and {} vertices ({}), refined as OpenSubdiv does: \
+                     those edges infinitely sharp, {} of the vertices infinitely sharp corners",
+                    report.edges.len(),
+                    report.vertices.len(),
+                    list(&report.vertices),
+                    report.corners.len()
+                )
             }
         }
     }

@@ -76,6 +76,7 @@ mod ids;
 #[cfg(any(test, feature = "internals"))]
 pub mod internals;
 mod mesh;
+pub mod nonmanifold;
 pub mod refine;
 pub mod shapes;
 mod soup;
@@ -92,6 +93,7 @@ pub use geometry::{
 };
 pub use ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 pub use mesh::{Mesh, Rejected, ZERO_AREA_REL};
+pub use nonmanifold::{NonManifoldReport, Welds};
 pub use soup::{FaceGroups, FaceList, PolygonSoup};
 pub use tags::{EdgeTag, FaceVarying, FileOptions, TagList, Tags, VertexTag, SHARPNESS_INFINITE, SHARPNESS_SMOOTH};
 pub use topology::{Corner, Topology};

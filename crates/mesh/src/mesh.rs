@@ -5,6 +5,7 @@ use crate::geometry::{centroid, corner_angle, scaled_newell, unit_vector, unscal
 use crate::ids::{FaceId, VertexId};
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
 use crate::tags::{EdgeTag, FaceVarying, TagList, Tags, VertexTag};
+use crate::nonmanifold::{is_non_manifold, manifold_cover, NonManifoldReport, Welds};
 use crate::topology::Topology;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -25,6 +26,9 @@ pub struct Mesh {
     groups: FaceGroups,
     tags: Tags,
     uvs: Option<Arc<FaceVarying>>,
+    /// For the manifold cover of a non-manifold input ([`crate::nonmanifold`]):
+    /// which cover vertices are one input vertex.
+    welds: Option<Arc<Welds>>,
 }
 
 /// A soup [`Mesh::try_from_soup`] refused: why, and the soup itself, as given.
@@ -58,14 +62,34 @@ impl Mesh {
             let error = MeshError::NonFiniteCoordinate { vertex: v as u32, x: p.x, y: p.y, z: p.z };
             return Err(Box::new(Rejected { error, soup }));
         }
-        let PolygonSoup { positions, faces, groups, tags, uvs } = soup;
-        let topology = match Topology::new_or_return(faces, positions.len()) {
-            Ok(topology) => topology,
+        let PolygonSoup { mut positions, faces, groups, tags, uvs } = soup;
+        let (topology, welds, report) = match Topology::new_or_return(faces, positions.len()) {
+            Ok(topology) => (topology, None, None),
+            Err((error, faces)) if is_non_manifold(&error) => {
+                // OpenSubdiv refines it: through its manifold cover.
+                let covered = manifold_cover(&faces, positions.len())
+                    .and_then(|(cover, report)| Ok((Topology::new(cover.faces, cover.vertex_count)?, cover.welds, report)));
+                match covered {
+                    Ok((topology, welds, report)) => {
+                        for v in positions.len()..welds.cover_vertex_count() {
+                            positions.push(positions[welds.vertex(VertexId(v as u32)) as usize]);
+                        }
+                        (topology, Some(Arc::new(welds)), Some(report))
+                    }
+                    Err(error) => {
+                        return Err(Box::new(Rejected { error, soup: PolygonSoup { positions, faces, groups, tags, uvs } }));
+                    }
+                }
+            }
             Err((error, faces)) => {
                 return Err(Box::new(Rejected { error, soup: PolygonSoup { positions, faces, groups, tags, uvs } }));
             }
         };
-        let checked = Tags::from_list(&topology, &tags).and_then(|checked| {
+        let cover_tags = match &welds {
+            Some(welds) => welds.cover_tags(&topology, &tags),
+            None => Ok(tags.clone()),
+        };
+        let checked = cover_tags.and_then(|tags| Tags::from_list(&topology, &tags)).and_then(|checked| {
             if let Some(uvs) = &uvs {
                 uvs.validate(topology.half_edge_count())?;
             }
@@ -74,11 +98,24 @@ impl Mesh {
         let checked_tags = match checked {
             Ok(checked_tags) => checked_tags,
             Err(error) => {
-                let faces = topology.into_faces();
+                let faces = match &welds {
+                    Some(welds) => welds.faces(&topology),
+                    None => topology.into_faces(),
+                };
+                if let Some(welds) = &welds {
+                    positions.truncate(welds.vertex_count());
+                }
                 return Err(Box::new(Rejected { error, soup: PolygonSoup { positions, faces, groups, tags, uvs } }));
             }
         };
-        let mesh = Self { topology: Arc::new(topology), positions, groups, tags: checked_tags, uvs: uvs.map(Arc::new) };
+        let mesh = Self {
+            topology: Arc::new(topology),
+            positions,
+            groups,
+            tags: checked_tags,
+            uvs: uvs.map(Arc::new),
+            welds,
+        };
         let bbox = mesh.bbox();
         if bbox.min == bbox.max {
             let p = bbox.min;
@@ -86,7 +123,10 @@ impl Mesh {
             let error = MeshError::AllVerticesCoincide { vertices, x: p.x, y: p.y, z: p.z };
             return Err(Box::new(Rejected { error, soup: PolygonSoup { tags, ..mesh.into_soup() } }));
         }
-        let warnings = mesh.warnings();
+        let mut warnings = mesh.warnings();
+        if let Some(report) = report {
+            warnings.push(Warning::NonManifold(Box::new(report)));
+        }
         Ok((mesh, warnings))
     }
 
@@ -102,6 +142,12 @@ impl Mesh {
     /// If `positions.len()` differs from the vertex count (a caller bug).
     pub fn with_positions(&self, positions: Vec<DVec3>) -> Self {
         assert_eq!(positions.len(), self.positions.len(), "one position per vertex");
+        let mut positions = positions;
+        if let Some(welds) = &self.welds {
+            // Copies of one vertex are one point (a solver may leave them a
+            // rounding apart).
+            welds.unify(&mut positions);
+        }
         Self { positions, ..self.clone_without_positions() }
     }
 
@@ -111,7 +157,14 @@ impl Mesh {
     /// If `positions.len()` differs from the topology's vertex count (a caller bug).
     pub fn from_topology(topology: Topology, positions: Vec<DVec3>) -> Self {
         assert_eq!(positions.len(), topology.vertex_count(), "one position per vertex");
-        Self { topology: Arc::new(topology), positions, groups: FaceGroups::default(), tags: Tags::none(), uvs: None }
+        Self {
+            topology: Arc::new(topology),
+            positions,
+            groups: FaceGroups::default(),
+            tags: Tags::none(),
+            uvs: None,
+            welds: None,
+        }
     }
 
     /// Everything but the positions, shared (the connectivity and texture
@@ -123,6 +176,47 @@ impl Mesh {
             groups: self.groups.clone(),
             tags: self.tags.clone(),
             uvs: self.uvs.clone(),
+            welds: self.welds.clone(),
+        }
+    }
+
+    /// The welds of a manifold cover ([`crate::nonmanifold`]): `Some` when
+    /// this mesh is the cover of a non-manifold input (or a refinement of
+    /// one), whose copies of a vertex are one vertex of the mesh written.
+    pub fn welds(&self) -> Option<&Welds> {
+        self.welds.as_deref()
+    }
+
+    /// The same mesh as the cover described by `welds` (`None`: a manifold
+    /// mesh of its own).
+    ///
+    /// # Panics
+    /// If `welds` does not cover this mesh's vertices (a caller bug).
+    pub fn with_welds(mut self, welds: Option<Welds>) -> Self {
+        if let Some(welds) = &welds {
+            assert_eq!(welds.cover_vertex_count(), self.positions.len(), "welds of this cover");
+        }
+        self.welds = welds.map(Arc::new);
+        self
+    }
+
+    /// The non-manifold features of the input this mesh covers (`None` for
+    /// a manifold mesh, and for a refined cover).
+    pub fn non_manifold(&self) -> Option<&NonManifoldReport> {
+        self.welds.as_ref().and_then(|welds| welds.report())
+    }
+
+    /// The mesh as a writer writes it: for a cover, the input's vertices
+    /// (copies welded) with its faces and tags; otherwise the mesh itself.
+    /// Positions, faces and tags by vertex index.
+    pub fn welded(&self) -> (std::borrow::Cow<'_, [DVec3]>, std::borrow::Cow<'_, FaceList>, TagList) {
+        use std::borrow::Cow;
+        let list = self.tags.to_list(&self.topology);
+        match &self.welds {
+            Some(welds) => {
+                (Cow::Owned(welds.weld(&self.positions)), Cow::Owned(welds.faces(&self.topology)), welds.tags(&list))
+            }
+            None => (Cow::Borrowed(&self.positions), Cow::Borrowed(self.topology.faces()), list),
         }
     }
 
@@ -175,12 +269,12 @@ impl Mesh {
     pub fn groups(&self) -> &FaceGroups {
         &self.groups
     }
-    /// Back to plain data.
+    /// Back to plain data (a cover welded back: [`Self::welded`]).
     pub fn into_soup(self) -> PolygonSoup {
-        let tags = self.tags.to_list(&self.topology);
+        let (positions, faces, tags) = self.welded();
+        let (positions, faces) = (positions.into_owned(), faces.into_owned());
         let uvs = self.uvs.map(|uvs| Arc::try_unwrap(uvs).unwrap_or_else(|shared| (*shared).clone()));
-        let faces = self.topology.faces().clone();
-        PolygonSoup { positions: self.positions, faces, groups: self.groups, tags, uvs }
+        PolygonSoup { positions, faces, groups: self.groups, tags, uvs }
     }
 
     /// Bounding box of the vertices that faces use.

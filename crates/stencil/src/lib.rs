@@ -45,6 +45,7 @@ pub mod sharpness;
 pub mod size;
 pub mod sqrt3;
 pub mod subdivide;
+pub mod welds;
 
 pub use apply::{apply, apply_columns, row_sums};
 pub use error::StencilError;

@@ -8,6 +8,7 @@
 //! ([`StencilError::NotRepresentable`] otherwise).
 
 use crate::holes;
+use crate::welds;
 use crate::normalized::{map_back, normalize};
 use crate::scheme::SchemeRules;
 use crate::sharpness::LevelSharpness;
@@ -361,13 +362,16 @@ impl SubdivisionPlan {
             None => None,
         };
         let mut holes = holes::base_holes(&self.base, mesh.tags(), &self.options);
+        let mut welds = mesh.welds().cloned();
+        welds::check_scheme(self.scheme(), welds.as_ref())?;
         let mut coarse = &self.base;
         for level in &self.levels {
             holes = holes::child_holes(self.scheme(), coarse, &holes)?;
+            welds = welds::child_welds(self.scheme(), coarse, welds.as_ref())?;
             coarse = &level.topology;
         }
         let tags = if self.levels.is_empty() { mesh.tags().clone() } else { sharp.tags(t) };
-        let refined = Mesh::from_topology(t.clone(), positions).with_tags(tags.with_holes(holes));
+        let refined = Mesh::from_topology(t.clone(), positions).with_tags(tags.with_holes(holes)).with_welds(welds);
         Ok(refined.with_uvs(uvs).expect("the refined channel has one value per refined face corner"))
     }
 }
@@ -458,10 +462,13 @@ fn subdivide_observed(
     let (scale, mut positions) = normalize(mesh.positions());
     let mut uvs = mesh.uvs().map(Cow::Borrowed);
     let mut holes = holes::base_holes(mesh.topology(), mesh.tags(), &options);
+    let mut welds = mesh.welds().cloned();
+    welds::check_scheme(scheme, welds.as_ref())?;
     for level in 0..levels {
         let coarse = fine.as_ref().unwrap_or(mesh.topology());
         check_size(coarse, scheme)?;
         holes = holes::child_holes(scheme, coarse, &holes)?;
+        welds = welds::child_welds(scheme, coarse, welds.as_ref())?;
         // The refined connectivity on one core, the points on the other.
         let (split, next) =
             rayon::join(|| rules.split(coarse, &sharp), || rules.step_points(coarse, &sharp, &positions));
@@ -489,6 +496,7 @@ fn subdivide_observed(
             let uvs = uvs.map(Cow::into_owned);
             Mesh::from_topology(t, positions)
                 .with_tags(tags)
+                .with_welds(welds)
                 .with_uvs(uvs)
                 .expect("the refined channel has one value per refined face corner")
         }

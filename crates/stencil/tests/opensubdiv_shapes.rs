@@ -15,6 +15,10 @@
 //!   one: `dart_limits.rs`, `valence_two.rs`); those rows are counted and
 //!   printed, not compared.
 //!
+//! - Non-manifold shapes (edges of 3+ faces, vertices joining separate
+//!   fans, a vertex repeated in a face) are refined through their manifold
+//!   cover and compared welded, as OpenSubdiv numbers them.
+//!
 //! Run with `--nocapture` for the table of every shape.
 
 mod sharp_cases;
@@ -30,25 +34,6 @@ use subdiv_stencil::{
 /// Largest accepted deviation, relative to d.
 const TOL_REL: f64 = 1e-12;
 
-/// The shapes `subdiv_mesh` refuses today: non-manifold edges (3+ faces), vertices joining
-/// separate fans, a vertex twice in a face. OpenSubdiv refines them (its Vtr sharpens
-/// non-manifold features); until this workspace does, each must be refused with a reason, and a
-/// shape that starts loading must leave this list.
-const REFUSED_NON_MANIFOLD: [&str; 13] = [
-    "catmark_fan",
-    "catmark_gregory_test4",
-    "catmark_nonman_edge100",
-    "catmark_nonman_edges",
-    "catmark_nonman_quadpole360",
-    "catmark_nonman_quadpole64",
-    "catmark_nonman_quadpole8",
-    "catmark_nonman_verts",
-    "catmark_val2_nonman",
-    "loop_nonman_edge100",
-    "loop_nonman_edges",
-    "loop_nonman_verts",
-    "loop_val2_interior",
-];
 
 fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/opensubdiv")
@@ -158,25 +143,17 @@ fn every_shape_refines_and_limits_as_opensubdiv() {
     println!("| shape | V | F | levels (max dev / d) | limit (max dev / d) | shortcut rows |");
     println!("|---|---|---|---|---|---|");
     for (name, path) in &shapes {
-        let refused = REFUSED_NON_MANIFOLD.contains(&name.as_str());
-        let mesh = match (subdiv_io::load_mesh(path), refused) {
-            (Ok(mesh), false) => mesh,
-            (Err(e), true) => {
-                let reason = e.to_string();
-                if !(reason.contains("non-manifold") || reason.contains("more than once")) {
-                    failures.push(format!("{name}: refused for another reason: {reason}"));
-                }
-                println!("| {name} | refused: {} |", reason.rsplit(": ").next().unwrap_or(&reason));
-                continue;
-            }
-            (Ok(_), true) => {
-                failures.push(format!("{name} loads now: take it off REFUSED_NON_MANIFOLD"));
-                continue;
-            }
-            (Err(e), false) => {
+        let mesh = match subdiv_io::load_mesh(path) {
+            Ok(mesh) => mesh,
+            Err(e) => {
                 failures.push(format!("{name}: {e}"));
                 continue;
             }
+        };
+        // A non-manifold shape is refined through its manifold cover and compared welded.
+        let weld = |mesh: &Mesh, points: Vec<DVec3>| match mesh.welds() {
+            Some(welds) => welds.weld(&points),
+            None => points,
         };
         let options = harness_options(name, &mesh);
         let d = mesh.bbox_diagonal();
@@ -197,15 +174,16 @@ fn every_shape_refines_and_limits_as_opensubdiv() {
                 }
             };
             let drawn = ours.topology().face_count() - ours.tags().hole_count();
-            if ours.positions().len() != points.len() || drawn != faces {
+            let welded = weld(&ours, ours.positions().to_vec());
+            if welded.len() != points.len() || drawn != faces {
                 failures.push(format!(
                     "{name} L{level}: {} vertices and {drawn} faces drawn, OpenSubdiv {} and {faces}",
-                    ours.positions().len(),
+                    welded.len(),
                     points.len()
                 ));
                 continue;
             }
-            let dev = point_set_distance(ours.positions(), &points, 1e-6 * d) / d;
+            let dev = point_set_distance(&welded, &points, 1e-6 * d) / d;
             worst_level = worst_level.max(dev);
             levels_checked.push(level);
             if dev > TOL_REL {
@@ -217,6 +195,11 @@ fn every_shape_refines_and_limits_as_opensubdiv() {
         let ours = limit_points_with_options(mesh.topology(), mesh.tags(), options, mesh.positions())
             .expect("the shapes' schemes have limit masks")
             .expect("Catmull-Clark and Loop have limit masks");
+        let ours = weld(&mesh, ours);
+        let skip: Vec<usize> = match mesh.welds() {
+            Some(welds) => skip.iter().map(|&v| welds.vertex(VertexId(v as u32)) as usize).collect(),
+            None => skip,
+        };
         let mut worst_limit = 0.0f64;
         for (v, (p, q)) in ours.iter().zip(&limits).enumerate() {
             if !skip.contains(&v) {
@@ -230,7 +213,7 @@ fn every_shape_refines_and_limits_as_opensubdiv() {
         }
         println!(
             "| {name} | {} | {} | {levels_checked:?} {worst_level:.1e} | {worst_limit:.1e} | {} |",
-            mesh.topology().vertex_count(),
+            mesh.welds().map_or(mesh.topology().vertex_count(), |welds| welds.vertex_count()),
             mesh.topology().face_count(),
             skip.len()
         );
