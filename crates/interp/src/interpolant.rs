@@ -238,8 +238,11 @@ impl Interpolant {
         let limits = self.limit_points(data.len());
         let mut stats = ErrorStats::default();
         let (mut max, mut sum) = (0.0_f64, 0.0_f64);
-        for ((l, p), &on) in limits.iter().zip(data).zip(interpolated) {
-            if on {
+        // A non-manifold input's copies of a vertex are one data point: measured once.
+        let welds = self.control.welds();
+        let once = |v: usize| welds.is_none_or(|welds| welds.is_member(subdiv_mesh::VertexId(v as u32)));
+        for (v, ((l, p), &on)) in limits.iter().zip(data).zip(interpolated).enumerate() {
+            if on && once(v) {
                 let e = subdiv_mesh::distance(*l, *p);
                 max = max_nan(max, e);
                 sum += e;

@@ -317,6 +317,18 @@ method_options_from!(
 /// The method's [`InterpError`].
 pub fn interpolate(mesh: &Mesh, options: &MethodOptions) -> Result<Interpolant, InterpError> {
     check_holes(mesh, options)?;
+    let scheme = match options {
+        MethodOptions::Cheng(o) => o.scheme,
+        MethodOptions::Fair(o) => o.scheme,
+        _ => Scheme::CatmullClark,
+    };
+    crate::preconditions::non_manifold(mesh, options.method(), scheme).map_err(|refusal| {
+        InterpError::UnsupportedMesh {
+            method: options.method().name(),
+            reason: refusal.reason,
+            suggestion: refusal.suggestion,
+        }
+    })?;
     match options {
         MethodOptions::Nasri(o) => nasri::interpolate(mesh, o),
         MethodOptions::ZhengCai(o) => zheng_cai::interpolate(mesh, o),

@@ -27,6 +27,7 @@ impl Method {
     /// Whether this method interpolates every vertex of `mesh` with its
     /// default options: `Err(reason)` says why not (module table).
     pub fn check(self, mesh: &Mesh) -> Result<(), String> {
+        non_manifold(mesh, self, Scheme::CatmullClark).map_err(|refusal| refusal.reason)?;
         match self {
             Method::Nasri | Method::ZhengCai | Method::FanChengLai | Method::DengMa => Ok(()),
             Method::Cheng => cheng_range(mesh, DEFAULT_TOL),
@@ -53,6 +54,7 @@ impl Method {
     /// assert!(Method::Cheng.check_with_scheme(&cube, Scheme::DooSabin).is_err());
     /// ```
     pub fn check_with_scheme(self, mesh: &Mesh, scheme: Scheme) -> Result<(), String> {
+        non_manifold(mesh, self, scheme).map_err(|refusal| refusal.reason)?;
         match self {
             Method::Cheng => {
                 cheng_scheme(scheme)?;
@@ -101,6 +103,36 @@ pub(crate) struct Refusal {
     pub reason: String,
     /// What works instead.
     pub suggestion: String,
+}
+
+/// Whether `method` (with control scheme `scheme`, for the methods that
+/// take one) takes a non-manifold mesh ([`subdiv_mesh::nonmanifold`]): the
+/// methods whose control mesh is the input's topology under Catmull-Clark or
+/// Loop (`cheng`, `fair`), whose rules OpenSubdiv defines on non-manifold
+/// meshes (infinitely sharp non-manifold edges and vertices). The others
+/// build their control mesh by a split of their own (Doo-Sabin's dual,
+/// Deng-Wang's triangulation, Deng-Ma's tension rules, √3's flips), which
+/// no evaluator defines there.
+pub(crate) fn non_manifold(mesh: &Mesh, method: Method, scheme: Scheme) -> Result<(), Refusal> {
+    let Some(report) = mesh.non_manifold() else {
+        return Ok(());
+    };
+    let takes = matches!(method, Method::Cheng | Method::Fair) && matches!(scheme, Scheme::CatmullClark | Scheme::Loop(_));
+    if takes {
+        return Ok(());
+    }
+    let with = match method {
+        Method::Cheng | Method::Fair => format!("--scheme {scheme}"),
+        other => format!("--method {other}"),
+    };
+    Err(Refusal {
+        reason: format!(
+            "the mesh is non-manifold ({} edges, {} vertices), which {with} does not define (OpenSubdiv's rules              for non-manifold meshes are Catmull-Clark's and Loop's)",
+            report.edges.len(),
+            report.vertices.len()
+        ),
+        suggestion: "use --method cheng or --method fair (Catmull-Clark or Loop)".into(),
+    })
 }
 
 /// The triangle requirement of a triangles-only scheme

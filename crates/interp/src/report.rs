@@ -86,7 +86,8 @@ impl MeshSummary {
     pub fn of(mesh: &Mesh) -> Self {
         MeshSummary {
             file: None,
-            vertices: mesh.topology().vertex_count(),
+            // A non-manifold input's vertices, not its cover's copies.
+            vertices: mesh.welds().map_or(mesh.topology().vertex_count(), |welds| welds.vertex_count()),
             faces: mesh.topology().face_count(),
             bbox_diagonal: None,
             tags: TagCounts::of_mesh(mesh),

@@ -88,6 +88,24 @@ pub struct Summary {
     /// Per subdivision scheme of the scheme table ([`Scheme::ALL`]): do its rules take this
     /// mesh with its tags (OpenSubdiv's default options), and if not, why.
     pub schemes: BTreeMap<&'static str, MethodVerdict>,
+    /// The non-manifold edges and vertices of a mesh that has them (refined as OpenSubdiv
+    /// does: [`subdiv_mesh::nonmanifold`]); left out of the JSON for a manifold mesh.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub non_manifold: Option<NonManifoldSummary>,
+}
+
+/// What is non-manifold in a mesh ([`Summary::non_manifold`]).
+#[derive(Serialize, Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct NonManifoldSummary {
+    /// Non-manifold edges, by their ends (OpenSubdiv's edge order): edges of 3+ faces, of two
+    /// faces using them the same way, degenerate edges, an edge a face uses twice. Infinitely sharp.
+    pub edges: Vec<[u32; 2]>,
+    /// Non-manifold vertices, ascending: the ends of those edges and vertices joining separate fans.
+    pub vertices: Vec<u32>,
+    /// The non-manifold vertices that are infinitely sharp corners (all but those inside an
+    /// interior non-manifold crease, which follow the crease), ascending.
+    pub corners: Vec<u32>,
 }
 
 /// The options a file sets, by option name ([`Summary::file_options`]).
@@ -168,7 +186,9 @@ fn scheme_verdicts(mesh: Result<&Mesh, &str>) -> BTreeMap<&'static str, MethodVe
             let verdict = match mesh {
                 Ok(mesh) => {
                     let sharp = LevelSharpness::new(mesh.tags(), Default::default(), Default::default());
-                    match scheme.rules().check(mesh.topology(), &sharp) {
+                    let checked = subdiv_stencil::welds::check_scheme(scheme, mesh.welds())
+                        .and_then(|()| scheme.rules().check(mesh.topology(), &sharp));
+                    match checked {
                         Ok(()) => MethodVerdict { accepts: true, reason: None },
                         Err(e) => MethodVerdict { accepts: false, reason: Some(e.to_string()) },
                     }
@@ -216,6 +236,27 @@ pub fn summarize_with_warnings(mesh: &Mesh, file: Option<&str>, warnings: &[Warn
 
 /// Everything of a valid mesh's [`Summary`] but the method verdicts (left empty).
 fn counts(mesh: &Mesh, file: Option<&str>, warnings: &[Warning]) -> Summary {
+    if let Some(report) = mesh.non_manifold() {
+        // The counts of the input (the cover welded back), as for an invalid soup, without its
+        // problems: OpenSubdiv's rules define the surface.
+        let soup = mesh.clone().into_soup();
+        let summary = invalid_summary(file, &soup);
+        return Summary {
+            problems: BTreeMap::new(),
+            error: None,
+            warnings: warnings.iter().map(ToString::to_string).collect(),
+            euler_characteristic: None,
+            bbox_diagonal: Some(mesh.bbox_diagonal()),
+            methods: BTreeMap::new(),
+            schemes: BTreeMap::new(),
+            non_manifold: Some(NonManifoldSummary {
+                edges: report.edges.clone(),
+                vertices: report.vertices.clone(),
+                corners: report.corners.clone(),
+            }),
+            ..summary
+        };
+    }
     let t = mesh.topology();
     Summary {
         file: file.map(str::to_string),
@@ -242,6 +283,7 @@ fn counts(mesh: &Mesh, file: Option<&str>, warnings: &[Warning]) -> Summary {
         error: None,
         methods: BTreeMap::new(),
         schemes: BTreeMap::new(),
+        non_manifold: None,
     }
 }
 
@@ -292,6 +334,7 @@ fn invalid_summary(file: Option<&str>, soup: &PolygonSoup) -> Summary {
         methods: method_verdicts(Err(&d.first_error.as_ref().map_or_else(|| "invalid".to_string(), |e| e.to_string()))),
         schemes: scheme_verdicts(Err(&d.first_error.as_ref().map_or_else(|| "invalid".to_string(), |e| e.to_string()))),
         error: d.first_error.map(|e| e.to_string()),
+        non_manifold: None,
     }
 }
 

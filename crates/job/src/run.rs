@@ -159,8 +159,19 @@ pub fn method_options(
     observer: subdiv_solve::IterationObserver,
 ) -> Result<MethodOptions, JobError> {
     o.validate()?;
-    let n = mesh.topology().vertex_count();
+    // Parameter files number the input's vertices (a non-manifold input's, not its cover's).
+    let n = mesh.welds().map_or(mesh.topology().vertex_count(), |welds| welds.vertex_count());
     let subset = parameter(&o.subset, "--subset", |t| params::parse_subset(t, n))?;
+    // On a cover, every copy of a vertex of the subset is interpolated with it.
+    let subset = match (subset, mesh.welds()) {
+        (Some(subset), Some(welds)) => {
+            let mut chosen = vec![false; welds.vertex_count()];
+            subset.iter().for_each(|&v| chosen[v as usize] = true);
+            let classes = welds.vertex_classes().iter().enumerate();
+            Some(classes.filter(|(_, &class)| chosen[class as usize]).map(|(v, _)| v as u32).collect())
+        }
+        (subset, _) => subset,
+    };
     let normals = parameter(&o.normals, "--normals", |t| params::parse_normals(t, n))?;
     let options: MethodOptions = match o.method {
         Method::ZhengCai => {

@@ -352,6 +352,18 @@ impl Welds {
         self.vertex_class[v.index()]
     }
 
+    /// Per cover vertex, its welded vertex ([`Self::vertex`]).
+    pub fn vertex_classes(&self) -> &[u32] {
+        &self.vertex_class
+    }
+
+    /// Whether cover vertex `v` is the one standing for its welded vertex
+    /// (one per welded vertex: what a measurement counts once).
+    #[inline]
+    pub fn is_member(&self, v: VertexId) -> bool {
+        self.member[self.vertex_class[v.index()] as usize] == v.0
+    }
+
     /// The welded vertex that cover corner (half-edge) `h` uses.
     #[inline]
     pub fn corner(&self, h: HalfEdgeId) -> u32 {
