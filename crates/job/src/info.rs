@@ -212,13 +212,19 @@ pub fn summarize(mesh: &Mesh, file: Option<&str>) -> Summary {
 /// ```
 /// use subdiv_job::info::summarize_soup;
 /// use subdiv_io::{read_mesh_from_bytes, Format};
-/// // Three faces on edge (0, 1).
+/// // Three faces on edge (0, 1): non-manifold, refined as OpenSubdiv does.
 /// let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
 /// let soup = read_mesh_from_bytes(obj.as_bytes(), Format::Obj, "fin.obj").unwrap();
 /// let s = summarize_soup(soup, Some("fin.obj"));
-/// assert!(!s.manifold && s.valences.is_none());
-/// assert_eq!(s.problems["non_manifold_edges"], 1);
-/// assert!(s.error.unwrap().contains("shared by 3 faces"));
+/// assert!(!s.manifold && s.valences.is_none() && s.error.is_none());
+/// assert_eq!((s.vertices, s.edges), (5, 7));
+/// assert_eq!(s.non_manifold.unwrap().edges, [[0, 1]]);
+/// // A face with two corners: no mesh, described as far as it goes.
+/// let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 2 1\n";
+/// let soup = read_mesh_from_bytes(obj.as_bytes(), Format::Obj, "two.obj").unwrap();
+/// let s = summarize_soup(soup, Some("two.obj"));
+/// assert_eq!(s.problems["faces_too_small"], 1);
+/// assert!(s.error.unwrap().contains("at least 3"));
 /// ```
 pub fn summarize_soup(soup: PolygonSoup, file: Option<&str>) -> Summary {
     // A refused soup comes back, uncopied, to be described.
