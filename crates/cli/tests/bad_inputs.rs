@@ -47,8 +47,14 @@ fn expectations() -> Vec<(&'static str, Expect)> {
         ("no_faces.obj", Mesh(|e| matches!(e, MeshError::NoFaces))),
         ("non_numeric_index.obj", Io(|e| matches!(e, IoError::Parse { line: Some(_), .. }))),
         ("nonmanifold_edge_3faces.obj", Warn(|w| matches!(w, Warning::NonManifold(r) if r.edges == [[0, 1]]))),
-        ("nonmanifold_vertex_bowtie.obj", Warn(|w| matches!(w, Warning::NonManifold(r) if r.edges.is_empty() && r.vertices.len() == 1))),
-        ("nonmanifold_vertex_two_tets.obj", Warn(|w| matches!(w, Warning::NonManifold(r) if r.edges.is_empty() && r.vertices.len() == 1))),
+        (
+            "nonmanifold_vertex_bowtie.obj",
+            Warn(|w| matches!(w, Warning::NonManifold(r) if r.edges.is_empty() && r.vertices.len() == 1)),
+        ),
+        (
+            "nonmanifold_vertex_two_tets.obj",
+            Warn(|w| matches!(w, Warning::NonManifold(r) if r.edges.is_empty() && r.vertices.len() == 1)),
+        ),
         (
             "out_of_range_index.obj",
             Mesh(|e| matches!(e, MeshError::IndexOutOfRange { vertex: 6, vertex_count: 4, .. })),

@@ -117,7 +117,8 @@ pub(crate) fn non_manifold(mesh: &Mesh, method: Method, scheme: Scheme) -> Resul
     let Some(report) = mesh.non_manifold() else {
         return Ok(());
     };
-    let takes = matches!(method, Method::Cheng | Method::Fair) && matches!(scheme, Scheme::CatmullClark | Scheme::Loop(_));
+    let takes =
+        matches!(method, Method::Cheng | Method::Fair) && matches!(scheme, Scheme::CatmullClark | Scheme::Loop(_));
     if takes {
         return Ok(());
     }

@@ -28,6 +28,17 @@ pub enum MeshError {
         /// Number of vertices in the soup.
         vertex_count: usize,
     },
+    /// A non-manifold configuration OpenSubdiv defines but a manifold cover
+    /// cannot express ([`crate::nonmanifold`]): a vertex inside an interior
+    /// non-manifold crease with a fan of faces that does not lie between its
+    /// two crease edges.
+    #[error("vertex {vertex}: {reason} (a non-manifold configuration this library does not refine)")]
+    NonManifoldUnsupported {
+        /// The vertex.
+        vertex: u32,
+        /// What is wrong there.
+        reason: String,
+    },
     /// A face visits the same vertex twice.
     #[error("face {face} uses vertex {vertex} more than once")]
     RepeatedIndex {

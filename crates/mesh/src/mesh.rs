@@ -3,9 +3,9 @@
 use crate::error::{MeshError, Warning};
 use crate::geometry::{centroid, corner_angle, scaled_newell, unit_vector, unscaled_newell, Aabb, Magnitude};
 use crate::ids::{FaceId, VertexId};
+use crate::nonmanifold::{is_non_manifold, manifold_cover, NonManifoldReport, Welds};
 use crate::soup::{FaceGroups, FaceList, PolygonSoup};
 use crate::tags::{EdgeTag, FaceVarying, TagList, Tags, VertexTag};
-use crate::nonmanifold::{is_non_manifold, manifold_cover, NonManifoldReport, Welds};
 use crate::topology::Topology;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -67,8 +67,11 @@ impl Mesh {
             Ok(topology) => (topology, None, None),
             Err((error, faces)) if is_non_manifold(&error) => {
                 // OpenSubdiv refines it: through its manifold cover.
-                let covered = manifold_cover(&faces, positions.len())
-                    .and_then(|(cover, report)| Ok((Topology::new(cover.faces, cover.vertex_count)?, cover.welds, report)));
+                let covered = manifold_cover(&faces, positions.len()).and_then(|(cover, report)| {
+                    let topology = Topology::new(cover.faces, cover.vertex_count)?;
+                    cover.welds.check_creases(&topology)?;
+                    Ok((topology, cover.welds, report))
+                });
                 match covered {
                     Ok((topology, welds, report)) => {
                         for v in positions.len()..welds.cover_vertex_count() {
@@ -77,7 +80,10 @@ impl Mesh {
                         (topology, Some(Arc::new(welds)), Some(report))
                     }
                     Err(error) => {
-                        return Err(Box::new(Rejected { error, soup: PolygonSoup { positions, faces, groups, tags, uvs } }));
+                        return Err(Box::new(Rejected {
+                            error,
+                            soup: PolygonSoup { positions, faces, groups, tags, uvs },
+                        }));
                     }
                 }
             }
@@ -89,7 +95,9 @@ impl Mesh {
             Some(welds) => welds.cover_tags(&topology, &tags),
             None => Ok(tags.clone()),
         };
+        let crease_copies = welds.as_ref().map(|welds| welds.crease_copies().to_vec()).unwrap_or_default();
         let checked = cover_tags.and_then(|tags| Tags::from_list(&topology, &tags)).and_then(|checked| {
+            let checked = checked.with_crease_copies(crease_copies);
             if let Some(uvs) = &uvs {
                 uvs.validate(topology.half_edge_count())?;
             }
@@ -108,14 +116,8 @@ impl Mesh {
                 return Err(Box::new(Rejected { error, soup: PolygonSoup { positions, faces, groups, tags, uvs } }));
             }
         };
-        let mesh = Self {
-            topology: Arc::new(topology),
-            positions,
-            groups,
-            tags: checked_tags,
-            uvs: uvs.map(Arc::new),
-            welds,
-        };
+        let mesh =
+            Self { topology: Arc::new(topology), positions, groups, tags: checked_tags, uvs: uvs.map(Arc::new), welds };
         let bbox = mesh.bbox();
         if bbox.min == bbox.max {
             let p = bbox.min;

@@ -67,6 +67,12 @@ pub struct Welds {
     /// What is non-manifold in the input (the cover of an input only; a
     /// refined cover has `None`).
     report: Option<Box<NonManifoldReport>>,
+    /// Cover vertices in one face that keep the crease rule
+    /// ([`crate::Tags::crease_copies`]); on the cover of an input only.
+    crease_copies: Vec<u32>,
+    /// Per vertex inside an interior non-manifold crease, the far ends of its
+    /// two crease edges (for [`Welds::check_creases`]); on the cover of an input only.
+    crease_ends: Vec<(u32, [u32; 2])>,
 }
 
 /// What [`manifold_cover`] found and built.
@@ -192,8 +198,7 @@ pub(crate) fn manifold_cover(faces: &FaceList, vertex_count: usize) -> Result<(C
     let offsets = faces.offsets();
     let idx = faces.indices();
     let nh = idx.len();
-    let face_of: Vec<u32> =
-        (0..faces.len()).flat_map(|f| std::iter::repeat_n(f as u32, faces.face_size(f))).collect();
+    let face_of: Vec<u32> = (0..faces.len()).flat_map(|f| std::iter::repeat_n(f as u32, faces.face_size(f))).collect();
     let next = |h: usize| {
         let f = face_of[h] as usize;
         let (s, e) = (offsets[f] as usize, offsets[f + 1] as usize);
@@ -273,6 +278,7 @@ pub(crate) fn manifold_cover(faces: &FaceList, vertex_count: usize) -> Result<(C
         face_count[v as usize] += 1;
     }
     let mut report = NonManifoldReport::default();
+    let mut creases: Vec<(u32, [u32; 2])> = Vec::new();
     for v in 0..vertex_count {
         if nm_edges[v] == 0 && fans[v] <= 1 {
             continue;
@@ -283,10 +289,40 @@ pub(crate) fn manifold_cover(faces: &FaceList, vertex_count: usize) -> Result<(C
             report.corners.push(v as u32);
         }
     }
+    // The far ends of the two non-manifold edges of every interior-crease vertex.
+    for (e, ends) in osd.ends.iter().enumerate() {
+        if !osd.non_manifold[e] {
+            continue;
+        }
+        for (v, far) in [(ends[0], ends[1]), (ends[1], ends[0])] {
+            let interior_crease =
+                report.vertices.binary_search(&v).is_ok() && report.corners.binary_search(&v).is_err();
+            if interior_crease {
+                match creases.iter_mut().find(|(w, _)| *w == v) {
+                    Some((_, pair)) => pair[1] = far,
+                    None => creases.push((v, [far, u32::MAX])),
+                }
+            }
+        }
+    }
+    // Copies in one face of a vertex inside an interior non-manifold crease: the crease rule,
+    // not the one-face corner of `edge-and-corner` (OpenSubdiv decides corners on the vertex).
+    let mut corners_of_copy = vec![0u32; vertex_class.len()];
+    for &c in &cover_indices {
+        corners_of_copy[c as usize] += 1;
+    }
+    let crease_copies: Vec<u32> = (0..vertex_class.len() as u32)
+        .filter(|&c| {
+            let v = vertex_class[c as usize];
+            corners_of_copy[c as usize] == 1
+                && report.vertices.binary_search(&v).is_ok()
+                && report.corners.binary_search(&v).is_err()
+        })
+        .collect();
     report.edges = (osd.ends.iter().zip(&osd.non_manifold)).filter(|(_, &nm)| nm).map(|(ends, _)| *ends).collect();
     report.copies = vertex_class.len() - vertex_count;
     let cover_vertex_count = vertex_class.len();
-    let welds = Welds::new(
+    let mut welds = Welds::new(
         vertex_class,
         idx.to_vec(),
         &cover_indices,
@@ -296,6 +332,8 @@ pub(crate) fn manifold_cover(faces: &FaceList, vertex_count: usize) -> Result<(C
         report.corners.clone(),
         Some(Box::new(report.clone())),
     );
+    welds.crease_copies = crease_copies;
+    welds.crease_ends = creases;
     let cover_faces = FaceList::from_raw(offsets.to_vec(), cover_indices);
     Ok((Cover { faces: cover_faces, vertex_count: cover_vertex_count, welds }, report))
 }
@@ -327,7 +365,18 @@ impl Welds {
             }
         }
         debug_assert!(!member.contains(&u32::MAX), "every welded vertex has a cover vertex");
-        Self { vertex_class, corner_class, member, edge_class, edge_ends, edge_non_manifold, sharpened, report }
+        Self {
+            vertex_class,
+            corner_class,
+            member,
+            edge_class,
+            edge_ends,
+            edge_non_manifold,
+            sharpened,
+            report,
+            crease_copies: Vec::new(),
+            crease_ends: Vec::new(),
+        }
     }
 
     /// Number of vertices of the welded mesh.
@@ -339,6 +388,46 @@ impl Welds {
     /// (`None` on a refined cover).
     pub fn report(&self) -> Option<&NonManifoldReport> {
         self.report.as_deref()
+    }
+
+    /// Cover vertices in one face that keep the crease rule under
+    /// `edge-and-corner` ([`crate::Tags::crease_copies`]), ascending.
+    pub fn crease_copies(&self) -> &[u32] {
+        &self.crease_copies
+    }
+
+    /// Checks that every copy of a vertex inside an interior non-manifold
+    /// crease lies between the two crease edges (its fan in the cover opens
+    /// onto both crease ends), so that the cover's boundary rule there is
+    /// OpenSubdiv's crease rule. A fan that closes on itself across one
+    /// crease edge (a pocket of faces hanging from the crease) cannot be
+    /// expressed and is refused.
+    ///
+    /// # Errors
+    /// [`MeshError::NonManifoldUnsupported`] naming the vertex.
+    pub(crate) fn check_creases(&self, cover: &Topology) -> Result<(), MeshError> {
+        for &(v, ends) in &self.crease_ends {
+            let copies = (0..self.vertex_class.len() as u32).filter(|&c| self.vertex_class[c as usize] == v);
+            for c in copies {
+                let between = cover.boundary_neighbors(VertexId(c)).is_some_and(|(p, n)| {
+                    let mut seen = [self.vertex_class[p.index()], self.vertex_class[n.index()]];
+                    let mut want = ends;
+                    seen.sort_unstable();
+                    want.sort_unstable();
+                    seen == want
+                });
+                if !between {
+                    return Err(MeshError::NonManifoldUnsupported {
+                        vertex: v,
+                        reason: format!(
+                            "a fan of its faces does not lie between its two non-manifold crease edges (to {} and {})",
+                            ends[0], ends[1]
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Number of vertices of the cover.

@@ -106,6 +106,11 @@ pub struct Tags {
     holes: Vec<bool>,
     /// The file's subdivision options.
     options: FileOptions,
+    /// Vertices that `edge-and-corner` does not sharpen although they are
+    /// in one face, ascending: copies, in a manifold cover, of a vertex
+    /// inside an interior non-manifold crease ([`crate::nonmanifold`]), which
+    /// OpenSubdiv gives the crease rule.
+    crease_copies: Vec<u32>,
 }
 
 fn check_sharpness(value: f32, what: impl FnOnce() -> String) -> Result<f32, MeshError> {
@@ -151,7 +156,7 @@ impl Tags {
         if vertices.iter().all(|&s| s <= 0.0) {
             vertices = Vec::new();
         }
-        Self { edges, vertices, holes: Vec::new(), options: FileOptions::default() }
+        Self { edges, vertices, holes: Vec::new(), options: FileOptions::default(), crease_copies: Vec::new() }
     }
 
     /// The same tags with the faces where `holes` is true as holes (`holes`
@@ -219,6 +224,21 @@ impl Tags {
     /// no option.
     pub fn is_blank(&self) -> bool {
         self.is_empty() && self.holes.is_empty() && self.options.is_empty()
+    }
+
+    /// The same tags with `vertices` (ascending) exempt from the one-face
+    /// corner of `edge-and-corner` ([`Self::crease_copies`]).
+    pub fn with_crease_copies(mut self, vertices: Vec<u32>) -> Self {
+        debug_assert!(vertices.windows(2).all(|w| w[0] < w[1]), "ascending");
+        self.crease_copies = vertices;
+        self
+    }
+
+    /// Vertices in one face that `edge-and-corner` does not make corners,
+    /// ascending: copies of a vertex inside an interior non-manifold crease
+    /// in a manifold cover ([`crate::nonmanifold`]). Empty for every other mesh.
+    pub fn crease_copies(&self) -> &[u32] {
+        &self.crease_copies
     }
 
     /// Whether face `f` is a hole.

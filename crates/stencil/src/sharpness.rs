@@ -54,6 +54,9 @@ pub struct LevelSharpness {
     /// `TriangleSubdivision`); a refined level is [`TriangleRule::Catmark`]
     /// (the quad split leaves no triangle).
     triangle_rule: TriangleRule,
+    /// Vertices in one face that `edge-and-corner` leaves on the crease rule
+    /// ([`Tags::crease_copies`]), ascending; kept by the vertex points.
+    crease_copies: Vec<u32>,
 }
 
 impl PartialEq for LevelSharpness {
@@ -65,6 +68,7 @@ impl PartialEq for LevelSharpness {
             && (self.dart_limit == other.dart_limit)
             && (self.trisects_next == other.trisects_next)
             && (self.triangle_rule == other.triangle_rule)
+            && (self.crease_copies == other.crease_copies)
     }
 }
 
@@ -180,7 +184,10 @@ impl LevelSharpness {
     /// The base level of a mesh with `tags` under the given options (darts
     /// with [`DartLimit::Exact`]; [`Self::with_dart_limit`] to change it).
     pub fn new(tags: &Tags, boundary: BoundaryInterpolation, method: CreaseMethod) -> Self {
-        Self::from_values(tags.edge_values().to_vec(), tags.vertex_values().to_vec(), boundary, method)
+        Self {
+            crease_copies: tags.crease_copies().to_vec(),
+            ..Self::from_values(tags.edge_values().to_vec(), tags.vertex_values().to_vec(), boundary, method)
+        }
     }
 
     /// The base level of a mesh with `tags` under `options` (boundary
@@ -216,6 +223,7 @@ impl LevelSharpness {
             touched: OnceLock::new(),
             trisects_next: false,
             triangle_rule: TriangleRule::Catmark,
+            crease_copies: Vec::new(),
         }
     }
 
@@ -300,6 +308,7 @@ impl LevelSharpness {
         if self.boundary == BoundaryInterpolation::EdgeAndCorner
             && t.is_boundary_vertex(v)
             && t.vertex_face_count(v) == 1
+            && (self.crease_copies.is_empty() || self.crease_copies.binary_search(&v.0).is_err())
         {
             SHARPNESS_INFINITE
         } else {
@@ -494,8 +503,12 @@ impl LevelSharpness {
             vertices
         };
         let compact = |v: Vec<f32>| if v.iter().all(|&s| is_smooth(s)) { Vec::new() } else { v };
-        LevelSharpness::from_values(edges, compact(vertices), self.boundary, self.method)
-            .with_dart_limit(self.dart_limit)
+        // Old vertices keep their numbers: the crease copies stay what they are.
+        LevelSharpness {
+            crease_copies: self.crease_copies.clone(),
+            ..Self::from_values(edges, compact(vertices), self.boundary, self.method)
+        }
+        .with_dart_limit(self.dart_limit)
     }
 
     /// The tags of this level as a user sees them (what a file stores):
@@ -506,7 +519,9 @@ impl LevelSharpness {
 
     /// [`Self::tags`], moving the values instead of copying them.
     pub fn into_tags(self, t: &Topology) -> Tags {
-        Tags::from_arrays(t, self.edges, self.vertices).expect("decayed tags keep their lengths and stay ≥ 0")
+        Tags::from_arrays(t, self.edges, self.vertices)
+            .expect("decayed tags keep their lengths and stay ≥ 0")
+            .with_crease_copies(self.crease_copies)
     }
 
     /// The largest semi-sharp value left (edges of the interior and

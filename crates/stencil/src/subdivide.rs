@@ -8,10 +8,10 @@
 //! ([`StencilError::NotRepresentable`] otherwise).
 
 use crate::holes;
-use crate::welds;
 use crate::normalized::{map_back, normalize};
 use crate::scheme::SchemeRules;
 use crate::sharpness::LevelSharpness;
+use crate::welds;
 use crate::{apply, fvar, Options, Scheme, SparseMatrix, Split, StencilError};
 use glam::DVec3;
 use std::borrow::Cow;

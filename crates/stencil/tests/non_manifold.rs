@@ -44,9 +44,7 @@ fn copies_apart(mesh: &Mesh, d: f64) -> f64 {
 fn brute_force(mesh: &Mesh, scheme: Scheme, levels: usize) -> (f64, f64) {
     let options = Options::from(scheme);
     let d = mesh.bbox_diagonal();
-    let limits = limit_points_with_options(mesh.topology(), mesh.tags(), options, mesh.positions())
-        .unwrap()
-        .unwrap();
+    let limits = limit_points_with_options(mesh.topology(), mesh.tags(), options, mesh.positions()).unwrap().unwrap();
     let limits = welded(mesh, limits);
     let deviation = |levels: usize| {
         let refined = subdivide(mesh, options, levels, false).unwrap();
@@ -63,13 +61,30 @@ fn brute_force(mesh: &Mesh, scheme: Scheme, levels: usize) -> (f64, f64) {
 fn limits_are_where_refinement_goes() {
     // Three and four quads on one edge (a fin and a cross), their far sides open.
     let fin3 = mesh(
-        &[[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [1., -0.5, 0.8], [0., -0.5, 0.8], [1., -0.6, -0.9], [0., -0.7, -0.8]],
+        &[
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [1., -0.5, 0.8],
+            [0., -0.5, 0.8],
+            [1., -0.6, -0.9],
+            [0., -0.7, -0.8],
+        ],
         &[&[0, 1, 2, 3], &[1, 0, 5, 4], &[0, 1, 6, 7]],
     );
     let cross = mesh(
         &[
-            [0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [1., 0., 1.], [0., 0., 1.], [1., -1., 0.1],
-            [0., -1., 0.], [1., 0.1, -1.], [0., 0., -1.],
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [1., 0., 1.],
+            [0., 0., 1.],
+            [1., -1., 0.1],
+            [0., -1., 0.],
+            [1., 0.1, -1.],
+            [0., 0., -1.],
         ],
         &[&[0, 1, 2, 3], &[1, 0, 5, 4], &[0, 1, 6, 7], &[1, 0, 9, 8]],
     );

@@ -34,7 +34,6 @@ use subdiv_stencil::{
 /// Largest accepted deviation, relative to d.
 const TOL_REL: f64 = 1e-12;
 
-
 fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/opensubdiv")
 }
