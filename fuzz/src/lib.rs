@@ -199,6 +199,7 @@ fn check_soup(soup: &PolygonSoup) -> Option<Mesh> {
                 _ => true,
             };
             assert!(counted, "from_soup says \"{e}\" but diagnose counts no such defect: {d:?}");
+            check_cover(soup, &e);
             return None;
         }
     };
@@ -225,6 +226,35 @@ fn check_soup(soup: &PolygonSoup) -> Option<Mesh> {
     assert_eq!(warned.unwrap_or_default(), isolated, "the isolated-vertex warning lists the isolated vertices");
     check_mesh(&mesh);
     Some(mesh)
+}
+
+/// A soup [`Mesh::from_soup`] refused as non-manifold, taken by
+/// [`Mesh::from_soup_covering`] as OpenSubdiv does: a typed refusal, or a
+/// manifold cover whose welds give back the soup's vertices and faces,
+/// with the non-manifold warning, and whose copies refine to one point.
+fn check_cover(soup: &PolygonSoup, error: &subdiv_mesh::MeshError) {
+    let (mesh, warnings) = match Mesh::from_soup_covering(soup.clone()) {
+        Ok(ok) => ok,
+        Err(e) => return assert_one_line(&e.to_string()),
+    };
+    let Some(welds) = mesh.welds() else {
+        panic!("from_soup refused ({error}) what from_soup_covering takes without a cover");
+    };
+    assert_eq!(welds.vertex_count(), soup.positions.len(), "welded vertices are the soup's");
+    assert_eq!(&welds.faces(mesh.topology()), &soup.faces, "welded faces are the soup's");
+    assert!(warnings.iter().any(|w| matches!(w, Warning::NonManifold(_))), "the non-manifold warning");
+    check_mesh(&mesh);
+    let d = mesh.bbox_diagonal();
+    for scheme in [Scheme::CatmullClark, Scheme::Loop(LoopBeta::Loop)] {
+        if let Ok(refined) = subdiv_stencil::subdivide(&mesh, scheme, 1, false) {
+            let welds = refined.welds().expect("a refined cover keeps its welds");
+            let members = welds.weld(refined.positions());
+            for (v, p) in refined.positions().iter().enumerate() {
+                let q = members[welds.vertex(subdiv_mesh::VertexId(v as u32)) as usize];
+                assert!((*p - q).length() <= 1e-12 * d, "copies of a vertex refine to one point");
+            }
+        }
+    }
 }
 
 /// Invariants of any valid mesh: half-edge algebra, fans, boundary loops,

@@ -32,7 +32,7 @@ pub struct EvaluateArgs {
     /// Also write ∂S/∂u and ∂S/∂v.
     #[arg(long)]
     derivs: bool,
-    /// Loop's β: warren (default) or loop.
+    /// Loop's β: loop (default, OpenSubdiv's) or warren.
     #[arg(long, value_parser = beta_parser)]
     beta: Option<subdiv_stencil::LoopBeta>,
     /// Boundary and crease options.

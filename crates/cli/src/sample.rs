@@ -20,7 +20,7 @@ pub struct LimitArgs {
     /// Subdivision scheme of the limit surface (deng-ma is interpolatory: no limit evaluation).
     #[arg(long, value_parser = scheme_parser, help = format!("Subdivision scheme: {}", crate::options::scheme_names()))]
     pub scheme: Scheme,
-    /// Loop's β: warren (default) or loop.
+    /// Loop's β: loop (default, OpenSubdiv's) or warren.
     #[arg(long, value_parser = beta_parser)]
     pub beta: Option<subdiv_stencil::LoopBeta>,
     /// Boundary and crease options.

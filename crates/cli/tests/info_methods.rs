@@ -55,13 +55,38 @@ fn methods_section_matches_what_interpolate_does() {
 
 #[test]
 fn invalid_meshes_are_refused_by_every_method_with_the_validation_error() {
-    let path = fixtures().join("bad/nonmanifold_edge_3faces.obj").display().to_string();
+    let path = fixtures().join("bad/face_with_two_vertices.obj").display().to_string();
     let (json, out) = info_json(&path);
     assert_eq!(out.status.code(), Some(2));
     for m in METHODS {
         assert_eq!(json["methods"][m]["accepts"], Value::Bool(false), "{m}");
         assert!(json["methods"][m]["reason"].as_str().unwrap().contains("not valid"), "{m}");
     }
+}
+
+#[test]
+fn non_manifold_meshes_are_taken_by_cheng_and_fair_and_refused_by_the_others_with_the_reason() {
+    let dir = std::env::temp_dir().join(format!("subdiv-info-methods-nm-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for file in ["bad/nonmanifold_edge_3faces.obj", "bad/nonmanifold_vertex_bowtie.obj"] {
+        let path = fixtures().join(file).display().to_string();
+        let (json, out) = info_json(&path);
+        assert_eq!(out.status.code(), Some(0), "{file}: refined as OpenSubdiv does");
+        for m in METHODS {
+            let verdict = &json["methods"][m];
+            let accepts = verdict["accepts"].as_bool().unwrap();
+            assert_eq!(accepts, m == "cheng" || m == "fair", "{file} {m}: {verdict}");
+            if !accepts {
+                assert!(verdict["reason"].as_str().unwrap().contains("non-manifold"), "{file} {m}: {verdict}");
+            }
+            // interpolate does what info says.
+            let control = dir.join(format!("{m}.obj")).display().to_string();
+            let run = subdiv(&["interpolate", &path, "--method", m, "-o", &control]);
+            assert_no_panic(&run);
+            assert_eq!(run.status.success(), accepts, "{file} {m}: {run:?}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

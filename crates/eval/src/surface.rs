@@ -213,6 +213,11 @@ pub enum EvalError {
 /// Levels of the patch table below a domain: deeper parameters (within
 /// 2⁻⁸ of an irregular vertex) are evaluated by refining on demand.
 const TABLE_DEPTH: usize = 8;
+/// Nodes of the patch table of one domain at most (a domain with one
+/// irregular vertex needs 4 per level, 33 in all): the cells of a domain
+/// beside a semi-sharp crease stay irregular for ⌈s⌉ levels along the crease,
+/// and are refined on demand past this.
+const TABLE_NODES: usize = 64;
 /// Levels of on-demand refinement: below 2⁻⁶⁰ of an irregular vertex the
 /// parameter is taken as the vertex (the surface moves by ~λ⁶⁰·size there,
 /// far below the rounding of any coordinate).
@@ -943,7 +948,11 @@ impl LimitSurface {
             tree.nodes.push(Node::Patch(patch));
             return Ok(id);
         }
-        if depth >= TABLE_DEPTH {
+        // Below TABLE_DEPTH, or once the domain's table has TABLE_NODES nodes (along a
+        // semi-sharp crease every level splits the cells beside it in two, whose rings stay
+        // irregular for ⌈s⌉ levels: the table would grow with 2^s per domain), the rest is
+        // refined on demand.
+        if depth >= TABLE_DEPTH || tree.nodes.len() >= TABLE_NODES {
             tree.nodes.push(Node::Deep(tree.deep.len() as u32));
             tree.deep.push(DeepEntry { local: local.clone(), cell: face, ids: ids.clone() });
             return Ok(id);

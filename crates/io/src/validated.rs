@@ -273,7 +273,7 @@ pub fn load_mesh_with_warnings(path: impl AsRef<Path>) -> Result<(Mesh, Vec<Read
     let path = path.as_ref();
     let (soup, mut warnings) = read_mesh_with_warnings(path, &mut |_, _| {})?;
     let (mesh, defects) =
-        Mesh::from_soup(soup).map_err(|source| IoError::Validation { path: path.to_path_buf(), source })?;
+        Mesh::from_soup_covering(soup).map_err(|source| IoError::Validation { path: path.to_path_buf(), source })?;
     warnings.extend(defects.into_iter().map(|warning| ReadWarning::MeshDefect { path: path.to_path_buf(), warning }));
     Ok((mesh, warnings))
 }

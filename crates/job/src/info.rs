@@ -228,7 +228,7 @@ pub fn summarize(mesh: &Mesh, file: Option<&str>) -> Summary {
 /// ```
 pub fn summarize_soup(soup: PolygonSoup, file: Option<&str>) -> Summary {
     // A refused soup comes back, uncopied, to be described.
-    match Mesh::try_from_soup(soup) {
+    match Mesh::try_from_soup_covering(soup) {
         Ok((mesh, warnings)) => summarize_with_warnings(&mesh, file, &warnings),
         Err(rejected) => invalid_summary(file, &rejected.soup),
     }

@@ -53,7 +53,7 @@ fn load_mesh_with_tags(path: &Path, tag_file: Option<&Path>, progress: &mut dyn 
         soup.tags.holes.extend(tags.holes);
     }
     progress.begin(Phase::Validate, &format!("validating {}", path.display()), 0);
-    let validated = Mesh::from_soup(soup);
+    let validated = Mesh::from_soup_covering(soup);
     progress.end();
     let (mesh, warnings) = validated.map_err(|e| {
         let tags = tag_file.map(|f| format!(" (with the tags of {})", f.display())).unwrap_or_default();

@@ -47,6 +47,9 @@ impl Mesh {
     /// refused with [`MeshError::AllVerticesCoincide`]. Returns the mesh and
     /// the warning-level defects (isolated vertices, zero-area faces), which
     /// do not prevent its use. Time linear in the number of corners.
+    ///
+    /// A non-manifold soup is refused here (the mesh's vertices are always
+    /// the soup's); [`Mesh::from_soup_covering`] takes it as OpenSubdiv does.
     pub fn from_soup(soup: PolygonSoup) -> Result<(Self, Vec<Warning>), MeshError> {
         Self::try_from_soup(soup).map_err(|rejected| rejected.error)
     }
@@ -55,6 +58,32 @@ impl Mesh {
     /// error: for a caller that goes on to describe what is wrong with it
     /// ([`crate::diagnose`]) without having copied it first.
     pub fn try_from_soup(soup: PolygonSoup) -> Result<(Self, Vec<Warning>), Box<Rejected>> {
+        Self::validate(soup, false)
+    }
+
+    /// [`Mesh::from_soup`] that also takes a non-manifold soup (edges of
+    /// three or more faces, two faces using an edge the same way, vertices
+    /// joining separate fans, a vertex repeated in a face), as OpenSubdiv's
+    /// `Vtr` refines it: the mesh is then its manifold cover
+    /// ([`crate::nonmanifold`]), with a copy of a vertex per fan appended
+    /// after the soup's vertices, [`Mesh::welds`] to write it back, and a
+    /// [`Warning::NonManifold`]. What the command-line tool and the file
+    /// loaders use.
+    ///
+    /// # Errors
+    /// As [`Mesh::from_soup`] for the other defects;
+    /// [`MeshError::NonManifoldUnsupported`] for a configuration a cover
+    /// cannot express.
+    pub fn from_soup_covering(soup: PolygonSoup) -> Result<(Self, Vec<Warning>), MeshError> {
+        Self::try_from_soup_covering(soup).map_err(|rejected| rejected.error)
+    }
+
+    /// [`Mesh::from_soup_covering`] that gives the soup back with the error.
+    pub fn try_from_soup_covering(soup: PolygonSoup) -> Result<(Self, Vec<Warning>), Box<Rejected>> {
+        Self::validate(soup, true)
+    }
+
+    fn validate(soup: PolygonSoup, covering: bool) -> Result<(Self, Vec<Warning>), Box<Rejected>> {
         if soup.faces.is_empty() {
             return Err(Box::new(Rejected { error: MeshError::NoFaces, soup }));
         }
@@ -65,7 +94,7 @@ impl Mesh {
         let PolygonSoup { mut positions, faces, groups, tags, uvs } = soup;
         let (topology, welds, report) = match Topology::new_or_return(faces, positions.len()) {
             Ok(topology) => (topology, None, None),
-            Err((error, faces)) if is_non_manifold(&error) => {
+            Err((error, faces)) if covering && is_non_manifold(&error) => {
                 // OpenSubdiv refines it: through its manifold cover.
                 let covered = manifold_cover(&faces, positions.len()).and_then(|(cover, report)| {
                     let topology = Topology::new(cover.faces, cover.vertex_count)?;

@@ -278,7 +278,7 @@ pub(crate) fn manifold_cover(faces: &FaceList, vertex_count: usize) -> Result<(C
         face_count[v as usize] += 1;
     }
     let mut report = NonManifoldReport::default();
-    let mut creases: Vec<(u32, [u32; 2])> = Vec::new();
+    let mut creases: HashMap<u32, [u32; 2]> = HashMap::new();
     for v in 0..vertex_count {
         if nm_edges[v] == 0 && fans[v] <= 1 {
             continue;
@@ -298,10 +298,7 @@ pub(crate) fn manifold_cover(faces: &FaceList, vertex_count: usize) -> Result<(C
             let interior_crease =
                 report.vertices.binary_search(&v).is_ok() && report.corners.binary_search(&v).is_err();
             if interior_crease {
-                match creases.iter_mut().find(|(w, _)| *w == v) {
-                    Some((_, pair)) => pair[1] = far,
-                    None => creases.push((v, [far, u32::MAX])),
-                }
+                creases.entry(v).and_modify(|pair| pair[1] = far).or_insert([far, u32::MAX]);
             }
         }
     }
@@ -333,6 +330,8 @@ pub(crate) fn manifold_cover(faces: &FaceList, vertex_count: usize) -> Result<(C
         Some(Box::new(report.clone())),
     );
     welds.crease_copies = crease_copies;
+    let mut creases: Vec<(u32, [u32; 2])> = creases.into_iter().collect();
+    creases.sort_unstable();
     welds.crease_ends = creases;
     let cover_faces = FaceList::from_raw(offsets.to_vec(), cover_indices);
     Ok((Cover { faces: cover_faces, vertex_count: cover_vertex_count, welds }, report))
@@ -406,9 +405,17 @@ impl Welds {
     /// # Errors
     /// [`MeshError::NonManifoldUnsupported`] naming the vertex.
     pub(crate) fn check_creases(&self, cover: &Topology) -> Result<(), MeshError> {
+        if self.crease_ends.is_empty() {
+            return Ok(());
+        }
+        let mut copies: HashMap<u32, Vec<u32>> = self.crease_ends.iter().map(|&(v, _)| (v, Vec::new())).collect();
+        for (c, class) in self.vertex_class.iter().enumerate() {
+            if let Some(list) = copies.get_mut(class) {
+                list.push(c as u32);
+            }
+        }
         for &(v, ends) in &self.crease_ends {
-            let copies = (0..self.vertex_class.len() as u32).filter(|&c| self.vertex_class[c as usize] == v);
-            for c in copies {
+            for &c in &copies[&v] {
                 let between = cover.boundary_neighbors(VertexId(c)).is_some_and(|(p, n)| {
                     let mut seen = [self.vertex_class[p.index()], self.vertex_class[n.index()]];
                     let mut want = ends;

@@ -328,7 +328,7 @@ impl LimitMatrix {
 
 /// The row rule of a vertex, from its sharpness (module docs, "Row kinds").
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum RowRule {
+pub(crate) enum RowRule {
     Smooth,
     /// The crease ends: v's neighbours along its two infinitely sharp edges.
     Crease(VertexId, VertexId),
@@ -343,7 +343,7 @@ enum RowRule {
 /// and its limit mask on this level is exact. A semi-sharp value changes the
 /// rule on the way (a general row), except where ≥ 3 infinitely sharp edges
 /// or an infinitely sharp vertex make a corner whatever the others do.
-fn row_rule(t: &Topology, sharp: &LevelSharpness, v: VertexId) -> RowRule {
+pub(crate) fn row_rule(t: &Topology, sharp: &LevelSharpness, v: VertexId) -> RowRule {
     if t.is_isolated(v) {
         return RowRule::Corner;
     }
@@ -737,7 +737,7 @@ fn relabel_columns(m: &SparseMatrix, map: &[u32], columns: usize) -> SparseMatri
 /// Computed on a [`crop`] around the rows' vertices at every level rather
 /// than on the whole mesh: the same rows (up to the order of the sums), in
 /// time linear in the rows and the levels instead of the mesh's size × 4^levels.
-fn composed_rows(
+pub(crate) fn composed_rows(
     t: &Topology,
     sharp: &LevelSharpness,
     scheme: Scheme,

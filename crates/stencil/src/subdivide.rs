@@ -8,6 +8,7 @@
 //! ([`StencilError::NotRepresentable`] otherwise).
 
 use crate::holes;
+use crate::limit_matrix::{composed_rows, row_rule, RowRule};
 use crate::normalized::{map_back, normalize};
 use crate::scheme::SchemeRules;
 use crate::sharpness::LevelSharpness;
@@ -16,7 +17,7 @@ use crate::{apply, fvar, Options, Scheme, SparseMatrix, Split, StencilError};
 use glam::DVec3;
 use std::borrow::Cow;
 use subdiv_mesh::refine::DualProvenance;
-use subdiv_mesh::{Mesh, PowerOfTwoScale, Tags, Topology};
+use subdiv_mesh::{Mesh, PowerOfTwoScale, Tags, Topology, VertexId};
 
 /// One level of a plan: the refined connectivity, the operator producing
 /// its positions from the previous level's, and its tags.
@@ -103,6 +104,9 @@ fn limit_points_of(
     if extra == 0 {
         return rules.limit_points(t, sharp, positions, count);
     }
+    if matches!(scheme.traits().split, Split::Quad | Split::Triangle) && !matches!(scheme, Scheme::DengMa(_)) {
+        return Some(local_limit_points(rules, scheme, t, sharp, positions));
+    }
     let refined = (|| {
         let (mut topology, mut sharp, mut x) = (Cow::Borrowed(t), Cow::Borrowed(sharp), Cow::Borrowed(positions));
         for _ in 0..extra {
@@ -120,6 +124,36 @@ fn limit_points_of(
         Ok((topology, sharp, x)) => rules.limit_points(&topology, &sharp, &x, count),
         Err(e) => Some(Err(e)),
     }
+}
+
+/// Catmull-Clark's and Loop's limit points where levels must be refined
+/// first (semi-sharp values, darts, smooth triangles), refining only where
+/// they are needed, as OpenSubdiv's adaptive refinement does: a vertex whose
+/// rule never changes ([`row_rule`] not general) takes its limit mask on this
+/// level, which is exact for it; the others take their rows of the composed
+/// limit stencil, computed on a crop around them at every level
+/// ([`composed_rows`]: time and memory linear in those vertices and the
+/// levels, instead of the whole mesh × 4^levels).
+fn local_limit_points(
+    rules: &dyn SchemeRules,
+    scheme: Scheme,
+    t: &Topology,
+    sharp: &LevelSharpness,
+    positions: &[DVec3],
+) -> Result<Vec<DVec3>, StencilError> {
+    let count = t.vertex_count();
+    let mut points =
+        rules.limit_points(t, sharp, positions, count).expect("Catmull-Clark and Loop have limit masks")?;
+    let general: Vec<u32> =
+        (0..count as u32).filter(|&v| row_rule(t, sharp, VertexId(v)) == RowRule::General).collect();
+    if general.is_empty() {
+        return Ok(points);
+    }
+    let rows = composed_rows(t, sharp, scheme, &general)?;
+    for (row, &v) in rows.outer_iterator().zip(&general) {
+        points[v as usize] = row.iter().map(|(c, &w)| w * positions[c]).sum();
+    }
+    Ok(points)
 }
 
 /// The limit points of every vertex of `t` with `tags` under `options`

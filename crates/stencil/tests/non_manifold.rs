@@ -20,7 +20,7 @@ use subdiv_stencil::{limit_points_with_options, subdivide, LoopBeta, Options, Sc
 fn mesh(positions: &[[f64; 3]], faces: &[&[u32]]) -> Mesh {
     let positions = positions.iter().map(|p| DVec3::from_array(*p)).collect();
     let soup = PolygonSoup::new(positions, FaceList::from_faces(faces.iter().copied()));
-    Mesh::from_soup(soup).expect("a mesh OpenSubdiv refines").0
+    Mesh::from_soup_covering(soup).expect("a mesh OpenSubdiv refines").0
 }
 
 fn welded(mesh: &Mesh, points: Vec<DVec3>) -> Vec<DVec3> {
@@ -162,7 +162,7 @@ proptest! {
 
     #[test]
     fn random_soups_are_refused_or_refined_with_agreeing_copies(soup in soups()) {
-        let Ok((mesh, _)) = Mesh::from_soup(soup) else { return Ok(()) };
+        let Ok((mesh, _)) = Mesh::from_soup_covering(soup) else { return Ok(()) };
         let d = mesh.bbox_diagonal();
         let triangles = mesh.topology().faces().all_of_size(3);
         for scheme in [Scheme::CatmullClark, Scheme::Loop(LoopBeta::Loop)] {

@@ -34,9 +34,9 @@ fn failures_are_isolated_and_outputs_match_the_library() {
     let dir = scratch("isolated");
     let torus = subdiv_mesh::shapes::torus(8, 6);
     let good = write(&dir.join("in/torus.obj"), &torus);
-    // Three faces on edge (0, 1): read, but no manifold mesh.
+    // A face of two corners: read, but no mesh.
     let fin = dir.join("in/fin.obj");
-    fs::write(&fin, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n").unwrap();
+    fs::write(&fin, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 2 1\n").unwrap();
     let missing = dir.join("in/missing.obj");
     let out = dir.join("out");
     let command = Command::Interpolate(InterpolateOptions::new(Method::Cheng).with_levels(1));
@@ -50,7 +50,7 @@ fn failures_are_isolated_and_outputs_match_the_library() {
     assert_eq!(records.len(), 3);
     let e = records[0].error.as_ref().unwrap();
     assert_eq!((e.kind, e.exit_code), (ErrorKind::BadInput, 2));
-    assert!(e.message.starts_with(&format!("{}: ", fin.display())) && e.message.contains("3 faces"), "{e:?}");
+    assert!(e.message.starts_with(&format!("{}: ", fin.display())) && e.message.contains("at least 3"), "{e:?}");
     assert!(records[2].error.as_ref().unwrap().message.contains("missing.obj"));
     assert!(records[1].succeeded(), "{:?}", records[1].error);
 
@@ -167,15 +167,23 @@ fn globs_expand_and_empty_patterns_are_errors() {
 fn info_records_the_summary_and_fails_invalid_meshes_with_it() {
     let dir = scratch("info");
     let cube = write(&dir.join("cube.obj"), &subdiv_mesh::shapes::cube());
+    // Three faces on edge (0, 1): non-manifold, described; a face of two corners: no mesh.
     let fin = dir.join("fin.obj");
     fs::write(&fin, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 -1 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n").unwrap();
+    let two = dir.join("two.obj");
+    fs::write(&two, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 2 1\n").unwrap();
     let command = Command::from_json("info", &serde_json::json!({})).unwrap();
-    let records = run(&[cube.clone(), fin], &dir.join("out"), &command, &BatchOptions::default(), |_| {}).unwrap();
+    let records = run(&[cube.clone(), fin, two], &dir.join("out"), &command, &BatchOptions::default(), |_| {}).unwrap();
     let summary = crate::info::summarize(&load_mesh(&cube).unwrap(), Some(&cube.display().to_string()));
     assert_eq!(records[0].report.as_ref().unwrap(), &serde_json::to_value(&summary).unwrap());
     assert!(records[0].outputs.is_empty());
-    assert_eq!(records[1].report.as_ref().unwrap()["manifold"], false);
-    assert_eq!(records[1].error.as_ref().unwrap().kind, ErrorKind::BadInput);
+    let fin = records[1].report.as_ref().unwrap();
+    assert!(records[1].error.is_none(), "{:?}", records[1].error);
+    assert_eq!(
+        (&fin["manifold"], &fin["non_manifold"]["edges"]),
+        (&serde_json::json!(false), &serde_json::json!([[0, 1]]))
+    );
+    assert_eq!(records[2].error.as_ref().unwrap().kind, ErrorKind::BadInput);
     fs::remove_dir_all(&dir).unwrap();
 }
 
