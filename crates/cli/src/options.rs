@@ -41,6 +41,11 @@ pub struct SurfaceFlags {
     /// smoothtriangles`) apply where these options are not given.
     #[arg(long)]
     pub triangle_rule: Option<String>,
+    /// Which limit point a dart (one sharp edge at a smooth vertex) gets: exact (default: the
+    /// limit of refinement, what patch evaluators such as Blender's modifier show) or smooth-mask
+    /// (OpenSubdiv's limit-stencil shortcut, `Far::PrimvarRefiner::Limit`).
+    #[arg(long)]
+    pub dart_limit: Option<String>,
     /// Crease and corner tags besides the file's own: JSON {"creases": [[v0, v1, s], …],
     /// "corners": [[v, s], …]}, 0-based vertices, sharpness 0 smooth … ≥ 10 infinitely sharp.
     #[arg(long)]
@@ -62,7 +67,7 @@ impl SurfaceFlags {
     pub fn put(&self, map: &mut Map<String, Value>) {
         put_given!(map,
             "boundary" => &self.boundary, "crease_method" => &self.crease_method, "fvar" => &self.fvar,
-            "triangle_rule" => &self.triangle_rule,
+            "triangle_rule" => &self.triangle_rule, "dart_limit" => &self.dart_limit,
             "tags" => &self.tags, "feature_angle" => self.feature_angle, "max_memory" => self.max_memory,
             "beta" => &self.beta);
     }

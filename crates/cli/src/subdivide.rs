@@ -7,7 +7,9 @@ use crate::options::{named, SubdivideFlags};
 use crate::progress;
 use std::path::PathBuf;
 use subdiv::job::{Command, SubdivideOptions};
-use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, Options, Scheme, TriangleRule};
+use subdiv_stencil::{
+    BoundaryInterpolation, CreaseMethod, DartLimit, FVarInterpolation, LoopBeta, Options, Scheme, TriangleRule,
+};
 
 /// OpenSubdiv's surface options on the command line of the evaluation commands.
 #[derive(clap::Args, Debug)]
@@ -29,6 +31,10 @@ pub struct SurfaceArgs {
     /// Catmull-Clark's rule for triangles: catmark, or smooth (OpenSubdiv's TRI_SUB_SMOOTH).
     #[arg(long, default_value = "catmark", value_parser = named::<TriangleRule>)]
     pub triangle_rule: TriangleRule,
+    /// Which limit point a dart gets: exact (the limit of refinement, what patch evaluators show)
+    /// or smooth-mask (OpenSubdiv's limit-stencil shortcut).
+    #[arg(long, default_value = "exact", value_parser = named::<DartLimit>)]
+    pub dart_limit: DartLimit,
 }
 
 impl SurfaceArgs {
@@ -39,6 +45,7 @@ impl SurfaceArgs {
             .with_crease_method(self.crease_method)
             .with_fvar(self.fvar)
             .with_triangle_rule(self.triangle_rule)
+            .with_dart_limit(self.dart_limit)
     }
 }
 

@@ -157,3 +157,51 @@ fn a_control_mesh_carries_the_options_of_its_surface() {
         .fold(0.0, f64::max);
     assert!(error < 1e-6, "{error:.2e}·d");
 }
+
+/// `--dart-limit`: OpenSubdiv 3.6.0's own limit positions of its shapes with darts
+/// (fixtures/opensubdiv/reference, `Far::PrimvarRefiner::Limit`) are what `smooth-mask` gives
+/// at every vertex, darts included; the default (`exact`, the limit of refinement) differs from
+/// them at the darts only.
+#[test]
+fn dart_limit_smooth_mask_is_opensubdivs_limit_stencil() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/opensubdiv");
+    for shape in ["catmark_inf_crease0", "catmark_cubes_infsharp", "loop_cubes_infsharp"] {
+        let input = root.join(format!("shapes/{shape}.obj"));
+        let scheme = if shape.starts_with("loop") { "loop" } else { "catmull-clark" };
+        let reference: Vec<DVec3> = std::fs::read_to_string(root.join(format!("reference/{shape}/limit.txt")))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(|l| {
+                let x: Vec<f64> = l.split_whitespace().map(|t| t.parse().unwrap()).collect();
+                DVec3::new(x[0], x[1], x[2])
+            })
+            .collect();
+        let limits = |dart: &str| {
+            let out = out_path("osd-options", &format!("{shape}-{dart}.obj"));
+            let (input, out_s) = (input.display().to_string(), out.display().to_string());
+            // OpenSubdiv's harness: the file's boundary option, else edge-only.
+            let own = std::fs::read_to_string(&input).unwrap().contains("t interpolateboundary");
+            let boundary: &[&str] = if own { &[] } else { &["--boundary", "edge-only"] };
+            let args = ["subdivide", &input, "--scheme", scheme, "--levels", "0", "--limit"];
+            run_ok(&[&args[..], boundary, &["--dart-limit", dart, "-o", &out_s]].concat());
+            read(&out).positions
+        };
+        let (mask, exact) = (limits("smooth-mask"), limits("exact"));
+        let d = Mesh::from_soup(read(&input)).unwrap().0.bbox_diagonal();
+        let apart = |a: &[DVec3], v: usize| (a[v] - reference[v]).length() / d;
+        assert_eq!(mask.len(), reference.len(), "{shape}");
+        let mask_worst = (0..mask.len()).map(|v| apart(&mask, v)).fold(0.0, f64::max);
+        assert!(mask_worst <= 1e-12, "{shape}: smooth-mask {mask_worst:.2e}·d from OpenSubdiv");
+        let differing = (0..exact.len()).filter(|&v| apart(&exact, v) > 1e-9).count();
+        assert!(
+            (1..=4).contains(&differing),
+            "{shape}: exact differs from OpenSubdiv at {differing} vertices (the darts)"
+        );
+    }
+    // A bad value is bad input.
+    let out =
+        subdiv(&["subdivide", "x.obj", "--scheme", "loop", "--levels", "1", "--dart-limit", "sharp", "-o", "y.obj"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("exact, smooth-mask"), "{:?}", out);
+}

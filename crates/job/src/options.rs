@@ -24,7 +24,9 @@ use std::str::FromStr;
 use subdiv_interp::SurfaceOptions;
 use subdiv_interp::{Method, SolverChoice};
 use subdiv_mesh::FileOptions;
-use subdiv_stencil::{BoundaryInterpolation, CreaseMethod, FVarInterpolation, LoopBeta, Scheme, Tension, TriangleRule};
+use subdiv_stencil::{
+    BoundaryInterpolation, CreaseMethod, DartLimit, FVarInterpolation, LoopBeta, Scheme, Tension, TriangleRule,
+};
 
 /// One command, run on one mesh ([`crate::run`]) or on every input of a batch ([`crate::batch`]).
 ///
@@ -189,7 +191,7 @@ pub struct TagOptions {
 }
 
 /// OpenSubdiv's surface options as a command gives them (`--boundary`, `--crease-method`,
-/// `--fvar`, `--triangle-rule`): each `None` when not given, and then the mesh file's own option
+/// `--fvar`, `--triangle-rule`, `--dart-limit`): each `None` when not given, and then the mesh file's own option
 /// tags (`t interpolateboundary` …, [`FileOptions`]) decide, and then the default. Shared by
 /// [`InterpolateOptions`] and [`SubdivideOptions`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -208,6 +210,10 @@ pub struct SurfaceChoice {
     /// Catmull-Clark's triangle rule.
     #[serde(default, with = "optional_named", skip_serializing_if = "Option::is_none")]
     pub triangle_rule: Option<TriangleRule>,
+    /// Which limit point a dart gets (`--dart-limit`): the limit of refinement (default), or
+    /// OpenSubdiv's limit-stencil shortcut. Not a file option.
+    #[serde(default, with = "optional_named", skip_serializing_if = "Option::is_none")]
+    pub dart_limit: Option<DartLimit>,
 }
 
 impl SurfaceChoice {
@@ -219,6 +225,7 @@ impl SurfaceChoice {
             .with_crease_method(self.crease_method.or(file.crease_method).unwrap_or_default())
             .with_fvar(self.fvar.or(file.fvar).unwrap_or_default())
             .with_triangle_rule(self.triangle_rule.or(file.triangle_rule).unwrap_or_default())
+            .with_dart_limit(self.dart_limit.unwrap_or_default())
     }
 
     /// The subdivision options of `scheme` under these choices and the file's options.

@@ -204,15 +204,18 @@ impl PyMesh {
     /// The vertex positions, an ``(n, 3)`` float64 array (a new array at every access).
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        let flat: Vec<f64> = self.inner.positions().iter().flat_map(|p| p.to_array()).collect();
-        array2(py, flat, self.inner.positions().len(), 3)
+        // A non-manifold mesh read from a file is its manifold cover: its own vertices, welded.
+        let (positions, _, _) = self.inner.welded();
+        let flat: Vec<f64> = positions.iter().flat_map(|p| p.to_array()).collect();
+        array2(py, flat, positions.len(), 3)
     }
 
     /// The faces: an ``(m, k)`` int64 array when every face has ``k`` corners, else a list of
     /// 1-D int64 arrays, one per face.
     #[getter]
     fn faces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let (offsets, indices) = self.inner.faces_as_csr();
+        let (_, faces, _) = self.inner.welded();
+        let (offsets, indices) = (faces.offsets(), faces.indices());
         let sizes = offsets.windows(2).map(|w| w[1] - w[0]);
         let first = sizes.clone().next().unwrap_or(0);
         let wide: Vec<i64> = indices.iter().map(|&v| i64::from(v)).collect();
@@ -227,21 +230,21 @@ impl PyMesh {
     /// ``face_indices[face_offsets[f]:face_offsets[f + 1]]``.
     #[getter]
     fn face_offsets<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
-        let offsets: Vec<i64> = self.inner.faces_as_csr().0.iter().map(|&v| i64::from(v)).collect();
+        let offsets: Vec<i64> = self.inner.welded().1.offsets().iter().map(|&v| i64::from(v)).collect();
         PyArray1::from_vec(py, offsets)
     }
 
     /// CSR vertex indices of the faces, one per face corner, int64.
     #[getter]
     fn face_indices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
-        let indices: Vec<i64> = self.inner.faces_as_csr().1.iter().map(|&v| i64::from(v)).collect();
+        let indices: Vec<i64> = self.inner.welded().1.indices().iter().map(|&v| i64::from(v)).collect();
         PyArray1::from_vec(py, indices)
     }
 
     /// Number of vertices.
     #[getter]
     fn n_vertices(&self) -> usize {
-        self.inner.topology().vertex_count()
+        self.inner.welds().map_or(self.inner.topology().vertex_count(), |welds| welds.vertex_count())
     }
 
     /// Number of faces.
@@ -270,7 +273,7 @@ impl PyMesh {
         if self.inner.tags().is_empty() {
             return Ok(None);
         }
-        let list = self.inner.tags().to_list(self.inner.topology());
+        let (_, _, list) = self.inner.welded();
         let creases: Vec<(u32, u32, f32)> = list.creases.iter().map(|t| (t.a, t.b, t.sharpness)).collect();
         let corners: Vec<(u32, f32)> = list.corners.iter().map(|t| (t.vertex, t.sharpness)).collect();
         let dict = pyo3::types::PyDict::new(py);

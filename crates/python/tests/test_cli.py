@@ -91,7 +91,7 @@ def test_the_same_error_messages(cli, tmp_path):
     # One parser for both (subdiv-job): the same sentence, naming the option as a flag.
     assert done.stderr.strip() == f"subdiv: error: {raised.value}"
 
-    for bad in ["bad/nonmanifold_edge_3faces.obj", "bad/out_of_range_index.obj", "bad/utf16.obj"]:
+    for bad in ["bad/face_with_two_vertices.obj", "bad/out_of_range_index.obj", "bad/utf16.obj"]:
         path = fixture(bad)
         done = cli("interpolate", path, "--method", "cheng")
         assert done.returncode == 2

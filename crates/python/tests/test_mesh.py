@@ -96,6 +96,18 @@ def test_nonmanifold_message_is_the_library_one():
         subdiv.Mesh(v, [[0, 1, 2], [1, 0, 3], [0, 1, 4]])
 
 
+def test_a_non_manifold_file_reads_as_its_own_vertices_and_faces():
+    # A file is read as the command line reads it (refined as OpenSubdiv does, through the
+    # manifold cover); the arrays are the file's: three triangles on the edge (0, 1).
+    path = fixture("bad/nonmanifold_edge_3faces.obj")
+    with pytest.warns(UserWarning, match="non-manifold"):
+        mesh = subdiv.read(path)
+    assert mesh.n_vertices == len(mesh.vertices) == 5
+    assert [list(f) for f in mesh.faces] == [[0, 1, 2], [1, 0, 3], [0, 1, 4]]
+    refined = subdiv.subdivide(mesh, "loop", 1)
+    assert refined.n_vertices == 5 + 7  # a vertex per input vertex and per edge, as OpenSubdiv
+
+
 def test_isolated_vertex_warns():
     v = np.vstack([TETRA_V, [[5.0, 5.0, 5.0]]])
     with pytest.warns(UserWarning, match="isolated"):

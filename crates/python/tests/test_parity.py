@@ -38,6 +38,7 @@ CASES = [
     (TRI, "fair", {"scheme": "loop"}),
     (TRI, "fair", {"scheme": "loop", "beta": "loop"}),
     (TRI, "cheng", {"fvar": "linear-none"}),
+    (QUAD, "cheng", {"dart_limit": "smooth-mask"}),
     # Refused: options of another method, values out of range, unknown names, meshes a
     # method cannot take, and a solve that cannot reach its tolerance.
     (QUAD, "cheng", {"mu": 0.3}),
@@ -50,6 +51,7 @@ CASES = [
     (QUAD, "cheng", {"tol": -1.0}),
     (QUAD, "cheng", {"solver": "nope"}),
     (QUAD, "cheng", {"boundary": "edge"}),
+    (QUAD, "fair", {"dart_limit": "sharp"}),
     (QUAD, "chen", {}),
     (QUAD, "deng-ma", {"omega": 2.0}),
     (QUAD, "deng-ma", {"omega": 0.5, "variable_tension": 0.5}),

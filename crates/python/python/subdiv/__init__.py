@@ -121,7 +121,8 @@ def subdivide(mesh: Mesh, scheme: str = "catmull-clark", levels: int = 1, limit:
             texture coordinates: ``"linear-all"`` default, ``"linear-boundaries"``,
             ``"linear-corners-plus2"``, ``"linear-corners-plus1"``, ``"linear-corners-only"``,
             ``"linear-none"``), ``triangle_rule`` (catmull-clark: ``"catmark"`` default,
-            ``"smooth"``: OpenSubdiv's smooth triangles); loop: ``beta`` (``"loop"`` default, as OpenSubdiv; ``"warren"``),
+            ``"smooth"``: OpenSubdiv's smooth triangles), ``dart_limit`` (``"exact"`` default:
+            the limit of refinement at darts; ``"smooth-mask"``: OpenSubdiv's limit stencils); loop: ``beta`` (``"loop"`` default, as OpenSubdiv; ``"warren"``),
             ``triangulate`` (split non-triangles first); deng-ma: ``omega`` (global tension in
             (0, 1], default 1) or ``variable_tension`` (λ in (0, 1]).
 
