@@ -12,7 +12,6 @@
 mod support;
 use glam::DVec3;
 use proptest::prelude::*;
-use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
 use subdiv_interp::{deng_ma, DengMaOptions, InterpError, LimitAssociation, Parameter};
 use subdiv_mesh::refine::quad_split;
@@ -888,11 +887,7 @@ fn tension_strategy() -> impl Strategy<Value = Tension> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 48,
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(ProptestConfig::with_cases(48))]
     #[test]
     fn random_closed_meshes_keep_their_vertices(mesh in random_closed_mesh(), tension in tension_strategy()) {
         let result = deng_ma::interpolate(&mesh, &with(tension)).unwrap();
@@ -915,11 +910,7 @@ fn random_open_mesh() -> impl Strategy<Value = Mesh> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 48,
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(ProptestConfig::with_cases(48))]
     /// Open meshes keep their vertices bit for bit, and after two levels
     /// every boundary piece is its polygon refined twice by the curve rule
     /// (bit for bit with a global ω).

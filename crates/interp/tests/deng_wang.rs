@@ -13,7 +13,6 @@
 mod support;
 use glam::DVec3;
 use proptest::prelude::*;
-use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
 use subdiv_interp::deng_wang::{self, DEFAULT_MU};
 use subdiv_interp::{DengWangOptions, InterpError, Interpolant, LimitAssociation, Parameter};
@@ -686,11 +685,7 @@ fn random_mesh() -> impl Strategy<Value = Mesh> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 64,
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(ProptestConfig::with_cases(64))]
     #[test]
     fn random_meshes_are_interpolated(mesh in random_mesh(), mu in -0.1f64..0.6, loop_beta in any::<bool>()) {
         let beta = if loop_beta { LoopBeta::Loop } else { LoopBeta::Warren };

@@ -8,7 +8,6 @@ mod triangulation;
 
 use glam::{DQuat, DVec3};
 use proptest::prelude::*;
-use proptest::test_runner::FileFailurePersistence;
 use std::f64::consts::TAU;
 use subdiv_mesh::shapes::{self, SplitMix64};
 use subdiv_mesh::{triangulate, FaceGroups, FaceList, Mesh, MeshError, PolygonSoup};
@@ -244,11 +243,7 @@ fn base_mesh() -> impl Strategy<Value = Mesh> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 256,
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(ProptestConfig::with_cases(256))]
 
     /// Ear clipping never flips a triangle of a convex or star-shaped polygon,
     /// on its own or closed on the back by a fan from one of its ears (which
@@ -384,11 +379,7 @@ fn check_triangulation_agrees_on_the_named_cases() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 512,
-        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(ProptestConfig::with_cases(512))]
 
     /// The cheap check answers as triangulate does, the same error naming the
     /// same face: on random merges of small closed and open meshes whose
