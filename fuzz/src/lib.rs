@@ -2,7 +2,7 @@
 //!
 //! Plain library code without a fuzzer dependency, so that it has two
 //! callers: the three-line libFuzzer wrappers in `fuzz_targets/`, and
-//! `crates/cli/tests/fuzz_corpus.rs`, which includes this file with
+//! `crates/cli/tests/integration/fuzz_corpus.rs`, which includes this file with
 //! `#[path]` and replays the committed corpus and regressions in an ordinary
 //! `cargo test`. A body returns when the contract of issue #14 holds and
 //! panics with a message naming the broken rule when it does not.

@@ -40,7 +40,7 @@
 //!
 //! Exactness: the pruning never drops a domain that could hold a closer
 //! point; each domain's solve is a local method started from its nearest
-//! sample. The tests (`tests/project.rs`) check the acceptance — every
+//! sample. The tests (`tests/integration/project.rs`) check the acceptance — every
 //! result evaluates back to itself and is never farther than the nearest
 //! vertex of the level-4 limit tessellation plus 1e-9·d — on thousands of
 //! queries near, inside and far from extraordinary vertices, n-gons,

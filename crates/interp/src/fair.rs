@@ -186,7 +186,7 @@
 //! the input vertices, and every such y is the limit points of a control
 //! mesh M³ (T of M³ is invertible), so fair with refine 3 (J = 0) computes
 //! the least value of the measure any such method can reach
-//! (`tests/fair_bound.rs` checks it against Cheng and fair K = 1, 2). Its
+//! (`tests/integration/fair_bound.rs` checks it against Cheng and fair K = 1, 2). Its
 //! ratio to Cheng's is 0.77 on spot, 0.77 on knight, 0.92 on fandisk and
 //! 0.49 on the bunny (fair K = 3 alone: `fair_time --
 //! fixtures/open/stanford-bunny.obj 0 3`): halving Cheng's thin-plate

@@ -9,7 +9,7 @@
 //! directly, by index arithmetic on the parent; the functions here build the
 //! same refinement the slow, obviously right way — the refined face list,
 //! validated from scratch by [`Topology::new`] — so that tests can compare
-//! the two field by field (`tests/topology.rs`, `tests/doo_sabin_creases.rs`)
+//! the two field by field (`tests/integration/topology.rs`, `tests/integration/doo_sabin_creases.rs`)
 //! and benches can time the direct construction against it.
 
 use crate::error::MeshError;

@@ -103,7 +103,7 @@
 //! every ω ∈ (0, 1/8) a simple subdominant ½ with a linear eigenvector, so the
 //! curve is C¹ up to the corner and reaches it with a tangent. Next to the
 //! boundary the surface is measured, not proved
-//! (`crates/interp/tests/deng_ma.rs`, `smoothness_next_to_the_boundary`): with
+//! (`crates/interp/tests/integration/deng_ma.rs`, `smoothness_next_to_the_boundary`): with
 //! ω = 1 the max dihedral angle between faces at the boundary shrinks by
 //! 0.56-0.74 per level on the open fixtures, as inside, where a crease along
 //! the boundary would keep it constant. The report's own G, the centroid of
@@ -149,7 +149,7 @@
 //!    piece end. It reads the piece's vertices only, so both sides of a
 //!    crease get the same point, and the sharp polygon of level k is the
 //!    input's sharp polygon refined k times by the curve rule (exactly:
-//!    `crates/stencil/tests/deng_ma_creases.rs`,
+//!    `crates/stencil/tests/integration/deng_ma_creases.rs`,
 //!    `refined_crease_polygon_is_the_four_point_refinement_of_the_input_polygon`).
 //! 3. **Centres.** A crease vertex's moved images, in every face at it, are
 //!    taken about the centre of its curve, G = (P₋ + 6P + P₊)/8 with P₋, P₊

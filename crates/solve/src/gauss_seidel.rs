@@ -32,7 +32,7 @@
 //!   depend on the thread count.
 //!
 //! **Measured choice** (`cargo test --release -p subdiv-solve --test
-//! gauss_seidel_orders -- --nocapture`, tol 1e-6; at 10⁶ rows by a one-off
+//! integration gauss_seidel_orders:: -- --nocapture`, tol 1e-6; at 10⁶ rows by a one-off
 //! run, table in the crate README). Sweeps to tolerance:
 //!
 //! | matrix | storage | symmetric: iterations (sweeps) | multicolour |

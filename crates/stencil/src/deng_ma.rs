@@ -46,7 +46,7 @@
 //! A crease thus refines exactly as the mesh cut along it (each side an open
 //! mesh, the sides sharing the crease's 4-point points), and the sharp
 //! polygon of level k is the input's refined k times by the 4-point rule
-//! (`tests/deng_ma_creases.rs`). Without tags the sharp polygon is the
+//! (`tests/integration/deng_ma_creases.rs`). Without tags the sharp polygon is the
 //! boundary and every point is the open-mesh rule's, bit for bit, under
 //! `edge-and-corner`; under `edge-only` (and `none`) a one-face boundary
 //! vertex is a crease vertex, no corner. Semi-sharp values (0 < s < 10) are

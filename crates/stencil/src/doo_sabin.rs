@@ -57,7 +57,7 @@
 //! rules apply again at every level.
 //!
 //! **Claims, and why they hold** (the tests in
-//! `tests/doo_sabin_creases.rs` check each one, against curve evaluators and
+//! `tests/integration/doo_sabin_creases.rs` check each one, against curve evaluators and
 //! 8 levels of brute-force refinement):
 //!
 //! - *Face centroids are limit points*, sharp faces included: a face's corner

@@ -103,7 +103,7 @@
 //! valence-3 vertex points all vanish), so the cube with one crease edge is
 //! as singular as the plain cube (`subdiv-interp` tests A·c = 0 itself,
 //! `preconditions::cheng_kernel`). Otherwise measured nonsingular on every
-//! case of `tests/limit_matrices_creases.rs`.
+//! case of `tests/integration/limit_matrices_creases.rs`.
 //! Doo-Sabin's blocks: below.
 //!
 //! **Doo-Sabin with creases and corners** ([`limit_matrix_doo_sabin_sharp`]).
@@ -160,7 +160,7 @@
 //! open meshes too. Hence without darts and interior valence-2 vertices
 //! spec(A) ⊂ [¼, 1] (C), [½, 1] (Z), [min(½, min λ), 1] (B(λ)): A is never
 //! singular. *General rows* break those bounds and have none of their own:
-//! on 4000 random tagged polygon mixes (`subdiv-interp`'s `tests/limit_matrices_doo_sabin_creases.rs`)
+//! on 4000 random tagged polygon mixes (`subdiv-interp`'s `tests/integration/limit_matrices_doo_sabin_creases.rs`)
 //! the interior block's smallest |λ| was 0.262 (C), 0.493 (Z, below ½),
 //! 1.62·min λ (B(λ)) with darts, 0.207, 0.383, 1.16·min λ with interior
 //! valence-2 vertices too; every eigenvalue had a positive real part, no

@@ -51,7 +51,7 @@ struct Run {
 /// through the data has such limit points, and every such set of limit
 /// points is reachable (M³'s limit matrix is invertible): no method whose
 /// level-3 surface has M³'s connectivity (Cheng, fair Catmull-Clark) can
-/// measure lower (`crates/interp/tests/fair_bound.rs`).
+/// measure lower (`crates/interp/tests/integration/fair_bound.rs`).
 const BOUND: &str = "fair (catmull-clark, K = 3): lower bound";
 
 fn runs(mesh: &Mesh, big: bool, bound: bool) -> Vec<Run> {
