@@ -110,7 +110,7 @@ pub mod fit;
 pub mod project;
 pub mod sample;
 
-pub use fit::{fit, FitIteration, FitOptions, FitResult, FitTarget};
+pub use fit::{fit, FitIteration, FitLoss, FitMethod, FitObserver, FitOptions, FitResult, FitStop, FitTarget};
 pub use project::{project_points, DomainShape, PatchEvaluator, ProjectOptions, Projection, Projector};
 pub use sample::{sample_by_area, sample_per_domain, SurfaceSample};
 pub use surface::{BoundSurface, Domain, EvalError, EvalStencil, LimitJet, LimitSample, LimitSurface, SurfaceParam};

@@ -14,6 +14,7 @@ mod creases_opensubdiv;
 mod deng_ma_open;
 mod evaluate;
 mod facade_pipeline;
+mod fit_options;
 mod fair;
 mod fuzz_corpus;
 mod info_fixtures;
