@@ -95,13 +95,18 @@ use subdiv_solve::{FactoredMatrix, LdlFactor};
 use subdiv_stencil::Options;
 
 /// μ of the first round, relative to each vertex's data support (step 3).
-pub const DAMPING_START: f64 = 1e-4;
+pub const DAMPING_START: f64 = 1e-1;
 /// The smallest μ.
 pub const DAMPING_MIN: f64 = 1e-7;
 /// μ after a kept round: μ·DAMPING_DOWN.
-pub const DAMPING_DOWN: f64 = 0.1;
+pub const DAMPING_DOWN: f64 = 0.3;
 /// μ before a retry of a rejected round: μ·DAMPING_UP.
 pub const DAMPING_UP: f64 = 10.0;
+/// β₀ of the surface → target term, relative to the data term's mass (step 3).
+pub const BACK_WEIGHT: f64 = 1.0;
+/// β shrinks ×BACK_DECAY per kept round (the term fades: the nearest target
+/// point of a sample lies on a chord, not on the true surface).
+pub const BACK_DECAY: f64 = 0.3;
 /// Damping of the previous methods (point-to-point, tangent distance): fixed.
 pub const DAMPING: f64 = 1e-9;
 /// Rejected rounds retried with more damping (or, for the tangent distance,
@@ -470,6 +475,9 @@ impl Frame {
 /// (normalised units).
 struct Measured {
     feet: Vec<Projection>,
+    /// Surface samples (as projections: parameter, position, normal) and
+    /// their nearest target points.
+    samples: Vec<(Projection, DVec3)>,
     rms_a: f64,
     max_a: f64,
     rms_b: f64,
@@ -487,10 +495,15 @@ fn measure(
     let feet = projector.project_all(points)?;
     let (rms_a, max_a) = rms_max(feet.iter().map(|f| f.distance));
     let samples = sample_per_domain(projector.evaluator(), options.samples_per_domain)?;
-    let back: Vec<f64> =
-        samples.par_iter().map(|s| index.nearest(s.position).map_or(f64::INFINITY, |(_, d)| d)).collect();
-    let (rms_b, max_b) = rms_max(back.into_iter());
-    Ok(Measured { feet, rms_a, max_a, rms_b, max_b })
+    let samples: Vec<(Projection, DVec3)> = samples
+        .par_iter()
+        .map(|s| {
+            let (c, d) = index.nearest(s.position).unwrap_or((s.position, f64::INFINITY));
+            (Projection { param: s.param, position: s.position, normal: s.normal, distance: d }, c)
+        })
+        .collect();
+    let (rms_b, max_b) = rms_max(samples.iter().map(|s| s.0.distance));
+    Ok(Measured { feet, samples, rms_a, max_a, rms_b, max_b })
 }
 
 fn rms_max(d: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -581,6 +594,7 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
     let mut regularised_all: Vec<u32> = Vec::new();
     let smooth_weight = options.smoothness * points.len() as f64 / control.positions().len().max(1) as f64;
     let mut mu = DAMPING_START;
+    let mut beta = if matches!(options.method, FitMethod::GaussNewton) { BACK_WEIGHT } else { 0.0 };
     let mut lambda = match options.method {
         FitMethod::TangentDistance { lambda } => lambda,
         _ => 0.0,
@@ -621,12 +635,25 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
             [normal_weight, point_weight],
             mesh.positions(),
         )?;
+        // The surface → target term (module docs, step 3): samples of domains
+        // that hold feet, pulled to their nearest target points, weight
+        // β = BACK_WEIGHT·BACK_DECAY^(kept rounds)·m/(samples), fading out.
+        let back = back_term(&measured, &weights, beta, points.len());
+        let system = if back.1.is_empty() {
+            system
+        } else {
+            let extra = assemble(&surface, &pattern, &back.0, &back.2, &back.1, [0.0, 1.0], mesh.positions())?;
+            add_systems(system, extra)
+        };
         let step = solve_step(&system, &pattern, &laplacian, mesh.positions(), smooth_weight, damping)?;
         let candidate_positions: Vec<DVec3> = mesh.positions().iter().zip(&step.delta).map(|(&p, &d)| p + d).collect();
         let candidate = mesh.with_positions(candidate_positions);
         let next = measure(&surface, &candidate, &points, &index, options)?;
         let objective = |m: &Measured, positions: &[DVec3]| -> f64 {
-            let data: f64 = m.feet.iter().map(|f| options.loss.rho(f.distance, sigma)).sum();
+            let data: f64 = m.feet.iter().map(|f| options.loss.rho(f.distance, sigma)).sum::<f64>() + {
+                let (terms, w, _) = back_term(m, &weights, beta, points.len());
+                terms.iter().zip(&w).map(|(t, w)| w * t.distance * t.distance).sum::<f64>()
+            };
             data + penalties(&laplacian, positions, smooth_weight, &step.unsupported, step.kappa)
         };
         let (old, new) = (objective(&measured, mesh.positions()), objective(&next, candidate.positions()));
@@ -649,6 +676,7 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
             k += 1;
             retries = 0;
             mu = (mu * DAMPING_DOWN).max(DAMPING_MIN);
+            beta *= BACK_DECAY;
             lambda = (lambda * LAMBDA_DECREASE).max(LAMBDA_MIN);
             if old - new < options.min_improvement * old {
                 break FitStop::Stalled;
@@ -673,6 +701,47 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
         });
     }
     Ok(FitResult { mesh: control.with_positions(positions), iterations, stop, regularised: regularised_all })
+}
+
+/// The surface → target terms of `m`: samples of the domains that hold a
+/// foot with a non-zero weight, their weights β·m/(samples) and their
+/// nearest target points (empty when β = 0).
+fn back_term(m: &Measured, weights: &[f64], beta: f64, data: usize) -> (Vec<Projection>, Vec<f64>, Vec<DVec3>) {
+    if beta == 0.0 || m.samples.is_empty() {
+        return (Vec::new(), Vec::new(), Vec::new());
+    }
+    let mut held: Vec<(u32, u32)> =
+        m.feet.iter().zip(weights).filter(|(_, &w)| w > 0.0).map(|(f, _)| (f.param.face, f.param.corner)).collect();
+    held.sort_unstable();
+    held.dedup();
+    let kept: Vec<&(Projection, DVec3)> = m
+        .samples
+        .iter()
+        .filter(|(s, _)| s.distance.is_finite() && held.binary_search(&(s.param.face, s.param.corner)).is_ok())
+        .collect();
+    let w = beta * data as f64 / kept.len().max(1) as f64;
+    (kept.iter().map(|s| s.0).collect(), vec![w; kept.len()], kept.iter().map(|s| s.1).collect())
+}
+
+/// `a + b` (the same pattern, entries of `b` missing in `a` inserted).
+fn add_systems(mut a: System, b: System) -> System {
+    for (row, (cols, blocks)) in b.rows.iter().zip(&b.blocks).enumerate() {
+        for (&c, block) in cols.iter().zip(blocks) {
+            let pos = match a.rows[row].binary_search(&c) {
+                Ok(p) => p,
+                Err(p) => {
+                    a.rows[row].insert(p, c);
+                    a.blocks[row].insert(p, [0.0; 9]);
+                    p
+                }
+            };
+            for (x, y) in a.blocks[row][pos].iter_mut().zip(block) {
+                *x += y;
+            }
+        }
+        a.rhs[row] += b.rhs[row];
+    }
+    a
 }
 
 /// s‖L P‖² + κ Σ_{i∈U} ‖(L P)ᵢ‖².
