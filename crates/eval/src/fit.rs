@@ -107,6 +107,9 @@ pub const BACK_WEIGHT: f64 = 1.0;
 /// β shrinks ×BACK_DECAY per kept round (the term fades: the nearest target
 /// point of a sample lies on a chord, not on the true surface).
 pub const BACK_DECAY: f64 = 0.3;
+/// Weight of the point-to-point part in a Gauss-Newton round at an RMS
+/// residual of 1 % of d (quadratic in the residual below, capped above).
+pub const TANGENT_ANCHOR: f64 = 0.1;
 /// Damping of the previous methods (point-to-point, tangent distance): fixed.
 pub const DAMPING: f64 = 1e-9;
 /// Rejected rounds retried with more damping (or, for the tangent distance,
@@ -622,7 +625,10 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
         let weights: Vec<f64> = measured.feet.iter().map(|f| options.loss.weight(f.distance, sigma)).collect();
         // Step 3: the step.
         let (normal_weight, point_weight, damping) = match options.method {
-            FitMethod::GaussNewton => (1.0, 0.0, mu),
+            // A tangential anchor quadratic in the residual level: it
+            // vanishes on exact data (no brake near the solution) and holds
+            // the feet against sliding when noise keeps the residual up.
+            FitMethod::GaussNewton => (1.0, TANGENT_ANCHOR * (measured.rms_a / (0.01 * unit_scale)).min(1.0).powi(2), mu),
             FitMethod::PointToPoint => (0.0, 1.0, DAMPING),
             FitMethod::TangentDistance { .. } => (1.0, lambda, DAMPING),
         };
