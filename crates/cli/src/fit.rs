@@ -219,9 +219,5 @@ fn regularised_note(list: &[u32]) -> String {
     }
     let shown: Vec<String> = list.iter().take(12).map(u32::to_string).collect();
     let more = if list.len() > 12 { ", …" } else { "" };
-    format!(
-        "; {} control vertices regularised (little or no target support: {}{more})",
-        list.len(),
-        shown.join(", ")
-    )
+    format!("; {} control vertices regularised (little or no target support: {}{more})", list.len(), shown.join(", "))
 }

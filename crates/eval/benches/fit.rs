@@ -54,8 +54,9 @@ fn bumpy_torus() -> Mesh {
 
 fn cases() -> Vec<(&'static str, Mesh, FitTarget, Options)> {
     let options = Options::new(Scheme::CatmullClark);
-    let spot = subdiv_io::load_mesh(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/quad/spot_control_mesh.obj"))
-        .expect("the Spot fixture");
+    let spot =
+        subdiv_io::load_mesh(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/quad/spot_control_mesh.obj"))
+            .expect("the Spot fixture");
     [("torus-112", bumpy_torus()), ("spot-188", spot)]
         .into_iter()
         .map(|(name, mesh)| {

@@ -571,9 +571,7 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
     let start_positions: Vec<DVec3> = control.positions().iter().map(|&p| frame.to_unit(p)).collect();
     if let Some(i) = start_positions.iter().position(|p| !p.is_finite() || p.abs().max_element() > 1e150) {
         return Err(EvalError::InvalidInput {
-            what: format!(
-                "fit: control vertex {i} is too far from the target to be represented in the target's frame"
-            ),
+            what: format!("fit: control vertex {i} is too far from the target to be represented in the target's frame"),
         });
     }
     let surface = LimitSurface::new(control, &options.surface)?;
@@ -628,7 +626,9 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
             // A tangential anchor quadratic in the residual level: it
             // vanishes on exact data (no brake near the solution) and holds
             // the feet against sliding when noise keeps the residual up.
-            FitMethod::GaussNewton => (1.0, TANGENT_ANCHOR * (measured.rms_a / (0.01 * unit_scale)).min(1.0).powi(2), mu),
+            FitMethod::GaussNewton => {
+                (1.0, TANGENT_ANCHOR * (measured.rms_a / (0.01 * unit_scale)).min(1.0).powi(2), mu)
+            }
             FitMethod::PointToPoint => (0.0, 1.0, DAMPING),
             FitMethod::TangentDistance { .. } => (1.0, lambda, DAMPING),
         };
@@ -967,7 +967,8 @@ fn solve_step(
     let diag_pos: Vec<usize> = (0..n)
         .map(|a| rows[a].binary_search(&(a as u32)).map_err(|_| EvalError::Internal("fit: no diagonal block".into())))
         .collect::<Result<_, _>>()?;
-    let support: Vec<f64> = (0..n).map(|a| blocks[a][diag_pos[a]][0] + blocks[a][diag_pos[a]][4] + blocks[a][diag_pos[a]][8]).collect();
+    let support: Vec<f64> =
+        (0..n).map(|a| blocks[a][diag_pos[a]][0] + blocks[a][diag_pos[a]][4] + blocks[a][diag_pos[a]][8]).collect();
     let reference = {
         let nonzero: Vec<f64> = support.iter().copied().filter(|&s| s > 0.0).collect();
         let m = median(nonzero);
@@ -1081,8 +1082,11 @@ fn block_apply(rows: &[Vec<u32>], blocks: &[Vec<[f64; 9]>], x: &[DVec3], y: &mut
 
 /// Σ aᵢ·bᵢ in fixed chunks, summed in order (deterministic on any thread count).
 fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
-    let partial: Vec<f64> =
-        a.par_chunks(CHUNK).zip(b.par_chunks(CHUNK)).map(|(x, y)| x.iter().zip(y).map(|(p, q)| p.dot(*q)).sum()).collect();
+    let partial: Vec<f64> = a
+        .par_chunks(CHUNK)
+        .zip(b.par_chunks(CHUNK))
+        .map(|(x, y)| x.iter().zip(y).map(|(p, q)| p.dot(*q)).sum())
+        .collect();
     partial.iter().sum()
 }
 
