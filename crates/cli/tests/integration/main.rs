@@ -16,6 +16,7 @@ mod evaluate;
 mod facade_pipeline;
 mod fair;
 mod fuzz_corpus;
+mod hostile_inputs;
 mod info_fixtures;
 mod info_methods;
 mod interpolate;
