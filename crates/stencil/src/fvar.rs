@@ -931,27 +931,12 @@ impl Step<'_> {
 /// crease values, where one disjoint span of `B` would be a corner), so the
 /// shortcut is followed here for the surfaces to agree.
 fn assign_siblings(n: usize, at: impl Fn(usize) -> u32, s: &mut Scratch) {
-    s.sibling.clear();
-    s.distinct.clear();
     if n <= LINEAR_SEARCH_MAX {
-        for i in 0..n {
-            let x = at(i);
-            let k = if i > 0 && x == at(i - 1) {
-                s.sibling[i - 1]
-            } else if s.distinct.len() == 2 && s.distinct[0] != x {
-                // OpenSubdiv's shortcut: new, even when x is the second value.
-                s.distinct.push(x);
-                2
-            } else if let Some(k) = s.distinct.iter().position(|&d| d == x) {
-                k as u32
-            } else {
-                s.distinct.push(x);
-                (s.distinct.len() - 1) as u32
-            };
-            s.sibling.push(k);
-        }
+        assign_siblings_by_scan(n, at, s);
         return;
     }
+    s.sibling.clear();
+    s.distinct.clear();
     // Sort (value, face): each value's group starts at its first face; rank the groups by it.
     s.order.clear();
     s.order.extend((0..n).map(|i| (at(i), i as u32)));
@@ -979,6 +964,29 @@ fn assign_siblings(n: usize, at: impl Fn(usize) -> u32, s: &mut Scratch) {
         for i in (q..n).take_while(|&i| at(i) == x) {
             s.sibling[i] = 2;
         }
+    }
+}
+
+/// [`assign_siblings`] by a scan of the fan, searching the values known so
+/// far (OpenSubdiv's loop): O(n × values), for small fans.
+fn assign_siblings_by_scan(n: usize, at: impl Fn(usize) -> u32, s: &mut Scratch) {
+    s.sibling.clear();
+    s.distinct.clear();
+    for i in 0..n {
+        let x = at(i);
+        let k = if i > 0 && x == at(i - 1) {
+            s.sibling[i - 1]
+        } else if s.distinct.len() == 2 && s.distinct[0] != x {
+            // OpenSubdiv's shortcut: new, even when x is the second value.
+            s.distinct.push(x);
+            2
+        } else if let Some(k) = s.distinct.iter().position(|&d| d == x) {
+            k as u32
+        } else {
+            s.distinct.push(x);
+            (s.distinct.len() - 1) as u32
+        };
+        s.sibling.push(k);
     }
 }
 
@@ -1073,20 +1081,7 @@ mod tests {
         let (sibling, distinct) = siblings_of(&big);
         assert_eq!(distinct, vec![9, 4, 4, 1]);
         let mut scanned = Scratch::default();
-        for (i, &x) in big.iter().enumerate() {
-            let k = if i > 0 && x == big[i - 1] {
-                scanned.sibling[i - 1]
-            } else if scanned.distinct.len() == 2 && scanned.distinct[0] != x {
-                scanned.distinct.push(x);
-                2
-            } else if let Some(k) = scanned.distinct.iter().position(|&d| d == x) {
-                k as u32
-            } else {
-                scanned.distinct.push(x);
-                (scanned.distinct.len() - 1) as u32
-            };
-            scanned.sibling.push(k);
-        }
+        assign_siblings_by_scan(big.len(), |i| big[i], &mut scanned);
         assert_eq!((sibling, distinct), (scanned.sibling, scanned.distinct));
     }
 

@@ -2,7 +2,7 @@
 //! in `sample`, `evaluate`, `project` and `batch` exits 0 with a correct,
 //! finite result, or 2/3 with nothing written.
 
-use crate::common::{assert_no_panic, fixtures, out_path, read, subdiv};
+use crate::common::{self, assert_no_panic, fixtures, out_path, read, subdiv};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -105,29 +105,9 @@ fn evaluation_and_projection_queries_beyond_the_budget_are_refused() {
     }
 }
 
-/// Runs `args`, failing if it has not exited within 30 s (a blocked read).
+/// Runs `args`, failing if it has not exited within 30 s (a blocked read) or panicked.
 fn run_bounded(args: &[&str]) -> (Option<i32>, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_subdiv"))
-        .args(args)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if start.elapsed() > Duration::from_secs(30) {
-            child.kill().unwrap();
-            panic!("{args:?}: blocked");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let mut stderr = String::new();
-    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
-    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
-    (status.code(), stderr)
+    common::run_bounded(args, &format!("{args:?}"), Duration::from_secs(30))
 }
 
 /// A link to /dev/zero as `--at` or `--points` is refused at once (exit 2),
