@@ -30,11 +30,11 @@ while (($#)); do
         *) targets+=("$1"); shift ;;
     esac
 done
-((${#targets[@]})) || targets=(obj off ply stl gltf from_soup end_to_end)
+((${#targets[@]})) || targets=(obj off ply stl gltf from_soup end_to_end evaluate sample project fit)
 
 max_len() {
     case "$1" in
-        end_to_end) echo 4096 ;;
+        end_to_end | evaluate | sample | project | fit) echo 4096 ;;
         from_soup) echo 16384 ;;
         *) echo 65536 ;;
     esac
@@ -42,7 +42,12 @@ max_len() {
 
 # The code under test is safe Rust (unsafe_code = forbid in the workspace), so
 # AddressSanitizer adds little but halves the executions: build without it.
-fuzz=(cargo +nightly fuzz)
+# Without a nightly toolchain, RUSTC_BOOTSTRAP=1 lets the stable one take cargo-fuzz's flags.
+if rustup toolchain list 2>/dev/null | grep -q '^nightly'; then
+    fuzz=(cargo +nightly fuzz)
+else
+    fuzz=(env RUSTC_BOOTSTRAP=1 cargo fuzz)
+fi
 "${fuzz[@]}" build -s none
 mkdir -p logs
 

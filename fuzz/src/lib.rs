@@ -25,7 +25,7 @@ use subdiv_interp::{
 use subdiv_io::{read_mesh_from_bytes, write_mesh_to_vec, Format, IoError, MeshView};
 use subdiv_mesh::{diagnose, shapes, DVec3, EdgeId, FaceList, HalfEdgeId, Mesh, MeshError, PolygonSoup, Warning};
 use subdiv_solve::Solver;
-use subdiv_stencil::{LoopBeta, Scheme, Tension};
+use subdiv_stencil::{LoopBeta, Options, Scheme, Tension};
 
 // ---- readers ---------------------------------------------------------------
 
@@ -682,6 +682,276 @@ fn assert_interpolates(result: &Interpolant, mesh: &Mesh, interpolated: &[bool],
 /// An error message is one line (the CLI prints it after the file name).
 fn assert_one_line(message: &str) {
     assert!(!message.contains(['\n', '\r']), "error message is not one line: {message:?}");
+}
+
+// ---- the limit surface: evaluate, sample, project, fit ---------------------------
+
+/// The mesh, scheme and options of the surface targets, from the first
+/// [`SURFACE_HEADER_LEN`] bytes: a shape and its coordinates as
+/// [`end_to_end`] makes them (scale 1e-323…1e308), and the scheme
+/// (Catmull-Clark, Loop with either β on the triangulated shape, Doo-Sabin)
+/// and boundary rule. `None` when every vertex coincides.
+fn surface_input(head: &mut Bytes, tail: &mut Bytes) -> Option<(Mesh, Options)> {
+    let base = shape(head);
+    let e = i32::from(head.u16() % 632);
+    let scale = 10f64.powi(if e <= 308 { e } else { 308 - e });
+    let scheme = head.pick(&[
+        Scheme::CatmullClark,
+        Scheme::Loop(LoopBeta::Loop),
+        Scheme::Loop(LoopBeta::Warren),
+        Scheme::DooSabin,
+    ]);
+    let base = if matches!(scheme, Scheme::Loop(_)) && base.topology().faces().iter().any(|f| f.len() != 3) {
+        subdiv_mesh::triangulate(&base).ok()?.mesh
+    } else {
+        base
+    };
+    let mesh = coordinates(&base, 0, scale, tail)?;
+    let mut options = Options::new(scheme);
+    if head.u8() % 4 == 0 {
+        options.boundary = subdiv_stencil::BoundaryInterpolation::EdgeOnly;
+    }
+    Some((mesh, options))
+}
+
+/// Bytes of the surface targets' header.
+pub const SURFACE_HEADER_LEN: usize = 8;
+
+/// Splits a surface target's input into header and tail (as [`end_to_end`]).
+fn split_surface(data: &[u8]) -> (Bytes<'_>, Bytes<'_>) {
+    let (head, tail) = data.split_at(data.len().min(SURFACE_HEADER_LEN));
+    (Bytes::new(head), Bytes::new(tail))
+}
+
+/// The control points' bounding box and the slack of a point inside it
+/// (limit points are convex combinations of control points: every scheme's
+/// weights here are positive): rounding relative to the largest coordinate
+/// of any axis — the numeric rule measures relative to the mesh's scale, and
+/// an axis whose coordinates are 1e-575 of the largest one (a flat mesh at
+/// z = 9e-311 with x ~ 1e264) is computed on the normalised data, where it
+/// underflows: its feet come back at z = 0, 1e-575·d away (the project
+/// campaign's three artifacts, `regressions/project/flat_far_axis_*`) —
+/// and the subnormal grid.
+fn hull(mesh: &Mesh) -> (DVec3, DVec3, DVec3) {
+    let b = mesh.bbox();
+    let slack = b.min.abs().max(b.max.abs()).max_element() * 1e-9 + 1e-318;
+    (b.min, b.max, DVec3::splat(slack))
+}
+
+/// `p` is finite and inside the control points' box (with slack).
+fn assert_in_hull(p: DVec3, (min, max, slack): (DVec3, DVec3, DVec3), what: &str) {
+    assert!(p.is_finite(), "{what}: Ok with a non-finite point {p:?}");
+    assert!(
+        p.cmpge(min - slack).all() && p.cmple(max + slack).all(),
+        "{what}: point {p:?} outside the control points' box {min:?} … {max:?}"
+    );
+}
+
+/// A normal is unit or zero, and unit and perpendicular to the tangents where
+/// they are well apart (checked on the tangents scaled jointly: no overflow or
+/// underflow in the test itself).
+fn assert_normal(normal: DVec3, du: DVec3, dv: DVec3, what: &str) {
+    let length = normal.length();
+    assert!(
+        length == 0.0 || (length - 1.0).abs() < 1e-9,
+        "{what}: normal {normal:?} is neither unit nor zero (tangents {du:?}, {dv:?})"
+    );
+    if !(du.is_finite() && dv.is_finite()) {
+        return;
+    }
+    let m = du.abs().max_element().max(dv.abs().max_element());
+    if m == 0.0 {
+        return;
+    }
+    let scale = subdiv_mesh::PowerOfTwoScale::normalizing([du, dv]);
+    let (u, v) = (scale.apply_point(du), scale.apply_point(dv));
+    let (lu, lv) = (u.length(), v.length());
+    if lu < 1e-6 * lv || lv < 1e-6 * lu || u.cross(v).length() < 1e-6 * lu * lv {
+        return;
+    }
+    assert!((length - 1.0).abs() < 1e-9, "{what}: normal {normal:?} where the tangents {du:?}, {dv:?} span a plane");
+    assert!(
+        normal.dot(u / lu).abs() < 1e-6 && normal.dot(v / lv).abs() < 1e-6,
+        "{what}: normal {normal:?} not perpendicular to the tangents {du:?}, {dv:?}"
+    );
+}
+
+/// `subdiv evaluate`'s computation (`LimitSurface::evaluate_all`, the
+/// normalised evaluation): up to 32 parameters (face, corner, u, v: in the
+/// domain mostly, anywhere sometimes) on a shape at any scale. Contract: a
+/// typed, one-line error, or every position finite and inside the control
+/// points' box, every normal unit (and perpendicular to the tangents) or
+/// zero.
+pub fn evaluate(data: &[u8]) {
+    let (mut head, mut tail) = split_surface(data);
+    let Some((mesh, options)) = surface_input(&mut head, &mut tail) else { return };
+    let surface = match subdiv_eval::LimitSurface::new(&mesh, &options) {
+        Ok(s) => s,
+        Err(e) => return assert_one_line(&e.to_string()),
+    };
+    let faces = mesh.topology().face_count() as u32;
+    let mut params = Vec::new();
+    while !tail.is_empty() && params.len() < 32 {
+        let face = u32::from(tail.u8()) % (faces + 1);
+        let corner = u32::from(tail.u8() % 5);
+        let unit = |t: &mut Bytes| match t.u8() {
+            0..=199 => f64::from(t.u8()) / 255.0,
+            200..=219 => 0.0,
+            220..=239 => 1.0,
+            _ => t.coordinate(),
+        };
+        let (u, v) = (unit(&mut tail), unit(&mut tail));
+        params.push(subdiv_eval::SurfaceParam::new(face, corner, u, v));
+    }
+    match surface.evaluate_all(mesh.positions(), &params) {
+        Ok(samples) => {
+            let box_ = hull(&mesh);
+            for (p, s) in params.iter().zip(&samples) {
+                let what = format!("evaluate {p:?}");
+                assert_in_hull(s.position, box_, &what);
+                assert_normal(s.normal, s.du, s.dv, &what);
+            }
+        }
+        Err((_, e)) => assert_one_line(&e.to_string()),
+    }
+}
+
+/// `subdiv sample`'s computation (`sample_surface`): 1–4 per domain side or
+/// 0–255 points by area, any seed, on a shape at any scale. Contract: a typed,
+/// one-line error, or exactly the asked number of samples, each inside its
+/// domain, finite and inside the control points' box, with a unit or zero
+/// normal.
+pub fn sample(data: &[u8]) {
+    let (mut head, mut tail) = split_surface(data);
+    let Some((mesh, options)) = surface_input(&mut head, &mut tail) else { return };
+    let surface = match subdiv_eval::LimitSurface::new(&mesh, &options) {
+        Ok(s) => s,
+        Err(e) => return assert_one_line(&e.to_string()),
+    };
+    let how = if tail.u8() % 2 == 0 {
+        subdiv_eval::Sampling::PerDomain(1 + usize::from(tail.u8() % 4))
+    } else {
+        subdiv_eval::Sampling::ByArea { count: usize::from(tail.u8()), seed: tail.u64() }
+    };
+    let expected = match how {
+        subdiv_eval::Sampling::PerDomain(n) => subdiv_eval::per_domain_count(surface.domains().len(), n),
+        subdiv_eval::Sampling::ByArea { count, .. } => Some(count as u64),
+    };
+    match subdiv_eval::sample_surface(&surface, mesh.positions(), how) {
+        Ok(samples) => {
+            assert_eq!(Some(samples.len() as u64), expected, "{how:?}: wrong number of samples");
+            let box_ = hull(&mesh);
+            let shape = subdiv_eval::DomainShape::of(options.scheme);
+            for s in &samples {
+                let what = format!("sample {how:?} at {:?}", s.param);
+                assert!(shape.contains(s.param.u, s.param.v), "{what}: outside its domain");
+                assert_in_hull(s.position, box_, &what);
+                let l = s.normal.length();
+                assert!(l == 0.0 || (l - 1.0).abs() < 1e-9, "{what}: normal {:?} neither unit nor zero", s.normal);
+            }
+        }
+        Err(e) => assert_one_line(&e.to_string()),
+    }
+}
+
+/// `subdiv project`'s computation (`project_on`, on the normalised mesh and
+/// queries): up to 16 queries around the shape (within 1.5 box
+/// half-extents of its centre) at any scale. Contract: a typed, one-line
+/// error, or every foot finite and inside the control points' box, its
+/// distance finite, equal to ‖foot − query‖, and no larger than the distance
+/// to any of a grid of surface points (2×2 per domain) beyond a small slack.
+pub fn project(data: &[u8]) {
+    let (mut head, mut tail) = split_surface(data);
+    let Some((mesh, options)) = surface_input(&mut head, &mut tail) else { return };
+    let surface = match subdiv_eval::LimitSurface::new(&mesh, &options) {
+        Ok(s) => s,
+        Err(e) => return assert_one_line(&e.to_string()),
+    };
+    let b = mesh.bbox();
+    let (centre, half) = (b.min * 0.5 + b.max * 0.5, b.max * 0.5 - b.min * 0.5);
+    let mut queries = Vec::new();
+    while !tail.is_empty() && queries.len() < 16 {
+        let t = DVec3::new(tail.u8().into(), tail.u8().into(), tail.u8().into()) / 85.0 - 1.5;
+        let q = centre + half * t;
+        if q.is_finite() {
+            queries.push(q);
+        }
+    }
+    let found = match subdiv_eval::project_on(&surface, &mesh, &options, &queries, &Default::default()) {
+        Ok(found) => found,
+        Err(e) => return assert_one_line(&e.to_string()),
+    };
+    let grid = match subdiv_eval::sample_surface(&surface, mesh.positions(), subdiv_eval::Sampling::PerDomain(2)) {
+        Ok(grid) => grid,
+        Err(e) => return assert_one_line(&e.to_string()),
+    };
+    let box_ = hull(&mesh);
+    let extent = 2.0 * scaled_length(half);
+    let far = scaled_length(centre.abs() * 0.5 + half * 0.5) * 2.0;
+    for (q, p) in queries.iter().zip(&found) {
+        let what = format!("project {q:?}");
+        assert_in_hull(p.position, box_, &what);
+        assert!(p.distance.is_finite() && p.distance >= 0.0, "{what}: distance {}", p.distance);
+        let measured = 2.0 * half_distance(p.position, *q);
+        let rounding = 1e-9 * far + 1e-318;
+        assert!(
+            (p.distance - measured).abs() <= 1e-9 * measured + rounding,
+            "{what}: distance {:e} but the foot {:?} is {measured:e} away",
+            p.distance,
+            p.position
+        );
+        let nearest = grid.iter().map(|g| 2.0 * half_distance(g.position, *q)).fold(f64::INFINITY, f64::min);
+        assert!(
+            p.distance <= nearest + 1e-3 * extent + rounding,
+            "{what}: distance {:e} (foot {:?} on {:?}) but a surface point is {nearest:e} away",
+            p.distance,
+            p.position,
+            p.param
+        );
+    }
+}
+
+/// `subdiv fit`'s computation (`subdiv_eval::fit`): the shape at any scale as
+/// the control mesh, its vertices (some moved) as the target cloud or the
+/// mesh itself as the target, 1–3 rounds, a smoothness from 0 to 1e6 or a
+/// bad one. Contract: a typed, one-line error, or a finite control mesh and
+/// finite distances in every round.
+pub fn fit(data: &[u8]) {
+    let (mut head, mut tail) = split_surface(data);
+    let Some((mesh, options)) = surface_input(&mut head, &mut tail) else { return };
+    let target = if tail.u8() % 2 == 0 {
+        subdiv_eval::FitTarget::from_mesh(&mesh)
+    } else {
+        let points = mesh
+            .positions()
+            .iter()
+            .map(|&p| p * (1.0 + f64::from(tail.u8() as i8) * 1e-3))
+            .filter(|p| p.is_finite())
+            .collect();
+        subdiv_eval::FitTarget::cloud(points)
+    };
+    let fit_options = subdiv_eval::FitOptions {
+        surface: options,
+        iterations: 1 + usize::from(tail.u8() % 3),
+        smoothness: tail.pick(&[0.0, 1e-3, 0.1, 1.0, 1e6, -1.0, f64::NAN]),
+        samples_per_domain: 2,
+        ..Default::default()
+    };
+    match subdiv_eval::fit(&target, &mesh, &fit_options) {
+        Ok(result) => {
+            assert_finite(result.mesh.positions(), "fit");
+            for it in &result.iterations {
+                assert!(
+                    it.rms_target_to_surface.is_finite() && it.max_target_to_surface.is_finite(),
+                    "fit: Ok with round {} distances rms {:e}, max {:e}",
+                    it.iteration,
+                    it.rms_target_to_surface,
+                    it.max_target_to_surface
+                );
+            }
+        }
+        Err(e) => assert_one_line(&e.to_string()),
+    }
 }
 
 // ---- numeric helpers ---------------------------------------------------------

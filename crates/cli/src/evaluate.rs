@@ -8,7 +8,7 @@
 //! parameter, `x y z nx ny nz`, with `--derivs` also `dxu dyu dzu dxv dyv
 //! dzv`, numbers in the shortest form that reads back to the same f64.
 
-use crate::failure::{bad_input, Failure};
+use crate::failure::{bad_input, budget, over_budget, Failure};
 use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::Outputs;
 use crate::subdivide::{beta_parser, evaluated_scheme, scheme_parser, SurfaceArgs};
@@ -44,6 +44,20 @@ pub struct EvaluateArgs {
     /// Output text file.
     #[arg(short, long)]
     output: PathBuf,
+    /// Memory budget of the evaluation, in bytes (suffixes K, M, G, T; default ¾ of the memory
+    /// available). More parameters are refused with exit 2.
+    #[arg(long, value_name = "BYTES", value_parser = subdiv::budget::parse_bytes)]
+    max_memory: Option<u64>,
+}
+
+/// Bytes held per parameter line: the parsed line, the parameter, the sample and the output
+/// line (at most 25 characters a number, 6 numbers or 12 with `--derivs`).
+fn bytes_per_line(derivs: bool) -> u64 {
+    let numbers = if derivs { 12 } else { 6 };
+    (std::mem::size_of::<Line>()
+        + std::mem::size_of::<SurfaceParam>()
+        + std::mem::size_of::<subdiv_eval::LimitSample>()) as u64
+        + 25 * numbers
 }
 
 /// A parameter line: the domain given (`K` when written) and (u, v).
@@ -93,19 +107,27 @@ pub fn run(args: &EvaluateArgs) -> Result<(), Failure> {
     outputs.other("--output", &args.output)?;
     let mesh = load_tagged_mesh(&args.mesh, &args.tags)?;
     let text = crate::load::read_text(&args.at)?;
+    // Sized before the lines are parsed: at most one parameter a line.
+    let lines = u64::try_from(text.lines().count()).ok();
+    let what = format!("--at {}", args.at.display());
+    budget(args.max_memory)
+        .check_items(&what, lines, "parameter lines", bytes_per_line(args.derivs), "split the parameter file")
+        .map_err(over_budget)?;
     let lines = parse(&text, &args.at)?;
+    drop(text);
     let input = args.mesh.display();
     let surface =
         LimitSurface::new(&mesh, &args.surface.options(scheme)).map_err(|e| bad_input(anyhow!("{input}: {e}")))?;
-    let x = mesh.positions();
-    let mut out = String::with_capacity(lines.len() * if args.derivs { 240 } else { 120 });
+    let mut params = Vec::with_capacity(lines.len());
     for line in &lines {
-        let at = |e: EvalError| bad_input(anyhow!("{}:{}: {e}", args.at.display(), line.number));
         let domains = surface.face_domains(line.face);
         let corner = match (line.corner, domains.len()) {
             (Some(k), _) => k,
             (None, 1) => 0,
-            (None, 0) => return Err(at(EvalError::NoSuchDomain { face: line.face, corner: 0 })),
+            (None, 0) => {
+                let e = EvalError::NoSuchDomain { face: line.face, corner: 0 };
+                return Err(bad_input(anyhow!("{}:{}: {e}", args.at.display(), line.number)));
+            }
             (None, n) => {
                 return Err(bad_input(anyhow!(
                     "{}:{}: face {} has {n} domains (one per corner); give FACE.K with K in 0..{n}",
@@ -115,14 +137,24 @@ pub fn run(args: &EvaluateArgs) -> Result<(), Failure> {
                 )))
             }
         };
-        let s = surface.evaluate(x, SurfaceParam::new(line.face, corner, line.u, line.v)).map_err(at)?;
+        params.push(SurfaceParam::new(line.face, corner, line.u, line.v));
+    }
+    // Evaluated on the normalised positions and mapped back (the numeric rule).
+    let samples = surface.evaluate_all(mesh.positions(), &params).map_err(|(i, e)| {
+        let number = lines.get(i).map_or(0, |l| l.number);
+        bad_input(anyhow!("{}:{number}: {e}", args.at.display()))
+    })?;
+    let mut out = String::new();
+    out.try_reserve(lines.len() * if args.derivs { 240 } else { 120 })
+        .map_err(|_| bad_input(anyhow!("{what}: the output of {} lines does not fit in memory", lines.len())))?;
+    for (line, s) in lines.iter().zip(&samples) {
         let mut values = vec![s.position, s.normal];
         if args.derivs {
             values.extend([s.du, s.dv]);
         }
         if values.iter().any(|p| !p.is_finite()) {
             return Err(Failure::NotConverged(anyhow!(
-                "{}:{}: the limit surface there is not finite (coordinates beyond the range of f64)",
+                "{}:{}: the limit surface there is not representable in f64 (beyond ±1.8e308); nothing written",
                 args.at.display(),
                 line.number
             )));

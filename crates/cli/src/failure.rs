@@ -10,6 +10,19 @@ pub fn signal_exit_code(signal: i32) -> i32 {
     128 + signal
 }
 
+/// The exit code after `signal`, once [`subdiv_io::stop_commits`] returned `commits` (the
+/// completed commits of outputs; none can start any more): a single command commits its outputs
+/// once, at its end, so one commit means every output is in place and the command succeeded
+/// (exit 0: the signal came after its point of no return); none means nothing was written
+/// (128 + the signal). A batch commits per input and always reports the signal.
+pub fn exit_code_after_signal(signal: i32, commits: u64, batch: bool) -> i32 {
+    if commits > 0 && !batch {
+        0
+    } else {
+        signal_exit_code(signal)
+    }
+}
+
 /// Why a command failed, which fixes its exit code.
 #[derive(Debug)]
 pub enum Failure {
@@ -90,6 +103,23 @@ impl From<subdiv::job::JobError> for Failure {
 /// Marks an error as bad input (exit 2).
 pub fn bad_input(e: impl Into<anyhow::Error>) -> Failure {
     Failure::BadInput(e.into())
+}
+
+/// A size refused by the memory budget (exit 2), with the command line's remedy when the
+/// budget is the memory available.
+pub fn over_budget(e: subdiv::budget::BudgetError) -> Failure {
+    let hint = match &e {
+        subdiv::budget::BudgetError::TooManyItems { .. } | subdiv::budget::BudgetError::OverBudget { .. } => {
+            " or set --max-memory"
+        }
+        _ => "",
+    };
+    Failure::BadInput(anyhow::anyhow!("{e}{hint}"))
+}
+
+/// The memory budget of a command: `--max-memory` when given, else ¾ of the memory available.
+pub fn budget(max_memory: Option<u64>) -> subdiv::budget::MemoryBudget {
+    subdiv::budget::MemoryBudget::given_or_available(max_memory, "--max-memory")
 }
 
 /// Marks an error as a failed write (exit 4).

@@ -5,8 +5,9 @@
 //! usage, 3 no acceptable result (tolerance not reached, result not finite),
 //! 4 an output could not be written, 5 some inputs of a batch failed (their
 //! records say why), 1 anything else; a handled signal
-//! removes the temporaries and exits with 128 + its number. Nothing here
-//! panics on user data.
+//! removes the temporaries and exits with 128 + its number — or 0 when it
+//! came after the outputs were committed (the exit code matches what is on
+//! disk). Nothing here panics on user data.
 //!
 //! [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 
@@ -45,15 +46,19 @@ const EXIT_CODES: &str = "Exit codes: 0 success; 2 bad input or usage (nothing w
 4 an output could not be written (no output changed); 5 batch: some inputs failed (see their records); 1 anything else; 128+N killed by signal N \
 (temporary files removed). Outputs are all-or-nothing: every requested file is complete, or none changed.";
 
-/// Removes the temporaries of outputs being written when SIGINT, SIGTERM or
-/// SIGHUP arrives, then exits with 128 + the signal.
-fn install_signal_cleanup() {
+/// When SIGINT, SIGTERM or SIGHUP arrives: waits for a commit of outputs under way to finish,
+/// keeps any later one from starting, removes the temporaries, and exits with a code that says
+/// what is on disk ([`failure::exit_code_after_signal`]): 0 once a single command's outputs are
+/// in place (the commit is its point of no return), else 128 + the signal with nothing written.
+/// `batch` commits each input's outputs and record on its own, so it always exits 128 + N: the
+/// inputs done have their records, a second run resumes with the others.
+fn install_signal_cleanup(batch: bool) {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else { return };
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            subdiv_io::remove_staged_files();
-            std::process::exit(failure::signal_exit_code(signal));
+            let commits = subdiv_io::stop_commits();
+            std::process::exit(failure::exit_code_after_signal(signal, commits, batch));
         }
     });
 }
@@ -82,7 +87,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     progress::set_quiet(cli.quiet);
-    install_signal_cleanup();
+    install_signal_cleanup(matches!(cli.command, Command::Batch(_)));
     let result = match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Subdivide(args) => subdivide::run(&args),

@@ -2,14 +2,13 @@
 //! points with normals on the limit surface (a point cloud: PLY, OBJ or OFF
 //! vertices with normals, no faces).
 
-use crate::failure::{bad_input, Failure};
+use crate::failure::{bad_input, budget, over_budget, Failure};
 use crate::load::{load_tagged_mesh, TagArgs};
 use crate::outputs::Outputs;
 use crate::subdivide::{beta_parser, evaluated_scheme, scheme_parser, SurfaceArgs};
 use anyhow::anyhow;
 use std::path::{Path, PathBuf};
-use subdiv_eval::project::BoundLimitSurface;
-use subdiv_eval::{sample_by_area, sample_per_domain, LimitSurface};
+use subdiv_eval::{per_domain_count, sample_surface, LimitSurface, Sampling, SAMPLE_BYTES};
 use subdiv_mesh::{FaceList, Mesh};
 use subdiv_stencil::{Options, Scheme};
 
@@ -70,7 +69,15 @@ pub struct SampleArgs {
     /// Output point cloud with normals (.ply, .obj or .off).
     #[arg(short, long)]
     output: PathBuf,
+    /// Memory budget of the samples, in bytes (suffixes K, M, G, T; default ¾ of the memory
+    /// available). More samples are refused with exit 2.
+    #[arg(long, value_name = "BYTES", value_parser = subdiv::budget::parse_bytes)]
+    max_memory: Option<u64>,
 }
+
+/// Bytes the command holds per sample: the library's ([`SAMPLE_BYTES`]) and the positions and
+/// normals handed to the writer.
+const CLI_SAMPLE_BYTES: u64 = SAMPLE_BYTES + 48;
 
 /// Runs `subdiv sample`.
 pub fn run(args: &SampleArgs) -> Result<(), Failure> {
@@ -86,13 +93,17 @@ pub fn run(args: &SampleArgs) -> Result<(), Failure> {
         )));
     }
     let (mesh, _, surface) = args.limit.load(&args.mesh)?;
-    let bound = BoundLimitSurface::new(&surface, mesh.positions()).map_err(|e| bad_input(anyhow!("{e}")))?;
-    let samples = match (args.per_face, args.count) {
-        (Some(n), _) => sample_per_domain(&bound, n),
-        (None, Some(n)) => sample_by_area(&bound, n, args.seed),
-        (None, None) => unreachable!("clap requires one"),
-    }
-    .map_err(|e| bad_input(anyhow!("{}: {e}", args.mesh.display())))?;
+    // Sized before anything is allocated.
+    let domains = surface.domains().len();
+    let (how, count, flag) = match (args.per_face, args.count) {
+        (Some(n), _) => (Sampling::PerDomain(n), per_domain_count(domains, n), "--per-face"),
+        (None, Some(n)) => (Sampling::ByArea { count: n, seed: args.seed }, u64::try_from(n).ok(), "--count"),
+        (None, None) => return Err(bad_input(anyhow!("give --per-face N or --count N"))),
+    };
+    let remedy = format!("use a smaller {flag}");
+    budget(args.max_memory).check_items(flag, count, "samples", CLI_SAMPLE_BYTES, &remedy).map_err(over_budget)?;
+    let samples = sample_surface(&surface, mesh.positions(), how)
+        .map_err(|e| bad_input(anyhow!("{}: {e}", args.mesh.display())))?;
     let positions: Vec<_> = samples.iter().map(|s| s.position).collect();
     let normals: Vec<_> = samples.iter().map(|s| s.normal).collect();
     stage_cloud(&mut outputs, &args.output, format, &positions, &normals)?;

@@ -56,7 +56,7 @@ use crate::bvh::{union, Bvh};
 use crate::surface::{BoundSurface, Domain, EvalError, LimitJet, LimitSample, LimitSurface, SurfaceParam};
 use glam::DVec3;
 use rayon::prelude::*;
-use subdiv_mesh::{Aabb, FaceId, HalfEdgeId, Mesh, Topology, VertexId};
+use subdiv_mesh::{Aabb, FaceId, HalfEdgeId, Mesh, PowerOfTwoScale, Topology, VertexId};
 use subdiv_stencil::{Domain as ParamDomain, Options, Scheme, SubdivisionPlan};
 
 /// Boxes are grown by this fraction of the control mesh's bbox diagonal
@@ -812,8 +812,42 @@ pub fn project_points(
     project: &ProjectOptions,
 ) -> Result<Vec<Projection>, EvalError> {
     let surface = LimitSurface::new(mesh, options)?;
-    let projector = projector(&surface, mesh, options, project)?;
-    projector.project_all(queries)
+    project_on(&surface, mesh, options, queries, project)
+}
+
+/// [`project_points`] on a `surface` already built from `mesh` and
+/// `options`. The projection runs on the mesh and the queries scaled by the
+/// exact power of two that brings the mesh's largest coordinate into
+/// [½, 1) ([`PowerOfTwoScale::normalizing`]), and the positions and
+/// distances are mapped back: squared distances of a surface at 1e-200 or
+/// 1e200 neither underflow nor overflow, so the closest point is the one
+/// found at scale 1. A query so far from the surface that its scaled
+/// coordinates overflow gives an infinite distance (the caller refuses to
+/// write it).
+///
+/// # Errors
+/// As [`project_points`].
+pub fn project_on(
+    surface: &LimitSurface,
+    mesh: &Mesh,
+    options: &Options,
+    queries: &[DVec3],
+    project: &ProjectOptions,
+) -> Result<Vec<Projection>, EvalError> {
+    let scale = PowerOfTwoScale::normalizing(mesh.positions().iter().copied());
+    if scale.is_identity() {
+        return projector(surface, mesh, options, project)?.project_all(queries);
+    }
+    let mut scaled = mesh.clone();
+    scale.apply_points(scaled.positions_mut());
+    let queries = scale.scaled_points(queries);
+    let mut found = projector(surface, &scaled, options, project)?.project_all(&queries)?;
+    let back = scale.inverse();
+    found.par_iter_mut().for_each(|p| {
+        p.position = back.apply_point(p.position);
+        p.distance = back.apply(p.distance);
+    });
+    Ok(found)
 }
 
 /// A [`Projector`] over `surface` (built from `mesh` and `options`) at

@@ -14,12 +14,89 @@
 //!   is uniform per unit area up to the variation of the surface's area
 //!   element inside one tessellation triangle. Deterministic: the ξ come
 //!   from a SplitMix64 stream seeded by `seed`.
+//! - [`sample_surface`]: either of them on a [`LimitSurface`] at given
+//!   positions, computed on the positions scaled by the power of two that
+//!   normalises them and mapped back, so that a surface at 1e-300 or 1e300
+//!   has the areas, points and normals it has at 1.
+//!
+//! Sizes: a count that memory cannot hold ([`SAMPLE_BYTES`] per sample,
+//! more than `isize::MAX` bytes) is [`EvalError::InvalidInput`], never a
+//! panic or an abort; callers with a memory budget check
+//! [`per_domain_count`] or the count against it before they call.
 
-use crate::project::{DomainShape, PatchEvaluator};
-use crate::surface::{EvalError, SurfaceParam};
+use crate::project::{BoundLimitSurface, DomainShape, PatchEvaluator};
+use crate::surface::{EvalError, LimitSurface, SurfaceParam};
 use glam::DVec3;
 use rayon::prelude::*;
 use subdiv_mesh::shapes::SplitMix64;
+use subdiv_mesh::PowerOfTwoScale;
+
+/// Bytes the sampling functions hold per sample: the sample itself and,
+/// for [`sample_by_area`], its pick (triangle, two random numbers).
+pub const SAMPLE_BYTES: u64 = (std::mem::size_of::<SurfaceSample>() + std::mem::size_of::<(usize, f64, f64)>()) as u64;
+
+/// The number of samples [`sample_per_domain`] makes with `n` per side on
+/// `domains` domains: n² each (cells of a square, sub-triangles of a
+/// triangle); `None` beyond `u64`.
+pub fn per_domain_count(domains: usize, n: usize) -> Option<u64> {
+    let n = u64::try_from(n).ok()?;
+    n.checked_mul(n)?.checked_mul(u64::try_from(domains).ok()?)
+}
+
+/// Refuses `count` samples when their [`SAMPLE_BYTES`] cannot be held
+/// (more than `isize::MAX` bytes, or a count beyond `u64`).
+fn check_count(count: Option<u64>, what: impl FnOnce() -> String) -> Result<usize, EvalError> {
+    count
+        .filter(|&c| c.checked_mul(SAMPLE_BYTES).is_some_and(|b| b <= isize::MAX as u64))
+        .and_then(|c| usize::try_from(c).ok())
+        .ok_or_else(|| EvalError::InvalidInput {
+            what: format!("{}: more samples than memory can hold ({SAMPLE_BYTES} bytes each)", what()),
+        })
+}
+
+/// How [`sample_surface`] places its points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sampling {
+    /// [`sample_per_domain`] with N per side.
+    PerDomain(usize),
+    /// [`sample_by_area`]: `count` points from `seed`.
+    ByArea {
+        /// Points in all.
+        count: usize,
+        /// Seed of the random stream.
+        seed: u64,
+    },
+}
+
+/// Samples of `surface` at control points `positions` (module docs),
+/// computed on the positions scaled by an exact power of two into
+/// [½, 1) ([`PowerOfTwoScale::normalizing`]) and mapped back: areas,
+/// points and normals do not underflow or overflow for coordinates from
+/// 1e-300 to 1e308. A point whose mapped-back coordinates exceed the range
+/// of `f64` (a surface bulging beyond ±1.8e308) comes back infinite; the
+/// caller refuses to write it.
+///
+/// # Errors
+/// Those of [`sample_per_domain`] and [`sample_by_area`];
+/// [`EvalError::PositionCount`].
+pub fn sample_surface(
+    surface: &LimitSurface,
+    positions: &[DVec3],
+    how: Sampling,
+) -> Result<Vec<SurfaceSample>, EvalError> {
+    let scale = PowerOfTwoScale::normalizing(positions.iter().copied());
+    let scaled = scale.scaled_points(positions);
+    let bound = BoundLimitSurface::new(surface, &scaled)?;
+    let mut samples = match how {
+        Sampling::PerDomain(n) => sample_per_domain(&bound, n)?,
+        Sampling::ByArea { count, seed } => sample_by_area(&bound, count, seed)?,
+    };
+    let back = scale.inverse();
+    if !back.is_identity() {
+        samples.par_iter_mut().for_each(|s| s.position = back.apply_point(s.position));
+    }
+    Ok(samples)
+}
 
 /// Tessellation splits per domain side for [`sample_by_area`]'s areas.
 pub const AREA_SPLITS: usize = 8;
@@ -65,11 +142,14 @@ pub(crate) fn sub_triangles(shape: DomainShape, n: usize) -> Vec<[(f64, f64); 3]
 /// centroids), domain by domain in [`PatchEvaluator::domains`] order.
 ///
 /// # Errors
-/// [`EvalError::InvalidInput`] for `n = 0`; what evaluation returns.
+/// [`EvalError::InvalidInput`] for `n = 0` and for more samples than memory
+/// can hold; what evaluation returns.
 pub fn sample_per_domain<E: PatchEvaluator>(eval: &E, n: usize) -> Result<Vec<SurfaceSample>, EvalError> {
     if n == 0 {
         return Err(EvalError::InvalidInput { what: "samples per domain: N must be at least 1".into() });
     }
+    let domains = eval.domains().len();
+    check_count(per_domain_count(domains, n), || format!("{n}×{n} samples on each of {domains} domains"))?;
     let params: Vec<(f64, f64)> = match eval.shape() {
         DomainShape::Square => {
             (0..n * n).map(|k| (((k % n) as f64 + 0.5) / n as f64, ((k / n) as f64 + 0.5) / n as f64)).collect()
@@ -98,9 +178,11 @@ pub fn sample_per_domain<E: PatchEvaluator>(eval: &E, n: usize) -> Result<Vec<Su
 /// `count` samples distributed by area (module docs), reproducible from `seed`.
 ///
 /// # Errors
-/// [`EvalError::NoSurface`] when the surface has no domain or no area; what
+/// [`EvalError::NoSurface`] when the surface has no domain or no area;
+/// [`EvalError::InvalidInput`] for more samples than memory can hold; what
 /// evaluation returns.
 pub fn sample_by_area<E: PatchEvaluator>(eval: &E, count: usize, seed: u64) -> Result<Vec<SurfaceSample>, EvalError> {
+    check_count(u64::try_from(count).ok(), || format!("{count} samples"))?;
     let shape = eval.shape();
     let tris = sub_triangles(shape, AREA_SPLITS);
     let domains = eval.domains();
@@ -127,13 +209,15 @@ pub fn sample_by_area<E: PatchEvaluator>(eval: &E, count: usize, seed: u64) -> R
         return Err(EvalError::NoSurface);
     }
     let mut rng = SplitMix64(seed);
-    let picks: Vec<(usize, f64, f64)> = (0..count)
-        .map(|i| {
-            let x = (i as f64 + rng.next_f64()) / count as f64 * total;
-            let k = cumulative.partition_point(|&c| c <= x).min(cumulative.len() - 1);
-            (k, rng.next_f64(), rng.next_f64())
-        })
-        .collect();
+    let mut picks: Vec<(usize, f64, f64)> = Vec::new();
+    picks.try_reserve_exact(count).map_err(|_| EvalError::InvalidInput {
+        what: format!("{count} samples: more than memory can hold ({SAMPLE_BYTES} bytes each)"),
+    })?;
+    picks.extend((0..count).map(|i| {
+        let x = (i as f64 + rng.next_f64()) / count as f64 * total;
+        let k = cumulative.partition_point(|&c| c <= x).min(cumulative.len() - 1);
+        (k, rng.next_f64(), rng.next_f64())
+    }));
     picks
         .par_iter()
         .map(|&(k, r1, r2)| {

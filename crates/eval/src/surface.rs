@@ -46,7 +46,7 @@ use crate::patch::{basis, regular_points, Basis, PatchKind, RegularSpec};
 use crate::{catmull_clark, doo_sabin, loop_scheme, patch_vertex};
 use glam::DVec3;
 use rayon::prelude::*;
-use subdiv_mesh::{FaceId, Mesh, Tags, Topology, VertexId};
+use subdiv_mesh::{FaceId, Mesh, PowerOfTwoScale, Tags, Topology, VertexId};
 use subdiv_stencil::{Domain as ParamDomain, LevelSharpness, Options, Scheme, SchemeTraits, Split, StencilError};
 
 /// A parameter on the limit surface: a domain (`face`, and for a ptex-split
@@ -627,6 +627,41 @@ impl LimitSurface {
         Ok(self.evaluate_jet_with(positions, param, None)?.sample)
     }
 
+    /// [`Self::evaluate`] at every parameter of `params`, in order, computed
+    /// on `positions` scaled by the exact power of two that brings their
+    /// largest coordinate into [½, 1) ([`PowerOfTwoScale::normalizing`]) and
+    /// mapped back (positions and derivatives; the normal does not change
+    /// with the scale): a surface at 1e-300 or 1e300 evaluates as it does
+    /// at scale one. A value beyond the range of `f64` once mapped back
+    /// (derivatives of a surface near ±1.8e308) comes back infinite, for the
+    /// caller to refuse.
+    ///
+    /// # Errors
+    /// The index in `params` of the first parameter that fails, with its
+    /// error ([`EvalError::PositionCount`] at index 0 for the positions).
+    pub fn evaluate_all(
+        &self,
+        positions: &[DVec3],
+        params: &[SurfaceParam],
+    ) -> Result<Vec<LimitSample>, (usize, EvalError)> {
+        let scale = PowerOfTwoScale::normalizing(positions.iter().copied());
+        let scaled = scale.scaled_points(positions);
+        let bound = self.bind(&scaled).map_err(|e| (0, e))?;
+        let back = scale.inverse();
+        params
+            .par_iter()
+            .enumerate()
+            .with_min_len(64)
+            .map(|(i, &p)| {
+                let s = bound.evaluate(p).map_err(|e| (i, e))?;
+                let map = |x: DVec3| back.apply_point(x);
+                Ok(LimitSample { position: map(s.position), du: map(s.du), dv: map(s.dv), normal: s.normal })
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .collect()
+    }
+
     /// [`Self::evaluate`] with the second derivatives.
     ///
     /// # Errors
@@ -1181,17 +1216,27 @@ fn jet_of(b: &Basis, points: &[DVec3], j: &[[f64; 2]; 2]) -> [DVec3; 6] {
 fn degenerate_normal(jet: &[DVec3; 6], u: f64, v: f64) -> Option<DVec3> {
     let [_, du, dv, duu, _, dvv] = *jet;
     let inward = |x: f64| if x > 0.5 { -1.0 } else { 1.0 };
-    if du.length() <= DEGENERATE_DERIVATIVE * dv.length() {
+    // The lengths compared on one common scale (no overflow or underflow of the squares).
+    let scale = PowerOfTwoScale::normalizing([du, dv]);
+    let (du_length, dv_length) = (scale.apply_point(du).length(), scale.apply_point(dv).length());
+    if du_length <= DEGENERATE_DERIVATIVE * dv_length {
         Some(unit_normal(inward(u) * duu, dv))
-    } else if dv.length() <= DEGENERATE_DERIVATIVE * du.length() {
+    } else if dv_length <= DEGENERATE_DERIVATIVE * du_length {
         Some(unit_normal(du, inward(v) * dvv))
     } else {
         None
     }
 }
 
+/// du × dv normalised; zero where it vanishes. Each factor is first scaled
+/// by an exact power of two into [½, 1) (the direction of the cross product
+/// does not change), so the normal of a surface at 1e-300 or 1e300 is as
+/// accurate as at 1: the products neither underflow nor overflow.
 fn unit_normal(du: DVec3, dv: DVec3) -> DVec3 {
-    let n = du.cross(dv);
+    let scaled = |d: DVec3| PowerOfTwoScale::normalizing([d]).apply_point(d);
+    let n = scaled(du).cross(scaled(dv));
+    // n's largest component is at most 2; a zero or subnormal one is scaled up too.
+    let n = PowerOfTwoScale::normalizing([n]).apply_point(n);
     let l = n.length();
     if l > 0.0 && l.is_finite() {
         n / l

@@ -15,7 +15,17 @@
 //! Every live temporary is listed in a process-wide registry, so a signal
 //! handler can delete them with [`remove_staged_files`] before the process
 //! exits (a SIGKILL cannot be handled: it may leave a `.tmp` file, never a
-//! partial target).
+//! partial target). [`stop_commits`] is what a handler calls first: it
+//! waits for a [`commit_all`] under way to finish (or roll back), so that
+//! no target is left half-replaced, keeps every later one from starting,
+//! and says how many completed — the handler's exit code can then say what
+//! is on disk.
+//!
+//! A target is only ever a regular file: staging refuses a path that names a
+//! directory, a FIFO, a device or a socket, or a symbolic link to one
+//! ([`IoError::NotAFile`]), and so does the commit (a rename would replace
+//! the special file) — the one destination check of every writer here
+//! ([`crate::fs::destination`]).
 //!
 //! [error behaviour]: https://github.com/subdiv/subdiv/blob/main/docs/ARCHITECTURE.md#contract-error-behaviour-and-exit-codes
 
@@ -36,6 +46,12 @@ fn live() -> MutexGuard<'static, Vec<PathBuf>> {
     LIVE_TEMPORARIES.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
+/// Held by [`commit_all`] while it renames, and forever by [`stop_commits`].
+static COMMITS: Mutex<()> = Mutex::new(());
+
+/// [`commit_all`] calls that completed (every file in place).
+static COMMITTED: AtomicU64 = AtomicU64::new(0);
+
 fn forget(path: &Path) {
     live().retain(|p| p != path);
 }
@@ -47,6 +63,42 @@ pub fn remove_staged_files() {
     for path in live().drain(..) {
         let _ = fs::remove_file(path);
     }
+}
+
+/// For a signal handler about to exit: waits until a [`commit_all`] under
+/// way has finished (all its files in place, or all rolled back), keeps
+/// every later commit from starting (it blocks until the process exits),
+/// removes the temporaries ([`remove_staged_files`]) and returns how many
+/// [`commit_all`] calls completed. A command that commits its outputs once,
+/// at its end, has them all in place when this returns 1, and none when it
+/// returns 0.
+pub fn stop_commits() -> u64 {
+    let held = COMMITS.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    // Never released: the process is about to exit.
+    std::mem::forget(held);
+    remove_staged_files();
+    COMMITTED.load(Ordering::SeqCst)
+}
+
+/// The number of [`commit_all`] calls that completed so far.
+pub fn commits_completed() -> u64 {
+    COMMITTED.load(Ordering::SeqCst)
+}
+
+/// Refuses a target that is not a regular file or absent (see the module
+/// documentation): renaming over a FIFO or a device would replace it.
+fn check_target(path: &Path) -> Result<(), IoError> {
+    use crate::fs::{destination, Destination};
+    let kind = match destination(path) {
+        Destination::Absent | Destination::File => return Ok(()),
+        Destination::Directory => "a directory",
+        Destination::Special => match fs::symlink_metadata(path) {
+            Ok(m) => crate::file_kind(m.file_type()),
+            Err(_) => "a special file",
+        },
+        Destination::LinkToNonFile => "a link to something that is not a regular file",
+    };
+    Err(IoError::NotAFile { path: path.to_path_buf(), kind })
 }
 
 /// A complete output in a temporary file beside its target, not yet in place.
@@ -102,9 +154,20 @@ impl Drop for StagedFile {
 /// target that existed before cannot be restored and keeps its new, complete
 /// contents) and the remaining staged files are removed.
 ///
+/// Commits are serialised across threads, and a signal handler's
+/// [`stop_commits`] waits for the one under way: the targets are never left
+/// with some files replaced and others not.
+///
 /// # Errors
-/// [`IoError::Io`] naming the target that could not be replaced.
+/// [`IoError::Io`] naming the target that could not be replaced;
+/// [`IoError::NotAFile`] when a target has become a directory, FIFO, device
+/// or socket since it was staged (nothing is replaced then).
 pub fn commit_all(files: Vec<StagedFile>) -> Result<(), IoError> {
+    let _commit = COMMITS.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    // Checked before the first rename, so a refusal replaces nothing.
+    for file in &files {
+        check_target(&file.target)?;
+    }
     // (target, backup of its old contents if it had any) for each renamed file.
     let mut replaced: Vec<(PathBuf, Option<PathBuf>)> = Vec::new();
     let mut files = files.into_iter();
@@ -152,6 +215,9 @@ pub fn commit_all(files: Vec<StagedFile>) -> Result<(), IoError> {
         }
     }
     // The remaining staged files are dropped (removed) with the iterator.
+    if failure.is_none() {
+        COMMITTED.fetch_add(1, Ordering::SeqCst);
+    }
     failure.map_or(Ok(()), Err)
 }
 
@@ -194,6 +260,7 @@ pub(crate) fn stage_with(
 ) -> Result<StagedFile, IoError> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let ctx = Ctx::new(path);
+    check_target(path)?;
     let name = path
         .file_name()
         .ok_or_else(|| ctx.io(io::Error::new(io::ErrorKind::InvalidInput, "output path has no file name")))?;
@@ -233,7 +300,8 @@ pub(crate) fn stage_with(
 /// non-mesh outputs that must be committed with the meshes).
 ///
 /// # Errors
-/// [`IoError::Io`] naming `path`.
+/// [`IoError::Io`] naming `path`; [`IoError::NotAFile`] when `path` names a
+/// directory, FIFO, device or socket.
 pub fn stage_bytes(path: &Path, bytes: &[u8]) -> Result<StagedFile, IoError> {
     stage_with(path, &mut |_| {}, |out| out.write_all(bytes).map_err(|e| Ctx::new(path).io(e)))
 }
@@ -333,6 +401,38 @@ mod tests {
         assert_eq!(seen.last(), Some(&(9 << 20)));
         assert!(seen.len() >= 3 && seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
         drop(staged);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// One destination check: a FIFO (or a directory) as the target is refused when staged, and
+    /// when it appears between staging and committing nothing is replaced.
+    #[cfg(unix)]
+    #[test]
+    fn special_targets_are_refused_when_staged_and_committed() {
+        let dir = scratch("special");
+        let fifo = dir.join("out.obj");
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let e = stage_bytes(&fifo, b"x").unwrap_err();
+        assert!(matches!(e, IoError::NotAFile { kind: "a FIFO", .. }), "{e}");
+        assert!(matches!(stage_bytes(&dir, b"x"), Err(IoError::NotAFile { kind: "a directory", .. })));
+        fs::remove_file(&fifo).unwrap();
+        let (a, b) = (dir.join("a.txt"), dir.join("b.txt"));
+        let staged = vec![stage_bytes(&a, b"A").unwrap(), stage_bytes(&b, b"B").unwrap()];
+        assert!(std::process::Command::new("mkfifo").arg(&b).status().unwrap().success());
+        assert!(matches!(commit_all(staged), Err(IoError::NotAFile { .. })));
+        assert!(!a.exists(), "nothing is replaced when one target is refused");
+        let names: Vec<String> =
+            fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        assert_eq!(names, ["b.txt"], "temporaries removed");
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn completed_commits_are_counted() {
+        let dir = scratch("count");
+        let before = commits_completed();
+        stage_bytes(&dir.join("c.txt"), b"c").unwrap().commit().unwrap();
+        assert!(commits_completed() > before);
         fs::remove_dir_all(&dir).unwrap();
     }
 }

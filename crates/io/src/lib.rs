@@ -141,7 +141,7 @@ use glam::DVec3;
 use std::io::{Read, Seek};
 use std::path::Path;
 
-pub use atomic::{commit_all, remove_staged_files, stage_bytes, StagedFile};
+pub use atomic::{commit_all, commits_completed, remove_staged_files, stage_bytes, stop_commits, StagedFile};
 pub use error::{IoError, ReadWarning};
 pub use format::Format;
 pub use subdiv_mesh::{EdgeTag, FaceGroups, FaceList, FaceVarying, Mesh, MeshError, PolygonSoup, TagList, VertexTag};
@@ -281,7 +281,7 @@ fn read_open_file(
 }
 
 /// What a file type that is not a regular file is, for [`IoError::NotAFile`].
-fn file_kind(file_type: std::fs::FileType) -> &'static str {
+pub(crate) fn file_kind(file_type: std::fs::FileType) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;

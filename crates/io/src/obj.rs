@@ -672,10 +672,10 @@ pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()>
     if let Some(tags) = mesh.tags {
         // `{:?}` of an f32 is the shortest form that parses back to it.
         for t in &tags.creases {
-            writeln!(out, "t crease 2/1/0 {} {} {:?}", t.a, t.b, t.sharpness)?;
+            writeln!(out, "t crease 2/1/0 {} {} {:?}", t.a, t.b, written_sharpness(t.sharpness))?;
         }
         for t in &tags.corners {
-            writeln!(out, "t corner 1/1/0 {} {:?}", t.vertex, t.sharpness)?;
+            writeln!(out, "t corner 1/1/0 {} {:?}", t.vertex, written_sharpness(t.sharpness))?;
         }
         for chunk in tags.holes.chunks(HOLES_PER_LINE) {
             write!(out, "t hole {}/0/0", chunk.len())?;
@@ -687,6 +687,17 @@ pub(crate) fn write(mesh: &MeshView<'_>, out: &mut impl Write) -> io::Result<()>
         write_option_tags(&tags.options, out)?;
     }
     Ok(())
+}
+
+/// A sharpness as written: clamped to the largest finite `f32`. Every
+/// sharpness from [`subdiv_mesh::SHARPNESS_INFINITE`] (10) up is infinitely
+/// sharp, so the clamp keeps the meaning, and the file holds a number every
+/// OBJ reader (OpenSubdiv's `f32` included) reads back, never `inf`: an
+/// infinite sharpness (a tag of 1e39 read as `f32`, or `+∞` set through the
+/// library) is written as `3.4028235e38`. Validated tags are never NaN or
+/// negative.
+fn written_sharpness(s: f32) -> f32 {
+    s.min(f32::MAX)
 }
 
 /// Face indices per `t hole` line written.
@@ -732,6 +743,22 @@ mod tests {
 
     fn read_str(s: &str) -> Result<PolygonSoup, IoError> {
         read(s.as_bytes(), Ctx::new(Path::new("t.obj"))).map(|(soup, _)| soup)
+    }
+
+    /// A sharpness read as +∞ (1e39 does not fit in `f32`) is written as the largest `f32`,
+    /// which reads back as infinitely sharp: never `inf`.
+    #[test]
+    fn infinite_sharpness_is_written_as_the_largest_f32() {
+        let soup =
+            read_str("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 1 1e39\nt corner 1/1/0 2 inf\n").unwrap();
+        assert_eq!(soup.tags.creases[0].sharpness, f32::INFINITY);
+        let bytes = crate::write_mesh_to_vec(crate::MeshView::from(&soup), crate::Format::Obj).unwrap();
+        let text = String::from_utf8(bytes).unwrap();
+        assert!(text.contains("t crease 2/1/0 0 1 3.4028235e38\n"), "{text}");
+        assert!(text.contains("t corner 1/1/0 2 3.4028235e38\n"), "{text}");
+        assert!(!text.contains("inf"), "{text}");
+        let back = read_str(&text).unwrap();
+        assert_eq!(back.tags.creases[0].sharpness, f32::MAX);
     }
 
     #[test]

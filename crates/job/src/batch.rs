@@ -85,6 +85,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
+use subdiv_io::fs::Destination;
 
 /// What [`BatchError::NoMeshInDirectory`] adds when the mesh files may be
 /// further down.
@@ -292,6 +293,14 @@ pub fn run_one_as(
         command.validate()?;
         subdiv_io::fs::ensure_dir(out_dir)
             .map_err(|e| JobError::write_failed(format!("{}: {e}", out_dir.display())))?;
+        // The record is an output too: checked before any work, as the outputs are.
+        if !matches!(subdiv_io::fs::destination(&record_path), Destination::Absent | Destination::File) {
+            return Err(JobError::bad_input(format!(
+                "{} exists and is not a regular file: refusing to replace it with the record",
+                record_path.display()
+            ))
+            .into());
+        }
         let mut job = jobs::Job::new(input, out_dir, name);
         let result = match command {
             Command::Info(o) => job.info(o),
@@ -315,7 +324,13 @@ pub fn run_one_as(
     };
     if let Err(e) = store(&record_path, &record) {
         if record.error.is_none() {
-            record.error = Some(RecordError::new(ErrorKind::WriteFailed, crate::error::one_line(&e)));
+            // A special file put there since the check is refused as the check refuses it.
+            let kind = if matches!(e, subdiv_io::IoError::NotAFile { .. }) {
+                ErrorKind::BadInput
+            } else {
+                ErrorKind::WriteFailed
+            };
+            record.error = Some(RecordError::new(kind, crate::error::one_line(&e)));
         }
     }
     record

@@ -3,7 +3,9 @@
 //! size of the result is known before anything is allocated
 //! ([`subdiv_stencil::size`]), so a refinement that would not fit in memory
 //! is refused, with the estimate, instead of aborting on a failed
-//! allocation.
+//! allocation. The same budget guards every other result whose size the
+//! caller gives: samples (`sample --count`, `--per-face`), evaluation
+//! parameters and projection queries ([`MemoryBudget::check_items`]).
 //!
 //! The budget is a given number of bytes (the command line's `--max-memory`),
 //! else ¾ of the memory this process can still get: the least of the
@@ -54,6 +56,41 @@ pub enum BudgetError {
         /// Where the budget comes from ("--max-memory", "¾ of the 20.1 GiB available").
         source_of_budget: String,
     },
+    /// A result of a given number of items (samples, evaluation parameters,
+    /// projection queries) needs more memory than the budget.
+    #[error(
+        "{what}: {items} need about {}: more than the memory budget of {} ({source_of_budget}); {remedy}",
+        Bytes(*.need), Bytes(*.budget)
+    )]
+    TooManyItems {
+        /// What asks for them ("--count", "--at p.txt").
+        what: String,
+        /// "1,000,000,000,000 samples" (or "more than 18,446,744,073,709,551,615 samples").
+        items: String,
+        /// Estimated bytes (saturated at `u64::MAX`).
+        need: u64,
+        /// The budget in bytes (`isize::MAX` when the memory available is unknown).
+        budget: u64,
+        /// Where the budget comes from.
+        source_of_budget: String,
+        /// What to do ("use a smaller --count").
+        remedy: String,
+    },
+}
+
+impl BudgetError {
+    /// A result of `items` needing `need` bytes, over `budget` (for
+    /// [`MemoryBudget::check_items`]).
+    fn too_many(what: &str, items: String, need: u64, budget: &MemoryBudget, remedy: &str) -> Self {
+        BudgetError::TooManyItems {
+            what: what.to_string(),
+            items,
+            need,
+            budget: budget.bytes.unwrap_or(isize::MAX as u64),
+            source_of_budget: budget.source.clone(),
+            remedy: remedy.to_string(),
+        }
+    }
 }
 
 /// A number of bytes, printed with a binary unit.
@@ -186,8 +223,55 @@ impl MemoryBudget {
     }
 }
 
+impl MemoryBudget {
+    /// Refuses a result of `count` items of `bytes_each` bytes (`count`
+    /// `None`: beyond `u64`) when it exceeds the budget — or, when the
+    /// memory available is unknown, what one allocation can hold
+    /// (`isize::MAX` bytes). `what` names the request ("--count"), `noun`
+    /// the items ("samples"), `remedy` what to do instead.
+    ///
+    /// ```
+    /// use subdiv_job::budget::MemoryBudget;
+    /// let budget = MemoryBudget::given(1 << 30, "--max-memory");
+    /// assert!(budget.check_items("--count", Some(1000), "samples", 144, "use a smaller --count").is_ok());
+    /// let e = budget.check_items("--count", Some(1_000_000_000_000), "samples", 144, "use a smaller --count");
+    /// assert_eq!(
+    ///     e.unwrap_err().to_string(),
+    ///     "--count: 1,000,000,000,000 samples need about 131.0 TiB: more than the memory budget of 1.0 GiB \
+    ///      (--max-memory); use a smaller --count"
+    /// );
+    /// ```
+    ///
+    /// # Errors
+    /// [`BudgetError::TooManyItems`].
+    pub fn check_items(
+        &self,
+        what: &str,
+        count: Option<u64>,
+        noun: &str,
+        bytes_each: u64,
+        remedy: &str,
+    ) -> Result<(), BudgetError> {
+        let limit = self.bytes.unwrap_or(isize::MAX as u64).min(isize::MAX as u64);
+        let Some(count) = count else {
+            return Err(BudgetError::too_many(
+                what,
+                format!("more than {} {noun}", group(u64::MAX)),
+                u64::MAX,
+                self,
+                remedy,
+            ));
+        };
+        let need = count.saturating_mul(bytes_each);
+        if need > limit {
+            return Err(BudgetError::too_many(what, format!("{} {noun}", group(count)), need, self, remedy));
+        }
+        Ok(())
+    }
+}
+
 /// 1234567 → "1,234,567".
-fn group(n: u64) -> String {
+pub fn group(n: u64) -> String {
     let digits = n.to_string();
     let mut out = String::new();
     for (i, c) in digits.chars().enumerate() {

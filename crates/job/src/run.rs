@@ -370,9 +370,13 @@ pub fn interpolate(
     swap(&mut result, &mut written);
     // Positions written unchanged (a 64-bit format, or none written): the method's own
     // measurement on these very bits is the same computation.
+    // The method measures on its normalised positions: mapped back into the subnormal range
+    // (|x| < 2.2e-308) they keep fewer digits, so those are measured as written, exactly.
+    let subnormal = has_subnormal(result.control.positions());
     let measured =
         outputs::require_finite(name, &result.control, None).map(|()| match (&written, result.measured_error) {
-            (None, Some(error)) => error,
+            (None, Some(error)) if !subnormal => error,
+            _ if subnormal => error_scaled_up(&mut result, mesh.positions(), d),
             _ => result.error(mesh.positions(), &result.interpolated, d),
         });
     swap(&mut result, &mut written);
@@ -382,8 +386,14 @@ pub fn interpolate(
     // not held to `tol`.
     let approximates = o.method == Method::Fair && o.fairness_weight.is_some();
     if error.max_rel.is_nan() || (error.max_rel > o.tol && !approximates) {
+        let why = if subnormal {
+            " (the control mesh has subnormal coordinates, below 2.2e-308, which hold too few digits: \
+             scale the mesh up)"
+        } else {
+            ""
+        };
         return Err(JobError::not_converged(format!(
-            "{}: {name}: the measured error {:.3e}·d exceeds --tol {:.1e} (mean {:.3e}·d); nothing written",
+            "{}: {name}: the measured error {:.3e}·d exceeds --tol {:.1e} (mean {:.3e}·d){why}; nothing written",
             input.display(),
             error.max_rel,
             o.tol,
@@ -427,6 +437,36 @@ pub fn interpolate(
     warnings.extend(result.warnings.iter().cloned());
     warn_all(progress, &warnings);
     Ok(Interpolated { outputs: written, report, error })
+}
+
+/// [`Interpolant::error`] of the control mesh as written, when it has subnormal coordinates:
+/// computed in f64, its limit points would round onto the subnormal grid (spacing 4.9e-324)
+/// and a control mesh that misses the data by a fraction of that grid would measure 0. The
+/// control mesh and the data are scaled up by the power of two that brings their largest
+/// coordinate into [½, 1) — exact for every coordinate — and measured there; the relative
+/// errors are those of the written mesh, the absolute ones are mapped back. When a large
+/// coordinate keeps the scale from going up, the subnormal ones are below d·2⁻¹⁰⁰⁰ and
+/// their rounding does not show in the relative error: measured as usual.
+fn error_scaled_up(result: &mut Interpolant, data: &[DVec3], d: f64) -> subdiv_interp::ErrorStats {
+    let scale = subdiv_mesh::PowerOfTwoScale::normalizing(result.control.positions().iter().chain(data).copied());
+    if scale.exponent <= 0 {
+        return result.error(data, &result.interpolated, d);
+    }
+    let mut scaled = scale.scaled_points(result.control.positions());
+    result.control.positions_mut().swap_with_slice(&mut scaled);
+    let data_scaled = scale.scaled_points(data);
+    let d_scaled = subdiv_mesh::Aabb::of(data_scaled.iter().copied()).map_or(scale.apply(d), |b| b.diagonal());
+    let mut error = result.error(&data_scaled, &result.interpolated, d_scaled);
+    result.control.positions_mut().swap_with_slice(&mut scaled);
+    let back = scale.inverse();
+    error.max_abs = back.apply(error.max_abs);
+    error.mean_abs = back.apply(error.mean_abs);
+    error
+}
+
+/// Whether a coordinate is subnormal (non-zero, below `f64::MIN_POSITIVE` in magnitude).
+fn has_subnormal(positions: &[DVec3]) -> bool {
+    positions.iter().flat_map(|p| p.to_array()).any(|x| x != 0.0 && x.abs() < f64::MIN_POSITIVE)
 }
 
 /// The options a control mesh of Catmull-Clark or Loop carries into its file, so that an

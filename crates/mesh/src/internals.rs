@@ -1,6 +1,6 @@
-//! Test oracles, for this workspace's own tests and benches: compiled only
-//! with the cargo feature `internals` (which the crate's own dev-dependency
-//! on itself turns on).
+//! Test oracles, for this workspace's own tests and benches (hidden from the
+//! documentation; always compiled, so that the tests' build of this crate is
+//! the build every other command uses, with no feature to tell them apart).
 //!
 //! **Not covered by semver**: anything here may change or go in any
 //! release.

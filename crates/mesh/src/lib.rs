@@ -73,7 +73,7 @@ mod error;
 pub mod features;
 mod geometry;
 mod ids;
-#[cfg(any(test, feature = "internals"))]
+#[doc(hidden)]
 pub mod internals;
 mod mesh;
 pub mod nonmanifold;

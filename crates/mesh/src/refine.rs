@@ -18,7 +18,6 @@ use crate::ids::{EdgeId, FaceId, HalfEdgeId, VertexId};
 use crate::topology::Topology;
 
 mod sharp;
-#[cfg(any(test, feature = "internals"))]
 pub(crate) use sharp::general_split;
 pub use sharp::{dual_split_tagged, DualFeatures, SharpDualProvenance, SharpPoint};
 

@@ -7,9 +7,10 @@ use crate::options::{self, Kwargs};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use subdiv::budget::MemoryBudget;
 use subdiv::eval::{
-    fit as fit_surface, fit::{FitLoss, FitMethod}, project_points, sample_by_area, sample_per_domain, EvalError, FitOptions, FitTarget,
-    LimitSurface, ProjectOptions, Projection, SurfaceParam, SurfaceSample,
+    fit as fit_surface, FitLoss, FitMethod, per_domain_count, project_points, sample_surface, EvalError, FitOptions, FitTarget,
+    LimitSurface, ProjectOptions, Projection, Sampling, SurfaceParam, SurfaceSample, SAMPLE_BYTES,
 };
 use subdiv::mesh::DVec3;
 use subdiv::Options;
@@ -67,6 +68,15 @@ fn parameters(params: &Bound<'_, PyAny>) -> Result<Vec<SurfaceParam>, Error> {
         .collect()
 }
 
+/// A result beyond the range of `f64` (the command line's exit 3): `subdiv.NotConvergedError`.
+fn not_representable(what: String) -> Error {
+    Error::NotConverged {
+        message: format!("{what}: the result is not representable in f64 (beyond ±1.8e308); nothing returned"),
+        iterations: None,
+        residual: None,
+    }
+}
+
 fn points(values: &[DVec3]) -> Vec<f64> {
     values.iter().flat_map(|p| p.to_array()).collect()
 }
@@ -85,9 +95,23 @@ pub fn evaluate<'py>(
     let params = parameters(params).raise(py)?;
     let input_mesh = mesh.inner.clone();
     let samples = detached(py, move || {
+        MemoryBudget::available().check_items(
+            "evaluate",
+            u64::try_from(params.len()).ok(),
+            "parameters",
+            EVALUATE_BYTES,
+            "evaluate fewer parameters at a time",
+        )?;
         let surface = LimitSurface::new(&input_mesh, &surface_options)?;
-        let bound = surface.bind(input_mesh.positions())?;
-        params.iter().map(|&p| bound.evaluate(p).map_err(Error::from)).collect::<Result<Vec<_>, Error>>()
+        // On the normalised positions, mapped back (the numeric rule).
+        let samples = surface
+            .evaluate_all(input_mesh.positions(), &params)
+            .map_err(|(row, e)| input(format!("params row {row}: {e}")))?;
+        let finite = |s: &subdiv::eval::LimitSample| [s.position, s.normal, s.du, s.dv].iter().all(|p| p.is_finite());
+        if let Some(row) = samples.iter().position(|s| !finite(s)) {
+            return Err(not_representable(format!("params row {row}")));
+        }
+        Ok(samples)
     })?;
     let n = samples.len();
     let out = PyDict::new(py);
@@ -117,6 +141,14 @@ fn located<'py>(
     Ok(out)
 }
 
+/// Bytes `sample` holds per sample: the library's, the positions and normals, their flat copies
+/// and the six NumPy arrays.
+const PY_SAMPLE_BYTES: u64 = SAMPLE_BYTES + 48 + 48 + 80;
+
+/// Bytes `evaluate` holds per parameter: the parameter, the sample and the four flat copies and
+/// arrays of it.
+const EVALUATE_BYTES: u64 = 24 + 96 + 4 * 48;
+
 /// `sample` (docstring in the Python wrapper).
 #[pyfunction]
 #[pyo3(signature = (mesh, scheme = "catmull-clark", per_face = None, count = None, seed = 0, **options))]
@@ -131,20 +163,26 @@ pub fn sample<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let surface_options = surface_options(py, "sample", scheme, options, mesh.inner.tags().options())?;
     let how = match (per_face, count) {
-        (Some(n), None) => Ok(Err(n)),
-        (None, Some(n)) => Ok(Ok(n)),
+        (Some(n), None) => Ok(Sampling::PerDomain(n)),
+        (None, Some(n)) => Ok(Sampling::ByArea { count: n, seed }),
         _ => Err(input("sample: give exactly one of per_face (an N×N grid per domain) and count (by area)")),
     };
     let how = how.raise(py)?;
     let input_mesh = mesh.inner.clone();
     let samples: Vec<SurfaceSample> = detached(py, move || {
         let surface = LimitSurface::new(&input_mesh, &surface_options)?;
-        let projector =
-            subdiv::eval::project::projector(&surface, &input_mesh, &surface_options, &ProjectOptions::default())?;
-        Ok(match how {
-            Err(n) => sample_per_domain(projector.evaluator(), n)?,
-            Ok(n) => sample_by_area(projector.evaluator(), n, seed)?,
-        })
+        // Sized against the memory budget before anything is allocated.
+        let (count, what) = match how {
+            Sampling::PerDomain(n) => (per_domain_count(surface.domains().len(), n), "sample: per_face"),
+            Sampling::ByArea { count, .. } => (u64::try_from(count).ok(), "sample: count"),
+        };
+        let remedy = format!("use a smaller {}", &what[8..]);
+        MemoryBudget::available().check_items(what, count, "samples", PY_SAMPLE_BYTES, &remedy)?;
+        let samples = sample_surface(&surface, input_mesh.positions(), how)?;
+        if let Some(k) = samples.iter().position(|s| !(s.position.is_finite() && s.normal.is_finite())) {
+            return Err(not_representable(format!("sample {k}")));
+        }
+        Ok(samples)
     })?;
     located(
         py,
@@ -167,8 +205,14 @@ pub fn project<'py>(
     let surface_options = surface_options(py, "project", scheme, options, mesh.inner.tags().options())?;
     let queries: Vec<DVec3> = with_positions(points, |p| Ok(p.iter().map(|&q| DVec3::from_array(q)).collect()))?;
     let input_mesh = mesh.inner.clone();
-    let found: Vec<Projection> =
-        detached(py, move || Ok(project_points(&input_mesh, &surface_options, &queries, &ProjectOptions::default())?))?;
+    let found: Vec<Projection> = detached(py, move || {
+        // On the normalised mesh and queries, mapped back (the numeric rule).
+        let found = project_points(&input_mesh, &surface_options, &queries, &ProjectOptions::default())?;
+        if let Some(k) = found.iter().position(|p| !(p.position.is_finite() && p.distance.is_finite())) {
+            return Err(not_representable(format!("point {k}")));
+        }
+        Ok(found)
+    })?;
     let out = located(
         py,
         found.iter().map(|p| p.param),

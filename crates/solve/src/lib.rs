@@ -98,7 +98,7 @@ pub mod dense;
 mod error;
 pub mod gauss_seidel;
 pub mod gmres;
-#[cfg(any(test, feature = "internals"))]
+#[doc(hidden)]
 pub mod internals;
 pub mod jacobi;
 mod kernels;

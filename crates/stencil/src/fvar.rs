@@ -27,6 +27,9 @@
 //!    boundary vertex under `linear-boundaries`/`linear-all`; a one-face
 //!    boundary vertex under modes other than `linear-none` when the boundary
 //!    option leaves such corners smooth). A matching vertex has one value.
+//!    The values of the others are numbered around the fan as OpenSubdiv
+//!    numbers its siblings, with its shortcut for a fan `A B A B …` (the
+//!    second run of `B` a value of its own: `assign_siblings`).
 //! 2. **Matching values follow the surface:** the scheme's own rules, with
 //!    the vertex's rule from the level's sharpness — boundaries, creases
 //!    (semi-sharp included, with the fractional transition) and corners —
@@ -914,26 +917,26 @@ impl Step<'_> {
     }
 }
 
-/// Numbers the distinct values `at(0..n)` of a fan in order of first face:
+/// Numbers the values `at(0..n)` of a fan in order of first face, as
+/// OpenSubdiv does (`FVarLevel::completeTopologyFromFaceValues`):
 /// `s.distinct` the values, `s.sibling[i]` the number of face i's.
+///
+/// A run of faces continues its predecessor's sibling; a new run takes the
+/// sibling of its value's first run — except for OpenSubdiv's shortcut while
+/// two values are known: a run whose value differs from the first is taken
+/// as a new value without comparing it with the second, so in a fan
+/// `A B A B …` the second run of `B` is a sibling of its own, a duplicate of
+/// `B` ([`repeated_second_value`]). OpenSubdiv refines that duplicate as any
+/// other value (under `linear-none` the two one-face runs of `B` are smooth
+/// crease values, where one disjoint span of `B` would be a corner), so the
+/// shortcut is followed here for the surfaces to agree.
 fn assign_siblings(n: usize, at: impl Fn(usize) -> u32, s: &mut Scratch) {
-    s.sibling.clear();
-    s.distinct.clear();
     if n <= LINEAR_SEARCH_MAX {
-        for i in 0..n {
-            let x = at(i);
-            let k = if i > 0 && x == at(i - 1) {
-                s.sibling[i - 1]
-            } else if let Some(k) = s.distinct.iter().position(|&d| d == x) {
-                k as u32
-            } else {
-                s.distinct.push(x);
-                (s.distinct.len() - 1) as u32
-            };
-            s.sibling.push(k);
-        }
+        assign_siblings_by_scan(n, at, s);
         return;
     }
+    s.sibling.clear();
+    s.distinct.clear();
     // Sort (value, face): each value's group starts at its first face; rank the groups by it.
     s.order.clear();
     s.order.extend((0..n).map(|i| (at(i), i as u32)));
@@ -953,6 +956,58 @@ fn assign_siblings(n: usize, at: impl Fn(usize) -> u32, s: &mut Scratch) {
             s.sibling[i as usize] = k as u32;
         }
     }
+    if let Some(q) = repeated_second_value(n, &at) {
+        // The duplicate is the third sibling: the later ones move up by one.
+        s.sibling.iter_mut().filter(|k| **k >= 2).for_each(|k| *k += 1);
+        let x = at(q);
+        s.distinct.insert(2, x);
+        for i in (q..n).take_while(|&i| at(i) == x) {
+            s.sibling[i] = 2;
+        }
+    }
+}
+
+/// [`assign_siblings`] by a scan of the fan, searching the values known so
+/// far (OpenSubdiv's loop): O(n × values), for small fans.
+fn assign_siblings_by_scan(n: usize, at: impl Fn(usize) -> u32, s: &mut Scratch) {
+    s.sibling.clear();
+    s.distinct.clear();
+    for i in 0..n {
+        let x = at(i);
+        let k = if i > 0 && x == at(i - 1) {
+            s.sibling[i - 1]
+        } else if s.distinct.len() == 2 && s.distinct[0] != x {
+            // OpenSubdiv's shortcut: new, even when x is the second value.
+            s.distinct.push(x);
+            2
+        } else if let Some(k) = s.distinct.iter().position(|&d| d == x) {
+            k as u32
+        } else {
+            s.distinct.push(x);
+            (s.distinct.len() - 1) as u32
+        };
+        s.sibling.push(k);
+    }
+}
+
+/// The first face of the run that OpenSubdiv's shortcut (see
+/// [`assign_siblings`]) numbers as a third sibling although its value is the
+/// second: the first run, while two values are known, whose value is not
+/// the first; `None` when that run brings a new value (or there is none).
+fn repeated_second_value(n: usize, at: impl Fn(usize) -> u32) -> Option<usize> {
+    let first = at(0);
+    let mut second = None;
+    for i in 1..n {
+        let x = at(i);
+        if x == at(i - 1) || x == first {
+            continue;
+        }
+        match second {
+            None => second = Some(x),
+            Some(b) => return (x == b).then_some(i),
+        }
+    }
+    None
 }
 
 /// The tags of a vertex's values from their spans (module docs, step 3;
@@ -1011,6 +1066,23 @@ mod tests {
         assert_eq!(distinct, vec![9, 4, 1]);
         let scanned: Vec<u32> = big.iter().map(|x| distinct.iter().position(|d| d == x).unwrap() as u32).collect();
         assert_eq!(sibling, scanned);
+    }
+
+    #[test]
+    fn a_repeated_second_value_is_a_sibling_of_its_own_as_in_opensubdiv() {
+        // FVarLevel::completeTopologyFromFaceValues: A B A B → siblings 0 1 0 2.
+        assert_eq!(siblings_of(&[5, 8, 5, 8]), (vec![0, 1, 0, 2], vec![5, 8, 8]));
+        // Only while two values are known: a third value first makes the search exact.
+        assert_eq!(siblings_of(&[5, 8, 3, 5, 8]), (vec![0, 1, 2, 0, 1], vec![5, 8, 3]));
+        // The duplicate's run continues it; later runs of the value find its first sibling.
+        assert_eq!(siblings_of(&[5, 8, 5, 8, 8, 3, 8]), (vec![0, 1, 0, 2, 2, 3, 1], vec![5, 8, 8, 3]));
+        // The sorting path of large fans numbers the same way.
+        let big: Vec<u32> = (0..200).map(|i| [9, 4, 9, 4, 4, 1, 4][(i / 7) % 7]).collect();
+        let (sibling, distinct) = siblings_of(&big);
+        assert_eq!(distinct, vec![9, 4, 4, 1]);
+        let mut scanned = Scratch::default();
+        assign_siblings_by_scan(big.len(), |i| big[i], &mut scanned);
+        assert_eq!((sibling, distinct), (scanned.sibling, scanned.distinct));
     }
 
     #[test]

@@ -110,11 +110,31 @@ fn end_to_end_corpus_replays() {
     replay("end_to_end", fuzz_bodies::end_to_end);
 }
 
+#[test]
+fn evaluate_corpus_replays() {
+    replay("evaluate", fuzz_bodies::evaluate);
+}
+
+#[test]
+fn sample_corpus_replays() {
+    replay("sample", fuzz_bodies::sample);
+}
+
+#[test]
+fn project_corpus_replays() {
+    replay("project", fuzz_bodies::project);
+}
+
+#[test]
+fn fit_corpus_replays() {
+    replay("fit", fuzz_bodies::fit);
+}
+
 /// The bodies accept any bytes, empty and short ones included (every decoder
 /// reads zeros past the end).
 #[test]
 fn bodies_take_empty_and_short_inputs() {
-    let bodies: [fn(&[u8]); 7] = [
+    let bodies: [fn(&[u8]); 11] = [
         fuzz_bodies::obj,
         fuzz_bodies::off,
         fuzz_bodies::ply,
@@ -122,6 +142,10 @@ fn bodies_take_empty_and_short_inputs() {
         fuzz_bodies::gltf,
         fuzz_bodies::from_soup,
         fuzz_bodies::end_to_end,
+        fuzz_bodies::evaluate,
+        fuzz_bodies::sample,
+        fuzz_bodies::project,
+        fuzz_bodies::fit,
     ];
     for body in bodies {
         for input in [&b""[..], b"\0", b"\xff\xff\xff"] {

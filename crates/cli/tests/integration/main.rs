@@ -17,6 +17,7 @@ mod facade_pipeline;
 mod fair;
 mod fit_options;
 mod fuzz_corpus;
+mod hostile_inputs;
 mod info_fixtures;
 mod info_methods;
 mod interpolate;

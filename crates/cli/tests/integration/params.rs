@@ -6,11 +6,11 @@
 //! (`evaluate --at`, `project --points` .xyz) are read the same way: a FIFO or
 //! a file in another encoding is refused for every one of them.
 
-use crate::common::{assert_no_panic, fixtures, subdiv};
+use crate::common::{assert_no_panic, fixtures, run_bounded, subdiv};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("subdiv-params-cli-{}", std::process::id()));
@@ -124,31 +124,6 @@ fn text_inputs(file: &str, out: &Path) -> Vec<(&'static str, Vec<String>)> {
     ]
 }
 
-/// Runs `subdiv` with `args`, killing it (and failing) if it has not exited
-/// within 60 s; returns the exit code and stderr.
-fn run_bounded(args: &[String], what: &str) -> (Option<i32>, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_subdiv"))
-        .args(args)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if start.elapsed() > Duration::from_secs(60) {
-            child.kill().unwrap();
-            panic!("{what}: subdiv blocked on a FIFO");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let mut stderr = String::new();
-    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
-    (status.code(), stderr)
-}
-
 /// A named pipe nobody writes to would block `read` forever: every text
 /// input (parameter files, `--at`, `--points` .xyz) is refused at once,
 /// exit 2, naming the FIFO.
@@ -160,7 +135,7 @@ fn a_fifo_as_any_text_input_is_refused_without_blocking() {
     assert!(Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
     let out = tmp("fifo-out");
     for (flag, args) in text_inputs(fifo.to_str().unwrap(), &out) {
-        let (code, stderr) = run_bounded(&args, flag);
+        let (code, stderr) = run_bounded(&args, flag, Duration::from_secs(60));
         assert!(!stderr.contains("panicked"), "{flag}: {stderr}");
         assert_eq!(code, Some(2), "{flag}: {stderr}");
         assert!(stderr.contains("not a regular file (it is a FIFO)"), "{flag}: {stderr}");

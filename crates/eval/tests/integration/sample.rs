@@ -93,3 +93,49 @@ fn doo_sabin_open_mesh_samples_are_on_the_surface() {
         assert!((e.position - s.position).length() < 1e-12);
     }
 }
+
+/// Counts no memory can hold are typed errors, not a panic ("capacity overflow") or an abort
+/// (issue #43); `per_domain_count` says how many samples a grid makes, `None` beyond `u64`.
+#[test]
+fn counts_beyond_memory_are_errors() {
+    let t = torus();
+    for count in [usize::MAX, usize::MAX / 2, 1 << 60] {
+        let e = sample_by_area(&t, count, 0).unwrap_err();
+        assert!(matches!(e, subdiv_eval::EvalError::InvalidInput { .. }), "{e}");
+        assert!(e.to_string().contains("more samples than memory can hold"), "{e}");
+    }
+    // Passes the size check, fails the reservation (24 TB of picks): an error as well.
+    assert!(sample_by_area(&t, 1_000_000_000_000, 0).is_err());
+    for n in [usize::MAX, 1 << 32, 1 << 28] {
+        assert!(sample_per_domain(&t, n).is_err(), "{n}");
+    }
+    assert_eq!(subdiv_eval::per_domain_count(54, 3), Some(486));
+    assert_eq!(subdiv_eval::per_domain_count(6, 1 << 32), None);
+    assert_eq!(subdiv_eval::per_domain_count(6, 65536), Some(6 << 32));
+}
+
+/// `sample_surface` and `LimitSurface::evaluate_all` run on normalised positions: at 1e-300
+/// and 1e300 the normals are those at scale 1 (du × dv underflowed or overflowed to a zero
+/// normal at ≤ 1e-150 and ≥ 1e150) and the positions are scaled.
+#[test]
+fn normals_do_not_depend_on_the_scale() {
+    let mesh = shapes::torus(6, 4);
+    let options = subdiv_stencil::Options::new(subdiv_stencil::Scheme::CatmullClark);
+    let surface = subdiv_eval::LimitSurface::new(&mesh, &options).unwrap();
+    let how = subdiv_eval::Sampling::ByArea { count: 64, seed: 7 };
+    let unit = subdiv_eval::sample_surface(&surface, mesh.positions(), how).unwrap();
+    let params: Vec<SurfaceParam> = unit.iter().map(|s| s.param).collect();
+    let evaluated = surface.evaluate_all(mesh.positions(), &params).unwrap();
+    for scale in [1e-300, 1e-200, 1e-150, 1e150, 1e200, 1e300] {
+        let scaled: Vec<_> = mesh.positions().iter().map(|&p| p * scale).collect();
+        let far = subdiv_eval::sample_surface(&surface, &scaled, how).unwrap();
+        let far_evaluated = surface.evaluate_all(&scaled, &params).unwrap();
+        for ((a, b), (c, d)) in unit.iter().zip(&far).zip(evaluated.iter().zip(&far_evaluated)) {
+            assert_eq!(a.param, b.param, "{scale:e}");
+            assert!((a.normal - b.normal).length() < 1e-12, "{scale:e}: {:?} vs {:?}", a.normal, b.normal);
+            assert!((c.normal - d.normal).length() < 1e-12, "{scale:e}: {:?} vs {:?}", c.normal, d.normal);
+            assert!((b.position / scale - a.position).length() < 1e-12 * a.position.length().max(1.0), "{scale:e}");
+            assert!((d.du / scale - c.du).length() < 1e-12 * c.du.length().max(1.0), "{scale:e}");
+        }
+    }
+}

@@ -148,10 +148,12 @@ fn failed_writes_leave_no_file_behind() {
     assert!(matches!(e, IoError::InvalidMesh { .. }) && e.to_string().contains("keep.obj"), "{e}");
     assert_eq!(std::fs::read_to_string(&target).unwrap(), "old contents");
 
-    // The target is a directory: the rename fails and the temporary file goes.
+    // The target is a directory: refused before a temporary file is made (the one destination
+    // check of staging).
     let target = dir.join("a_directory.ply");
     std::fs::create_dir(&target).unwrap();
-    assert!(matches!(write_mesh_view(&target, MeshView::new(&positions, &good)), Err(IoError::Io { .. })));
+    let e = write_mesh_view(&target, MeshView::new(&positions, &good)).unwrap_err();
+    assert!(matches!(e, IoError::NotAFile { kind: "a directory", .. }), "{e}");
 
     // A missing directory: nothing is created.
     let e = write_mesh_view(&dir.join("missing/out.stl"), MeshView::new(&positions, &good)).unwrap_err();

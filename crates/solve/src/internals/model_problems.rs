@@ -1,6 +1,6 @@
 //! Model limit matrices with known spectra, built without meshes: the shared
-//! corpus of this crate's tests and benches (feature `internals`, not
-//! covered by semver).
+//! corpus of this crate's tests and benches (hidden module, not covered
+//! by semver).
 //!
 //! | constructor | what | spectrum of A |
 //! |---|---|---|

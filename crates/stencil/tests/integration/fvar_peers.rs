@@ -24,20 +24,20 @@ use subdiv_stencil::{
 };
 
 /// Largest accepted UV deviation (absolute).
-const UV_TOL: f64 = 1e-12;
+pub(crate) const UV_TOL: f64 = 1e-12;
 
 fn creases_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/peer/creases")
 }
 
 /// An OBJ file as read: positions, UV values, and per face its (vertex, uv) corners.
-struct Obj {
-    positions: Vec<DVec3>,
-    uvs: Vec<DVec2>,
-    faces: Vec<Vec<(u32, u32)>>,
+pub(crate) struct Obj {
+    pub(crate) positions: Vec<DVec3>,
+    pub(crate) uvs: Vec<DVec2>,
+    pub(crate) faces: Vec<Vec<(u32, u32)>>,
 }
 
-fn read_obj(path: &Path) -> Obj {
+pub(crate) fn read_obj(path: &Path) -> Obj {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut obj = Obj { positions: Vec::new(), uvs: Vec::new(), faces: Vec::new() };
     let number = |w: &str| w.parse::<f64>().unwrap_or_else(|e| panic!("{}: {w}: {e}", path.display()));

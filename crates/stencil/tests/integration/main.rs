@@ -18,6 +18,7 @@ mod limit_matrices_creases_brute_force;
 mod non_manifold;
 mod normalized;
 mod opensubdiv_shapes;
+mod opensubdiv_uvs;
 mod options;
 mod peers;
 mod peers_creases;

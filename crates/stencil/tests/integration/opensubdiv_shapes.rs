@@ -34,12 +34,12 @@ use subdiv_stencil::{
 /// Largest accepted deviation, relative to d.
 const TOL_REL: f64 = 1e-12;
 
-fn fixtures() -> PathBuf {
+pub(crate) fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/opensubdiv")
 }
 
 /// The shapes: (name, input path), sorted.
-fn shapes() -> Vec<(String, PathBuf)> {
+pub(crate) fn shapes() -> Vec<(String, PathBuf)> {
     let dir = fixtures().join("shapes");
     let mut out: Vec<(String, PathBuf)> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
@@ -53,7 +53,7 @@ fn shapes() -> Vec<(String, PathBuf)> {
 
 /// The options OpenSubdiv's harness derives from a shape: the scheme from its name (Loop with
 /// Loop's β), the file's option tags, edge-only boundaries where the file sets none.
-fn harness_options(name: &str, mesh: &Mesh) -> Options {
+pub(crate) fn harness_options(name: &str, mesh: &Mesh) -> Options {
     let scheme = if name.starts_with("loop_") { Scheme::Loop(LoopBeta::Loop) } else { Scheme::CatmullClark };
     let file = mesh.tags().options();
     Options::new(scheme)

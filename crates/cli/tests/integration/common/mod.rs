@@ -1,8 +1,10 @@
 //! Helpers shared by the CLI integration tests.
 #![allow(dead_code)]
 
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 /// The repository's `fixtures/` folder.
 pub fn fixtures() -> PathBuf {
@@ -47,4 +49,31 @@ pub fn run_ok(args: &[&str]) -> String {
     let stderr = String::from_utf8_lossy(&run.stderr).to_string();
     assert_eq!(run.status.code(), Some(0), "{args:?}: {stderr}");
     stderr
+}
+
+/// Runs `subdiv` with `args`, killing it and failing (naming `what`) if it
+/// has not exited within `limit` (a blocked read), or if it panicked;
+/// returns the exit code and stderr.
+pub fn run_bounded(args: &[impl AsRef<OsStr>], what: &str, limit: Duration) -> (Option<i32>, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_subdiv"))
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > limit {
+            child.kill().unwrap();
+            panic!("{what}: subdiv blocked");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
+    assert!(!stderr.contains("panicked"), "{what}: {stderr}");
+    (status.code(), stderr)
 }
