@@ -21,27 +21,47 @@
 //!    a box of half-width in [½, 1); everything below runs there, distances
 //!    are mapped back to the input's units, and a result that does not map
 //!    back to finite coordinates is refused ([`EvalError::InvalidInput`]).
-//! 1. **Feet.** Project every target point qⱼ onto the current limit surface
-//!    ([`crate::project`], the exact closest point): parameter tⱼ, foot
-//!    S(tⱼ) = Wⱼ·P (the row of [`LimitSurface::stencil`]), normal nⱼ and
-//!    distance dⱼ. They and the surface → target distances of surface samples
-//!    are [`FitIteration`] k.
+//! 1. **Feet.** Project every target point qⱼ onto the current limit surface:
+//!    parameter tⱼ, foot S(tⱼ) = Wⱼ·P (the row of [`LimitSurface::stencil`]),
+//!    normal nⱼ and distance dⱼ. Round 0 uses the exact global search
+//!    ([`crate::project`]); later rounds re-project each foot by Newton on its
+//!    previous domain from its previous parameter
+//!    ([`crate::project::project_near`]: a few evaluations of one patch) and
+//!    hand only the feet that end on their domain's boundary (or do not
+//!    converge) to the global search. They and the surface → target
+//!    distances of surface samples are [`FitIteration`] k.
 //! 2. **Weights.** ωⱼ = 1 for [`FitLoss::L2`]; for a robust loss the IRLS
 //!    weights of Huber (k = 1.345σ) or Cauchy (c = 2.385σ) at dⱼ, with
 //!    σ = 1.4826·median dⱼ (Holland & Welsch 1977).
 //! 3. **Step.** With the feet fixed, minimise over the step δ (P = Pₖ + δ)
-//!    Σⱼ ωⱼ rⱼᵀMⱼrⱼ + s‖L P‖² + κ Σ_{i∈U} ‖(L P)ᵢ‖² + μ Σᵢ Dᵢ‖δᵢ‖²,
-//!    rⱼ = Wⱼ P − qⱼ, where
-//!    - Mⱼ = nⱼnⱼᵀ for [`FitMethod::GaussNewton`]: the point-to-plane term,
-//!      whose minimisation with re-projected feet is the Gauss-Newton step of
-//!      Σ dist(qⱼ, S)² (Wang, Pottmann & Liu 2006, §4, Eq. (9) with the
-//!      curvature terms dropped: d/(d − ρ) → 0 as d → 0, the TDM). The feet
-//!      are not anchored: the surface slides along itself as far as the
-//!      exact solution needs.
+//!    Σⱼ ωⱼ rⱼᵀMⱼrⱼ + β Σₛ ‖S(tₛ) − q̂ₛ‖² + s‖L P‖² + κ Σ_{i∈U} ‖(L P)ᵢ‖²
+//!    + φ Σᵢ ‖Tᵢ(L P)ᵢ‖² + μ Σᵢ Dᵢ‖δᵢ‖², rⱼ = Wⱼ P − qⱼ, where
+//!    - Mⱼ = nⱼnⱼᵀ + αI for [`FitMethod::GaussNewton`]: the point-to-plane
+//!      term, whose minimisation with re-projected feet is the Gauss-Newton
+//!      step of Σ dist(qⱼ, S)² (Wang, Pottmann & Liu 2006, §4, Eq. (9) with
+//!      the curvature terms dropped: d/(d − ρ) → 0 as d → 0, the TDM), plus
+//!      a **tangential anchor** α = [`TANGENT_ANCHOR`]·min(1, RMS/(0.01·d))²:
+//!      a point-to-point part quadratic in the residual level, which vanishes
+//!      on exact data and holds the feet against sliding along the surface
+//!      while noise keeps the residual up.
 //!    - Mⱼ = I for [`FitMethod::PointToPoint`] (the fixed point of LSPIA,
 //!      Deng & Lin 2014, reached by one direct solve per round), and
 //!      Mⱼ = nⱼnⱼᵀ + λI for [`FitMethod::TangentDistance`] (the previous
 //!      default, λ shrinking ×[`LAMBDA_DECREASE`] per kept round).
+//!    - **Surface → target term** (Gauss-Newton, first round only:
+//!      β = [`BACK_WEIGHT`]·m/(samples), ×[`BACK_DECAY`] = 0 after): the
+//!      [`FitOptions::samples_per_domain`] samples S(tₛ) of the domains that
+//!      hold feet, pulled to their nearest target points q̂ₛ, so that a start
+//!      far off does not leave parts of the surface away from the data. It
+//!      fades because q̂ₛ lies on a chord of the data, not on the surface.
+//!    - **Fading fairing** (Gauss-Newton): φ = [`FAIR_START`]·m/n in round 1,
+//!      ×[`FAIR_DECAY`] per kept round, dropped below [`FAIR_OFF`]; Tᵢ =
+//!      I − νᵢνᵢᵀ with νᵢ the control mesh's vertex normal at the round's
+//!      start: the tangential part of the umbrella Laplacian, which evens
+//!      out the parametrisation of a start whose vertices were moved
+//!      independently (a tangled control mesh, which point-to-plane steps
+//!      barely see) without shrinking the shape. It vanishes, so exact data
+//!      are still recovered exactly.
 //!    - s = w·m/n with w = [`FitOptions::smoothness`], L the umbrella
 //!      Laplacian of the control mesh.
 //!    - **Regularisation (never singular).** The data support of control
@@ -57,32 +77,40 @@
 //!      vertex without any support, tangential motions of a flat region).
 //!      μ starts at [`DAMPING_START`], shrinks ×[`DAMPING_DOWN`] after a kept
 //!      round (down to [`DAMPING_MIN`]) and grows ×[`DAMPING_UP`] to retry a
-//!      rejected one, at most [`MAX_RETRIES`] times in a row.
+//!      rejected one, at most [`MAX_RETRIES`] times in a row (a retry keeps
+//!      the assembled data terms and changes μ only).
 //!
 //!    The 3n × 3n normal equations are assembled per group of feet with the
-//!    same stencil support (dense local blocks, summed in a fixed order: the
-//!    result does not depend on the thread count) and solved by sparse
-//!    LDLᵀ with nested-dissection ordering (subdiv-solve) up to
-//!    [`DIRECT_LIMIT`] unknowns, by conjugate gradients preconditioned with
-//!    the 3 × 3 diagonal blocks above it (or when the factorisation fails).
+//!    same stencil support (the 7 distinct moments of each symmetric 3 × 3
+//!    block summed per stencil pair, in chunks of fixed size summed in a
+//!    fixed order: the result does not depend on the thread count) and
+//!    solved by sparse LDLᵀ with nested-dissection ordering (subdiv-solve)
+//!    up to [`DIRECT_LIMIT`] unknowns, above it (or when the factorisation
+//!    fails) by conjugate gradients preconditioned with the inverse 3 × 3
+//!    diagonal blocks, as an **inexact Newton step**: relative residual
+//!    min([`CG_TOLERANCE_START`], RMS/d), at least [`CG_TOLERANCE`], at most
+//!    [`CG_MAX_ITERATIONS`] iterations ([`FitIteration::solver_iterations`]).
 //! 4. **Accept or retry.** The candidate is re-projected (step 1); it is kept
-//!    when the objective F = Σ ρ(dⱼ) + the smoothness and regularisation
-//!    terms decreases.
+//!    when the objective F (the data terms of steps 2-3 and the penalties)
+//!    decreases.
 //! 5. **Stop** ([`FitStop`]): RMS target → surface ≤ tolerance·d, or at the
-//!    rounding floor ([`RMS_FLOOR`]·d); a kept round that lowers F by less
-//!    than [`FitOptions::min_improvement`] (relative); [`FitOptions::iterations`]
+//!    rounding floor ([`RMS_FLOOR`]·d); a kept round that lowers the data
+//!    term by less than [`FitOptions::min_improvement`] (relative) while the
+//!    fading fairing is below that fraction of it; [`FitOptions::iterations`]
 //!    kept rounds; [`FitOptions::max_time`]; the retries spent.
 //!
 //! # Deviations from the papers
 //! Wang, Pottmann & Liu's SDM keeps the curvature terms of the squared
 //! distance (stabler far from the target); we drop them (TDM) and stabilise
-//! by the Levenberg-Marquardt damping of step 3 instead, which needs no
-//! second derivatives and keeps the Gauss-Newton step's quadratic local
-//! convergence on exact data. LSPIA's fixed-step iteration is replaced by
+//! by the Levenberg-Marquardt damping, the tangential anchor and the fading
+//! fairing of step 3 instead, which need no second derivatives and keep the
+//! Gauss-Newton step's fast local convergence on exact data (all three
+//! vanish there). Feet are re-projected locally (a Newton warm start), as
+//! fitting codes commonly do, with the global search as the fallback. LSPIA's fixed-step iteration is replaced by
 //! the direct solve of the same least-squares problem each round.
 
 use crate::bvh::TargetIndex;
-use crate::project::{projector, ProjectOptions, Projection};
+use crate::project::{project_near, projector, BoundLimitSurface, ProjectOptions, Projection};
 use crate::sample::sample_per_domain;
 use crate::surface::{EvalError, LimitSurface};
 use glam::DVec3;
@@ -95,21 +123,29 @@ use subdiv_solve::{FactoredMatrix, LdlFactor};
 use subdiv_stencil::Options;
 
 /// μ of the first round, relative to each vertex's data support (step 3).
-pub const DAMPING_START: f64 = 1e-1;
+pub const DAMPING_START: f64 = 1e-2;
 /// The smallest μ.
-pub const DAMPING_MIN: f64 = 1e-7;
+pub const DAMPING_MIN: f64 = 1e-12;
 /// μ after a kept round: μ·DAMPING_DOWN.
-pub const DAMPING_DOWN: f64 = 0.3;
+pub const DAMPING_DOWN: f64 = 0.1;
 /// μ before a retry of a rejected round: μ·DAMPING_UP.
 pub const DAMPING_UP: f64 = 10.0;
 /// β₀ of the surface → target term, relative to the data term's mass (step 3).
 pub const BACK_WEIGHT: f64 = 1.0;
 /// β shrinks ×BACK_DECAY per kept round (the term fades: the nearest target
-/// point of a sample lies on a chord, not on the true surface).
-pub const BACK_DECAY: f64 = 0.3;
+/// point of a sample lies on a chord, not on the true surface). 0: the first
+/// round only (measured: a slower fade halves the convergence rate).
+pub const BACK_DECAY: f64 = 0.0;
 /// Weight of the point-to-point part in a Gauss-Newton round at an RMS
 /// residual of 1 % of d (quadratic in the residual below, capped above).
 pub const TANGENT_ANCHOR: f64 = 0.1;
+/// Weight of the fairing of the control points in the first round (relative
+/// to the data term's mass, module docs step 3).
+pub const FAIR_START: f64 = 0.4;
+/// The fairing's weight shrinks ×FAIR_DECAY per kept round…
+pub const FAIR_DECAY: f64 = 0.1;
+/// …and is dropped below this.
+pub const FAIR_OFF: f64 = 1e-12;
 /// Damping of the previous methods (point-to-point, tangent distance): fixed.
 pub const DAMPING: f64 = 1e-9;
 /// Rejected rounds retried with more damping (or, for the tangent distance,
@@ -125,11 +161,15 @@ pub const PIN: f64 = 1e-6;
 /// RMS target → surface distance (relative to d) at which rounding dominates: stop.
 pub const RMS_FLOOR: f64 = 1e-14;
 /// Unknowns (3 × control vertices) up to which the step is solved by LDLᵀ.
-pub const DIRECT_LIMIT: usize = 60_000;
-/// Relative residual of the conjugate-gradient solve.
-pub const CG_TOLERANCE: f64 = 1e-12;
+pub const DIRECT_LIMIT: usize = 1_500;
+/// Relative residual of the conjugate-gradient solve at most (the forcing
+/// term of the inexact Newton step is min(RMS/d, [`CG_TOLERANCE_START`]),
+/// down to this).
+pub const CG_TOLERANCE: f64 = 1e-6;
+/// Relative residual of the conjugate-gradient solve far from the target.
+pub const CG_TOLERANCE_START: f64 = 1e-3;
 /// Conjugate-gradient iterations at most.
-pub const CG_MAX_ITERATIONS: usize = 2_000;
+pub const CG_MAX_ITERATIONS: usize = 500;
 /// [`FitMethod::TangentDistance`]: λ is multiplied by this after an accepted round
 /// (and divided by it before a retry of a rejected one).
 pub const LAMBDA_DECREASE: f64 = 0.1;
@@ -184,14 +224,58 @@ pub enum FitMethod {
     },
 }
 
+/// λ of [`FitMethod::TangentDistance`] when only its name is given.
+pub const TANGENT_LAMBDA: f64 = 0.05;
+
 impl FitMethod {
-    /// The name used on the command line, in reports and in Python.
+    /// Every method (the tangent distance with λ = [`TANGENT_LAMBDA`]), in
+    /// the order the command line and Python list them.
+    pub const ALL: [FitMethod; 3] =
+        [Self::GaussNewton, Self::PointToPoint, Self::TangentDistance { lambda: TANGENT_LAMBDA }];
+
+    /// The name used on the command line, in reports and in Python (its [`FromStr`](std::str::FromStr) reads it back).
     pub fn name(self) -> &'static str {
         match self {
             Self::GaussNewton => "gauss-newton",
             Self::PointToPoint => "lspia",
             Self::TangentDistance { .. } => "tangent",
         }
+    }
+
+    /// One line for help texts.
+    pub fn summary(self) -> &'static str {
+        match self {
+            Self::GaussNewton => {
+                "point-to-plane Gauss-Newton with Levenberg-Marquardt damping (quadratic near the target)"
+            }
+            Self::PointToPoint => "point-to-point least squares per round: the LSPIA fixed point (converges linearly)",
+            Self::TangentDistance { .. } => "tangent distance (n·r)² + λ‖r‖², λ shrinking per round",
+        }
+    }
+
+    /// The same method with λ = `lambda` if it is the tangent distance.
+    pub fn with_lambda(self, lambda: f64) -> Self {
+        match self {
+            Self::TangentDistance { .. } => Self::TangentDistance { lambda },
+            other => other,
+        }
+    }
+}
+
+impl std::fmt::Display for FitMethod {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for FitMethod {
+    type Err = EvalError;
+
+    /// A [`FitMethod::name`] (the tangent distance with λ = [`TANGENT_LAMBDA`]).
+    fn from_str(s: &str) -> Result<Self, EvalError> {
+        Self::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| EvalError::InvalidInput {
+            what: format!("method {s:?} is not one of {}", Self::ALL.map(Self::name).join(", ")),
+        })
     }
 }
 
@@ -208,12 +292,24 @@ pub enum FitLoss {
 }
 
 impl FitLoss {
-    /// The name used on the command line, in reports and in Python.
+    /// Every loss, in the order the command line and Python list them.
+    pub const ALL: [FitLoss; 3] = [Self::L2, Self::Huber, Self::Cauchy];
+
+    /// The name used on the command line, in reports and in Python (its [`FromStr`](std::str::FromStr) reads it back).
     pub fn name(self) -> &'static str {
         match self {
             Self::L2 => "l2",
             Self::Huber => "huber",
             Self::Cauchy => "cauchy",
+        }
+    }
+
+    /// One line for help texts.
+    pub fn summary(self) -> &'static str {
+        match self {
+            Self::L2 => "least squares (Gaussian noise)",
+            Self::Huber => "Huber (outliers)",
+            Self::Cauchy => "Cauchy (heavy outliers)",
         }
     }
 
@@ -253,6 +349,23 @@ impl FitLoss {
                 c * c * (d / c).mul_add(d / c, 1.0).ln()
             }
         }
+    }
+}
+
+impl std::fmt::Display for FitLoss {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for FitLoss {
+    type Err = EvalError;
+
+    /// A [`FitLoss::name`].
+    fn from_str(s: &str) -> Result<Self, EvalError> {
+        Self::ALL.into_iter().find(|l| l.name() == s).ok_or_else(|| EvalError::InvalidInput {
+            what: format!("loss {s:?} is not one of {}", Self::ALL.map(Self::name).join(", ")),
+        })
     }
 }
 
@@ -329,7 +442,7 @@ pub struct FitOptions {
     pub smoothness: f64,
     /// Stop when the RMS target → surface distance is at most this times d. Default 0 (never).
     pub tolerance: f64,
-    /// Stop when a kept round lowers the objective by less than this fraction. Default 1e-6.
+    /// Stop when a kept round lowers the objective by less than this fraction. Default 1e-3.
     pub min_improvement: f64,
     /// Stop after this many seconds (checked after every round). Default none.
     pub max_time: Option<f64>,
@@ -352,7 +465,7 @@ impl Default for FitOptions {
             iterations: 30,
             smoothness: 0.0,
             tolerance: 0.0,
-            min_improvement: 1e-6,
+            min_improvement: 1e-3,
             max_time: None,
             method: FitMethod::GaussNewton,
             loss: FitLoss::L2,
@@ -423,6 +536,8 @@ pub struct FitIteration {
     pub seconds: f64,
     /// The linear solver of this round's step ("ldl", "cg"; "" at round 0).
     pub solver: &'static str,
+    /// Conjugate-gradient iterations of this round's kept step (0 for LDLᵀ).
+    pub solver_iterations: usize,
 }
 
 /// The fitted mesh and the distances round by round.
@@ -493,11 +608,32 @@ fn measure(
     points: &[DVec3],
     index: &TargetIndex,
     options: &FitOptions,
+    previous: Option<&[Projection]>,
 ) -> Result<Measured, EvalError> {
-    let projector = projector(surface, mesh, &options.surface, &options.project)?;
-    let feet = projector.project_all(points)?;
+    let bound = BoundLimitSurface::new(surface, mesh.positions())?;
+    // Step 1: every foot re-projected from the previous one (a few Newton
+    // steps on one patch); the feet that leave their domain, and all feet of
+    // round 0, by the exact global search.
+    let mut feet: Vec<Option<Projection>> = match previous {
+        Some(prev) => points
+            .par_iter()
+            .zip(prev)
+            .with_min_len(256)
+            .map(|(&q, p)| project_near(&bound, q, p.param, options.project.max_iterations))
+            .collect::<Result<_, _>>()?,
+        None => vec![None; points.len()],
+    };
+    let missing: Vec<usize> = (0..points.len()).filter(|&j| feet[j].is_none()).collect();
+    if !missing.is_empty() {
+        let projector = projector(surface, mesh, &options.surface, &options.project)?;
+        let queries: Vec<DVec3> = missing.iter().map(|&j| points[j]).collect();
+        for (j, f) in missing.iter().zip(projector.project_all(&queries)?) {
+            feet[*j] = Some(f);
+        }
+    }
+    let feet: Vec<Projection> = feet.into_iter().map(|f| f.expect("every foot found")).collect();
     let (rms_a, max_a) = rms_max(feet.iter().map(|f| f.distance));
-    let samples = sample_per_domain(projector.evaluator(), options.samples_per_domain)?;
+    let samples = sample_per_domain(&bound, options.samples_per_domain)?;
     let samples: Vec<(Projection, DVec3)> = samples
         .par_iter()
         .map(|s| {
@@ -579,7 +715,7 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
     let laplacian = umbrella(control);
     let pattern = Pattern::new(&surface, control, &laplacian);
     let mut mesh = control.with_positions(start_positions);
-    let mut measured = measure(&surface, &mesh, &points, &index, options)?;
+    let mut measured = measure(&surface, &mesh, &points, &index, options, None)?;
     let stats = |m: &Measured, iteration: usize| FitIteration {
         iteration,
         rms_target_to_surface: frame.length_from_unit(m.rms_a),
@@ -595,6 +731,8 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
     let mut regularised_all: Vec<u32> = Vec::new();
     let smooth_weight = options.smoothness * points.len() as f64 / control.positions().len().max(1) as f64;
     let mut mu = DAMPING_START;
+    let mut fair = if matches!(options.method, FitMethod::GaussNewton) { FAIR_START } else { 0.0 };
+    let per_vertex = points.len() as f64 / control.positions().len().max(1) as f64;
     let mut beta = if matches!(options.method, FitMethod::GaussNewton) { BACK_WEIGHT } else { 0.0 };
     let mut lambda = match options.method {
         FitMethod::TangentDistance { lambda } => lambda,
@@ -602,6 +740,7 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
     };
     let mut k = 1;
     let mut retries = 0;
+    let mut cached: Option<System> = None;
     let stop = loop {
         if measured.rms_a <= options.tolerance * unit_scale {
             break FitStop::Tolerance;
@@ -632,39 +771,50 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
             FitMethod::PointToPoint => (0.0, 1.0, DAMPING),
             FitMethod::TangentDistance { .. } => (1.0, lambda, DAMPING),
         };
-        let system = assemble(
-            &surface,
-            &pattern,
-            &measured.feet,
-            &points,
-            &weights,
-            [normal_weight, point_weight],
-            mesh.positions(),
-        )?;
-        // The surface → target term (module docs, step 3): samples of domains
-        // that hold feet, pulled to their nearest target points, weight
-        // β = BACK_WEIGHT·BACK_DECAY^(kept rounds)·m/(samples), fading out.
-        let back = back_term(&measured, &weights, beta, points.len());
-        let system = if back.1.is_empty() {
-            system
-        } else {
-            let extra = assemble(&surface, &pattern, &back.0, &back.2, &back.1, [0.0, 1.0], mesh.positions())?;
-            add_systems(system, extra)
+        // Tangential relaxation (module docs, step 3), quadratic in the residual level.
+        let relax = Relax { weight: fair * per_vertex, normals: vertex_normals(&mesh) };
+        // A retry changes the damping only: the data terms are kept.
+        let system = match cached.take() {
+            Some(system) => system,
+            None => {
+                let system =
+                    assemble(&surface, &pattern, &measured.feet, &points, &weights, [normal_weight, point_weight])?;
+                // The surface → target term (module docs, step 3): samples of domains
+                // that hold feet, pulled to their nearest target points, weight
+                // β = BACK_WEIGHT·BACK_DECAY^(kept rounds)·m/(samples), fading out.
+                let back = back_term(&measured, &weights, beta, points.len());
+                if back.1.is_empty() {
+                    system
+                } else {
+                    let extra = assemble(&surface, &pattern, &back.0, &back.2, &back.1, [0.0, 1.0])?;
+                    add_systems(system, extra)
+                }
+            }
         };
-        let step = solve_step(&system, &pattern, &laplacian, mesh.positions(), smooth_weight, damping)?;
+        // Inexact Newton: the forcing term shrinks with the residual level
+        // (superlinear convergence without solving early steps to rounding).
+        let cg_tolerance = (measured.rms_a / unit_scale).clamp(CG_TOLERANCE, CG_TOLERANCE_START);
+        let step =
+            solve_step(&system, &pattern, &laplacian, mesh.positions(), smooth_weight, damping, cg_tolerance, &relax)?;
+        cached = Some(system);
         let candidate_positions: Vec<DVec3> = mesh.positions().iter().zip(&step.delta).map(|(&p, &d)| p + d).collect();
         let candidate = mesh.with_positions(candidate_positions);
-        let next = measure(&surface, &candidate, &points, &index, options)?;
-        let objective = |m: &Measured, positions: &[DVec3]| -> f64 {
-            let data: f64 = m.feet.iter().map(|f| options.loss.rho(f.distance, sigma)).sum::<f64>() + {
+        let next = measure(&surface, &candidate, &points, &index, options, Some(&measured.feet))?;
+        // F = data + penalties; the data part alone decides the stall below.
+        let data_term = |m: &Measured| -> f64 {
+            m.feet.iter().map(|f| options.loss.rho(f.distance, sigma)).sum::<f64>() + {
                 let (terms, w, _) = back_term(m, &weights, beta, points.len());
                 terms.iter().zip(&w).map(|(t, w)| w * t.distance * t.distance).sum::<f64>()
-            };
-            data + penalties(&laplacian, positions, smooth_weight, &step.unsupported, step.kappa)
+            }
         };
-        let (old, new) = (objective(&measured, mesh.positions()), objective(&next, candidate.positions()));
+        let penalty = |positions: &[DVec3]| {
+            penalties(&laplacian, positions, smooth_weight, &step.unsupported, step.kappa, &relax)
+        };
+        let (old_data, new_data) = (data_term(&measured), data_term(&next));
+        let (old, new) = (old_data + penalty(mesh.positions()), new_data + penalty(candidate.positions()));
         if new < old && next.rms_a.is_finite() {
             regularised_all.extend(&step.unsupported);
+            cached = None;
             mesh = candidate;
             measured = next;
             let mut it = stats(&measured, k);
@@ -677,14 +827,24 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
             it.regularised = step.unsupported.len();
             it.robust_scale = sigma / unit_scale;
             it.solver = step.solver;
+            it.solver_iterations = step.solver_iterations;
             options.observer.notify(&it);
             iterations.push(it);
             k += 1;
             retries = 0;
             mu = (mu * DAMPING_DOWN).max(DAMPING_MIN);
             beta *= BACK_DECAY;
+            fair = if fair * FAIR_DECAY < FAIR_OFF { 0.0 } else { fair * FAIR_DECAY };
             lambda = (lambda * LAMBDA_DECREASE).max(LAMBDA_MIN);
-            if old - new < options.min_improvement * old {
+            // Stalled: F or the data term no longer improves (a round that
+            // trades data for a penalty goes on), and the fading fairing is
+            // too small to be what holds it.
+            let fading = relax.weight > 0.0
+                && penalties(&laplacian, mesh.positions(), 0.0, &[], 0.0, &relax) > options.min_improvement * new_data;
+            let data_gain = old_data - new_data;
+            let small = old - new < options.min_improvement * old
+                || (data_gain >= 0.0 && data_gain < options.min_improvement * old_data);
+            if small && !fading {
                 break FitStop::Stalled;
             }
             continue;
@@ -751,9 +911,24 @@ fn add_systems(mut a: System, b: System) -> System {
 }
 
 /// s‖L P‖² + κ Σ_{i∈U} ‖(L P)ᵢ‖².
-fn penalties(laplacian: &CsMatI<f64, u32>, p: &[DVec3], s: f64, unsupported: &[u32], kappa: f64) -> f64 {
+fn penalties(laplacian: &CsMatI<f64, u32>, p: &[DVec3], s: f64, unsupported: &[u32], kappa: f64, relax: &Relax) -> f64 {
+    let lp = |i: usize| -> DVec3 {
+        let row = laplacian.outer_view(i).expect("row in range");
+        row.iter().fold(DVec3::ZERO, |acc, (j, &w)| acc + w * p[j])
+    };
+    let relaxation = if relax.weight > 0.0 {
+        relax.weight
+            * (0..p.len())
+                .filter_map(|i| {
+                    let (v, nrm) = (lp(i), relax.normals[i]?);
+                    Some((v - nrm.dot(v) * nrm).length_squared())
+                })
+                .sum::<f64>()
+    } else {
+        0.0
+    };
     if s == 0.0 && unsupported.is_empty() {
-        return 0.0;
+        return relaxation;
     }
     let lp = |i: usize| -> DVec3 {
         let row = laplacian.outer_view(i).expect("row in range");
@@ -763,7 +938,45 @@ fn penalties(laplacian: &CsMatI<f64, u32>, p: &[DVec3], s: f64, unsupported: &[u
     if s > 0.0 {
         total += s * (0..p.len()).map(|i| lp(i).length_squared()).sum::<f64>();
     }
-    total + kappa * unsupported.iter().map(|&i| lp(i as usize).length_squared()).sum::<f64>()
+    total + kappa * unsupported.iter().map(|&i| lp(i as usize).length_squared()).sum::<f64>() + relaxation
+}
+
+/// The tangential relaxation term of step 3: weight ρ·m/n and the unit
+/// vertex normals nᵢ of the control mesh at the round's start; the penalty
+/// is ρ·m/n·Σᵢ ‖(I − nᵢnᵢᵀ)(L P)ᵢ‖².
+struct Relax {
+    weight: f64,
+    normals: Vec<Option<DVec3>>,
+}
+
+/// Unit vertex normals of a control mesh: the sum of its faces' (Newell)
+/// normals; `None` on the boundary and at tagged vertices (the relaxation
+/// leaves them: their umbrella vector is no tangential imbalance) and
+/// where the sum vanishes.
+fn vertex_normals(mesh: &Mesh) -> Vec<Option<DVec3>> {
+    let p = mesh.positions();
+    let t = mesh.topology();
+    let mut out = vec![DVec3::ZERO; p.len()];
+    for f in mesh.topology().faces().iter() {
+        let mut nrm = DVec3::ZERO;
+        for k in 0..f.len() {
+            let (a, b) = (p[f[k] as usize], p[f[(k + 1) % f.len()] as usize]);
+            nrm += a.cross(b);
+        }
+        for &v in f.iter() {
+            out[v as usize] += nrm;
+        }
+    }
+    let mut free: Vec<bool> =
+        t.vertices().map(|v| !t.is_boundary_vertex(v) && mesh.tags().vertex_sharpness(v) == 0.0).collect();
+    for e in t.edges() {
+        if mesh.tags().edge_sharpness(e) > 0.0 {
+            let (a, b) = t.edge_vertices(e);
+            free[a.index()] = false;
+            free[b.index()] = false;
+        }
+    }
+    out.iter().zip(free).map(|(v, f)| v.try_normalize().filter(|_| f)).collect()
 }
 
 /// The umbrella Laplacian (L P)ᵢ = Pᵢ − mean of the neighbours of i, n × n.
@@ -834,11 +1047,15 @@ struct System {
     rows: Vec<Vec<u32>>,
 }
 
-/// Feet with the same stencil support, summed: 3k × 3k and 3k.
+/// Feet with the same stencil support, summed: per pair a ≤ b of the k
+/// stencil vertices the moments Σ ω·wₐw_b·(nw·n nᵀ, pw) (the 6 entries of
+/// the symmetric nnᵀ part and the isotropic part: every 3 × 3 block of
+/// WᵀMW is symmetric), and the 3k right-hand side.
 struct Group {
     indices: Vec<u32>,
-    h: Vec<f64>,
-    g: Vec<f64>,
+    /// k × k (row-major, entries a ≤ b used) × 7.
+    h: Vec<[f64; 7]>,
+    g: Vec<DVec3>,
 }
 
 fn assemble(
@@ -848,10 +1065,9 @@ fn assemble(
     points: &[DVec3],
     weights: &[f64],
     [normal_weight, point_weight]: [f64; 2],
-    _positions: &[DVec3],
 ) -> Result<System, EvalError> {
     let n = pattern.rows.len();
-    let mut order: Vec<u32> = (0..feet.len() as u32).collect();
+    let mut order: Vec<u32> = (0..feet.len() as u32).filter(|&j| weights[j as usize] != 0.0).collect();
     order.sort_by_key(|&j| (feet[j as usize].param.face, feet[j as usize].param.corner));
     let mut rows = pattern.rows.clone();
     let mut blocks: Vec<Vec<[f64; 9]>> = rows.iter().map(|r| vec![[0.0; 9]; r.len()]).collect();
@@ -867,45 +1083,39 @@ fn assemble(
                 for &j in *chunk {
                     let j = j as usize;
                     let w = weights[j];
-                    if w == 0.0 {
-                        continue;
-                    }
                     let s = surface.stencil(feet[j].param)?;
                     if out.last().is_none_or(|g| g.indices != s.indices) {
                         let k = s.indices.len();
-                        out.push(Group { indices: s.indices.clone(), h: vec![0.0; 9 * k * k], g: vec![0.0; 3 * k] });
+                        out.push(Group {
+                            indices: s.indices.clone(),
+                            h: vec![[0.0; 7]; k * k],
+                            g: vec![DVec3::ZERO; k],
+                        });
                     }
                     let group = out.last_mut().expect("pushed");
                     let k = s.indices.len();
                     let nrm = feet[j].normal;
                     let r = points[j] - feet[j].position;
-                    let nr = nrm.dot(r);
                     let (nw, pw) = (w * normal_weight, w * point_weight);
-                    // M = nw·nnᵀ + pw·I.
-                    let m = [
-                        nw * nrm.x * nrm.x + pw,
+                    // M = nw·nnᵀ + pw·I: its 6 distinct entries of nnᵀ, and pw.
+                    let c = [
+                        nw * nrm.x * nrm.x,
                         nw * nrm.x * nrm.y,
                         nw * nrm.x * nrm.z,
-                        nw * nrm.y * nrm.x,
-                        nw * nrm.y * nrm.y + pw,
+                        nw * nrm.y * nrm.y,
                         nw * nrm.y * nrm.z,
-                        nw * nrm.z * nrm.x,
-                        nw * nrm.z * nrm.y,
-                        nw * nrm.z * nrm.z + pw,
+                        nw * nrm.z * nrm.z,
+                        pw,
                     ];
-                    let mr = nw * nr * nrm + pw * r;
-                    let dim = 3 * k;
+                    let mr = nw * nrm.dot(r) * nrm + pw * r;
                     for (a, &wa) in s.position.iter().enumerate() {
-                        group.g[3 * a] += wa * mr.x;
-                        group.g[3 * a + 1] += wa * mr.y;
-                        group.g[3 * a + 2] += wa * mr.z;
-                        for (b, &wb) in s.position.iter().enumerate() {
+                        group.g[a] += wa * mr;
+                        let row = &mut group.h[a * k..(a + 1) * k];
+                        for (b, &wb) in s.position.iter().enumerate().skip(a) {
                             let ww = wa * wb;
-                            for c in 0..3 {
-                                let row = &mut group.h[(3 * a + c) * dim + 3 * b..(3 * a + c) * dim + 3 * b + 3];
-                                row[0] += ww * m[3 * c];
-                                row[1] += ww * m[3 * c + 1];
-                                row[2] += ww * m[3 * c + 2];
+                            let m = &mut row[b];
+                            for i in 0..7 {
+                                m[i] += ww * c[i];
                             }
                         }
                     }
@@ -915,10 +1125,9 @@ fn assemble(
             .collect::<Result<_, EvalError>>()?;
         for group in groups.iter().flatten() {
             let k = group.indices.len();
-            let dim = 3 * k;
             for (a, &va) in group.indices.iter().enumerate() {
                 let va = va as usize;
-                rhs[va] += DVec3::new(group.g[3 * a], group.g[3 * a + 1], group.g[3 * a + 2]);
+                rhs[va] += group.g[a];
                 // Merge the sorted stencil indices with the sorted row.
                 let mut pos = 0;
                 for (b, &vb) in group.indices.iter().enumerate() {
@@ -929,11 +1138,11 @@ fn assemble(
                         rows[va].insert(pos, vb);
                         blocks[va].insert(pos, [0.0; 9]);
                     }
+                    let m = if a <= b { group.h[a * k + b] } else { group.h[b * k + a] };
                     let block = &mut blocks[va][pos];
-                    for c in 0..3 {
-                        for e in 0..3 {
-                            block[3 * c + e] += group.h[(3 * a + c) * dim + 3 * b + e];
-                        }
+                    let full = [m[0] + m[6], m[1], m[2], m[1], m[3] + m[6], m[4], m[2], m[4], m[5] + m[6]];
+                    for (x, y) in block.iter_mut().zip(full) {
+                        *x += y;
                     }
                 }
             }
@@ -948,6 +1157,7 @@ struct Step {
     unsupported: Vec<u32>,
     kappa: f64,
     solver: &'static str,
+    solver_iterations: usize,
 }
 
 /// Adds the smoothness, regularisation and damping terms and solves (module docs, step 3).
@@ -958,6 +1168,8 @@ fn solve_step(
     positions: &[DVec3],
     smooth_weight: f64,
     damping: f64,
+    cg_tolerance: f64,
+    relax: &Relax,
 ) -> Result<Step, EvalError> {
     let _ = pattern;
     let n = positions.len();
@@ -1016,6 +1228,43 @@ fn solve_step(
             rhs[a] -= x * positions[b];
         }
     }
+    // Tangential relaxation: ρ Σᵢ ‖Tᵢ(L P)ᵢ‖², Tᵢ = I − nᵢnᵢᵀ.
+    if relax.weight > 0.0 {
+        for i in 0..n {
+            let Some(nrm) = relax.normals[i] else { continue };
+            let t = [
+                1.0 - nrm.x * nrm.x,
+                -nrm.x * nrm.y,
+                -nrm.x * nrm.z,
+                -nrm.y * nrm.x,
+                1.0 - nrm.y * nrm.y,
+                -nrm.y * nrm.z,
+                -nrm.z * nrm.x,
+                -nrm.z * nrm.y,
+                1.0 - nrm.z * nrm.z,
+            ];
+            let row = laplacian.outer_view(i).expect("row in range");
+            let lp = row.iter().fold(DVec3::ZERO, |acc, (j, &w)| acc + w * positions[j]);
+            let tlp = lp - nrm.dot(lp) * nrm;
+            for (a, &la) in row.iter() {
+                rhs[a] -= relax.weight * la * tlp;
+                for (b, &lb) in row.iter() {
+                    let pos = match rows[a].binary_search(&(b as u32)) {
+                        Ok(p) => p,
+                        Err(p) => {
+                            rows[a].insert(p, b as u32);
+                            blocks[a].insert(p, [0.0; 9]);
+                            p
+                        }
+                    };
+                    let x = relax.weight * la * lb;
+                    for (e, te) in blocks[a][pos].iter_mut().zip(t) {
+                        *e += x * te;
+                    }
+                }
+            }
+        }
+    }
     // Damping μ·Dᵢ·I, Dᵢ = max(tr Hᵢᵢ/3, PIN·reference).
     for a in 0..n {
         let pos = rows[a].binary_search(&(a as u32)).map_err(|_| EvalError::Internal("fit: no diagonal".into()))?;
@@ -1024,15 +1273,15 @@ fn solve_step(
         blocks[a][pos][4] += d;
         blocks[a][pos][8] += d;
     }
-    let (delta, solver) = if 3 * n <= DIRECT_LIMIT {
-        match solve_ldl(&rows, &blocks, &rhs) {
-            Some(x) => (x, "ldl"),
-            None => (solve_cg(&rows, &blocks, &rhs)?, "cg"),
+    let direct = if 3 * n <= DIRECT_LIMIT { solve_ldl(&rows, &blocks, &rhs) } else { None };
+    let (delta, solver, solver_iterations) = match direct {
+        Some(x) => (x, "ldl", 0),
+        None => {
+            let (x, iterations) = solve_cg(&rows, &blocks, &rhs, cg_tolerance)?;
+            (x, "cg", iterations)
         }
-    } else {
-        (solve_cg(&rows, &blocks, &rhs)?, "cg")
     };
-    Ok(Step { delta, unsupported, kappa, solver })
+    Ok(Step { delta, unsupported, kappa, solver, solver_iterations })
 }
 
 /// LDLᵀ of the 3n × 3n matrix; `None` when it fails (then CG).
@@ -1091,7 +1340,12 @@ fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
 }
 
 /// Conjugate gradients with the inverse 3 × 3 diagonal blocks as preconditioner.
-fn solve_cg(rows: &[Vec<u32>], blocks: &[Vec<[f64; 9]>], rhs: &[DVec3]) -> Result<Vec<DVec3>, EvalError> {
+fn solve_cg(
+    rows: &[Vec<u32>],
+    blocks: &[Vec<[f64; 9]>],
+    rhs: &[DVec3],
+    tolerance: f64,
+) -> Result<(Vec<DVec3>, usize), EvalError> {
     let n = rows.len();
     let inverse: Vec<glam::DMat3> = (0..n)
         .map(|a| {
@@ -1111,13 +1365,15 @@ fn solve_cg(rows: &[Vec<u32>], blocks: &[Vec<[f64; 9]>], rhs: &[DVec3]) -> Resul
     let mut r = rhs.to_vec();
     let norm_b = dot(rhs, rhs).sqrt();
     if norm_b == 0.0 {
-        return Ok(x);
+        return Ok((x, 0));
     }
     let mut z = precondition(&r);
     let mut p = z.clone();
     let mut rz = dot(&r, &z);
     let mut ap = vec![DVec3::ZERO; n];
+    let mut iterations = 0;
     for _ in 0..CG_MAX_ITERATIONS {
+        iterations += 1;
         block_apply(rows, blocks, &p, &mut ap);
         let pap = dot(&p, &ap);
         if !(pap > 0.0) {
@@ -1126,7 +1382,7 @@ fn solve_cg(rows: &[Vec<u32>], blocks: &[Vec<[f64; 9]>], rhs: &[DVec3]) -> Resul
         let alpha = rz / pap;
         x.par_iter_mut().zip(&p).for_each(|(xi, pi)| *xi += alpha * *pi);
         r.par_iter_mut().zip(&ap).for_each(|(ri, api)| *ri -= alpha * *api);
-        if dot(&r, &r).sqrt() <= CG_TOLERANCE * norm_b {
+        if dot(&r, &r).sqrt() <= tolerance * norm_b {
             break;
         }
         z = precondition(&r);
@@ -1136,7 +1392,7 @@ fn solve_cg(rows: &[Vec<u32>], blocks: &[Vec<[f64; 9]>], rhs: &[DVec3]) -> Resul
         p.par_iter_mut().zip(&z).for_each(|(pi, zi)| *pi = *zi + beta * *pi);
     }
     if x.iter().all(|v| v.is_finite()) {
-        Ok(x)
+        Ok((x, iterations))
     } else {
         Err(EvalError::Solve { what: "the conjugate-gradient step is not finite".into() })
     }
