@@ -9,32 +9,22 @@ use crate::failure::{bad_input, Failure};
 use crate::outputs::Outputs;
 use crate::sample::LimitArgs;
 use anyhow::anyhow;
-use clap::ValueEnum;
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use std::path::PathBuf;
 use std::time::Instant;
-use subdiv_eval::fit::{FitLoss, FitMethod, FitObserver};
+use subdiv_eval::fit::{FitLoss, FitMethod, FitObserver, TANGENT_LAMBDA};
 use subdiv_eval::{fit, FitIteration, FitOptions, FitTarget};
 
-/// `--method`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum MethodArg {
-    /// Point-to-plane Gauss-Newton with Levenberg-Marquardt damping (quadratic near the target).
-    GaussNewton,
-    /// Point-to-point least squares per round: the LSPIA fixed point (converges linearly).
-    Lspia,
-    /// Tangent distance (n·r)² + λ‖r‖², λ shrinking per round (the previous default).
-    Tangent,
+/// `--method`'s parser: the names of [`FitMethod::ALL`] (defined once, in subdiv-eval).
+fn method_parser() -> impl clap::builder::TypedValueParser<Value = FitMethod> {
+    let values = FitMethod::ALL.map(|m| PossibleValue::new(m.name()).help(m.summary()));
+    PossibleValuesParser::new(values).map(|s| s.parse::<FitMethod>().expect("a listed name"))
 }
 
-/// `--loss`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum LossArg {
-    /// Least squares (Gaussian noise).
-    L2,
-    /// Huber (outliers).
-    Huber,
-    /// Cauchy (heavy outliers).
-    Cauchy,
+/// `--loss`'s parser: the names of [`FitLoss::ALL`].
+fn loss_parser() -> impl clap::builder::TypedValueParser<Value = FitLoss> {
+    let values = FitLoss::ALL.map(|l| PossibleValue::new(l.name()).help(l.summary()));
+    PossibleValuesParser::new(values).map(|s| s.parse::<FitLoss>().expect("a listed name"))
 }
 
 /// Arguments of `subdiv fit`.
@@ -58,20 +48,20 @@ pub struct FitArgs {
     #[arg(long, default_value_t = 0.0)]
     tolerance: f64,
     /// Stop when a kept round lowers the objective by less than this fraction.
-    #[arg(long, default_value_t = 1e-6)]
+    #[arg(long, default_value_t = 1e-3)]
     min_improvement: f64,
     /// Stop after this many seconds (checked after every round).
     #[arg(long)]
     max_time: Option<f64>,
     /// The error term and its minimisation.
-    #[arg(long, value_enum, default_value = "gauss-newton")]
-    method: MethodArg,
+    #[arg(long, value_parser = method_parser(), default_value = "gauss-newton")]
+    method: FitMethod,
     /// λ of `--method tangent` at the start.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = TANGENT_LAMBDA)]
     lambda: f64,
     /// The loss on the target→surface distances (robust losses weigh outliers down).
-    #[arg(long, value_enum, default_value = "l2")]
-    loss: LossArg,
+    #[arg(long, value_parser = loss_parser(), default_value = "l2")]
+    loss: FitLoss,
     /// The fitted control mesh (format by extension).
     #[arg(short, long)]
     output: PathBuf,
@@ -97,6 +87,7 @@ fn iteration_json(it: &FitIteration) -> serde_json::Value {
         "regularised": it.regularised,
         "robust_scale_rel": it.robust_scale,
         "solver": it.solver,
+        "solver_iterations": it.solver_iterations,
         "seconds": it.seconds,
     })
 }
@@ -125,16 +116,8 @@ pub fn run(args: &FitArgs) -> Result<(), Failure> {
     }
     let target = FitTarget { points: soup.positions, triangles };
     let (control, options, _) = args.limit.load(&args.control)?;
-    let method = match args.method {
-        MethodArg::GaussNewton => FitMethod::GaussNewton,
-        MethodArg::Lspia => FitMethod::PointToPoint,
-        MethodArg::Tangent => FitMethod::TangentDistance { lambda: args.lambda },
-    };
-    let loss = match args.loss {
-        LossArg::L2 => FitLoss::L2,
-        LossArg::Huber => FitLoss::Huber,
-        LossArg::Cauchy => FitLoss::Cauchy,
-    };
+    let method = args.method.with_lambda(args.lambda);
+    let loss = args.loss;
     let bar = crate::progress::spinner(format!("fitting {}", args.control.display()));
     let observer = {
         let bar = bar.clone();
@@ -164,7 +147,8 @@ pub fn run(args: &FitArgs) -> Result<(), Failure> {
     fit_options.validate().map_err(|e| bad_input(anyhow!("{e}")))?;
     let result = fit(&target, &control, &fit_options);
     bar.finish_and_clear();
-    let result = result.map_err(|e| bad_input(anyhow!("fit: {e}")))?;
+    // The library's messages name the command already ("fit: …").
+    let result = result.map_err(|e| bad_input(anyhow!("{e}")))?;
     outputs.stage_mesh("--output", &args.output, &result.mesh, false)?;
     if let Some(path) = &args.report {
         let report = serde_json::json!({

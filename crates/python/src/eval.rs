@@ -9,8 +9,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use subdiv::budget::MemoryBudget;
 use subdiv::eval::{
-    fit as fit_surface, FitLoss, FitMethod, per_domain_count, project_points, sample_surface, EvalError, FitOptions, FitTarget,
-    LimitSurface, ProjectOptions, Projection, Sampling, SurfaceParam, SurfaceSample, SAMPLE_BYTES,
+    fit as fit_surface, per_domain_count, project_points, sample_surface, EvalError, FitLoss, FitMethod, FitOptions,
+    FitTarget, LimitSurface, ProjectOptions, Projection, Sampling, SurfaceParam, SurfaceSample, SAMPLE_BYTES,
 };
 use subdiv::mesh::DVec3;
 use subdiv::Options;
@@ -227,7 +227,7 @@ pub fn project<'py>(
 /// last one also names the stopping rule and the regularised control vertices).
 #[pyfunction]
 #[pyo3(signature = (target, control, scheme = "catmull-clark", iterations = 30, smoothness = 0.0,
-    tolerance = 0.0, method = "gauss-newton", loss = "l2", min_improvement = 1e-6, max_time = None,
+    tolerance = 0.0, method = "gauss-newton", loss = "l2", min_improvement = 1e-3, max_time = None,
     lambda_ = 0.05, **options))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
@@ -246,20 +246,9 @@ pub fn fit<'py>(
     options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<(PyMesh, Vec<Bound<'py, PyDict>>)> {
     let surface_options = surface_options(py, "fit", scheme, options, control.inner.tags().options())?;
-    let method = match method {
-        "gauss-newton" => FitMethod::GaussNewton,
-        "lspia" => FitMethod::PointToPoint,
-        "tangent" => FitMethod::TangentDistance { lambda: lambda_ },
-        other => {
-            return Err(input(format!("fit: method {other:?} is not one of gauss-newton, lspia, tangent")).into_pyerr(py))
-        }
-    };
-    let loss = match loss {
-        "l2" => FitLoss::L2,
-        "huber" => FitLoss::Huber,
-        "cauchy" => FitLoss::Cauchy,
-        other => return Err(input(format!("fit: loss {other:?} is not one of l2, huber, cauchy")).into_pyerr(py)),
-    };
+    let method =
+        method.parse::<FitMethod>().map_err(|e| input(format!("fit: {e}")).into_pyerr(py))?.with_lambda(lambda_);
+    let loss = loss.parse::<FitLoss>().map_err(|e| input(format!("fit: {e}")).into_pyerr(py))?;
     let target = match target.extract::<PyRef<'_, PyMesh>>() {
         Ok(mesh) => FitTarget::from_mesh(&mesh.inner),
         Err(_) => FitTarget::cloud(with_positions(target, |p| Ok(p.iter().map(|&q| DVec3::from_array(q)).collect()))?),
@@ -295,6 +284,7 @@ pub fn fit<'py>(
             d.set_item("regularised", it.regularised)?;
             d.set_item("seconds", it.seconds)?;
             d.set_item("solver", it.solver)?;
+            d.set_item("solver_iterations", it.solver_iterations)?;
             if k + 1 == count {
                 d.set_item("method", method.name())?;
                 d.set_item("loss", loss.name())?;

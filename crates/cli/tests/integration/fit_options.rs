@@ -22,7 +22,7 @@ fn scaled_pair(name: &str, scale: f64) -> (std::path::PathBuf, std::path::PathBu
             let q = (*p + glam::DVec3::new(off, -off, 0.5 * off)) * scale;
             text.push_str(&format!("v {:e} {:e} {:e}\n", q.x, q.y, q.z));
         }
-        for f in &soup.faces {
+        for f in soup.faces.iter() {
             text.push('f');
             for v in f {
                 text.push_str(&format!(" {}", v + 1));
@@ -106,8 +106,9 @@ fn extreme_scales_give_finite_correct_results() {
 
 #[test]
 fn an_unrepresentable_target_is_refused_saying_why() {
-    let target = out_path("fit_options", "huge.xyz");
-    std::fs::write(&target, "-1.7e308 -1.7e308 -1.7e308\n1.7e308 1.7e308 1.7e308\n1.7e308 0 0\n").unwrap();
+    // A point cloud: an OBJ file without faces.
+    let target = out_path("fit_options", "huge.obj");
+    std::fs::write(&target, "v -1.7e308 -1.7e308 -1.7e308\nv 1.7e308 1.7e308 1.7e308\nv 1.7e308 0 0\n").unwrap();
     let control = fixtures().join("canonical/cube_quad.obj");
     let out = out_path("fit_options", "huge-out.obj");
     let run = subdiv(&["fit", s(&target), "--control", s(&control), "--scheme", "catmull-clark", "-o", s(&out)]);

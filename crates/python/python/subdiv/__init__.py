@@ -213,7 +213,7 @@ def fit(
     tolerance: float = 0.0,
     method: str = "gauss-newton",
     loss: str = "l2",
-    min_improvement: float = 1e-6,
+    min_improvement: float = 1e-3,
     max_time: "float | None" = None,
     lambda_: float = 0.05,
     **options: Any,
