@@ -403,7 +403,10 @@ impl FitStop {
 
 /// Called after every measured round (progress); the round's [`FitIteration`].
 #[derive(Clone, Default)]
-pub struct FitObserver(Option<Arc<dyn Fn(&FitIteration) + Send + Sync>>);
+pub struct FitObserver(Option<Arc<FitCallback>>);
+
+/// What a [`FitObserver`] calls.
+type FitCallback = dyn Fn(&FitIteration) + Send + Sync;
 
 impl FitObserver {
     /// An observer calling `f`.
@@ -580,7 +583,7 @@ impl Frame {
         self.second.apply_point(self.first.apply_point(p) - self.centre)
     }
 
-    fn from_unit(self, p: DVec3) -> DVec3 {
+    fn to_input(self, p: DVec3) -> DVec3 {
         self.first.inverse().apply_point(self.second.inverse().apply_point(p) + self.centre)
     }
 
@@ -691,7 +694,7 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
     let frame = Frame::of(&target.points);
     let points: Vec<DVec3> = target.points.iter().map(|&p| frame.to_unit(p)).collect();
     let unit_scale = subdiv_mesh::Aabb::of(points.iter().copied()).map_or(0.0, |b| b.diagonal());
-    if !(unit_scale > 0.0) {
+    if unit_scale.is_nan() || unit_scale <= 0.0 {
         return Err(EvalError::InvalidInput {
             what: "fit: the target's points all coincide (its bounding box has no extent): nothing to fit".into(),
         });
@@ -794,8 +797,7 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
         // Inexact Newton: the forcing term shrinks with the residual level
         // (superlinear convergence without solving early steps to rounding).
         let cg_tolerance = (measured.rms_a / unit_scale).clamp(CG_TOLERANCE, CG_TOLERANCE_START);
-        let step =
-            solve_step(&system, &pattern, &laplacian, mesh.positions(), smooth_weight, damping, cg_tolerance, &relax)?;
+        let step = solve_step(&system, &laplacian, mesh.positions(), smooth_weight, damping, cg_tolerance, &relax)?;
         cached = Some(system);
         let candidate_positions: Vec<DVec3> = mesh.positions().iter().zip(&step.delta).map(|(&p, &d)| p + d).collect();
         let candidate = mesh.with_positions(candidate_positions);
@@ -860,7 +862,7 @@ pub fn fit(target: &FitTarget, control: &Mesh, options: &FitOptions) -> Result<F
     };
     regularised_all.sort_unstable();
     regularised_all.dedup();
-    let positions: Vec<DVec3> = mesh.positions().iter().map(|&p| frame.from_unit(p)).collect();
+    let positions: Vec<DVec3> = mesh.positions().iter().map(|&p| frame.to_input(p)).collect();
     if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
         return Err(EvalError::InvalidInput {
             what: format!("fit: fitted control vertex {i} is not representable as finite f64 coordinates"),
@@ -1163,7 +1165,6 @@ struct Step {
 /// Adds the smoothness, regularisation and damping terms and solves (module docs, step 3).
 fn solve_step(
     system: &System,
-    pattern: &Pattern,
     laplacian: &CsMatI<f64, u32>,
     positions: &[DVec3],
     smooth_weight: f64,
@@ -1171,7 +1172,6 @@ fn solve_step(
     cg_tolerance: f64,
     relax: &Relax,
 ) -> Result<Step, EvalError> {
-    let _ = pattern;
     let n = positions.len();
     let mut rows = system.rows.clone();
     let mut blocks = system.blocks.clone();
@@ -1376,7 +1376,7 @@ fn solve_cg(
         iterations += 1;
         block_apply(rows, blocks, &p, &mut ap);
         let pap = dot(&p, &ap);
-        if !(pap > 0.0) {
+        if pap.is_nan() || pap <= 0.0 {
             break;
         }
         let alpha = rz / pap;
