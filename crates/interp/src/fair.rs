@@ -537,7 +537,7 @@ fn fair(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Result<Inte
     } else {
         // Semi-sharp tags left: the plan composes the levels the masks need.
         let limit_plan = SubdivisionPlan::with_tags(tk, refined.tags(), options, 0)?;
-        limit_plan.limit_stencil().expect("the fair schemes have limit masks")?
+        limit_plan.limit_stencil_local().expect("the fair schemes have limit masks")?
     };
     // The constraints and the association of the input vertices.
     let (constraints, association) = constraints(mesh, &interpolated, &limit, opts, k)?;
@@ -646,7 +646,7 @@ fn by_limit_points_path(
                 rules.limit_stencil(tk, &sharp_k, n).expect("the fair schemes have limit masks")?
             } else {
                 let plan = SubdivisionPlan::with_tags(tk, fine.tags(), options, 0)?;
-                plan.limit_stencil().expect("the fair schemes have limit masks")?
+                plan.limit_stencil_local().expect("the fair schemes have limit masks")?
             }
         }
     };
@@ -927,7 +927,7 @@ fn energy_operator(
     let delta = energy::umbrella(plan.topology(), plan.sharpness());
     let mut chain: Vec<SparseMatrix> =
         plan.levels().iter().map(|l| l.stencil.clone().expect("the fair schemes have stencils")).collect();
-    chain.push(plan.limit_stencil().expect("the fair schemes have limit masks")?);
+    chain.push(plan.limit_stencil_local().expect("the fair schemes have limit masks")?);
     chain.push(delta);
     Ok(Chain::new(chain))
 }
