@@ -218,6 +218,20 @@ def open_with_creased_border():
     return obj
 
 
+def loose_edge_mesh():
+    """The quad cube with a loose edge from vertex 5 to a vertex of no face: Blender makes
+    vertex 5 infinitely sharp; the lone vertex stays where it is."""
+    obj = quad_mesh()
+    mesh = obj.data
+    n = len(mesh.vertices)
+    mesh.vertices.add(1)
+    mesh.vertices[n].co = (3.0, 3.0, 3.0)
+    mesh.edges.add(1)
+    mesh.edges[len(mesh.edges) - 1].vertices = (5, n)
+    mesh.update()
+    return obj
+
+
 def creased(value):
     def build():
         obj = jitter(subdivided_cube(f"crease{value}"))
@@ -295,6 +309,7 @@ CASES = {
     "valence-2": valence2_mesh,
     "valence-2 on creases": valence2_on_creases,
     "open, border creased": open_with_creased_border,
+    "loose edge": loose_edge_mesh,
     "infinitely sharp creases": creased(1.0),
     "semi-sharp creases (c=0.6)": creased(0.6),
     "mixed semi-sharp creases": mixed_creases(),
