@@ -444,8 +444,9 @@ def test_fair_refines_uvs_materials_and_creases():
     assert np.array_equal(face_array(result, "material_index", np.int32), parent_material)
     assert np.array_equal(face_array(result, "use_smooth", bool), np.repeat(face_array(source, "use_smooth", bool), sizes))
     assert [m.name for m in result.materials] == ["Red", "Blue"]
-    # Every UV map refined; the child quad of corner k starts at corner k's vertex, whose UV the
-    # refinement keeps at a seam-free... (the values move under smoothing): compare ranges.
+    # Every UV map refined (four corners per child quad), inside the input's UV square: the
+    # values move under uv_smooth's rules, which subdiv.subdivide's own tests compare with
+    # OpenSubdiv.
     for name in ("UVMap", "Second"):
         uv = uv_map(result, name)
         assert uv.shape == (4 * len(source.loops), 2)
