@@ -181,8 +181,10 @@ impl MethodOptions {
         let tagged = !mesh.tags().is_empty();
         let vertices = match self {
             MethodOptions::Fair(o) if o.refine > 0 => {
-                let sizes = subdiv_stencil::size::refined_sizes(mesh.topology(), o.scheme, o.refine);
-                sizes.last().filter(|_| sizes.len() == o.refine).map(|last| last.vertices)
+                // Past fair::MAX_REFINE the method refuses the option itself, with its reason.
+                let levels = o.refine.min(fair::MAX_REFINE);
+                let sizes = subdiv_stencil::size::refined_sizes(mesh.topology(), o.scheme, levels);
+                sizes.last().filter(|_| sizes.len() == levels).map(|last| last.vertices)
             }
             _ => Some(mesh.topology().vertex_count() as u64),
         };
