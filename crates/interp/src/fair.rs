@@ -653,7 +653,7 @@ fn by_limit_points_path(
     let (constraints, association) = constraints(mesh, &interpolated, &rows, opts, k)?;
     let pivots = private_pivots(&constraints, m, mesh)?;
     for (i, ((cols, w), &(p, ap))) in constraints.rows.iter().zip(&pivots).enumerate() {
-        let others: DVec3 = cols.iter().zip(w).filter(|(&j, _)| j != p).map(|(&j, &a)| a * x[j as usize]).sum();
+        let others: DVec3 = cols.iter().zip(w).filter(|&(&j, _)| j != p).map(|(&j, &a)| a * x[j as usize]).sum();
         x[p as usize] = (constraints.data[i] - others) / ap;
     }
     let exact_solver = if exact_summary.solver.is_empty() { "none".to_string() } else { exact_summary.solver.clone() };
@@ -1028,7 +1028,7 @@ fn minimise_exact(
             let ap = pivots[i].1;
             row.clear();
             row.extend(
-                cols.iter().zip(w).filter(|(&q, _)| q as usize != j).map(|(&q, &a)| (free_index[q as usize], -a / ap)),
+                cols.iter().zip(w).filter(|&(&q, _)| q as usize != j).map(|(&q, &a)| (free_index[q as usize], -a / ap)),
             );
             row.sort_unstable_by_key(|e| e.0);
             for &(q, v) in &row {
@@ -1055,7 +1055,7 @@ fn minimise_exact(
         x[j] = run.x[k];
     }
     for (i, ((cols, w), &(p, ap))) in c.rows.iter().zip(&pivots).enumerate() {
-        let others: DVec3 = cols.iter().zip(w).filter(|(&j, _)| j != p).map(|(&j, &a)| a * x[j as usize]).sum();
+        let others: DVec3 = cols.iter().zip(w).filter(|&(&j, _)| j != p).map(|(&j, &a)| a * x[j as usize]).sum();
         x[p as usize] = (c.data[i] - others) / ap;
     }
     Ok((x, summary_of("fair-cg", &run)))
@@ -1125,7 +1125,7 @@ fn private_pivots(c: &Constraints, m: usize, mesh: &Mesh) -> Result<Vec<(u32, f6
         let best = cols
             .iter()
             .zip(w)
-            .filter(|(&j, &a)| uses[j as usize] == 1 && a != 0.0)
+            .filter(|&(&j, &a)| uses[j as usize] == 1 && a != 0.0)
             .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
             .map(|(&j, &a)| (j, a));
         let Some(pivot) = best else {

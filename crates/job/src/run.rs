@@ -168,7 +168,7 @@ pub fn method_options(
             let mut chosen = vec![false; welds.vertex_count()];
             subset.iter().for_each(|&v| chosen[v as usize] = true);
             let classes = welds.vertex_classes().iter().enumerate();
-            Some(classes.filter(|(_, &class)| chosen[class as usize]).map(|(v, _)| v as u32).collect())
+            Some(classes.filter(|&(_, &class)| chosen[class as usize]).map(|(v, _)| v as u32).collect())
         }
         (subset, _) => subset,
     };

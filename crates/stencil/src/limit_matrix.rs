@@ -302,7 +302,7 @@ impl LimitMatrix {
 
     /// The rows of one kind, ascending.
     pub fn rows_of(&self, kind: RowKind) -> Vec<u32> {
-        (self.row_kinds.iter().enumerate()).filter(|(_, &k)| k == kind).map(|(v, _)| v as u32).collect()
+        (self.row_kinds.iter().enumerate()).filter(|&(_, &k)| k == kind).map(|(v, _)| v as u32).collect()
     }
 
     /// The rows of `block` (vertex ids) with an entry S\[i\]\[j\], j also in
@@ -635,7 +635,7 @@ fn crop(t: &Topology, sharp: &LevelSharpness, tracked: &[u32]) -> Crop {
         t.vertex_neighbors(VertexId(g)).for_each(|u| near[u.index()] = true);
     }
     let mut faces: Vec<u32> = Vec::new();
-    for (v, _) in near.iter().enumerate().filter(|(_, &n)| n) {
+    for (v, _) in near.iter().enumerate().filter(|&(_, &n)| n) {
         faces.extend(t.vertex_fan(VertexId(v as u32)).iter().map(|&h| t.he_face(h).0));
     }
     faces.sort_unstable();

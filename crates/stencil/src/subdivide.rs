@@ -373,7 +373,7 @@ impl SubdivisionPlan {
         let mut rows = RowBuilder::with_capacity(n, masks.nnz() + composed.nnz());
         let mut composed_rows_left = general.iter().zip(composed.outer_iterator()).peekable();
         for (v, mask) in masks.outer_iterator().enumerate() {
-            let row = match composed_rows_left.next_if(|(&g, _)| g as usize == v) {
+            let row = match composed_rows_left.next_if(|&(&g, _)| g as usize == v) {
                 Some((_, row)) => row,
                 None => mask,
             };
