@@ -69,6 +69,10 @@ fn bench(c: &mut Criterion) {
     g.bench_function("bound/near-ev-2^-12", |b| {
         b.iter(|| bound.evaluate_jet(black_box(toward(1.0 / 4096.0))).unwrap())
     });
+    // 32 levels of on-demand refinement below the table: the steps' cache at work.
+    g.bench_function("bound/near-ev-2^-40", |b| {
+        b.iter(|| bound.evaluate_jet(black_box(toward(2f64.powi(-40)))).unwrap())
+    });
     let at = SurfaceParam::new(near, 0, corner_uv.0, corner_uv.1);
     g.bench_function("bound/at-ev", |b| b.iter(|| bound.evaluate_jet(black_box(at)).unwrap()));
     g.bench_function("stencil/regular", |b| b.iter(|| surface.stencil(black_box(regular)).unwrap()));

@@ -20,7 +20,7 @@
 
 use crate::surface::EvalError;
 use std::collections::HashMap;
-use subdiv_mesh::{FaceId, FaceList, HalfEdgeId, Tags, Topology, VertexId};
+use subdiv_mesh::{EdgeId, FaceId, FaceList, HalfEdgeId, Tags, Topology, VertexId};
 use subdiv_stencil::{LevelSharpness, Options, SparseMatrix, SubdivisionPlan};
 
 /// A submesh at some level with each vertex as weights on the root's vertices.
@@ -225,6 +225,83 @@ impl Local {
     }
 }
 
+/// One step of on-demand refinement as a linear map: from a local level's
+/// points to those of the next level's ring around child `k` of a cell.
+/// What a step does depends only on the level's structure (connectivity,
+/// tags, the cell and the child), not on its rows, so it is computed once
+/// per structure ([`Local::step_key`]) and applied to the rows of every
+/// level of that structure ([`Local::apply`]): near an irregular vertex
+/// every level has the same structure.
+#[derive(Debug)]
+pub(crate) struct Step {
+    /// The next level; its rows are the map (its vertices × the parent's).
+    pub next: Local,
+    /// The cell within the next level's ring.
+    pub cell: FaceId,
+}
+
+/// Everything a [`Step`] depends on besides the scheme's options: the
+/// level's faces, its tags (as words), whether it is the base level, the
+/// cell and the child.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct StepKey(Vec<u32>);
+
+impl Local {
+    /// The structure a [`Step`] from `face`'s child `k` depends on.
+    pub fn step_key(&self, face: FaceId, k: usize) -> StepKey {
+        let tags = self.sharp.tags(&self.t);
+        let faces = self.t.faces();
+        let (offsets, indices) = (faces.offsets(), faces.indices());
+        let (edges, vertices) = (self.t.edge_count(), self.t.vertex_count());
+        let mut words = Vec::with_capacity(6 + offsets.len() + indices.len() + edges + vertices);
+        words.extend([u32::from(self.is_base), face.0, k as u32, offsets.len() as u32, edges as u32, vertices as u32]);
+        words.extend_from_slice(offsets);
+        words.extend_from_slice(indices);
+        words.extend((0..edges as u32).map(|e| tags.edge_sharpness(EdgeId(e)).to_bits()));
+        words.extend((0..vertices as u32).map(|v| tags.vertex_sharpness(VertexId(v)).to_bits()));
+        words.extend_from_slice(tags.crease_copies());
+        StepKey(words)
+    }
+
+    /// The step from `face`'s child `k`, computed on this level's structure
+    /// with the identity as its rows; `child_cell` names the child's refined
+    /// face and its cell ([`crate::surface`]'s patching row).
+    pub fn step(
+        &self,
+        options: &Options,
+        face: FaceId,
+        k: usize,
+        child_cell: impl FnOnce(&Local, &Refined, FaceId, usize) -> Result<(FaceId, u32), EvalError>,
+    ) -> Result<Step, EvalError> {
+        let n = self.t.vertex_count();
+        let mut rows = vec![0.0; n * n];
+        (0..n).for_each(|i| rows[i * n + i] = 1.0);
+        let identity = Local { t: self.t.clone(), sharp: self.sharp.clone(), rows, root: n, is_base: self.is_base };
+        let refined = identity.refine(options)?;
+        let (child, cell) = child_cell(&identity, &refined, face, k)?;
+        let (next, _) = refined.ring(options, child)?;
+        Ok(Step { next, cell: FaceId(cell) })
+    }
+
+    /// The next level after `step`: its rows are the step's map applied to
+    /// this level's (the sums in the order refinement composes them, so the
+    /// weights are those of refining these rows directly).
+    pub fn apply(&self, step: &Step) -> Local {
+        let (map, from, width) = (&step.next.rows, step.next.root, self.root);
+        let n = step.next.t.vertex_count();
+        let mut rows = vec![0.0; n * width];
+        for (i, out) in rows.chunks_exact_mut(width).enumerate() {
+            for (j, &w) in map[i * from..(i + 1) * from].iter().enumerate() {
+                if w != 0.0 {
+                    let src = &self.rows[j * width..(j + 1) * width];
+                    out.iter_mut().zip(src).for_each(|(a, b)| *a += w * b);
+                }
+            }
+        }
+        Local { t: step.next.t.clone(), sharp: step.next.sharp.clone(), rows, root: width, is_base: step.next.is_base }
+    }
+}
+
 impl Refined {
     /// The ring of `face` of the refined level as the next [`Local`].
     pub fn ring(&self, options: &Options, face: FaceId) -> Result<(Local, FaceId), EvalError> {
@@ -306,5 +383,44 @@ mod tests {
         let tagged = cube.clone().with_tags(Tags::from_arrays(cube.topology(), e, Vec::new()).unwrap());
         check(&tagged, options);
         check(&tagged, options.with_crease_method(subdiv_stencil::CreaseMethod::Chaikin));
+    }
+
+    /// A step applied to a level's rows gives the bits of refining that
+    /// level directly, and its key tells structures apart: three levels
+    /// down every child of every face (irregular vertices, n-gons, semi-sharp
+    /// and sharp tags decaying), each step computed on the identity.
+    #[test]
+    fn a_step_applied_is_the_level_refined() {
+        let options = Options::new(Scheme::CatmullClark);
+        let cube = shapes::cube();
+        let mut e = vec![0f32; cube.topology().edge_count()];
+        (e[0], e[1], e[4]) = (1.5, 10.0, 0.5);
+        let tagged = cube.clone().with_tags(Tags::from_arrays(cube.topology(), e, Vec::new()).unwrap());
+        let mix = shapes::polygon_mix(&shapes::torus(5, 4), 3, 0.25, 0.25, 0.1);
+        let child_cell = |l: &Local, _: &Refined, face: FaceId, k: usize| {
+            Ok((FaceId(l.t.faces().offsets()[face.index()] + k as u32), 0))
+        };
+        let mut keys = std::collections::HashSet::new();
+        for mesh in [&tagged, &mix] {
+            let t = mesh.topology();
+            for f in t.face_ids().filter(|&f| t.face_size(f) == 4) {
+                let mut level = Root::new(t, mesh.tags(), &options, f).unwrap().local;
+                for _ in 0..3 {
+                    let k = 2;
+                    let refined = level.refine(&options).unwrap();
+                    let (child, _) = child_cell(&level, &refined, FaceId(0), k).unwrap();
+                    let (direct, _) = refined.ring(&options, child).unwrap();
+                    let stepped = level.apply(&level.step(&options, FaceId(0), k, child_cell).unwrap());
+                    assert_eq!(stepped.t.faces(), direct.t.faces());
+                    assert_eq!(stepped.sharp.tags(&stepped.t), direct.sharp.tags(&direct.t));
+                    let same = stepped.rows.iter().zip(&direct.rows).all(|(a, b)| a.to_bits() == b.to_bits());
+                    assert!(same && stepped.rows.len() == direct.rows.len(), "face {f:?}: rows differ");
+                    keys.insert(level.step_key(FaceId(0), k));
+                    level = direct;
+                }
+            }
+        }
+        // Structures repeat (the cache's point) but are told apart.
+        assert!(keys.len() > 10, "{} structures", keys.len());
     }
 }

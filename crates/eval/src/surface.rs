@@ -41,7 +41,7 @@
 //! derivatives wherever those exist); the second
 //! derivatives there are reported as zero.
 
-use crate::local::{ring_faces, Local, Root};
+use crate::local::{ring_faces, Local, Root, Step, StepKey};
 use crate::patch::{basis, regular_points, Basis, PatchKind, RegularSpec};
 use crate::{catmull_clark, doo_sabin, loop_scheme, patch_vertex};
 use glam::DVec3;
@@ -422,6 +422,26 @@ pub struct LimitSurface {
     /// The face ring of every face (CSR): the domain supports.
     ring_offsets: Vec<u32>,
     ring_vertices: Vec<u32>,
+    /// The steps of on-demand refinement met so far, by structure
+    /// ([`crate::local::Step`]), shared by the surface's clones.
+    steps: std::sync::Arc<StepCache>,
+}
+
+/// Steps of on-demand refinement by structure, at most [`MAX_CACHED_STEPS`]
+/// (past that, steps are computed and not kept). Whether a step was cached
+/// does not change a bit of the result: a cached step is the one computed.
+#[derive(Default)]
+struct StepCache(std::sync::RwLock<std::collections::HashMap<StepKey, std::sync::Arc<Step>>>);
+
+/// How many steps a surface keeps: a few kilobytes each; near an irregular
+/// vertex one per valence, tag pattern and child.
+const MAX_CACHED_STEPS: usize = 4096;
+
+impl std::fmt::Debug for StepCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let len = self.0.read().map_or(0, |map| map.len());
+        f.debug_struct("StepCache").field("steps", &len).finish()
+    }
 }
 
 /// [`Node`] as stored (public derive-friendly copy).
@@ -502,6 +522,7 @@ impl LimitSurface {
             point_weights: Vec::new(),
             ring_offsets: vec![0],
             ring_vertices: Vec::new(),
+            steps: std::sync::Arc::default(),
         };
         if traits.split == Split::Dual {
             let t = &surface.topology;
@@ -1107,15 +1128,31 @@ impl LimitSurface {
                     return Ok(DenseJet { rows: [pos, du, dv, zero.clone(), zero.clone(), zero] });
                 }
             }
-            let refined = local.refine(&self.options)?;
             let (k, ak, bk) = (self.patching.child)(u, v);
-            let (child, cell) = (self.patching.child_cell)(&local, &refined, face, k)?;
+            let step = self.step(&local, face, k)?;
             (u, v) = apply_affine(&(ak, bk), u, v);
             a = compose(&ak, &a);
-            (local, _) = refined.ring(&self.options, child)?;
-            face = FaceId(cell);
+            local = local.apply(&step);
+            face = step.cell;
         }
         Err(EvalError::Internal("no regular patch or vertex limit within the depth cap".into()))
+    }
+
+    /// The step of on-demand refinement from `face`'s child `k` on
+    /// `local`'s structure: from the cache, else computed (and kept while
+    /// the cache has room).
+    fn step(&self, local: &Local, face: FaceId, k: usize) -> Result<std::sync::Arc<Step>, EvalError> {
+        let key = local.step_key(face, k);
+        if let Some(step) = self.steps.0.read().ok().and_then(|map| map.get(&key).cloned()) {
+            return Ok(step);
+        }
+        let step = std::sync::Arc::new(local.step(&self.options, face, k, self.patching.child_cell)?);
+        if let Ok(mut map) = self.steps.0.write() {
+            if map.len() < MAX_CACHED_STEPS {
+                map.entry(key).or_insert_with(|| step.clone());
+            }
+        }
+        Ok(step)
     }
 
     fn vertex_limit(&self, local: &Local, face: FaceId, k: usize) -> Result<[Vec<f64>; 3], EvalError> {
@@ -1144,7 +1181,7 @@ enum Located {
 
 /// Dense weights over a root as merged (vertex, weight) pairs of the control mesh.
 fn to_global(ids: &[u32], dense: &[f64]) -> Vec<(u32, f64)> {
-    to_global_pairs(ids.iter().zip(dense).filter(|(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)).collect())
+    to_global_pairs(ids.iter().zip(dense).filter(|&(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)).collect())
 }
 
 /// (vertex, weight) pairs sorted by vertex, repeated vertices merged.
