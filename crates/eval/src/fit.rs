@@ -879,7 +879,7 @@ fn back_term(m: &Measured, weights: &[f64], beta: f64, data: usize) -> (Vec<Proj
         return (Vec::new(), Vec::new(), Vec::new());
     }
     let mut held: Vec<(u32, u32)> =
-        m.feet.iter().zip(weights).filter(|(_, &w)| w > 0.0).map(|(f, _)| (f.param.face, f.param.corner)).collect();
+        m.feet.iter().zip(weights).filter(|&(_, &w)| w > 0.0).map(|(f, _)| (f.param.face, f.param.corner)).collect();
     held.sort_unstable();
     held.dedup();
     let kept: Vec<&(Projection, DVec3)> = m
