@@ -58,8 +58,8 @@ pub struct SurfaceFlags {
     /// together to a USD output at the same prim paths).
     #[arg(long, value_name = "PATH")]
     pub prim: Option<String>,
-    /// Memory budget of the refinements, in bytes (suffixes K, M, G, T: powers of 1024; default ¾
-    /// of the memory available). Larger results are refused with exit 2.
+    /// Memory budget of the method and the refinements, in bytes (suffixes K, M, G, T: powers of
+    /// 1024; default ¾ of the memory available). Larger work is refused with exit 2.
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
     pub max_memory: Option<u64>,
     /// Loop's β: loop (default: Loop's original, OpenSubdiv's) or warren.

@@ -187,7 +187,7 @@ pub(crate) fn vertex_limit(
     let to_root = |w: &[f64]| -> Vec<f64> {
         let mut out = vec![0.0; local.root];
         let combo: Vec<(u32, f64)> =
-            w.iter().zip(&star.nodes).filter(|(&w, _)| w != 0.0).map(|(&w, &v)| (v, w)).collect();
+            w.iter().zip(&star.nodes).filter(|&(&w, _)| w != 0.0).map(|(&w, &v)| (v, w)).collect();
         local.combine(&combo, &mut out);
         out
     };

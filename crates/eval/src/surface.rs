@@ -1144,7 +1144,7 @@ enum Located {
 
 /// Dense weights over a root as merged (vertex, weight) pairs of the control mesh.
 fn to_global(ids: &[u32], dense: &[f64]) -> Vec<(u32, f64)> {
-    to_global_pairs(ids.iter().zip(dense).filter(|(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)).collect())
+    to_global_pairs(ids.iter().zip(dense).filter(|&(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)).collect())
 }
 
 /// (vertex, weight) pairs sorted by vertex, repeated vertices merged.

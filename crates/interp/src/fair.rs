@@ -537,7 +537,7 @@ fn fair(mesh: &Mesh, interpolated: Vec<bool>, opts: &FairOptions) -> Result<Inte
     } else {
         // Semi-sharp tags left: the plan composes the levels the masks need.
         let limit_plan = SubdivisionPlan::with_tags(tk, refined.tags(), options, 0)?;
-        limit_plan.limit_stencil().expect("the fair schemes have limit masks")?
+        limit_plan.limit_stencil_local().expect("the fair schemes have limit masks")?
     };
     // The constraints and the association of the input vertices.
     let (constraints, association) = constraints(mesh, &interpolated, &limit, opts, k)?;
@@ -646,14 +646,14 @@ fn by_limit_points_path(
                 rules.limit_stencil(tk, &sharp_k, n).expect("the fair schemes have limit masks")?
             } else {
                 let plan = SubdivisionPlan::with_tags(tk, fine.tags(), options, 0)?;
-                plan.limit_stencil().expect("the fair schemes have limit masks")?
+                plan.limit_stencil_local().expect("the fair schemes have limit masks")?
             }
         }
     };
     let (constraints, association) = constraints(mesh, &interpolated, &rows, opts, k)?;
     let pivots = private_pivots(&constraints, m, mesh)?;
     for (i, ((cols, w), &(p, ap))) in constraints.rows.iter().zip(&pivots).enumerate() {
-        let others: DVec3 = cols.iter().zip(w).filter(|(&j, _)| j != p).map(|(&j, &a)| a * x[j as usize]).sum();
+        let others: DVec3 = cols.iter().zip(w).filter(|&(&j, _)| j != p).map(|(&j, &a)| a * x[j as usize]).sum();
         x[p as usize] = (constraints.data[i] - others) / ap;
     }
     let exact_solver = if exact_summary.solver.is_empty() { "none".to_string() } else { exact_summary.solver.clone() };
@@ -927,7 +927,7 @@ fn energy_operator(
     let delta = energy::umbrella(plan.topology(), plan.sharpness());
     let mut chain: Vec<SparseMatrix> =
         plan.levels().iter().map(|l| l.stencil.clone().expect("the fair schemes have stencils")).collect();
-    chain.push(plan.limit_stencil().expect("the fair schemes have limit masks")?);
+    chain.push(plan.limit_stencil_local().expect("the fair schemes have limit masks")?);
     chain.push(delta);
     Ok(Chain::new(chain))
 }
@@ -1028,7 +1028,7 @@ fn minimise_exact(
             let ap = pivots[i].1;
             row.clear();
             row.extend(
-                cols.iter().zip(w).filter(|(&q, _)| q as usize != j).map(|(&q, &a)| (free_index[q as usize], -a / ap)),
+                cols.iter().zip(w).filter(|&(&q, _)| q as usize != j).map(|(&q, &a)| (free_index[q as usize], -a / ap)),
             );
             row.sort_unstable_by_key(|e| e.0);
             for &(q, v) in &row {
@@ -1055,7 +1055,7 @@ fn minimise_exact(
         x[j] = run.x[k];
     }
     for (i, ((cols, w), &(p, ap))) in c.rows.iter().zip(&pivots).enumerate() {
-        let others: DVec3 = cols.iter().zip(w).filter(|(&j, _)| j != p).map(|(&j, &a)| a * x[j as usize]).sum();
+        let others: DVec3 = cols.iter().zip(w).filter(|&(&j, _)| j != p).map(|(&j, &a)| a * x[j as usize]).sum();
         x[p as usize] = (c.data[i] - others) / ap;
     }
     Ok((x, summary_of("fair-cg", &run)))
@@ -1125,7 +1125,7 @@ fn private_pivots(c: &Constraints, m: usize, mesh: &Mesh) -> Result<Vec<(u32, f6
         let best = cols
             .iter()
             .zip(w)
-            .filter(|(&j, &a)| uses[j as usize] == 1 && a != 0.0)
+            .filter(|&(&j, &a)| uses[j as usize] == 1 && a != 0.0)
             .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
             .map(|(&j, &a)| (j, a));
         let Some(pivot) = best else {

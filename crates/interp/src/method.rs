@@ -160,6 +160,47 @@ impl MethodOptions {
         }
     }
 
+    /// What [`interpolate`] with these options needs on `mesh`, before anything
+    /// is allocated: (the vertices of the mesh the method solves on, bytes per
+    /// such vertex). The vertices are the input's, or for `fair` those of the
+    /// input refined K times (exact, [`subdiv_stencil::size::refined_sizes`];
+    /// `None` past `u64::MAX`). The bytes are the method's peak resident memory
+    /// per vertex, measured on grids of 2·10⁴ to 5·10⁵ vertices (whole runs of
+    /// `subdiv interpolate`: the mesh, the matrices, the solver, the output)
+    /// with about half as much again for margin; semi-sharp tags widen the
+    /// limit rows around them (composed over ⌈s⌉ levels) and cost more.
+    ///
+    /// | method | untagged | tagged |
+    /// |---|---|---|
+    /// | nasri, zheng-cai, fan-cheng-lai | 0.65–1.04 kB → 1.5 kB | (infinitely sharp only) |
+    /// | cheng | 0.68 kB → 1 kB | 0.98–1.66 kB → 2.5 kB |
+    /// | deng-wang | 1.07 kB → 1.6 kB | 1.34–2.06 kB → 3.2 kB |
+    /// | fair (per refined vertex) | 0.78 kB → 1.2 kB | 1.0–1.13 kB → 1.8 kB |
+    /// | deng-ma | 0.2 kB → 1 kB (its refined output is sized where it is written) | |
+    pub fn estimated_memory(&self, mesh: &Mesh) -> (Option<u64>, u64) {
+        let tagged = !mesh.tags().is_empty();
+        let vertices = match self {
+            MethodOptions::Fair(o) if o.refine > 0 => {
+                // Past fair::MAX_REFINE the method refuses the option itself, with its reason.
+                let levels = o.refine.min(fair::MAX_REFINE);
+                let sizes = subdiv_stencil::size::refined_sizes(mesh.topology(), o.scheme, levels);
+                sizes.last().filter(|_| sizes.len() == levels).map(|last| last.vertices)
+            }
+            _ => Some(mesh.topology().vertex_count() as u64),
+        };
+        let per_vertex = match (self.method(), tagged) {
+            (Method::Nasri | Method::ZhengCai | Method::FanChengLai, _) => 1_536,
+            (Method::Cheng, false) => 1_024,
+            (Method::Cheng, true) => 2_560,
+            (Method::DengWang, false) => 1_640,
+            (Method::DengWang, true) => 3_280,
+            (Method::Fair, false) => 1_230,
+            (Method::Fair, true) => 1_840,
+            (Method::DengMa, _) => 1_024,
+        };
+        (vertices, per_vertex)
+    }
+
     /// The method these options run.
     pub fn method(&self) -> Method {
         match self {

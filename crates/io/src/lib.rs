@@ -584,7 +584,7 @@ pub(crate) fn check(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>) -> Result
             );
         }
         let values = uvs.values.len();
-        if let Some((corner, &i)) = uvs.indices.iter().enumerate().find(|(_, &i)| i as usize >= values) {
+        if let Some((corner, &i)) = uvs.indices.iter().enumerate().find(|&(_, &i)| i as usize >= values) {
             return Err(
                 ctx.invalid(format!("face corner {corner} refers to texture coordinate {i}, but there are {values}"))
             );

@@ -328,7 +328,8 @@ pub struct InterpolateOptions {
     /// takes Loop and √3, `fair` Loop and Doo-Sabin).
     #[serde(default, with = "optional_named")]
     pub scheme: Option<Scheme>,
-    /// Memory budget of the refinements, in bytes (default ¾ of the memory available).
+    /// Memory budget of the method and the refinements, in bytes (default ¾ of the memory
+    /// available).
     #[serde(default)]
     pub max_memory: Option<u64>,
 }

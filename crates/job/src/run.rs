@@ -210,7 +210,7 @@ pub fn method_options(
             let mut chosen = vec![false; welds.vertex_count()];
             subset.iter().for_each(|&v| chosen[v as usize] = true);
             let classes = welds.vertex_classes().iter().enumerate();
-            Some(classes.filter(|(_, &class)| chosen[class as usize]).map(|(v, _)| v as u32).collect())
+            Some(classes.filter(|&(_, &class)| chosen[class as usize]).map(|(v, _)| v as u32).collect())
         }
         (subset, _) => subset,
     };
@@ -296,6 +296,13 @@ pub fn interpolate_mesh(
     observer: subdiv_solve::IterationObserver,
 ) -> Result<Interpolant, JobError> {
     let options = method_options(input, o, mesh, observer)?;
+    // The method's matrices and solver, sized before they are built (subdiv-interp's measured peak
+    // per vertex of the mesh it solves on).
+    let (vertices, bytes_each) = options.estimated_memory(mesh);
+    let what = format!("--method {}", o.method.name());
+    MemoryBudget::given_or_available(o.max_memory, "--max-memory")
+        .check_items(&what, vertices, "vertices to solve on", bytes_each, "use a smaller mesh, or set --max-memory")
+        .map_err(refused)?;
     let result = subdiv_interp::interpolate(mesh, &options).map_err(|e| classify(input, o, e))?;
     Ok(with_written_options(result))
 }
@@ -452,11 +459,9 @@ fn interpolate_one(
     let name = o.method.name();
     let label = format!("{name}: {} vertices", mesh.topology().vertex_count());
     let observer = progress.solver(&label, o.tol);
-    let options = method_options(input, o, mesh, observer);
-    let result =
-        options.and_then(|options| subdiv_interp::interpolate(mesh, &options).map_err(|e| classify(input, o, e)));
+    let result = interpolate_mesh(input, mesh, o, observer);
     progress.solver_end();
-    let mut result = with_written_options(result?);
+    let mut result = result?;
     let mut warnings = Vec::new();
     let d = mesh.bbox_diagonal();
 

@@ -316,7 +316,7 @@ pub(crate) fn manifold_cover(faces: &FaceList, vertex_count: usize) -> Result<(C
                 && report.corners.binary_search(&v).is_err()
         })
         .collect();
-    report.edges = (osd.ends.iter().zip(&osd.non_manifold)).filter(|(_, &nm)| nm).map(|(ends, _)| *ends).collect();
+    report.edges = (osd.ends.iter().zip(&osd.non_manifold)).filter(|&(_, &nm)| nm).map(|(ends, _)| *ends).collect();
     report.copies = vertex_class.len() - vertex_count;
     let cover_vertex_count = vertex_class.len();
     let mut welds = Welds::new(

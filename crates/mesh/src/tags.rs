@@ -299,17 +299,17 @@ impl Tags {
     /// what a writer puts in a file.
     pub fn to_list(&self, t: &Topology) -> TagList {
         let creases = (self.edges.iter().enumerate())
-            .filter(|(_, &s)| s > 0.0)
+            .filter(|&(_, &s)| s > 0.0)
             .map(|(e, &sharpness)| {
                 let (a, b) = t.edge_vertices(EdgeId(e as u32));
                 EdgeTag { a: a.0, b: b.0, sharpness }
             })
             .collect();
         let corners = (self.vertices.iter().enumerate())
-            .filter(|(_, &s)| s > 0.0)
+            .filter(|&(_, &s)| s > 0.0)
             .map(|(v, &sharpness)| VertexTag { vertex: v as u32, sharpness })
             .collect();
-        let holes = (self.holes.iter().enumerate()).filter(|(_, &h)| h).map(|(f, _)| f as u32).collect();
+        let holes = (self.holes.iter().enumerate()).filter(|&(_, &h)| h).map(|(f, _)| f as u32).collect();
         TagList { creases, corners, holes, options: self.options }
     }
 }
@@ -336,7 +336,7 @@ impl FaceVarying {
         if self.indices.len() != corners {
             return Err(MeshError::FaceVaryingCount { corners, indices: self.indices.len() });
         }
-        if let Some((corner, &index)) = self.indices.iter().enumerate().find(|(_, &i)| i as usize >= self.values.len())
+        if let Some((corner, &index)) = self.indices.iter().enumerate().find(|&(_, &i)| i as usize >= self.values.len())
         {
             return Err(MeshError::FaceVaryingIndexOutOfRange { corner, index, values: self.values.len() });
         }

@@ -355,7 +355,7 @@ impl EdgeSet {
     fn among(t: &Topology, selected: &[bool]) -> Self {
         let mut in_selected = vec![false; t.vertex_count()];
         let mut corners = 0;
-        for (face, _) in t.faces().iter().zip(selected).filter(|(_, &s)| s) {
+        for (face, _) in t.faces().iter().zip(selected).filter(|&(_, &s)| s) {
             face.iter().for_each(|&v| in_selected[v as usize] = true);
             corners += face.len();
         }

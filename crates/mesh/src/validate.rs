@@ -94,7 +94,7 @@ pub fn diagnose(soup: &PolygonSoup) -> Diagnosis {
     }
     d.non_finite_vertices = soup.positions.iter().filter(|p| !p.is_finite()).count();
     d.isolated_vertices = used.iter().filter(|&&u| !u).count();
-    d.bbox = Aabb::of(soup.positions.iter().zip(&used).filter(|(p, &u)| u && p.is_finite()).map(|(p, _)| *p));
+    d.bbox = Aabb::of(soup.positions.iter().zip(&used).filter(|&(p, &u)| u && p.is_finite()).map(|(p, _)| *p));
 
     let edges = group_edges(soup, &good);
     d.edges = edges.records.len();

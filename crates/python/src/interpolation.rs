@@ -103,9 +103,27 @@ impl PyInterpolation {
     }
 }
 
+/// The optional `progress` callable of `interpolate` as the solver's observer: called as
+/// `progress(iteration, relative_residual)` after each solver iteration, from the thread that
+/// runs the solve, with the GIL taken for the call only. An exception it raises cannot stop
+/// the solve: it is reported as unraisable (`sys.unraisablehook`) and the solve goes on.
+fn progress_observer(progress: Option<Py<PyAny>>) -> subdiv::solve::IterationObserver {
+    match progress {
+        None => subdiv::solve::IterationObserver::default(),
+        Some(callback) => subdiv::solve::IterationObserver::new(move |iteration, residual| {
+            Python::attach(|py| {
+                if let Err(e) = callback.call1(py, (iteration, residual)) {
+                    e.write_unraisable(py, Some(callback.bind(py)));
+                }
+            })
+        }),
+    }
+}
+
 /// `interpolate` (see the Python wrapper's docstring, built from `Method::ALL`).
 #[pyfunction]
-#[pyo3(signature = (mesh, method = "cheng", tol = 1e-6, solver = "auto", max_iter = None, **options))]
+#[pyo3(signature = (mesh, method = "cheng", tol = 1e-6, solver = "auto", max_iter = None, *, progress = None, **options))]
+#[allow(clippy::too_many_arguments)]
 pub fn interpolate(
     py: Python<'_>,
     mesh: &PyMesh,
@@ -113,8 +131,14 @@ pub fn interpolate(
     tol: f64,
     solver: &str,
     max_iter: Option<usize>,
+    progress: Option<Py<PyAny>>,
     options: Option<Bound<'_, PyDict>>,
 ) -> PyResult<PyInterpolation> {
+    if let Some(callback) = &progress {
+        if !callback.bind(py).is_callable() {
+            return Err(pyo3::exceptions::PyTypeError::new_err("interpolate(): progress must be callable or None"));
+        }
+    }
     let total = Instant::now();
     let options = options.map(|d| d.copy()).transpose()?;
     let mut kw = Kwargs::new("interpolate", options);
@@ -123,9 +147,8 @@ pub fn interpolate(
     let input = Arc::clone(&mesh.inner);
     // Messages name the mesh's file as the command line's do (or `mesh` for one made in memory).
     let name = std::path::PathBuf::from(mesh.path.as_deref().unwrap_or("mesh"));
-    let result = detached(py, || {
-        Ok(subdiv::job::interpolate_mesh(&name, &input, &options, subdiv::solve::IterationObserver::default())?)
-    })?;
+    let result =
+        detached(py, || Ok(subdiv::job::interpolate_mesh(&name, &input, &options, progress_observer(progress))?))?;
     let total_ms = total.elapsed().as_secs_f64() * 1e3;
     for w in &result.warnings {
         let category = py.get_type::<pyo3::exceptions::PyUserWarning>();

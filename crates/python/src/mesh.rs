@@ -3,11 +3,11 @@
 use crate::errors::{detached, input, Error, RaiseExt};
 use numpy::ndarray::Array2;
 use numpy::prelude::*;
-use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike2, PyUntypedArray};
+use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2, PyUntypedArray};
 use pyo3::prelude::*;
-use pyo3::types::{PyList, PyTuple};
+use pyo3::types::{PyDict, PyList, PyTuple};
 use std::sync::Arc;
-use subdiv::mesh::{FaceArrays, PolygonSoup};
+use subdiv::mesh::{DVec2, EdgeTag, FaceArrays, FaceVarying, PolygonSoup, TagList, VertexTag};
 
 /// A polygon mesh: vertex positions and faces, validated (manifold, consistently oriented,
 /// faces of at least 3 distinct vertices, finite coordinates), with the crease/corner tags and
@@ -19,6 +19,13 @@ use subdiv::mesh::{FaceArrays, PolygonSoup};
 /// of vertex indices (faces of mixed sizes); indices 0-based, counter-clockwise seen from
 /// outside. Bad input raises ``subdiv.InputError`` (a ``ValueError``) naming the face or
 /// vertex; isolated vertices and zero-area faces are accepted with a ``UserWarning``.
+///
+/// Keyword-only, as a file would give them: ``tags``, the crease and corner tags in the form
+/// :attr:`tags` returns (``{"creases": [(v0, v1, s), ...], "corners": [(v, s), ...]}``, either
+/// key optional; OpenSubdiv's sharpness, 0 smooth … ≥ 10 infinitely sharp), and ``uvs``, the
+/// texture coordinates in the form :attr:`uvs` returns (``(values, indices)``: an ``(p, 2)``
+/// float array and one value index per face corner, in face order). So
+/// ``Mesh(m.vertices, m.faces, tags=m.tags, uvs=m.uvs)`` is ``m`` again.
 ///
 /// A ``Mesh`` is immutable: the array properties return new arrays.
 #[pyclass(frozen, name = "Mesh", module = "subdiv")]
@@ -146,6 +153,88 @@ impl Faces {
     }
 }
 
+/// An index (vertex or texture value) of a tag or channel as `u32`, refusing negative or huge ones.
+fn index_u32(value: i64, what: &dyn Fn() -> String) -> Result<u32, Error> {
+    u32::try_from(value).map_err(|_| input(format!("{}: index {value} is out of range", what())))
+}
+
+/// The `tags` keyword (the form of [`PyMesh::tags`]) as the file readers' [`TagList`]; the
+/// edges, vertices and sharpness values are checked with the mesh (`Mesh::from_soup`).
+fn tag_list(tags: &Bound<'_, PyAny>) -> Result<TagList, Error> {
+    let dict = tags.cast::<PyDict>().map_err(|_| {
+        input(format!(
+            "tags must be a dict {{\"creases\": [(v0, v1, s)], \"corners\": [(v, s)]}}, got {}",
+            type_name(tags)
+        ))
+    })?;
+    let mut list = TagList::default();
+    for (key, value) in dict.iter() {
+        let key = key.str().map(|k| k.to_string()).unwrap_or_default();
+        match key.as_str() {
+            "creases" => {
+                let creases: Vec<(i64, i64, f64)> = value
+                    .extract()
+                    .map_err(|_| input("tags[\"creases\"] must be a sequence of (v0, v1, sharpness)"))?;
+                for (k, (a, b, s)) in creases.into_iter().enumerate() {
+                    let what = || format!("tags[\"creases\"][{k}]");
+                    list.creases.push(EdgeTag {
+                        a: index_u32(a, &what)?,
+                        b: index_u32(b, &what)?,
+                        sharpness: s as f32,
+                    });
+                }
+            }
+            "corners" => {
+                let corners: Vec<(i64, f64)> = value
+                    .extract()
+                    .map_err(|_| input("tags[\"corners\"] must be a sequence of (vertex, sharpness)"))?;
+                for (k, (v, s)) in corners.into_iter().enumerate() {
+                    let what = || format!("tags[\"corners\"][{k}]");
+                    list.corners.push(VertexTag { vertex: index_u32(v, &what)?, sharpness: s as f32 });
+                }
+            }
+            _ => return Err(input(format!("tags: unknown key {key:?} (expected \"creases\", \"corners\")"))),
+        }
+    }
+    Ok(list)
+}
+
+/// The `uvs` keyword (the form of [`PyMesh::uvs`]) as a face-varying channel; its size and
+/// indices are checked with the mesh (`Mesh::from_soup`).
+fn face_varying(uvs: &Bound<'_, PyAny>) -> Result<FaceVarying, Error> {
+    let expected = || input(format!("uvs must be a pair (values (p, 2) floats, indices), got {}", type_name(uvs)));
+    let (values, indices): (Bound<'_, PyAny>, Bound<'_, PyAny>) = uvs.extract().map_err(|_| expected())?;
+    let values: PyArrayLike2<'_, f64, AllowTypeChange> = values.extract().map_err(|_| expected())?;
+    if values.shape()[1] != 2 {
+        return Err(input(format!("uvs: values must be a (p, 2) array, got shape {:?}", values.shape())));
+    }
+    let values: Vec<DVec2> = values.as_array().rows().into_iter().map(|r| DVec2::new(r[0], r[1])).collect();
+    let indices: PyArrayLike1<'_, i64, AllowTypeChange> =
+        indices.extract().map_err(|_| input("uvs: indices must be a 1-D integer array, one per face corner"))?;
+    let indices = indices
+        .as_array()
+        .iter()
+        .enumerate()
+        .map(|(corner, &i)| index_u32(i, &|| format!("uvs: corner {corner}")))
+        .collect::<Result<_, _>>()?;
+    Ok(FaceVarying { values, indices })
+}
+
+/// Adds the `tags` and `uvs` keywords to `soup`.
+fn with_extras(
+    mut soup: PolygonSoup,
+    tags: Option<&Bound<'_, PyAny>>,
+    uvs: Option<&Bound<'_, PyAny>>,
+) -> Result<PolygonSoup, Error> {
+    if let Some(tags) = tags.filter(|t| !t.is_none()) {
+        soup.tags = tag_list(tags)?;
+    }
+    if let Some(uvs) = uvs.filter(|u| !u.is_none()) {
+        soup.uvs = Some(face_varying(uvs)?);
+    }
+    Ok(soup)
+}
+
 /// Validates `soup` without the GIL; its warnings become Python `UserWarning`s.
 pub fn validate(py: Python<'_>, soup: PolygonSoup) -> PyResult<PyMesh> {
     let (mesh, warnings) = detached(py, move || Ok(subdiv::Mesh::from_soup(soup)?))?;
@@ -169,20 +258,31 @@ pub fn array2<'py, T: numpy::Element>(
 #[pymethods]
 impl PyMesh {
     #[new]
-    fn py_new(py: Python<'_>, vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<Self> {
+    #[pyo3(signature = (vertices, faces, *, tags = None, uvs = None))]
+    fn py_new(
+        py: Python<'_>,
+        vertices: &Bound<'_, PyAny>,
+        faces: &Bound<'_, PyAny>,
+        tags: Option<&Bound<'_, PyAny>>,
+        uvs: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
         let faces = Faces::extract(faces).raise(py)?;
         let soup = with_positions(vertices, |points| Ok(PolygonSoup::from_arrays(points, faces.arrays())?))?;
-        validate(py, soup)
+        validate(py, with_extras(soup, tags, uvs).raise(py)?)
     }
 
     /// A mesh from CSR faces: face ``f`` is ``indices[offsets[f]:offsets[f + 1]]``
-    /// (what :attr:`face_offsets` and :attr:`face_indices` give back).
+    /// (what :attr:`face_offsets` and :attr:`face_indices` give back); ``tags`` and ``uvs`` as
+    /// for the constructor.
     #[staticmethod]
+    #[pyo3(signature = (vertices, offsets, indices, *, tags = None, uvs = None))]
     fn from_csr(
         py: Python<'_>,
         vertices: &Bound<'_, PyAny>,
         offsets: &Bound<'_, PyAny>,
         indices: &Bound<'_, PyAny>,
+        tags: Option<&Bound<'_, PyAny>>,
+        uvs: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let ints = |x: &Bound<'_, PyAny>, what: &str| -> PyResult<Vec<usize>> {
             let values: Vec<i64> = x.extract().map_err(|_| {
@@ -198,7 +298,7 @@ impl PyMesh {
         let soup = with_positions(vertices, |points| {
             Ok(PolygonSoup::from_arrays(points, FaceArrays::csr(&offsets, &indices))?)
         })?;
-        validate(py, soup)
+        validate(py, with_extras(soup, tags, uvs).raise(py)?)
     }
 
     /// The vertex positions, an ``(n, 3)`` float64 array (a new array at every access).
@@ -292,7 +392,7 @@ impl PyMesh {
     #[staticmethod]
     fn from_trimesh(py: Python<'_>, tm: &Bound<'_, PyAny>) -> PyResult<Self> {
         import_trimesh(py)?;
-        PyMesh::py_new(py, &tm.getattr("vertices")?, &tm.getattr("faces")?)
+        PyMesh::py_new(py, &tm.getattr("vertices")?, &tm.getattr("faces")?, None, None)
     }
 
     /// A ``trimesh.Trimesh`` of the mesh (``process=False``: vertices kept as they are, in

@@ -55,7 +55,9 @@ def blender_limit_points(control):
     modifier.levels = modifier.render_levels = 1
     modifier.use_limit_surface = True
     modifier.quality = 6
-    modifier.boundary_smooth = "ALL"  # edge-and-corner, our default
+    # 'ALL' is OpenSubdiv's edge-only (Blender's BKE_subdiv_vtx_boundary_interpolation_from_subsurf),
+    # 'PRESERVE_CORNERS' edge-and-corner; fandisk is closed, so either shows the same surface.
+    modifier.boundary_smooth = "ALL"
     modifier.use_creases = True
     evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
     points = np.array([tuple(p.co) for p in evaluated.vertices])[: len(vertices)]

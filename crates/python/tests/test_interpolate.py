@@ -2,6 +2,7 @@
 
 import inspect
 import re
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -145,3 +146,24 @@ def test_fair_interpolates_and_takes_its_options():
         subdiv.interpolate(mesh, method="cheng", refine=2)
     with pytest.raises(ValueError, match="Loop scheme needs triangles"):
         subdiv.interpolate(mesh, method="fair", scheme="loop")
+
+
+def test_progress_is_told_the_solver_iterations(monkeypatch):
+    v, f = torus(12, 8)
+    mesh = subdiv.Mesh(v, f)
+    calls = []
+    result = subdiv.interpolate(mesh, tol=1e-10, progress=lambda i, r: calls.append((i, r)))
+    assert calls and all(isinstance(i, int) and r >= 0 for i, r in calls)
+    assert calls[-1][1] <= 1e-10 < calls[0][1]
+    # Same numbers with and without the callback; an exception in it does not stop the solve.
+    np.testing.assert_array_equal(result.control.vertices, subdiv.interpolate(mesh, tol=1e-10).control.vertices)
+
+    def broken(i, r):
+        raise ValueError("from the callback")
+
+    unraisable = []
+    monkeypatch.setattr(sys, "unraisablehook", unraisable.append)
+    assert subdiv.interpolate(mesh, tol=1e-10, progress=broken).error["max_rel"] <= 1e-10
+    assert unraisable and isinstance(unraisable[0].exc_value, ValueError)
+    with pytest.raises(TypeError, match="progress must be callable"):
+        subdiv.interpolate(mesh, progress=3)

@@ -138,3 +138,38 @@ def test_tags_read_from_obj(tmp_path):
     assert sorted((min(a, b), max(a, b), s) for a, b, s in tags["creases"]) == [(4, 5, 10.0), (5, 6, 10.0)]
     assert tags["corners"] == [(0, 3.0)]
     assert "2 creases, 1 corners" in repr(mesh)
+
+
+def test_tags_and_uvs_given_in_memory_round_trip():
+    """`Mesh(..., tags=, uvs=)` takes what `tags` and `uvs` return: the file's mesh again."""
+    read = subdiv.read(fixture("quad/spot_control_mesh.obj"))
+    corners = read.face_indices
+    tags = {"creases": [(int(corners[k]), int(corners[k + 1]), 2.5) for k in (0, 4, 8)], "corners": [(7, 10.0)]}
+    mesh = subdiv.Mesh(read.vertices, read.faces, tags=tags, uvs=read.uvs)
+    assert mesh.tags["corners"] == [(7, 10.0)]
+    assert sorted(mesh.tags["creases"]) == sorted(tags["creases"])
+    again = subdiv.Mesh.from_csr(mesh.vertices, mesh.face_offsets, mesh.face_indices, tags=mesh.tags, uvs=mesh.uvs)
+    for a, b in zip(again.uvs, read.uvs):
+        np.testing.assert_array_equal(a, b)
+    assert again.tags == mesh.tags
+    # The tags change the surface as a file's would.
+    plain = subdiv.subdivide(subdiv.Mesh(read.vertices, read.faces), levels=1).vertices
+    assert not np.allclose(subdiv.subdivide(mesh, levels=1).vertices, plain)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"tags": {"creases": [(0, 7, 10.0)]}}, "vertex 7"),
+        ({"tags": {"creases": [(0, 1, -1.0)]}}, "sharpness"),
+        ({"tags": {"corners": [(-1, 1.0)]}}, "out of range"),
+        ({"tags": {"holes": [0]}}, "unknown key"),
+        ({"tags": [(0, 1, 1.0)]}, "must be a dict"),
+        ({"uvs": (np.zeros((1, 2)), np.zeros(5, dtype=np.int64))}, "corner"),
+        ({"uvs": (np.zeros((1, 2)), np.ones(12, dtype=np.int64))}, "texture coordinate 1"),
+        ({"uvs": (np.zeros((1, 3)), np.zeros(12, dtype=np.int64))}, r"\(p, 2\)"),
+    ],
+)
+def test_bad_tags_and_uvs(kwargs, message):
+    with pytest.raises(subdiv.InputError, match=message):
+        subdiv.Mesh(TETRA_V, TETRA_F, **kwargs)

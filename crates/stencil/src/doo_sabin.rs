@@ -191,11 +191,11 @@ impl CornerMask for StandardCorners {
 /// [`StencilError::SemiSharpDooSabin`] naming the first semi-sharp element.
 pub fn check_tags(t: &Topology, tags: &Tags) -> Result<(), StencilError> {
     let semi = |s: f32| s > 0.0 && s < SHARPNESS_INFINITE;
-    if let Some((e, &sharpness)) = tags.edge_values().iter().enumerate().find(|(_, &s)| semi(s)) {
+    if let Some((e, &sharpness)) = tags.edge_values().iter().enumerate().find(|&(_, &s)| semi(s)) {
         let (a, b) = t.edge_vertices(subdiv_mesh::EdgeId(e as u32));
         return Err(StencilError::SemiSharpDooSabin { what: format!("edge {e} (vertices {a}-{b})"), sharpness });
     }
-    if let Some((v, &sharpness)) = tags.vertex_values().iter().enumerate().find(|(_, &s)| semi(s)) {
+    if let Some((v, &sharpness)) = tags.vertex_values().iter().enumerate().find(|&(_, &s)| semi(s)) {
         return Err(StencilError::SemiSharpDooSabin { what: format!("vertex {v}"), sharpness });
     }
     Ok(())

@@ -678,7 +678,7 @@ impl Step<'_> {
         }
         let count = self.unmatched_vertex_values(v, s, &mut chunk.values);
         if count > 1 {
-            let siblings = fan.iter().zip(&s.sibling).filter(|(_, &k)| k != 0);
+            let siblings = fan.iter().zip(&s.sibling).filter(|&(_, &k)| k != 0);
             chunk.siblings.extend(siblings.map(|(h, &k)| (h.0, k)));
         }
         count

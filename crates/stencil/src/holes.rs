@@ -96,12 +96,12 @@ mod tests {
         let quads = child_holes(Scheme::CatmullClark, t, &holes).unwrap();
         assert_eq!(quads.len(), 24);
         // Face 2's four quads are the quads of its half-edges 8..12.
-        assert_eq!(quads.iter().enumerate().filter(|(_, &h)| h).map(|(k, _)| k).collect::<Vec<_>>(), [8, 9, 10, 11]);
+        assert_eq!(quads.iter().enumerate().filter(|&(_, &h)| h).map(|(k, _)| k).collect::<Vec<_>>(), [8, 9, 10, 11]);
         let ico = shapes::icosahedron();
         let mut holes = vec![false; ico.topology().face_count()];
         holes[5] = true;
         let tris = child_holes(Scheme::Loop(Default::default()), ico.topology(), &holes).unwrap();
-        assert_eq!(tris.iter().enumerate().filter(|(_, &h)| h).map(|(k, _)| k).collect::<Vec<_>>(), [20, 21, 22, 23]);
+        assert_eq!(tris.iter().enumerate().filter(|&(_, &h)| h).map(|(k, _)| k).collect::<Vec<_>>(), [20, 21, 22, 23]);
         assert!(child_holes(Scheme::DooSabin, t, &[true; 6]).is_err());
         assert!(child_holes(Scheme::DooSabin, t, &[]).unwrap().is_empty());
     }

@@ -176,6 +176,7 @@ use crate::doo_sabin::{CornerMask, StandardCorners};
 use crate::sharpness::LevelSharpness;
 use crate::{apply, face_ring_size, RowBuilder, Scheme, SparseMatrix, StencilError, Summation};
 use glam::DVec3;
+use rayon::prelude::*;
 use std::collections::HashMap;
 use subdiv_mesh::refine::{DualFace, DualFeatures, SharpDualProvenance};
 use subdiv_mesh::{FaceId, FaceList, HalfEdgeId, Tags, Topology, VertexId};
@@ -301,7 +302,7 @@ impl LimitMatrix {
 
     /// The rows of one kind, ascending.
     pub fn rows_of(&self, kind: RowKind) -> Vec<u32> {
-        (self.row_kinds.iter().enumerate()).filter(|(_, &k)| k == kind).map(|(v, _)| v as u32).collect()
+        (self.row_kinds.iter().enumerate()).filter(|&(_, &k)| k == kind).map(|(v, _)| v as u32).collect()
     }
 
     /// The rows of `block` (vertex ids) with an entry S\[i\]\[j\], j also in
@@ -634,7 +635,7 @@ fn crop(t: &Topology, sharp: &LevelSharpness, tracked: &[u32]) -> Crop {
         t.vertex_neighbors(VertexId(g)).for_each(|u| near[u.index()] = true);
     }
     let mut faces: Vec<u32> = Vec::new();
-    for (v, _) in near.iter().enumerate().filter(|(_, &n)| n) {
+    for (v, _) in near.iter().enumerate().filter(|&(_, &n)| n) {
         faces.extend(t.vertex_fan(VertexId(v as u32)).iter().map(|&h| t.he_face(h).0));
     }
     faces.sort_unstable();
@@ -728,6 +729,13 @@ fn relabel_columns(m: &SparseMatrix, map: &[u32], columns: usize) -> SparseMatri
     out.build(columns)
 }
 
+/// Tracked rows per crop in [`composed_rows`]. One chunk's crops and their
+/// refinement stencils, at every level, are what the composition holds at
+/// once (a few kilobytes per row and level: semi-sharp tags on a mesh of
+/// 10⁵ vertices held gigabytes when all rows shared one crop), so the memory
+/// stays bounded whatever the number of rows, and the chunks run in parallel.
+const COMPOSED_ROWS_PER_CROP: usize = 2048;
+
 /// Rows `rows` of the plan's limit stencil on `t` with `sharp`
 /// (`SubdivisionPlan::with_tags(t, tags, options, 0).limit_stencil()`: the
 /// limit rows after the levels the masks need, composed with those levels'
@@ -737,6 +745,9 @@ fn relabel_columns(m: &SparseMatrix, map: &[u32], columns: usize) -> SparseMatri
 /// Computed on a [`crop`] around the rows' vertices at every level rather
 /// than on the whole mesh: the same rows (up to the order of the sums), in
 /// time linear in the rows and the levels instead of the mesh's size × 4^levels.
+/// The rows are taken [`COMPOSED_ROWS_PER_CROP`] at a time, in parallel;
+/// each chunk's result depends on the chunk alone, so the bits do not
+/// depend on the thread count.
 pub(crate) fn composed_rows(
     t: &Topology,
     sharp: &LevelSharpness,
@@ -746,6 +757,30 @@ pub(crate) fn composed_rows(
     let rules = scheme.rules();
     rules.check(t, sharp)?;
     let levels = rules.levels_before_limit(t, sharp, true);
+    let chunks: Vec<SparseMatrix> = rows
+        .par_chunks(COMPOSED_ROWS_PER_CROP)
+        .map(|chunk| composed_chunk(t, sharp, scheme, levels, chunk))
+        .collect::<Result<_, _>>()?;
+    if chunks.len() == 1 {
+        return Ok(chunks.into_iter().next().expect("one chunk"));
+    }
+    let mut out = RowBuilder::with_capacity(rows.len(), chunks.iter().map(SparseMatrix::nnz).sum());
+    for row in chunks.iter().flat_map(|m| m.outer_iterator()) {
+        row.iter().for_each(|(c, &w)| out.add(c as u32, w));
+        out.finish_row();
+    }
+    Ok(out.build(t.vertex_count()))
+}
+
+/// [`composed_rows`] of one chunk of rows, `levels` levels deep.
+fn composed_chunk(
+    t: &Topology,
+    sharp: &LevelSharpness,
+    scheme: Scheme,
+    levels: usize,
+    rows: &[u32],
+) -> Result<SparseMatrix, StencilError> {
+    let rules = scheme.rules();
     // The tracked vertices, in every crop.
     let first: Vec<u32> = (0..rows.len() as u32).collect();
     // Per level: the vertex count of the level, its crop, and the crop's stencil.

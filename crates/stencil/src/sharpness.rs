@@ -101,7 +101,7 @@ pub type WeightedMask = (Rule, Option<(VertexId, VertexId)>, f64);
 impl VertexStep {
     /// The masks that make the new vertex point: the parent's alone (weight
     /// 1) where the rule does not change, else w·parent then (1 − w)·child.
-    pub fn masks(&self) -> impl Iterator<Item = WeightedMask> {
+    pub fn masks(&self) -> impl Iterator<Item = WeightedMask> + use<> {
         let changes = self.parent != self.child;
         let w = if changes { self.parent_weight } else { 1.0 };
         let child = changes.then_some((self.child, self.child_ends, 1.0 - w));
@@ -350,7 +350,7 @@ impl LevelSharpness {
         let touched = self.touched.get_or_init(|| {
             let mut touched: Vec<bool> =
                 (0..t.vertex_count()).map(|v| self.vertices.get(v).is_some_and(|&s| s > 0.0)).collect();
-            for (e, _) in self.edges.iter().enumerate().filter(|(_, &s)| s > 0.0) {
+            for (e, _) in self.edges.iter().enumerate().filter(|&(_, &s)| s > 0.0) {
                 let (a, b) = t.edge_vertices(EdgeId(e as u32));
                 touched[a.index()] = true;
                 touched[b.index()] = true;

@@ -13,7 +13,7 @@ use crate::normalized::{map_back, normalize};
 use crate::scheme::SchemeRules;
 use crate::sharpness::LevelSharpness;
 use crate::welds;
-use crate::{apply, fvar, Options, Scheme, SparseMatrix, Split, StencilError};
+use crate::{apply, fvar, Options, RowBuilder, Scheme, SparseMatrix, Split, StencilError};
 use glam::DVec3;
 use std::borrow::Cow;
 use subdiv_mesh::refine::DualProvenance;
@@ -334,6 +334,53 @@ impl SubdivisionPlan {
             Ok(&limit * &product.expect("extra > 0"))
         })();
         Some(composed)
+    }
+
+    /// [`Self::limit_stencil`] computed where it is needed only, as
+    /// [`Self::limit_points`] does: the rows of vertices whose rule never
+    /// changes are their limit masks on this level (exact for them), the
+    /// others the composed rows on crops around them ([`composed_rows`]).
+    /// The same matrix up to the order of the sums, in memory linear in the
+    /// vertices and the levels the semi-sharp values need, where
+    /// [`Self::limit_stencil`] refines the whole level that many times (4^levels
+    /// times its size: what the interpolation methods cannot afford on a large
+    /// tagged mesh). Schemes whose limit the crops do not serve (Doo-Sabin, √3)
+    /// take [`Self::limit_stencil`].
+    ///
+    /// # Errors
+    /// As [`Self::limit_stencil`].
+    pub fn limit_stencil_local(&self) -> Option<Result<SparseMatrix, StencilError>> {
+        let scheme = self.scheme();
+        if !matches!(scheme.traits().split, Split::Quad | Split::Triangle) || matches!(scheme, Scheme::DengMa(_)) {
+            return self.limit_stencil();
+        }
+        let rules = scheme.rules();
+        let (t, sharp) = (self.topology(), self.sharpness());
+        let n = t.vertex_count();
+        let masks = match rules.limit_stencil(t, sharp, n)? {
+            Ok(masks) => masks,
+            Err(e) => return Some(Err(e)),
+        };
+        if rules.levels_before_limit(t, sharp, self.levels.is_empty()) == 0 {
+            return Some(Ok(masks));
+        }
+        let general: Vec<u32> =
+            (0..n as u32).filter(|&v| row_rule(t, sharp, VertexId(v)) == RowRule::General).collect();
+        let composed = match composed_rows(t, sharp, scheme, &general) {
+            Ok(composed) => composed,
+            Err(e) => return Some(Err(e)),
+        };
+        let mut rows = RowBuilder::with_capacity(n, masks.nnz() + composed.nnz());
+        let mut composed_rows_left = general.iter().zip(composed.outer_iterator()).peekable();
+        for (v, mask) in masks.outer_iterator().enumerate() {
+            let row = match composed_rows_left.next_if(|&(&g, _)| g as usize == v) {
+                Some((_, row)) => row,
+                None => mask,
+            };
+            row.iter().for_each(|(c, &w)| rows.add(c as u32, w));
+            rows.finish_row();
+        }
+        Some(Ok(rows.build(n)))
     }
 
     /// The limit points of the final level's vertices from their positions

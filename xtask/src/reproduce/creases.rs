@@ -224,7 +224,7 @@ fn features_at_vertices(mesh: &Mesh, features: &FeatureEdges) -> Vec<usize> {
 fn where_short(mesh: &Mesh, features: &FeatureEdges, at_vertex: &[usize], values: &[f64]) -> String {
     let t = mesh.topology();
     let (mut along, mut dart, mut corner) = (0, 0, 0);
-    for (&e, _) in features.edges.iter().zip(values).filter(|(_, &x)| x < ACCEPT) {
+    for (&e, _) in features.edges.iter().zip(values).filter(|&(_, &x)| x < ACCEPT) {
         let (a, b) = t.edge_vertices(e);
         let ends = [at_vertex[a.index()], at_vertex[b.index()]];
         if ends.contains(&1) {

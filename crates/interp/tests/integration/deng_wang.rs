@@ -110,7 +110,7 @@ fn independent_error(mesh: &Mesh, result: &Interpolant, beta: LoopBeta, interpol
         .iter()
         .zip(interpolated)
         .zip(used(mesh))
-        .filter(|((_, &on), u)| on && *u)
+        .filter(|&((_, &on), u)| on && u)
         .map(|((p, _), _)| *p)
         .collect();
     max_nearest_distance(&data, &limit, 1e-9 * d) / d

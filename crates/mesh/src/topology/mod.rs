@@ -114,15 +114,15 @@ impl Topology {
         self.he_twin.len()
     }
     /// All vertex ids.
-    pub fn vertices(&self) -> impl ExactSizeIterator<Item = VertexId> {
+    pub fn vertices(&self) -> impl ExactSizeIterator<Item = VertexId> + use<> {
         (0..self.vertex_count).map(VertexId)
     }
     /// All face ids.
-    pub fn face_ids(&self) -> impl ExactSizeIterator<Item = FaceId> {
+    pub fn face_ids(&self) -> impl ExactSizeIterator<Item = FaceId> + use<> {
         (0..self.faces.len() as u32).map(FaceId)
     }
     /// All edge ids.
-    pub fn edges(&self) -> impl ExactSizeIterator<Item = EdgeId> {
+    pub fn edges(&self) -> impl ExactSizeIterator<Item = EdgeId> + use<> {
         (0..self.edge_count() as u32).map(EdgeId)
     }
 
@@ -147,7 +147,7 @@ impl Topology {
         self.faces.face_size(f.index())
     }
     /// The half-edges of face `f` (corner `k` → corner `k + 1`), in order.
-    pub fn face_half_edges(&self, f: FaceId) -> impl ExactSizeIterator<Item = HalfEdgeId> {
+    pub fn face_half_edges(&self, f: FaceId) -> impl ExactSizeIterator<Item = HalfEdgeId> + use<> {
         let o = self.faces.offsets();
         (o[f.index()]..o[f.index() + 1]).map(HalfEdgeId)
     }

@@ -21,7 +21,7 @@ line compute the same numbers bit for bit.
 
 import json
 import os
-from typing import Any, Iterable, List, Optional, Union
+from typing import Any, Callable, Iterable, List, Optional, Union
 
 from ._errors import InputError, NotConvergedError, SubdivError
 from . import _subdiv
@@ -242,9 +242,11 @@ def interpolate(
     tol: float = 1e-6,
     solver: str = "auto",
     max_iter: Optional[int] = None,
+    *,
+    progress: Optional[Callable[[int, float], Any]] = None,
     **method_options: Any,
 ) -> Interpolation:
-    return _subdiv.interpolate(mesh, method, tol, solver, max_iter, **method_options)
+    return _subdiv.interpolate(mesh, method, tol, solver, max_iter, progress=progress, **method_options)
 
 
 _INTERPOLATE_DOC = """Find the control mesh whose limit surface passes through ``mesh``'s vertices.
@@ -265,6 +267,11 @@ Args:
         gauss-seidel-symmetric, gauss-seidel-multicolor, chebyshev, cg, cg-jacobi, minres,
         gmres, ldl, dense.
     max_iter: iteration cap of the iterative solvers (default 10000).
+    progress: ``None``, or a callable told ``progress(iteration, relative_residual)`` after
+        every iteration of the solver (each stage of a staged solve counts from 1 again; the
+        residual falls towards ``tol``). It is called from the thread that runs the solve,
+        with the GIL held for the call; keep it short (record the numbers, update a bar). An
+        exception it raises does not stop the solve: it goes to ``sys.unraisablehook``.
     **method_options: ``subset`` (vertex indices to interpolate; default all), ``boundary``,
         ``crease_method``, ``fvar`` (as :func:`subdivide`);
         fan-cheng-lai: ``shape`` (λ in (0, 1), one float or one per face; default 0.5);

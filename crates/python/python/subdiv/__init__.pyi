@@ -1,7 +1,7 @@
 """Type stubs of :mod:`subdiv` (the compiled core ``subdiv._subdiv`` and its wrappers)."""
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -32,13 +32,28 @@ class Mesh:
     texture coordinates of the file it was read from. Immutable."""
 
     def __init__(
-        self, vertices: npt.ArrayLike, faces: Union[npt.ArrayLike, Sequence[Sequence[int]]]
+        self,
+        vertices: npt.ArrayLike,
+        faces: Union[npt.ArrayLike, Sequence[Sequence[int]]],
+        *,
+        tags: Optional[Mapping[str, Sequence[Sequence[float]]]] = None,
+        uvs: Optional[Tuple[npt.ArrayLike, npt.ArrayLike]] = None,
     ) -> None:
         """``vertices`` an (n, 3) float array; ``faces`` an (m, k) integer array or a list of
-        sequences of 0-based vertex indices. Raises InputError for bad input."""
+        sequences of 0-based vertex indices; ``tags`` as :attr:`tags` returns them
+        (``{"creases": [(v0, v1, s)], "corners": [(v, s)]}``), ``uvs`` as :attr:`uvs`
+        (``(values (p, 2), one index per face corner)``). Raises InputError for bad input."""
     @staticmethod
-    def from_csr(vertices: npt.ArrayLike, offsets: npt.ArrayLike, indices: npt.ArrayLike) -> "Mesh":
-        """A mesh from CSR faces: face f is ``indices[offsets[f]:offsets[f + 1]]``."""
+    def from_csr(
+        vertices: npt.ArrayLike,
+        offsets: npt.ArrayLike,
+        indices: npt.ArrayLike,
+        *,
+        tags: Optional[Mapping[str, Sequence[Sequence[float]]]] = None,
+        uvs: Optional[Tuple[npt.ArrayLike, npt.ArrayLike]] = None,
+    ) -> "Mesh":
+        """A mesh from CSR faces: face f is ``indices[offsets[f]:offsets[f + 1]]``; ``tags`` and
+        ``uvs`` as for the constructor."""
     @staticmethod
     def from_trimesh(tm: Any) -> "Mesh":
         """The mesh of a ``trimesh.Trimesh`` (ImportError without trimesh)."""
@@ -145,6 +160,7 @@ def interpolate(
     solver: str = "auto",
     max_iter: Optional[int] = None,
     *,
+    progress: Optional[Callable[[int, float], Any]] = None,
     subset: Sequence[int] = ...,
     boundary: str = ...,
     crease_method: str = ...,

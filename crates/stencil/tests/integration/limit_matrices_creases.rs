@@ -351,6 +351,38 @@ fn general_rows_are_composed_locally() {
     check_row_sums("big grid", &a);
 }
 
+/// More general rows than one crop takes (the rows are composed a chunk of
+/// crops at a time, in parallel): a 100 × 100 grid with a semi-sharp crease
+/// of 2.5 on every other row of edges (the vertices of those rows general). A's rows, the plan's composed stencil on crops
+/// ([`SubdivisionPlan::limit_stencil_local`], what `fair` takes) and the
+/// plan's stencil by refining the whole mesh agree, and the rows do not
+/// depend on the thread count.
+#[test]
+fn many_general_rows_are_composed_in_chunks() {
+    let n = 100;
+    let grid = shapes::quad_grid(n, n);
+    let creases: Vec<(u32, u32, f32)> = (0..=n)
+        .step_by(2)
+        .flat_map(|j| (0..n).map(move |i| (sharp_cases::grid_id(n, i, j), sharp_cases::grid_id(n, i + 1, j), 2.5)))
+        .collect();
+    let tags = sharp_cases::tags(&grid, &creases, &[]);
+    let sharp = LevelSharpness::new(&tags, BoundaryInterpolation::EdgeAndCorner, CreaseMethod::Uniform);
+    let a = limit_matrix_catmull_clark_sharp(grid.topology(), &sharp).unwrap();
+    let general = a.rows_of(RowKind::General).len();
+    assert!(general > 2 * 2048, "{general} general rows: fewer than three chunks");
+    check_row_sums("grid with many semi-sharp creases", &a);
+    let plan = SubdivisionPlan::with_tags(grid.topology(), &tags, Options::new(Scheme::CatmullClark), 0).unwrap();
+    let global = plan.limit_stencil().unwrap().unwrap();
+    let local = plan.limit_stencil_local().unwrap().unwrap();
+    for (what, m) in [("A", a.to_csr()), ("the local stencil", local.clone())] {
+        let (worst, norm) = max_difference(&m, &global);
+        assert!(worst <= 1e-14 * norm.max(1.0), "{what} differs from the whole-mesh stencil by {worst:e}");
+    }
+    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let serial = one_thread.install(|| plan.limit_stencil_local().unwrap().unwrap());
+    assert_eq!(serial, local, "the composed rows depend on the thread count");
+}
+
 /// Eigenvalues of D^½ S D^½ restricted to `block` (symmetric when S is there).
 fn block_eigenvalues(a: &LimitMatrix, block: &[u32]) -> Vec<f64> {
     let m = block_dense(a, block, true);
