@@ -210,10 +210,30 @@ pub(crate) fn read(bytes: &[u8], ctx: Ctx<'_>) -> Result<(PolygonSoup, Vec<ReadW
     Ok((mesh.soup, warnings))
 }
 
+thread_local! {
+    /// Set while this thread runs [`guarded`]: its panics are caught and reported as errors.
+    static IN_GUARDED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
 /// Runs a call into `openusd` with its panics caught: a hostile file must
-/// not take the process down.
+/// not take the process down, nor print a panic message before the error
+/// it becomes. The first call installs a panic hook that stays silent while
+/// the panicking thread is inside `guarded` and passes every other panic to
+/// the hook that was there before.
 fn guarded<T>(ctx: Ctx<'_>, f: impl FnOnce() -> T) -> Result<T, IoError> {
-    catch_unwind(AssertUnwindSafe(f)).map_err(|panic| {
+    static QUIET_HOOK: std::sync::Once = std::sync::Once::new();
+    QUIET_HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !IN_GUARDED.with(std::cell::Cell::get) {
+                previous(info);
+            }
+        }));
+    });
+    let outer = IN_GUARDED.with(|g| g.replace(true));
+    let result = catch_unwind(AssertUnwindSafe(f));
+    IN_GUARDED.with(|g| g.set(outer));
+    result.map_err(|panic| {
         let what = panic
             .downcast_ref::<&str>()
             .map(|s| s.to_string())
