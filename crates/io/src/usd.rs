@@ -373,61 +373,365 @@ fn bounded_counts(bytes: &[u8], ctx: Ctx<'_>) -> Result<(), IoError> {
     }
     let file = guarded(ctx, || openusd::usdc::CrateFile::open(Cursor::new(bytes)))?
         .map_err(|e| usd_error(ctx, "usdc", &e.into()))?;
-    for field in &file.fields {
-        let rep = field.value_rep;
-        if rep.is_inlined() || !rep.is_array() || rep.payload() == 0 {
-            continue;
+    let mut walk = CrateWalk { bytes, version, decoded: 0, budget: DECODED_BYTES_PER_BYTE * len + DECODED_BYTES_FLOOR };
+    guarded(ctx, || walk.every_field(&file))?.map_err(corrupt)
+}
+
+/// What decoding a whole crate file may allocate, per byte of the file
+/// (plus [`DECODED_BYTES_FLOOR`]): a field shared by many specs, a time
+/// sample or a token repeated by index are decoded once per use, so a small
+/// file can ask for far more memory than it holds.
+const DECODED_BYTES_PER_BYTE: u64 = 256;
+/// See [`DECODED_BYTES_PER_BYTE`].
+const DECODED_BYTES_FLOOR: u64 = 1 << 30;
+/// How deeply dictionaries, time samples and references may nest.
+const MOST_NESTING: u32 = 16;
+
+/// A walk over every value the `openusd` crate reader would decode for
+/// [`sdf::Data::from_abstract`], mirroring its reads (openusd 0.6's
+/// `CrateFile::value`) without allocating: each count it would allocate
+/// for is checked against the bytes that could hold it, nesting is bounded
+/// (a dictionary that contains itself would overflow the stack), and the
+/// sum of what would be decoded against a budget.
+struct CrateWalk<'a> {
+    bytes: &'a [u8],
+    version: (u8, u8, u8),
+    decoded: u64,
+    budget: u64,
+}
+
+/// Bytes a decoded string or path takes besides its text.
+const STRING_OVERHEAD: u64 = 24;
+
+impl CrateWalk<'_> {
+    fn len(&self) -> u64 {
+        self.bytes.len() as u64
+    }
+
+    fn u64_at(&self, at: u64) -> Result<u64, String> {
+        usize::try_from(at)
+            .ok()
+            .and_then(|at| self.bytes.get(at..at.checked_add(8)?))
+            .map(|b| u64::from_le_bytes(b.try_into().unwrap_or_default()))
+            .ok_or_else(|| format!("a value at byte {at} lies past the end of the file"))
+    }
+
+    fn u32_at(&self, at: u64) -> Result<u32, String> {
+        usize::try_from(at)
+            .ok()
+            .and_then(|at| self.bytes.get(at..at.checked_add(4)?))
+            .map(|b| u32::from_le_bytes(b.try_into().unwrap_or_default()))
+            .ok_or_else(|| format!("a value at byte {at} lies past the end of the file"))
+    }
+
+    /// A count at `at` of items of `item` bytes each that follow it.
+    fn count_at(&self, at: u64, item: u64) -> Result<u64, String> {
+        let count = self.u64_at(at)?;
+        let room = self.len().saturating_sub(at + 8);
+        if count > room / item.max(1) {
+            return Err(format!("a list at byte {at} claims {count} items, more than the file holds"));
         }
-        let mut at = rep.payload();
-        if version < (0, 5, 0) {
-            at += 4;
+        Ok(count)
+    }
+
+    fn decode(&mut self, bytes: u64) -> Result<(), String> {
+        self.decoded = self.decoded.saturating_add(bytes);
+        if self.decoded > self.budget {
+            return Err(format!("decoding it would take more than {} bytes", self.budget));
         }
-        let count = if version < (0, 7, 0) { u64_at(at).map(|c| c & 0xFFFF_FFFF) } else { u64_at(at) };
-        let room = len.saturating_sub(at);
-        // The crate file's type numbers (pxr's `crateDataTypes.h`): 3-6 the
-        // integers, 7-9 half, float and double.
-        let ty = (rep.0 >> 48) & 0xFF;
-        let ints = (3..=6).contains(&ty);
-        let float_size = match ty {
-            7 => 2,
-            8 => 4,
-            9 => 8,
-            _ => 0,
+        Ok(())
+    }
+
+    /// Every field of every spec, as `from_abstract` reads them.
+    fn every_field<R>(&mut self, file: &openusd::usdc::CrateFile<R>) -> Result<(), String> {
+        for spec in &file.specs {
+            let slots = file.fieldsets.get(spec.fieldset_index..).unwrap_or(&[]);
+            for index in slots.iter().map_while(|slot| *slot) {
+                let field = file.fields.get(index).ok_or("a field set names a field that does not exist")?;
+                self.value(file, Rep(field.value_rep.0), 0)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The bytes a string-table or token index decodes to.
+    fn indexed_text<R>(&self, file: &openusd::usdc::CrateFile<R>, table: Table, index: u32) -> u64 {
+        let index = index as usize;
+        let text = match table {
+            Table::Tokens => file.tokens.get(index).map(String::len),
+            Table::Strings => file.strings.get(index).and_then(|&t| file.tokens.get(t)).map(String::len),
+            Table::Paths => file.paths.get(index).map(|p| p.as_str().len()),
         };
-        let compressed = rep.is_compressed() && (ints || float_size > 0);
-        let most = if compressed { MOST_PER_BYTE * (room + 64) } else { room };
-        let Some(count) = count.filter(|&c| c <= most) else {
-            return Err(corrupt(format!("an array at byte {at} claims more elements than the file holds")));
-        };
-        if !compressed || count == 0 {
-            continue;
+        STRING_OVERHEAD + text.unwrap_or(0) as u64
+    }
+
+    /// A count-prefixed vector of `u32` indices at `at`; where it ends.
+    fn indexed_vec<R>(&mut self, file: &openusd::usdc::CrateFile<R>, at: u64, table: Table) -> Result<u64, String> {
+        let count = self.count_at(at, 4)?;
+        for i in 0..count {
+            let bytes = self.indexed_text(file, table, self.u32_at(at + 8 + 4 * i)?);
+            self.decode(bytes)?;
         }
-        // The sizes inside a compressed array: the LZ4 block's, and a lookup table's.
-        let data = at + if version < (0, 7, 0) { 4 } else { 8 };
-        let block = if ints {
-            Some(data)
-        } else {
-            match bytes.get(data as usize) {
-                Some(b'i') => Some(data + 1),
-                Some(b't') => {
-                    let lut = bytes
-                        .get(data as usize + 1..data as usize + 5)
-                        .map_or(u64::MAX, |b| u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])));
-                    if lut > room {
-                        return Err(corrupt(format!("a lookup table at byte {data} is larger than the file")));
-                    }
-                    Some(data + 5 + lut * float_size)
+        Ok(at + 8 + 4 * count)
+    }
+
+    fn value<R>(&mut self, file: &openusd::usdc::CrateFile<R>, rep: Rep, depth: u32) -> Result<(), String> {
+        if depth > MOST_NESTING {
+            return Err(format!("values nested more than {MOST_NESTING} deep"));
+        }
+        let ty = rep.ty();
+        // The reader takes an array's payload (and a payload list
+        // operation's) as an offset even when the inlined flag is set.
+        if rep.is_inlined() && !rep.is_array() && ty != 55 {
+            return Ok(());
+        }
+        let at = rep.payload();
+        match ty {
+            // Arrays of numbers, vectors, matrices and quaternions; a time
+            // sample's times (a double vector) and time codes read as arrays.
+            1..=9 | 13..=30 | 48 | 56 if rep.is_array() || ty == 48 => self.numbers(ty, rep),
+            // Token arrays: indices after an array count.
+            11 if rep.is_array() => {
+                let (count, data) = self.array_count(rep)?;
+                if count > self.len().saturating_sub(data) / 4 {
+                    return Err(format!("a token array at byte {at} claims {count} items, more than the file holds"));
                 }
-                _ => None,
+                for i in 0..count {
+                    let bytes = self.indexed_text(file, Table::Tokens, self.u32_at(data + 4 * i)?);
+                    self.decode(bytes)?;
+                }
+                Ok(())
             }
-        };
-        if let Some(block) = block {
-            if u64_at(block).is_none_or(|size| size > len.saturating_sub(block)) {
-                return Err(corrupt(format!("a compressed block at byte {block} is larger than the file")));
-            }
+            // String, asset-path and path-expression arrays, string vectors.
+            10 | 12 | 57 if rep.is_array() => self.indexed_vec(file, at, Table::Strings).map(drop),
+            50 => self.indexed_vec(file, at, Table::Strings).map(drop),
+            // Token and path vectors.
+            41 => self.indexed_vec(file, at, Table::Tokens).map(drop),
+            40 => self.indexed_vec(file, at, Table::Paths).map(drop),
+            // Layer offsets (two doubles each), variant selections and
+            // relocates (two indices each).
+            49 => self.count_at(at, 16).and_then(|n| self.decode(16 * n)),
+            45 | 58 => self.count_at(at, 8).and_then(|n| self.decode(2 * (STRING_OVERHEAD + 64) * n)),
+            // List operations of indices or numbers.
+            32 => self.list_op(file, at, ListItems::Indexed(Table::Tokens), depth),
+            33 | 54 => self.list_op(file, at, ListItems::Indexed(Table::Strings), depth),
+            34 => self.list_op(file, at, ListItems::Indexed(Table::Paths), depth),
+            36 | 38 => self.list_op(file, at, ListItems::Numbers(4), depth),
+            37 | 39 => self.list_op(file, at, ListItems::Numbers(8), depth),
+            35 => self.list_op(file, at, ListItems::References, depth),
+            55 => self.list_op(file, at, ListItems::Payloads, depth),
+            31 => self.dictionary(file, at, depth).map(drop),
+            46 => self.time_samples(file, at, depth),
+            // Scalars (fixed size), payloads, blocks.
+            _ => Ok(()),
         }
     }
-    Ok(())
+
+    /// An array's element count (after the pre-0.5 shape word; 32 bits
+    /// before 0.7) and where its data starts.
+    fn array_count(&self, rep: Rep) -> Result<(u64, u64), String> {
+        if rep.payload() == 0 {
+            return Ok((0, 0));
+        }
+        let mut at = rep.payload();
+        if self.version < (0, 5, 0) {
+            at += 4;
+        }
+        if self.version < (0, 7, 0) {
+            Ok((u64::from(self.u32_at(at)?), at + 4))
+        } else {
+            Ok((self.u64_at(at)?, at + 8))
+        }
+    }
+
+    /// An array of numbers: uncompressed, a byte or more an element;
+    /// compressed integers or floats, at most [`MOST_PER_BYTE`] elements a
+    /// byte, with the sizes inside (the LZ4 block's, a lookup table's)
+    /// checked too.
+    fn numbers(&mut self, ty: u64, rep: Rep) -> Result<(), String> {
+        let size: u64 = match ty {
+            1 | 2 => 1,
+            7 => 2,
+            3 | 4 | 8 => 4,
+            5 | 6 | 9 | 48 | 56 => 8,
+            13 => 32,
+            14 => 72,
+            15 => 128,
+            16 | 27 => 32,
+            17 | 30 | 28 => 16,
+            18 | 29 | 20 | 22 => 8,
+            19 => 16,
+            21 => 4,
+            23 => 24,
+            24 | 26 => 12,
+            25 => 6,
+            _ => 8,
+        };
+        let (count, data) = self.array_count(rep)?;
+        if count == 0 {
+            return Ok(());
+        }
+        let room = self.len().saturating_sub(data);
+        let ints = (3..=6).contains(&ty);
+        let floats = matches!(ty, 7..=9 | 48 | 56);
+        let compressed = rep.is_compressed()
+            && count >= 4
+            && ((ints && self.version >= (0, 5, 0)) || (floats && self.version >= (0, 6, 0)));
+        let most = if compressed { MOST_PER_BYTE * (room + 64) } else { room / size };
+        if count > most {
+            return Err(format!(
+                "an array at byte {} claims {count} elements, more than the file holds",
+                rep.payload()
+            ));
+        }
+        self.decode(count * size.max(4))?;
+        if !compressed {
+            return Ok(());
+        }
+        let block = if ints {
+            data
+        } else {
+            match self.bytes.get(data as usize) {
+                Some(b'i') => data + 1,
+                Some(b't') => {
+                    let lut = u64::from(self.u32_at(data + 1)?);
+                    if lut > room / size {
+                        return Err(format!("a lookup table at byte {data} is larger than the file"));
+                    }
+                    self.decode(lut * size)?;
+                    data + 5 + lut * size
+                }
+                _ => return Ok(()),
+            }
+        };
+        if self.u64_at(block)? > self.len().saturating_sub(block) {
+            return Err(format!("a compressed block at byte {block} is larger than the file"));
+        }
+        Ok(())
+    }
+
+    /// A list operation at `at`: a header byte, then one list per flag
+    /// (explicit, added, prepended, appended, deleted, ordered).
+    fn list_op<R>(
+        &mut self,
+        file: &openusd::usdc::CrateFile<R>,
+        at: u64,
+        items: ListItems,
+        depth: u32,
+    ) -> Result<(), String> {
+        let header = *self.bytes.get(at as usize).ok_or("a list operation lies past the end of the file")?;
+        let lists = (header >> 1 & 0x3F).count_ones();
+        let mut at = at + 1;
+        for _ in 0..lists {
+            at = match items {
+                ListItems::Indexed(table) => self.indexed_vec(file, at, table)?,
+                ListItems::Numbers(size) => {
+                    let count = self.count_at(at, size)?;
+                    self.decode(count * size)?;
+                    at + 8 + count * size
+                }
+                ListItems::Payloads => {
+                    let size = if self.version >= (0, 8, 0) { 24 } else { 8 };
+                    let count = self.count_at(at, size)?;
+                    self.decode(count * (2 * STRING_OVERHEAD + 128))?;
+                    at + 8 + count * size
+                }
+                ListItems::References => {
+                    // Each: asset path and prim path indices, a layer offset
+                    // (two doubles), a custom-data dictionary.
+                    let count = self.count_at(at, 32)?;
+                    let mut next = at + 8;
+                    for _ in 0..count {
+                        self.decode(2 * STRING_OVERHEAD + 128)?;
+                        next = self.dictionary(file, next + 24, depth + 1)?;
+                    }
+                    next
+                }
+            };
+        }
+        Ok(())
+    }
+
+    /// A dictionary at `at` (a count, then per entry a key index and a
+    /// relative jump to the entry's value representation, the next entry
+    /// after it); where it ends.
+    fn dictionary<R>(&mut self, file: &openusd::usdc::CrateFile<R>, at: u64, depth: u32) -> Result<u64, String> {
+        if depth > MOST_NESTING {
+            return Err(format!("values nested more than {MOST_NESTING} deep"));
+        }
+        let count = self.count_at(at, 12)?;
+        let mut at = at + 8;
+        for _ in 0..count {
+            self.decode(STRING_OVERHEAD + 64)?;
+            let rep_at = self.jump(at + 4)?;
+            self.value(file, Rep(self.u64_at(rep_at)?), depth + 1)?;
+            at = rep_at + 8;
+        }
+        Ok(at)
+    }
+
+    /// Time samples at `at`: a jump to the times' representation, then a
+    /// jump to a count of value representations.
+    fn time_samples<R>(&mut self, file: &openusd::usdc::CrateFile<R>, at: u64, depth: u32) -> Result<(), String> {
+        let times_at = self.jump(at)?;
+        self.value(file, Rep(self.u64_at(times_at)?), depth + 1)?;
+        let reps_at = self.jump(times_at + 8)?;
+        let count = self.count_at(reps_at, 8)?;
+        for i in 0..count {
+            self.value(file, Rep(self.u64_at(reps_at + 8 + 8 * i)?), depth + 1)?;
+        }
+        Ok(())
+    }
+
+    /// Where a relative jump stored at `at` lands (relative to `at`).
+    fn jump(&self, at: u64) -> Result<u64, String> {
+        let offset = self.u64_at(at)? as i64;
+        at.checked_add_signed(offset)
+            .filter(|&to| to < self.len())
+            .ok_or_else(|| format!("a jump at byte {at} leaves the file"))
+    }
+}
+
+/// A crate file's value representation (pxr's `ValueRep`): flags in the
+/// top bits, the type in bits 48-55, an inline value or a file offset in
+/// the low 48 bits.
+#[derive(Clone, Copy)]
+struct Rep(u64);
+
+impl Rep {
+    fn is_array(self) -> bool {
+        self.0 & 1 << 63 != 0
+    }
+    fn is_inlined(self) -> bool {
+        self.0 & 1 << 62 != 0
+    }
+    fn is_compressed(self) -> bool {
+        self.0 & 1 << 61 != 0
+    }
+    /// The type number (pxr's `crateDataTypes.h`).
+    fn ty(self) -> u64 {
+        self.0 >> 48 & 0xFF
+    }
+    fn payload(self) -> u64 {
+        self.0 & ((1 << 48) - 1)
+    }
+}
+
+/// Which table an index names.
+#[derive(Clone, Copy)]
+enum Table {
+    Tokens,
+    Strings,
+    Paths,
+}
+
+/// What a list operation's lists hold.
+#[derive(Clone, Copy)]
+enum ListItems {
+    Indexed(Table),
+    Numbers(u64),
+    References,
+    Payloads,
 }
 
 /// Every `def Mesh` prim of the layer.

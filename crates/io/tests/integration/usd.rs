@@ -309,8 +309,10 @@ fn hostile_usd_files_are_typed_errors() {
         }
     }
     // Huge counts in the binary file: every 8-byte word set to a large count in turn.
-    for at in (8..good.len().saturating_sub(8)).step_by(8) {
-        for huge in [u64::MAX, 1 << 40, 1 << 31] {
+    // At every byte (counts, jumps and value representations are not all
+    // 8-byte aligned), also a jump back onto itself and a self-nesting value.
+    for at in 8..good.len().saturating_sub(8) {
+        for huge in [u64::MAX, 1 << 40, 1 << 31, (at as u64).wrapping_neg(), 0, 31 << 48 | at as u64] {
             let mut bytes = good.clone();
             bytes[at..at + 8].copy_from_slice(&huge.to_le_bytes());
             if let Ok(soup) = read_mesh_from_bytes(&bytes, Format::Usdc, "huge.usdc") {
