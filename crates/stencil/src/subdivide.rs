@@ -339,7 +339,7 @@ impl SubdivisionPlan {
     /// [`Self::limit_stencil`] computed where it is needed only, as
     /// [`Self::limit_points`] does: the rows of vertices whose rule never
     /// changes are their limit masks on this level (exact for them), the
-    /// others the composed rows on crops around them ([`composed_rows`]).
+    /// others the composed rows on crops around them (`composed_rows`).
     /// The same matrix up to the order of the sums, in memory linear in the
     /// vertices and the levels the semi-sharp values need, where
     /// [`Self::limit_stencil`] refines the whole level that many times (4^levels

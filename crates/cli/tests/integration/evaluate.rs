@@ -3,21 +3,12 @@
 //! without `--derivs`) matches the library, and bad parameter files fail
 //! with exit 2, the line named and no output written.
 
-use crate::common::{assert_no_panic, fixtures, out_path, read, subdiv};
-use std::path::Path;
+use crate::common::{assert_no_panic, fixtures, numbers, out_path, read, subdiv};
 
 fn write(name: &str, text: &str) -> std::path::PathBuf {
     let p = out_path("evaluate", name);
     std::fs::write(&p, text).unwrap();
     p
-}
-
-fn numbers(path: &Path) -> Vec<Vec<f64>> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
-        .collect()
 }
 
 #[test]

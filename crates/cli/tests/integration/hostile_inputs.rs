@@ -2,7 +2,7 @@
 //! in `sample`, `evaluate`, `project` and `batch` exits 0 with a correct,
 //! finite result, or 2/3 with nothing written.
 
-use crate::common::{self, assert_no_panic, fixtures, out_path, read, subdiv};
+use crate::common::{self, assert_no_panic, fixtures, numbers, out_path, read, subdiv};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -213,15 +213,6 @@ fn project_at_extreme_scales_finds_what_it_finds_at_scale_one() {
             }
         }
     }
-}
-
-/// The numbers of `evaluate`'s output lines.
-fn numbers(path: &Path) -> Vec<Vec<f64>> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
-        .collect()
 }
 
 /// The `v` and `vn` lines of an OBJ point cloud.

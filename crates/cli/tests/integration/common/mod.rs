@@ -28,6 +28,15 @@ pub fn assert_no_panic(out: &Output) {
     assert!(!stderr.contains("panicked") && !stderr.contains("RUST_BACKTRACE"), "panic: {stderr}");
 }
 
+/// The numbers of each line of a text output (`evaluate`'s rows).
+pub fn numbers(path: &Path) -> Vec<Vec<f64>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
+        .collect()
+}
+
 /// A path in `suite`'s scratch folder (`subdiv-cli-{suite}-{pid}` in the
 /// temporary directory, created on first use). The test modules share one
 /// process (one test binary), so each uses suite names of its own.
