@@ -239,13 +239,24 @@ fn guarded<T>(ctx: Ctx<'_>, f: impl FnOnce() -> T) -> Result<T, IoError> {
             .map(|s| s.to_string())
             .or_else(|| panic.downcast_ref::<String>().cloned())
             .unwrap_or_else(|| "malformed data".to_string());
-        ctx.parse(None, format!("the USD reader failed: {what}"))
+        parse_error(ctx, format!("the USD reader failed: {what}"))
     })
+}
+
+/// A parse error whose message may quote the file (tokens, paths, section
+/// names): control characters escaped, so that it stays one line.
+fn parse_error(ctx: Ctx<'_>, message: String) -> IoError {
+    let message = if message.contains(char::is_control) {
+        message.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
+    } else {
+        message
+    };
+    ctx.parse(None, message)
 }
 
 /// An `openusd` error as ours: its whole chain on one line.
 fn usd_error(ctx: Ctx<'_>, what: &str, e: &anyhow_chain::Chain) -> IoError {
-    ctx.parse(None, format!("{what}: {}", e.0))
+    parse_error(ctx, format!("{what}: {}", e.0))
 }
 
 /// The error chain of an `anyhow::Error` (the crate's error type) as text,
@@ -321,7 +332,7 @@ fn bounded_counts(bytes: &[u8], ctx: Ctx<'_>) -> Result<(), IoError> {
         let at = usize::try_from(at).ok()?;
         Some(u64::from_le_bytes(bytes.get(at..at.checked_add(8)?)?.try_into().ok()?))
     };
-    let corrupt = |what: String| ctx.parse(None, format!("corrupt USD crate file: {what}"));
+    let corrupt = |what: String| parse_error(ctx, format!("corrupt USD crate file: {what}"));
     if bytes.len() < 24 {
         return Err(ctx.truncated(None, format!("a crate file's header takes 24 bytes, the file has {len}")));
     }
@@ -335,9 +346,11 @@ fn bounded_counts(bytes: &[u8], ctx: Ctx<'_>) -> Result<(), IoError> {
         let at = (toc + 8 + 32 * i) as usize;
         let name = &bytes[at..at + 16];
         let name = std::str::from_utf8(&name[..name.iter().position(|&b| b == 0).unwrap_or(16)]).unwrap_or("?");
+        // Named in messages: printable, on one line.
+        let shown: String = name.escape_default().collect();
         let (start, size) = (u64_at(at as u64 + 16).unwrap_or(u64::MAX), u64_at(at as u64 + 24).unwrap_or(u64::MAX));
         if start.checked_add(size).is_none_or(|end| end > len) {
-            return Err(corrupt(format!("section {name} lies past the end of the file")));
+            return Err(corrupt(format!("section {shown} lies past the end of the file")));
         }
         let end = start + size;
         let too_many = |count: Option<u64>, most: u64| count.is_none_or(|c| c > most);
@@ -346,7 +359,7 @@ fn bounded_counts(bytes: &[u8], ctx: Ctx<'_>) -> Result<(), IoError> {
         let (counts, blocks) = match name {
             "STRINGS" => {
                 if too_many(u64_at(start), size / 4) {
-                    return Err(corrupt(format!("section {name} claims more entries than its {size} bytes hold")));
+                    return Err(corrupt(format!("section {shown} claims more entries than its {size} bytes hold")));
                 }
                 continue;
             }
@@ -359,7 +372,7 @@ fn bounded_counts(bytes: &[u8], ctx: Ctx<'_>) -> Result<(), IoError> {
         };
         for k in 0..counts {
             if too_many(u64_at(start + 8 * k), many) {
-                return Err(corrupt(format!("section {name} claims more entries than its {size} bytes hold")));
+                return Err(corrupt(format!("section {shown} claims more entries than its {size} bytes hold")));
             }
         }
         let mut at = start + 8 * counts;
@@ -367,7 +380,7 @@ fn bounded_counts(bytes: &[u8], ctx: Ctx<'_>) -> Result<(), IoError> {
             let room = end.saturating_sub(at + 8);
             match u64_at(at).filter(|&block| block <= room) {
                 Some(block) => at += 8 + block,
-                None => return Err(corrupt(format!("a compressed block of section {name} runs past the section"))),
+                None => return Err(corrupt(format!("a compressed block of section {shown} runs past the section"))),
             }
         }
     }
@@ -790,7 +803,7 @@ fn read_mesh_prim(
     warnings: &mut Vec<ReadWarning>,
 ) -> Result<UsdMesh, IoError> {
     let at = |name: &str| format!("{prim}.{name}");
-    let bad = |name: &str, message: String| ctx.parse(None, format!("{}: {message}", at(name)));
+    let bad = |name: &str, message: String| parse_error(ctx, format!("{}: {message}", at(name)));
     let get = |name: &str| attribute(layer, prim, name, ctx);
 
     let positions: Vec<DVec3> = match get("points")? {

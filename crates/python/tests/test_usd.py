@@ -171,5 +171,50 @@ def test_interpolate_a_two_prim_scene_keeps_prim_paths_and_passes_through_the_da
         points, _ = read_obj(limit)
         d = np.linalg.norm(data["points"].max(axis=0) - data["points"].min(axis=0))
         errors[prim] = np.linalg.norm(points - data["points"], axis=1).max() / d
+        # OpenSubdiv's limit, as Blender's modifier evaluates the control mesh pxr reads (when
+        # bpy is installed: .ci/run installs it).
+        if bpy is not None:
+            points = blender_limit(control)
+            errors[prim + " (Blender)"] = np.linalg.norm(points - data["points"], axis=1).max() / d
     print("limit error / d per prim:", errors)
     assert all(e <= 1e-6 for e in errors.values()), errors
+
+
+try:
+    import bpy
+except ImportError:
+    bpy = None
+
+
+def blender_limit(mesh):
+    """The first n vertices of Blender's Subdivision Surface modifier (OpenSubdiv inside; limit
+    surface, level 1) on a mesh read by pxr: edge creases c = √(s/10) (Blender's map to
+    OpenSubdiv sharpness is 10·c²), vertex creases likewise, the boundary rule mapped."""
+    import math
+
+    vertices = mesh["points"]
+    data = bpy.data.meshes.new("cage")
+    data.from_pydata(vertices.tolist(), [], mesh["faces"])
+    data.update()
+    edge = {tuple(sorted(e.vertices)): e.index for e in data.edges}
+    crease = np.zeros(len(data.edges))
+    for a, b, s in mesh["creases"]:
+        crease[edge[tuple(sorted((a, b)))]] = math.sqrt(min(s, 10.0) / 10.0)
+    data.attributes.new("crease_edge", "FLOAT", "EDGE").data.foreach_set("value", crease)
+    corner = np.zeros(len(vertices))
+    for v, s in mesh["corners"]:
+        corner[v] = math.sqrt(min(s, 10.0) / 10.0)
+    data.attributes.new("crease_vert", "FLOAT", "POINT").data.foreach_set("value", corner)
+    obj = bpy.data.objects.new("cage", data)
+    bpy.context.scene.collection.objects.link(obj)
+    modifier = obj.modifiers.new("subsurf", "SUBSURF")
+    modifier.levels = modifier.render_levels = 1
+    modifier.use_limit_surface = True
+    modifier.quality = 10
+    # Blender's 'ALL' is OpenSubdiv's edge-only, 'PRESERVE_CORNERS' edge-and-corner.
+    modifier.boundary_smooth = "PRESERVE_CORNERS" if mesh["boundary"] in (None, "edgeAndCorner") else "ALL"
+    modifier.use_creases = True
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
+    points = np.array([tuple(p.co) for p in evaluated.vertices])[: len(vertices)]
+    bpy.data.objects.remove(obj)
+    return points
