@@ -38,7 +38,8 @@ def geometry(path, prim_path):
     at, edge = 0, 0
     for k, n in enumerate(lengths):
         for j in range(n - 1):
-            creases.append((ci[at + j], ci[at + j + 1], sharp[edge] if per_edge else sharp[k]))
+            a, b = sorted((ci[at + j], ci[at + j + 1]))  # an edge, whichever way the crease runs
+            creases.append((a, b, sharp[edge] if per_edge else sharp[k]))
             edge += 1
         at += n
     st = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("st")

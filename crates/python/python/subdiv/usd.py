@@ -27,10 +27,10 @@ _PRIM = "/Mesh"
 
 def _pxr():
     try:
-        from pxr import Sdf, UsdGeom
+        from pxr import Sdf, Usd, UsdGeom
     except ImportError as e:  # pragma: no cover - exercised only without usd-core
         raise ImportError("subdiv.usd needs Pixar's USD Python package: pip install usd-core") from e
-    return Sdf, UsdGeom
+    return Sdf, Usd, UsdGeom
 
 
 def from_usd_mesh(prim: Any, time: Any = None) -> "subdiv.Mesh":
@@ -38,7 +38,7 @@ def from_usd_mesh(prim: Any, time: Any = None) -> "subdiv.Mesh":
     its composed attribute values at ``time`` (default: the default time), with its tags,
     options and ``primvars:st``. Raises ``subdiv.InputError`` for an invalid mesh, ``ValueError``
     when the prim is not a Mesh."""
-    Sdf, UsdGeom = _pxr()
+    Sdf, Usd, UsdGeom = _pxr()
     prim = prim.GetPrim() if hasattr(prim, "GetPrim") else prim
     if not prim or prim.GetTypeName() != "Mesh":
         raise ValueError(f"{prim}: not a UsdGeom.Mesh prim")
@@ -46,7 +46,7 @@ def from_usd_mesh(prim: Any, time: Any = None) -> "subdiv.Mesh":
     spec = Sdf.CreatePrimInLayer(layer, _PRIM)
     spec.specifier = Sdf.SpecifierDef
     spec.typeName = "Mesh"
-    code = Sdf.TimeCode.Default() if time is None else time
+    code = Usd.TimeCode.Default() if time is None else time
     # The composed values (references, variants, time samples resolved by pxr), one by one.
     for attribute in prim.GetAttributes():
         value = attribute.Get(code)
@@ -69,7 +69,7 @@ def to_usd_mesh(mesh: "subdiv.Mesh", stage: Any, path: str, scheme: str = "catmu
     prim's previous opinions there replaced), with its tags, options and texture coordinates,
     and ``subdivisionScheme`` ``scheme`` (``catmullClark``, ``loop``, ``bilinear``, ``none``:
     ``none`` for refined surfaces). Returns the ``UsdGeom.Mesh``."""
-    Sdf, UsdGeom = _pxr()
+    Sdf, _, UsdGeom = _pxr()
     if scheme not in ("catmullClark", "loop", "bilinear", "none"):
         raise ValueError(f"scheme {scheme!r}: catmullClark, loop, bilinear or none")
     with tempfile.TemporaryDirectory() as tmp:
