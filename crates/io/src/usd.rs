@@ -47,6 +47,10 @@
 //! primvars other than `st` are removed when the face or vertex count
 //! changes (they would number faces or vertices that no longer exist).
 //!
+//! Binary files are written by `openusd` 0.6 and then made readable by
+//! pxr (`pxr_compatible`: children lists as vectors, integer arrays under
+//! 16 elements uncompressed), checked against usd-core in the Python tests.
+//!
 //! Hostile input: the `openusd` reader is called under
 //! [`std::panic::catch_unwind`] (a panic in it becomes
 //! [`IoError::Parse`]), and every count of the mesh is checked against
@@ -730,6 +734,132 @@ impl Rep {
     }
 }
 
+/// The fields whose value pxr reads as a vector (`TfTokenVector`,
+/// `std::vector<std::string>`), not an array (`VtArray`): the children and
+/// order lists (Sdf's `_IsVectorField`; `properties` is the crate file's
+/// name for `propertyChildren`).
+const VECTOR_FIELDS: [&str; 11] = [
+    "primChildren",
+    "properties",
+    "propertyChildren",
+    "variantChildren",
+    "variantSetChildren",
+    "expressionChildren",
+    "mapperArgChildren",
+    "connectionChildren",
+    "primOrder",
+    "propertyOrder",
+    "subLayers",
+];
+
+/// A crate file from `openusd` 0.6's writer, made readable by pxr (checked
+/// with usd-core 26.11), two fields at a time:
+/// - the children and order fields ([`VECTOR_FIELDS`]) retyped from arrays
+///   (token\[\], string\[\]) to vectors (TokenVector, StringVector), as pxr
+///   writes them: pxr takes a `primChildren` array for invalid children and
+///   refuses the layer. The two share their layout in the file (a count,
+///   then 32-bit indices): only the value representation changes.
+/// - integer arrays of 4 to 15 elements written uncompressed: openusd
+///   compresses from 4 elements, pxr reads an array under 16 elements
+///   (its `MinCompressedArraySize`) as stored uncompressed whatever its
+///   flag says, so it read `faceVertexCounts` of 9 faces as garbage. Each is
+///   written again uncompressed after the values, and its fields point there.
+///
+/// The `FIELDS` section is rebuilt (its representations LZ4-compressed
+/// again), the sections moved and the table of contents rewritten. Values
+/// nested in dictionaries and time samples are left as written (our meshes
+/// author neither; a layer copied from the input may).
+fn pxr_compatible(bytes: Vec<u8>) -> Result<Vec<u8>, String> {
+    let mut file = openusd::usdc::CrateFile::open(Cursor::new(&bytes)).map_err(|e| format!("{e:#}"))?;
+    let u64_at = |at: usize| bytes.get(at..at + 8).map(|b| u64::from_le_bytes(b.try_into().unwrap_or_default()));
+    let toc = u64_at(16).ok_or("no table of contents")? as usize;
+    let count = u64_at(toc).ok_or("no table of contents")? as usize;
+    let mut sections: Vec<([u8; 16], usize, usize)> = (0..count)
+        .map(|i| {
+            let at = toc + 8 + 32 * i;
+            let name: [u8; 16] = bytes.get(at..at + 16).and_then(|b| b.try_into().ok()).unwrap_or_default();
+            (name, u64_at(at + 16).unwrap_or(0) as usize, u64_at(at + 24).unwrap_or(0) as usize)
+        })
+        .collect();
+    let values_end = sections.iter().map(|s| s.1).min().ok_or("no sections")?;
+    // Uncompressed copies of the short integer arrays, placed at values_end.
+    let mut moved: std::collections::HashMap<u64, u64> = std::collections::HashMap::new();
+    let mut extra = Vec::new();
+    let mut changed = false;
+    let mut reps = Vec::with_capacity(file.fields.len());
+    for i in 0..file.fields.len() {
+        let (token, value_rep) = (file.fields[i].token_index, file.fields[i].value_rep);
+        let rep = Rep(value_rep.0);
+        let name = file.tokens.get(token).map_or("", String::as_str);
+        let short = rep.is_array() && !rep.is_inlined() && rep.is_compressed() && (3..=6).contains(&rep.ty());
+        let len = u64_at(rep.payload() as usize).unwrap_or(0);
+        let new = match rep.ty() {
+            11 | 10 if rep.is_array() && !rep.is_inlined() && !rep.is_compressed() && VECTOR_FIELDS.contains(&name) => {
+                (if rep.ty() == 11 { 41 } else { 50 }) << 48 | rep.payload()
+            }
+            _ if short && (4..16).contains(&len) => {
+                let at = match moved.get(&rep.payload()) {
+                    Some(&at) => at,
+                    None => {
+                        let at = (values_end + extra.len()) as u64;
+                        extra.extend(len.to_le_bytes());
+                        match file.value(value_rep).map_err(|e| format!("{e:#}"))? {
+                            Value::IntVec(v) => v.iter().for_each(|x| extra.extend(x.to_le_bytes())),
+                            Value::UintVec(v) => v.iter().for_each(|x| extra.extend(x.to_le_bytes())),
+                            Value::Int64Vec(v) => v.iter().for_each(|x| extra.extend(x.to_le_bytes())),
+                            Value::Uint64Vec(v) => v.iter().for_each(|x| extra.extend(x.to_le_bytes())),
+                            other => return Err(format!("an integer array read back as {}", kind(&other))),
+                        }
+                        moved.insert(rep.payload(), at);
+                        at
+                    }
+                };
+                rep.ty() << 48 | 1 << 63 | at
+            }
+            _ => rep.0,
+        };
+        changed |= new != rep.0;
+        reps.push(new);
+    }
+    if !changed {
+        return Ok(bytes);
+    }
+    let fields = sections.iter().position(|s| s.0.starts_with(b"FIELDS\0")).ok_or("no FIELDS section")?;
+    let (_, start, size) = sections[fields];
+    // FIELDS: the field count, the token indices' compressed block (kept),
+    // then the representations' compressed block (rebuilt).
+    let indices = u64_at(start + 8).ok_or("FIELDS cut short")? as usize;
+    let keep = start + 16 + indices;
+    let mut raw = Vec::with_capacity(8 * reps.len());
+    reps.iter().for_each(|r| raw.extend_from_slice(&r.to_le_bytes()));
+    let mut block = vec![0u8]; // one chunk (pxr's TfFastCompression framing)
+    block.extend(lz4_flex::compress(&raw));
+    let mut section = bytes.get(start..keep).ok_or("FIELDS cut short")?.to_vec();
+    section.extend((block.len() as u64).to_le_bytes());
+    section.extend(block);
+    let end = start + size;
+    let mut out = bytes[..values_end].to_vec();
+    out.extend(&extra);
+    out.extend(&bytes[values_end..start]);
+    out.extend(&section);
+    out.extend(&bytes[end..toc]);
+    let grown = section.len() as i64 - size as i64;
+    for s in &mut sections {
+        let after_fields = if s.1 >= end { grown } else { 0 };
+        s.1 = (s.1 as i64 + extra.len() as i64 + after_fields) as usize;
+    }
+    sections[fields].2 = section.len();
+    let new_toc = out.len() as u64;
+    out.extend((count as u64).to_le_bytes());
+    for (name, start, size) in &sections {
+        out.extend(name);
+        out.extend((*start as u64).to_le_bytes());
+        out.extend((*size as u64).to_le_bytes());
+    }
+    out[16..24].copy_from_slice(&new_toc.to_le_bytes());
+    Ok(out)
+}
+
 /// Which table an index names.
 #[derive(Clone, Copy)]
 enum Table {
@@ -1181,7 +1311,7 @@ fn encode(
         let crate_bytes = || {
             let mut out = Cursor::new(Vec::new());
             openusd::usdc::CrateWriter::write(&layer, &mut out).map_err(|e| fail(e.into()))?;
-            Ok::<_, IoError>(out.into_inner())
+            pxr_compatible(out.into_inner()).map_err(|e| ctx.invalid(format!("the USD writer failed: {e}")))
         };
         match format {
             Format::Usda => {
