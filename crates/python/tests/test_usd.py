@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import subdiv
-from conftest import fixture, read_obj
+from conftest import blender_limit_points, fixture, read_obj
 
 pxr = pytest.importorskip("pxr")
 from pxr import Sdf, Usd, UsdGeom, Vt  # noqa: E402
@@ -188,34 +188,6 @@ except ImportError:
 
 
 def blender_limit(mesh):
-    """The first n vertices of Blender's Subdivision Surface modifier (OpenSubdiv inside; limit
-    surface, level 1) on a mesh read by pxr: edge creases c = √(s/10) (Blender's map to
-    OpenSubdiv sharpness is 10·c²), vertex creases likewise, the boundary rule mapped."""
-    import math
-
-    vertices = mesh["points"]
-    data = bpy.data.meshes.new("cage")
-    data.from_pydata(vertices.tolist(), [], mesh["faces"])
-    data.update()
-    edge = {tuple(sorted(e.vertices)): e.index for e in data.edges}
-    crease = np.zeros(len(data.edges))
-    for a, b, s in mesh["creases"]:
-        crease[edge[tuple(sorted((a, b)))]] = math.sqrt(min(s, 10.0) / 10.0)
-    data.attributes.new("crease_edge", "FLOAT", "EDGE").data.foreach_set("value", crease)
-    corner = np.zeros(len(vertices))
-    for v, s in mesh["corners"]:
-        corner[v] = math.sqrt(min(s, 10.0) / 10.0)
-    data.attributes.new("crease_vert", "FLOAT", "POINT").data.foreach_set("value", corner)
-    obj = bpy.data.objects.new("cage", data)
-    bpy.context.scene.collection.objects.link(obj)
-    modifier = obj.modifiers.new("subsurf", "SUBSURF")
-    modifier.levels = modifier.render_levels = 1
-    modifier.use_limit_surface = True
-    modifier.quality = 10
-    # Blender's 'ALL' is OpenSubdiv's edge-only, 'PRESERVE_CORNERS' edge-and-corner.
-    modifier.boundary_smooth = "PRESERVE_CORNERS" if mesh["boundary"] in (None, "edgeAndCorner") else "ALL"
-    modifier.use_creases = True
-    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
-    points = np.array([tuple(p.co) for p in evaluated.vertices])[: len(vertices)]
-    bpy.data.objects.remove(obj)
-    return points
+    """Blender's limit points of a mesh read by pxr (`geometry`), its boundary rule mapped."""
+    boundary = "PRESERVE_CORNERS" if mesh["boundary"] in (None, "edgeAndCorner") else "ALL"
+    return blender_limit_points(mesh["points"], mesh["faces"], mesh["creases"], mesh["corners"], boundary, quality=10)
