@@ -322,6 +322,47 @@ fn crate_layer(bytes: Vec<u8>, ctx: Ctx<'_>) -> Result<sdf::Data, IoError> {
 /// ~255 times.
 const MOST_PER_BYTE: u64 = 1024;
 
+/// The little-endian word at byte `at` of a crate file; `None` past its end.
+fn le_u64(bytes: &[u8], at: u64) -> Option<u64> {
+    let at = usize::try_from(at).ok()?;
+    Some(u64::from_le_bytes(bytes.get(at..at.checked_add(8)?)?.try_into().ok()?))
+}
+
+/// [`le_u64`] for a 32-bit word.
+fn le_u32(bytes: &[u8], at: u64) -> Option<u32> {
+    let at = usize::try_from(at).ok()?;
+    Some(u32::from_le_bytes(bytes.get(at..at.checked_add(4)?)?.try_into().ok()?))
+}
+
+/// An entry of a crate file's table of contents: a NUL-padded name, where
+/// the section starts and how many bytes it takes.
+#[derive(Clone, Copy)]
+struct Section {
+    name: [u8; 16],
+    start: u64,
+    size: u64,
+}
+
+impl Section {
+    /// The name up to its NUL (`?` when it is not UTF-8).
+    fn name(&self) -> &str {
+        let end = self.name.iter().position(|&b| b == 0).unwrap_or(16);
+        std::str::from_utf8(&self.name[..end]).unwrap_or("?")
+    }
+}
+
+/// The `count` entries of the table of contents at byte `toc` (a count,
+/// then 32 bytes an entry); `None` when they run past the end.
+fn read_sections(bytes: &[u8], toc: u64, count: u64) -> Option<Vec<Section>> {
+    (0..count)
+        .map(|i| {
+            let at = toc.checked_add(8 + 32 * i)?;
+            let name = bytes.get(usize::try_from(at).ok()?..)?.get(..16)?.try_into().ok()?;
+            Some(Section { name, start: le_u64(bytes, at + 16)?, size: le_u64(bytes, at + 24)? })
+        })
+        .collect()
+}
+
 /// The `openusd` crate reader allocates what a count in the file asks for
 /// before it reads the elements, and a failed allocation aborts the process:
 /// every count it would allocate for is checked first against the bytes
@@ -332,27 +373,22 @@ const MOST_PER_BYTE: u64 = 1024;
 /// [`MOST_PER_BYTE`] elements a byte).
 fn bounded_counts(bytes: &[u8], ctx: Ctx<'_>) -> Result<(), IoError> {
     let len = bytes.len() as u64;
-    let u64_at = |at: u64| -> Option<u64> {
-        let at = usize::try_from(at).ok()?;
-        Some(u64::from_le_bytes(bytes.get(at..at.checked_add(8)?)?.try_into().ok()?))
-    };
+    let u64_at = |at: u64| le_u64(bytes, at);
     let corrupt = |what: String| parse_error(ctx, format!("corrupt USD crate file: {what}"));
     if bytes.len() < 24 {
         return Err(ctx.truncated(None, format!("a crate file's header takes 24 bytes, the file has {len}")));
     }
     let version = (bytes[8], bytes[9], bytes[10]);
     let toc = u64_at(16).filter(|&t| t < len).ok_or_else(|| corrupt("table of contents past the end".into()))?;
-    let sections = u64_at(toc).ok_or_else(|| corrupt("table of contents past the end".into()))?;
-    if sections > 64 || toc + 8 + 32 * sections > len {
-        return Err(corrupt(format!("{sections} sections in the table of contents")));
+    let count = u64_at(toc).ok_or_else(|| corrupt("table of contents past the end".into()))?;
+    if count > 64 || toc + 8 + 32 * count > len {
+        return Err(corrupt(format!("{count} sections in the table of contents")));
     }
-    for i in 0..sections {
-        let at = (toc + 8 + 32 * i) as usize;
-        let name = &bytes[at..at + 16];
-        let name = std::str::from_utf8(&name[..name.iter().position(|&b| b == 0).unwrap_or(16)]).unwrap_or("?");
+    let sections = read_sections(bytes, toc, count).ok_or_else(|| corrupt("table of contents past the end".into()))?;
+    for section in &sections {
+        let (name, start, size) = (section.name(), section.start, section.size);
         // Named in messages: printable, on one line.
         let shown: String = name.escape_default().collect();
-        let (start, size) = (u64_at(at as u64 + 16).unwrap_or(u64::MAX), u64_at(at as u64 + 24).unwrap_or(u64::MAX));
         if start.checked_add(size).is_none_or(|end| end > len) {
             return Err(corrupt(format!("section {shown} lies past the end of the file")));
         }
@@ -426,19 +462,11 @@ impl CrateWalk<'_> {
     }
 
     fn u64_at(&self, at: u64) -> Result<u64, String> {
-        usize::try_from(at)
-            .ok()
-            .and_then(|at| self.bytes.get(at..at.checked_add(8)?))
-            .map(|b| u64::from_le_bytes(b.try_into().unwrap_or_default()))
-            .ok_or_else(|| format!("a value at byte {at} lies past the end of the file"))
+        le_u64(self.bytes, at).ok_or_else(|| format!("a value at byte {at} lies past the end of the file"))
     }
 
     fn u32_at(&self, at: u64) -> Result<u32, String> {
-        usize::try_from(at)
-            .ok()
-            .and_then(|at| self.bytes.get(at..at.checked_add(4)?))
-            .map(|b| u32::from_le_bytes(b.try_into().unwrap_or_default()))
-            .ok_or_else(|| format!("a value at byte {at} lies past the end of the file"))
+        le_u32(self.bytes, at).ok_or_else(|| format!("a value at byte {at} lies past the end of the file"))
     }
 
     /// A count at `at` of items of `item` bytes each that follow it.
@@ -771,17 +799,10 @@ const VECTOR_FIELDS: [&str; 11] = [
 /// author neither; a layer copied from the input may).
 fn pxr_compatible(bytes: Vec<u8>) -> Result<Vec<u8>, String> {
     let mut file = openusd::usdc::CrateFile::open(Cursor::new(&bytes)).map_err(|e| format!("{e:#}"))?;
-    let u64_at = |at: usize| bytes.get(at..at + 8).map(|b| u64::from_le_bytes(b.try_into().unwrap_or_default()));
-    let toc = u64_at(16).ok_or("no table of contents")? as usize;
-    let count = u64_at(toc).ok_or("no table of contents")? as usize;
-    let mut sections: Vec<([u8; 16], usize, usize)> = (0..count)
-        .map(|i| {
-            let at = toc + 8 + 32 * i;
-            let name: [u8; 16] = bytes.get(at..at + 16).and_then(|b| b.try_into().ok()).unwrap_or_default();
-            (name, u64_at(at + 16).unwrap_or(0) as usize, u64_at(at + 24).unwrap_or(0) as usize)
-        })
-        .collect();
-    let values_end = sections.iter().map(|s| s.1).min().ok_or("no sections")?;
+    let toc = le_u64(&bytes, 16).ok_or("no table of contents")?;
+    let count = le_u64(&bytes, toc).ok_or("no table of contents")?;
+    let mut sections = read_sections(&bytes, toc, count).ok_or("no table of contents")?;
+    let values_end = sections.iter().map(|s| s.start).min().ok_or("no sections")? as usize;
     // Uncompressed copies of the short integer arrays, placed at values_end.
     let mut moved: std::collections::HashMap<u64, u64> = std::collections::HashMap::new();
     let mut extra = Vec::new();
@@ -792,7 +813,7 @@ fn pxr_compatible(bytes: Vec<u8>) -> Result<Vec<u8>, String> {
         let rep = Rep(value_rep.0);
         let name = file.tokens.get(token).map_or("", String::as_str);
         let short = rep.is_array() && !rep.is_inlined() && rep.is_compressed() && (3..=6).contains(&rep.ty());
-        let len = u64_at(rep.payload() as usize).unwrap_or(0);
+        let len = le_u64(&bytes, rep.payload()).unwrap_or(0);
         let new = match rep.ty() {
             11 | 10 if rep.is_array() && !rep.is_inlined() && !rep.is_compressed() && VECTOR_FIELDS.contains(&name) => {
                 (if rep.ty() == 11 { 41 } else { 50 }) << 48 | rep.payload()
@@ -824,11 +845,11 @@ fn pxr_compatible(bytes: Vec<u8>) -> Result<Vec<u8>, String> {
     if !changed {
         return Ok(bytes);
     }
-    let fields = sections.iter().position(|s| s.0.starts_with(b"FIELDS\0")).ok_or("no FIELDS section")?;
-    let (_, start, size) = sections[fields];
+    let fields = sections.iter().position(|s| s.name() == "FIELDS").ok_or("no FIELDS section")?;
+    let (start, size, toc) = (sections[fields].start as usize, sections[fields].size as usize, toc as usize);
     // FIELDS: the field count, the token indices' compressed block (kept),
     // then the representations' compressed block (rebuilt).
-    let indices = u64_at(start + 8).ok_or("FIELDS cut short")? as usize;
+    let indices = le_u64(&bytes, start as u64 + 8).ok_or("FIELDS cut short")? as usize;
     let keep = start + 16 + indices;
     let mut raw = Vec::with_capacity(8 * reps.len());
     reps.iter().for_each(|r| raw.extend_from_slice(&r.to_le_bytes()));
@@ -845,16 +866,16 @@ fn pxr_compatible(bytes: Vec<u8>) -> Result<Vec<u8>, String> {
     out.extend(&bytes[end..toc]);
     let grown = section.len() as i64 - size as i64;
     for s in &mut sections {
-        let after_fields = if s.1 >= end { grown } else { 0 };
-        s.1 = (s.1 as i64 + extra.len() as i64 + after_fields) as usize;
+        let after_fields = if s.start >= end as u64 { grown } else { 0 };
+        s.start = (s.start as i64 + extra.len() as i64 + after_fields) as u64;
     }
-    sections[fields].2 = section.len();
+    sections[fields].size = section.len() as u64;
     let new_toc = out.len() as u64;
-    out.extend((count as u64).to_le_bytes());
-    for (name, start, size) in &sections {
-        out.extend(name);
-        out.extend((*start as u64).to_le_bytes());
-        out.extend((*size as u64).to_le_bytes());
+    out.extend(count.to_le_bytes());
+    for s in &sections {
+        out.extend(s.name);
+        out.extend(s.start.to_le_bytes());
+        out.extend(s.size.to_le_bytes());
     }
     out[16..24].copy_from_slice(&new_toc.to_le_bytes());
     Ok(out)
