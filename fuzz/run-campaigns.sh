@@ -30,7 +30,7 @@ while (($#)); do
         *) targets+=("$1"); shift ;;
     esac
 done
-((${#targets[@]})) || targets=(obj off ply stl gltf from_soup end_to_end evaluate sample project fit)
+((${#targets[@]})) || targets=(obj off ply stl gltf usd from_soup end_to_end evaluate sample project fit)
 
 max_len() {
     case "$1" in

@@ -30,12 +30,13 @@ fn main() {
     ];
 
     // Readers: every shape in every format its reader family reads.
-    let families: [(&str, &[Format]); 5] = [
+    let families: [(&str, &[Format]); 6] = [
         ("obj", &[Format::Obj]),
         ("off", &[Format::Off]),
         ("ply", &[Format::PlyAscii, Format::PlyBinary]),
         ("stl", &[Format::StlAscii, Format::StlBinary]),
         ("gltf", &[Format::Gltf, Format::Glb]),
+        ("usd", &[Format::Usda, Format::Usdc, Format::Usdz]),
     ];
     for (target, formats) in families {
         let dir = corpus.join(target);
@@ -66,6 +67,16 @@ fn main() {
                 let name = path.file_name().unwrap().to_string_lossy();
                 fs::copy(&path, corpus.join(ext).join(format!("seed-{sub}-{name}"))).unwrap();
             }
+        }
+    }
+
+    // USD written by Pixar's own library (text, crate, usdz).
+    for entry in fs::read_dir(fixtures.join("usd")).unwrap() {
+        let path = entry.unwrap().path();
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if ["usda", "usdc", "usdz"].contains(&ext) {
+            let name = path.file_name().unwrap().to_string_lossy();
+            fs::copy(&path, corpus.join("usd").join(format!("seed-{name}"))).unwrap();
         }
     }
 

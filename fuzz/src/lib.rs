@@ -60,6 +60,18 @@ pub fn gltf(data: &[u8]) {
     }
 }
 
+/// USD reader: a binary crate file (`PXR-USDC`), a usdz package (a zip)
+/// or a text layer, told by the content as the reader tells them.
+pub fn usd(data: &[u8]) {
+    if data.starts_with(b"PXR-USDC") {
+        reader(data, Format::Usdc, "fuzz.usdc");
+    } else if data.starts_with(b"PK") {
+        reader(data, Format::Usdz, "fuzz.usdz");
+    } else {
+        reader(data, Format::Usda, "fuzz.usda");
+    }
+}
+
 /// One reader's contract: a soup or a one-line error naming the file; a soup
 /// is then checked like any other ([`check_soup`]) and, if it is a valid
 /// mesh, written to every format and read back.

@@ -11,7 +11,8 @@ use subdiv_interp::Method;
 /// Arguments of `subdiv info`.
 #[derive(clap::Args, Debug)]
 pub struct InfoArgs {
-    /// Mesh file (.obj, .off, .ply, .stl, .gltf, .glb).
+    /// Mesh file (.obj, .off, .ply, .stl, .gltf, .glb, .usda, .usdc, .usd, .usdz). A USD file is
+    /// described Mesh prim by Mesh prim (its path, scheme and tags).
     mesh: PathBuf,
     /// Print one JSON object instead of text.
     #[arg(long)]
@@ -23,6 +24,9 @@ pub struct InfoArgs {
 
 /// Runs `subdiv info`.
 pub fn run(args: &InfoArgs) -> Result<(), Failure> {
+    if subdiv_io::Format::from_path(&args.mesh).is_ok_and(subdiv_io::Format::is_usd) {
+        return run_usd(args);
+    }
     let soup = crate::load::read_soup(&args.mesh)?;
     let file = args.mesh.display().to_string();
     let summary = summarize_soup(soup, Some(&file));
@@ -39,6 +43,50 @@ pub fn run(args: &InfoArgs) -> Result<(), Failure> {
         return Err(bad_input(anyhow!("{file}: {} (--strict)", summary.warnings.join("; "))));
     }
     Ok(())
+}
+
+/// `subdiv info` on a USD file: every Mesh prim's summary, with its prim path and scheme (JSON:
+/// `{"file": …, "prims": [{"prim": …, "scheme": …, …summary}]}`).
+fn run_usd(args: &InfoArgs) -> Result<(), Failure> {
+    let file = args.mesh.display().to_string();
+    let (scene, warnings) = subdiv_io::usd::read_scene(&args.mesh)
+        .map_err(|e| Failure::from(subdiv::job::JobError::from_error(subdiv::job::ErrorKind::BadInput, &e)))?;
+    for w in warnings {
+        crate::progress::warn(w);
+    }
+    let mut failure = None;
+    let mut prims = Vec::new();
+    let mut text = String::new();
+    for mesh in scene.meshes {
+        let (prim, scheme) = (mesh.path.clone(), mesh.scheme);
+        let label = format!("{file}:{prim}");
+        let summary = summarize_soup(mesh.soup, Some(&file));
+        if let Some(error) = &summary.error {
+            failure.get_or_insert_with(|| format!("{label}: {error}"));
+        } else if args.strict && !summary.warnings.is_empty() {
+            failure.get_or_insert_with(|| format!("{label}: {} (--strict)", summary.warnings.join("; ")));
+        }
+        text.push_str(&format!("prim:                 {prim}\nscheme:               {scheme}\n"));
+        text.push_str(&print_text(&summary));
+        text.push('\n');
+        let mut value = serde_json::to_value(&summary).map_err(|e| Failure::Other(e.into()))?;
+        if let Some(object) = value.as_object_mut() {
+            object.insert("prim".into(), prim.into());
+            object.insert("scheme".into(), scheme.token().into());
+        }
+        prims.push(value);
+    }
+    if args.json {
+        let value = serde_json::json!({ "file": file, "prims": prims });
+        let text = serde_json::to_string_pretty(&value).map_err(|e| Failure::Other(e.into()))?;
+        crate::stdout::line(&text);
+    } else {
+        crate::stdout::line(text.trim_end());
+    }
+    match failure {
+        Some(message) => Err(bad_input(anyhow!("{message}"))),
+        None => Ok(()),
+    }
 }
 
 fn histogram(h: &BTreeMap<usize, usize>) -> String {

@@ -38,6 +38,10 @@ pub fn run(args: &InterpolateArgs) -> Result<(), Failure> {
         .with_surface(args.surface.clone())
         .with_report(args.report.clone());
     let done = run::interpolate(&args.mesh, &options, &paths, &mut progress::Terminal::default())?;
+    for prim in done.prims.iter().filter(|_| done.prims.len() > 1) {
+        let e = &prim.report.error;
+        progress::summary(format!("{}: max error {:.3e}·d (mean {:.3e}·d)", prim.prim, e.max_rel, e.mean_rel));
+    }
     let (error, report) = (&done.error, &done.report);
     progress::summary(format!(
         "{}: {} vertices interpolated, max error {:.3e}·d (mean {:.3e}·d), {} iterations, {:.1} ms",

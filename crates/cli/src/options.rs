@@ -54,6 +54,10 @@ pub struct SurfaceFlags {
     /// crease; tags of the file or --tags on the same edges win.
     #[arg(long, value_name = "DEG")]
     pub feature_angle: Option<f64>,
+    /// A USD input: process only the Mesh prim at PATH (default: every Mesh prim, written
+    /// together to a USD output at the same prim paths).
+    #[arg(long, value_name = "PATH")]
+    pub prim: Option<String>,
     /// Memory budget of the method and the refinements, in bytes (suffixes K, M, G, T: powers of
     /// 1024; default ¾ of the memory available). Larger work is refused with exit 2.
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
@@ -68,7 +72,8 @@ impl SurfaceFlags {
         put_given!(map,
             "boundary" => &self.boundary, "crease_method" => &self.crease_method, "fvar" => &self.fvar,
             "triangle_rule" => &self.triangle_rule, "dart_limit" => &self.dart_limit,
-            "tags" => &self.tags, "feature_angle" => self.feature_angle, "max_memory" => self.max_memory,
+            "tags" => &self.tags, "feature_angle" => self.feature_angle, "prim" => &self.prim,
+            "max_memory" => self.max_memory,
             "beta" => &self.beta);
     }
 }

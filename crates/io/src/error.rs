@@ -30,7 +30,7 @@ pub enum IoError {
     },
     /// The file name has no extension this crate knows.
     #[error(
-        "{}: unknown mesh format (expected extension .obj, .off, .ply, .stl, .gltf or .glb)",
+        "{}: unknown mesh format (expected extension .obj, .off, .ply, .stl, .gltf, .glb, .usda, .usdc, .usd or .usdz)",
         .path.display()
     )]
     UnknownFormat {
@@ -123,6 +123,20 @@ pub enum IoError {
         /// What is wrong with the mesh.
         message: String,
     },
+    /// A USD file holds several `Mesh` prims where one mesh was asked for
+    /// ([`crate::read_mesh`]): read it as a scene ([`crate::usd::read_scene`])
+    /// or pick one prim ([`crate::usd::UsdScene::select`]; `--prim` on the
+    /// command line).
+    #[error(
+        "{}: {} Mesh prims ({}); choose one with --prim, or write a USD file to keep them all",
+        .path.display(), .prims.len(), shown_prims(.prims)
+    )]
+    SeveralMeshes {
+        /// The file that was read.
+        path: PathBuf,
+        /// The prim paths of its meshes, in the file's order.
+        prims: Vec<String>,
+    },
     /// The file was read, but what it holds is no valid mesh (non-manifold,
     /// an index out of range, a NaN coordinate, …): [`crate::load_mesh`].
     #[error("{}: {source}", .path.display())]
@@ -150,7 +164,8 @@ impl IoError {
             | IoError::RefusedUri { path, .. }
             | IoError::Utf16 { path }
             | IoError::BinaryData { path, .. }
-            | IoError::Validation { path, .. } => path,
+            | IoError::Validation { path, .. }
+            | IoError::SeveralMeshes { path, .. } => path,
         }
     }
 
@@ -269,6 +284,16 @@ pub(crate) fn show_uri(uri: &str) -> String {
     crate::text::escape_controls(cut).into_owned()
 }
 
+/// The first few prim paths, for [`IoError::SeveralMeshes`].
+fn shown_prims(prims: &[String]) -> String {
+    const SHOWN: usize = 4;
+    let mut shown = prims.iter().take(SHOWN).map(String::as_str).collect::<Vec<_>>().join(", ");
+    if prims.len() > SHOWN {
+        shown.push_str(&format!(", … {} more", prims.len() - SHOWN));
+    }
+    shown
+}
+
 /// "an OBJ file", "a PLY file", …: the format family with its article.
 fn a_file_of(format: Format) -> &'static str {
     match format {
@@ -278,6 +303,7 @@ fn a_file_of(format: Format) -> &'static str {
         Format::StlAscii | Format::StlBinary => "an STL file",
         Format::Gltf => "a glTF file",
         Format::Glb => "a GLB file",
+        Format::Usda | Format::Usdc | Format::Usdz => "a USD file",
     }
 }
 
@@ -363,6 +389,7 @@ mod tests {
             IoError::NotAFile { path: ctx.path.to_path_buf(), kind: "a FIFO" },
             IoError::UnknownFormat { path: ctx.path.to_path_buf() },
             IoError::Validation { path: ctx.path.to_path_buf(), source: subdiv_mesh::MeshError::NoFaces },
+            IoError::SeveralMeshes { path: ctx.path.to_path_buf(), prims: (0..6).map(|i| format!("/m{i}")).collect() },
         ];
         for e in errors {
             assert_eq!(e.path(), Path::new("dir/m.gltf"));

@@ -8,9 +8,9 @@ use crate::IoError;
 /// A mesh file format.
 ///
 /// Reading needs only the family: [`crate::read_mesh`] tells ASCII from
-/// binary PLY and STL, and JSON glTF from GLB, by the content. Writing uses the
-/// exact variant; [`Format::from_path`] picks the binary one for `.ply` and
-/// `.stl`.
+/// binary PLY and STL, JSON glTF from GLB, and text, binary and zipped USD
+/// by the content. Writing uses the exact variant; [`Format::from_path`]
+/// picks the binary one for `.ply`, `.stl` and `.usd`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Format {
     /// Wavefront OBJ: polygons kept, `f64` positions round-trip exactly.
@@ -29,11 +29,20 @@ pub enum Format {
     Gltf,
     /// glTF 2.0 binary container.
     Glb,
+    /// USD text layer (`.usda`): every `UsdGeomMesh` prim, with its
+    /// subdivision scheme, tags and `primvars:st` ([`crate::usd`]); `f32`
+    /// points.
+    Usda,
+    /// USD binary crate layer (`.usdc`, and `.usd` when written).
+    Usdc,
+    /// USD zip package (`.usdz`): its first layer, text or binary; written
+    /// with a binary layer inside.
+    Usdz,
 }
 
 impl Format {
     /// Every format, in declaration order.
-    pub const ALL: [Format; 8] = [
+    pub const ALL: [Format; 11] = [
         Format::Obj,
         Format::Off,
         Format::PlyAscii,
@@ -42,10 +51,14 @@ impl Format {
         Format::StlBinary,
         Format::Gltf,
         Format::Glb,
+        Format::Usda,
+        Format::Usdc,
+        Format::Usdz,
     ];
 
     /// The format for a file name's extension (case-insensitive): `.obj`,
-    /// `.off`, `.ply` (binary), `.stl` (binary), `.gltf`, `.glb`.
+    /// `.off`, `.ply` (binary), `.stl` (binary), `.gltf`, `.glb`, `.usda`,
+    /// `.usdc`, `.usd` (binary when written; read by its content), `.usdz`.
     ///
     /// # Errors
     /// [`IoError::UnknownFormat`] for any other or a missing extension.
@@ -65,6 +78,9 @@ impl Format {
             "stl" => Format::StlBinary,
             "gltf" => Format::Gltf,
             "glb" => Format::Glb,
+            "usda" => Format::Usda,
+            "usdc" | "usd" => Format::Usdc,
+            "usdz" => Format::Usdz,
             _ => return None,
         })
     }
@@ -78,6 +94,9 @@ impl Format {
             Format::StlAscii | Format::StlBinary => "stl",
             Format::Gltf => "gltf",
             Format::Glb => "glb",
+            Format::Usda => "usda",
+            Format::Usdc => "usdc",
+            Format::Usdz => "usdz",
         }
     }
 
@@ -87,9 +106,16 @@ impl Format {
     }
 
     /// True when written `f64` positions read back bit-exactly (all but
-    /// binary STL and glTF, which store `f32`).
+    /// binary STL, glTF and USD, which store `f32`: USD's `point3f[]`
+    /// points and `texCoord2f[]` texture coordinates).
     pub fn keeps_f64(self) -> bool {
-        !matches!(self, Format::StlBinary | Format::Gltf | Format::Glb)
+        !matches!(self, Format::StlBinary | Format::Gltf | Format::Glb) && !self.is_usd()
+    }
+
+    /// True for the USD formats (`.usda`, `.usdc`, `.usdz`): files that hold
+    /// any number of meshes by prim path ([`crate::usd`]).
+    pub fn is_usd(self) -> bool {
+        matches!(self, Format::Usda | Format::Usdc | Format::Usdz)
     }
 
     /// True when vertex order and unreferenced vertices survive a write and
@@ -103,9 +129,11 @@ impl Format {
     /// True when the writer writes texture coordinates ([`crate::MeshView::uvs`]):
     /// OBJ (`vt`, seams kept), PLY (per vertex, or per face corner when
     /// there are seams) and glTF (`TEXCOORD_0`, vertices split at seams).
+    /// glTF (`TEXCOORD_0`, vertices split at seams) and USD (`primvars:st`,
+    /// face-varying and indexed: seams kept).
     /// OFF and STL leave them out (OFF's `ST` variant is read, not written).
     pub fn carries_uvs(self) -> bool {
-        matches!(self, Format::Obj | Format::PlyAscii | Format::PlyBinary | Format::Gltf | Format::Glb)
+        matches!(self, Format::Obj | Format::PlyAscii | Format::PlyBinary | Format::Gltf | Format::Glb) || self.is_usd()
     }
 
     /// True when the writer splits vertices where the texture coordinates
@@ -116,10 +144,12 @@ impl Format {
     }
 
     /// True when the writer writes crease and corner tags
-    /// ([`crate::MeshView::tags`]): OBJ only, as OpenSubdiv's `t` lines. No
-    /// other format has a standard place for them (glTF included).
+    /// ([`crate::MeshView::tags`]): OBJ, as OpenSubdiv's `t` lines, and USD,
+    /// as `UsdGeomMesh`'s crease, corner and hole attributes and its
+    /// subdivision options. No other format has a standard place for them
+    /// (glTF included).
     pub fn carries_tags(self) -> bool {
-        matches!(self, Format::Obj)
+        matches!(self, Format::Obj) || self.is_usd()
     }
 }
 
@@ -134,6 +164,9 @@ impl fmt::Display for Format {
             Format::StlBinary => "STL (binary)",
             Format::Gltf => "glTF",
             Format::Glb => "GLB",
+            Format::Usda => "USD (text)",
+            Format::Usdc => "USD (binary)",
+            Format::Usdz => "USDZ",
         })
     }
 }

@@ -1,8 +1,10 @@
 //! Mesh files for subdiv: the only library crate that touches the file system.
 //!
-//! Reads OBJ, OFF, PLY, STL, glTF and GLB into an unvalidated
-//! [`PolygonSoup`], and writes any of them from a [`MeshView`]. One file per
-//! format: `obj.rs`, `off.rs`, `ply.rs`, `stl.rs`, `gltf.rs`, and
+//! Reads OBJ, OFF, PLY, STL, glTF, GLB and USD (`.usda`, `.usdc`, `.usdz`)
+//! into an unvalidated [`PolygonSoup`], and writes any of them from a
+//! [`MeshView`]. One file per format: `obj.rs`, `off.rs`, `ply.rs`,
+//! `stl.rs`, `gltf.rs`, `usd.rs` (also files of several meshes by prim
+//! path: [`usd::read_scene`], [`usd::stage_scene`]), and
 //! `tag_file.rs` for JSON tag files ([`read_tag_file`], [`parse_tag_json`]),
 //! `text_file.rs` for the other small text files the tools read (parameter
 //! files, evaluation parameters, query points: [`read_text`]).
@@ -135,6 +137,7 @@ mod stl;
 mod tag_file;
 mod text;
 mod text_file;
+pub mod usd;
 mod validated;
 
 use glam::DVec3;
@@ -345,6 +348,7 @@ fn read_bytes(
         Format::PlyAscii | Format::PlyBinary => (ply::read(bytes, ctx)?, Vec::new()),
         Format::StlAscii | Format::StlBinary => (stl::read(bytes, ctx)?, Vec::new()),
         Format::Gltf | Format::Glb => gltf::read(bytes, ctx, base_dir)?,
+        Format::Usda | Format::Usdc | Format::Usdz => usd::read(bytes, ctx)?,
     };
     checked(soup, warnings, ctx)
 }
@@ -535,6 +539,7 @@ fn encode(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>, out: &mut impl std:
         Format::StlBinary => stl::write(mesh, true, out),
         Format::Gltf => out.write_all(&gltf::write(mesh, false, ctx)?),
         Format::Glb => out.write_all(&gltf::write(mesh, true, ctx)?),
+        Format::Usda | Format::Usdc | Format::Usdz => out.write_all(&usd::write(mesh, format, ctx)?),
     }
     .map_err(|e| ctx.io(e))
 }
@@ -544,7 +549,7 @@ fn encode(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>, out: &mut impl std:
 /// the formats that write them — one texture coordinate index in range per
 /// corner, tags on existing vertices, and texture coordinates that fit the
 /// `f32` of glTF.
-fn check(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>) -> Result<(), IoError> {
+pub(crate) fn check(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>) -> Result<(), IoError> {
     let n = mesh.positions.len();
     if let Some(normals) = mesh.normals {
         if normals.len() != n {
@@ -600,6 +605,19 @@ fn check(mesh: &MeshView<'_>, format: Format, ctx: Ctx<'_>) -> Result<(), IoErro
         }
         if let Some(t) = tags.corners.iter().find(|t| out_of_range(t.vertex)) {
             return Err(ctx.invalid(format!("corner tag {} refers to a vertex beyond the {n} vertices", t.vertex)));
+        }
+        if format.is_usd() {
+            if let Some(&f) = tags.holes.iter().find(|&&f| f as usize >= mesh.faces.len()) {
+                return Err(ctx.invalid(format!("hole tag {f} refers to a face beyond the {} faces", mesh.faces.len())));
+            }
+        }
+    }
+    // USD's indices are `int`s.
+    if format.is_usd() {
+        let most = i32::MAX as usize;
+        let uv_values = mesh.uvs.map_or(0, |uvs| uvs.values.len());
+        if n > most || mesh.faces.corner_count() > most || uv_values > most {
+            return Err(ctx.invalid(format!("more than {most} points, face corners or texture coordinates for USD")));
         }
     }
     Ok(())

@@ -12,6 +12,9 @@
 //!   outputs checked before any work, input read with its tags, the method, every refinement
 //!   sized against the memory budget ([`budget`]), the error measured on the positions as
 //!   written, every output staged and committed together (all or none), a typed report.
+//! - **Scenes** ([`scene`]): a USD input is the meshes of its `Mesh` prims (`--prim` keeps
+//!   one); `interpolate` and `subdivide` run on each and write every result into one USD file at
+//!   the input's prim paths (other formats take one mesh).
 //! - **Many files** ([`batch`]): one [`Command`] over files, directories and glob patterns, in
 //!   parallel and resumable, one [`batch::Record`] per input.
 //! - **Failures** ([`JobError`]) are one line in the command line's terms with an
@@ -43,6 +46,7 @@ pub mod options;
 pub mod outputs;
 mod progress;
 pub mod run;
+pub mod scene;
 
 pub use error::{in_option_terms, one_line, ErrorKind, JobError};
 pub use options::{

@@ -188,6 +188,10 @@ pub struct TagOptions {
     /// infinitely sharp crease (`--feature-angle`); tags of the file win.
     #[serde(default)]
     pub feature_angle: Option<f64>,
+    /// The one `Mesh` prim of a USD input to process, by its path (`--prim /World/Body`);
+    /// absent: every Mesh prim of the file ([`crate::scene`]).
+    #[serde(default)]
+    pub prim: Option<String>,
 }
 
 /// OpenSubdiv's surface options as a command gives them (`--boundary`, `--crease-method`,

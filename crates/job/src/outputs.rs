@@ -156,6 +156,84 @@ pub fn require_finite(
     Ok(())
 }
 
+/// A mesh made ready for its format: welded, positions as the format stores them, holes left
+/// out of a surface, tags and texture coordinates where the format has a place for them.
+struct Prepared {
+    positions: Vec<subdiv_mesh::DVec3>,
+    faces: subdiv_mesh::FaceList,
+    tags: subdiv_mesh::TagList,
+    normals: Option<Vec<subdiv_mesh::DVec3>>,
+    uvs: Option<subdiv_mesh::FaceVarying>,
+    keep_tags: bool,
+}
+
+impl Prepared {
+    fn new(
+        flag: &str,
+        path: &Path,
+        format: Format,
+        mesh: &subdiv_mesh::Mesh,
+        normals: bool,
+        surface: bool,
+        progress: &mut dyn Progress,
+    ) -> Result<Self, JobError> {
+        // A non-manifold mesh's cover is written welded: the input's vertices, not their copies.
+        let weld = |values: Vec<subdiv_mesh::DVec3>| match mesh.welds() {
+            Some(welds) => welds.weld(&values),
+            None => values,
+        };
+        let n = normals.then(|| weld(mesh.vertex_normals()));
+        require_finite(&format!("{flag} {}", path.display()), mesh, n.as_deref())?;
+        let (welded_positions, welded_faces, mut tags) = mesh.welded();
+        let positions = as_written(flag, path, format, &welded_positions)?.into_owned();
+        // Tags and texture coordinates where the format has a place for them.
+        let without_holes = if surface { subdiv_io::faces_without_holes(mesh) } else { None };
+        let without_holes = without_holes.map(|(faces, uvs)| match mesh.welds() {
+            Some(welds) => (welds.weld_faces(&faces), uvs),
+            None => (faces, uvs),
+        });
+        if without_holes.is_some() {
+            tags.holes.clear();
+        }
+        let (view, left_out) = subdiv_io::view_for_format(mesh, &positions, &tags, format);
+        let keep_tags = view.tags.is_some();
+        let mut uvs = view.uvs.cloned();
+        let mut faces = welded_faces.into_owned();
+        if let Some((kept, kept_uvs)) = without_holes {
+            faces = kept;
+            uvs = uvs.and(kept_uvs);
+        }
+        for what in left_out {
+            progress.warn(&format!("{flag} {}: {what}", path.display()));
+        }
+        Ok(Self { positions, faces, tags, normals: n, uvs, keep_tags })
+    }
+
+    fn view(&self) -> subdiv_io::MeshView<'_> {
+        let mut view = subdiv_io::MeshView::new(&self.positions, &self.faces);
+        if self.keep_tags {
+            view = view.with_tags(&self.tags);
+        }
+        if let Some(uvs) = &self.uvs {
+            view = view.with_uvs(uvs);
+        }
+        if let Some(n) = &self.normals {
+            view = view.with_normals(n);
+        }
+        view
+    }
+}
+
+/// One mesh of a USD output: its prim path, the mesh, the scheme a renderer is to subdivide it with.
+pub struct UsdOutput<'a> {
+    /// The prim path.
+    pub prim: &'a str,
+    /// The mesh.
+    pub mesh: &'a subdiv_mesh::Mesh,
+    /// `subdivisionScheme`.
+    pub scheme: subdiv_io::usd::SubdivisionScheme,
+}
+
 impl Outputs {
     /// Checks and stages a mesh output (with vertex normals when `normals`),
     /// showing the bytes written on a progress bar. A `surface` (a refined
@@ -171,38 +249,10 @@ impl Outputs {
         progress: &mut dyn Progress,
     ) -> Result<(), JobError> {
         let format = Format::from_path(path).map_err(|e| JobError::bad_input(format!("{flag} {e}")))?;
-        // A non-manifold mesh's cover is written welded: the input's vertices, not their copies.
-        let weld = |values: Vec<subdiv_mesh::DVec3>| match mesh.welds() {
-            Some(welds) => welds.weld(&values),
-            None => values,
-        };
-        let n = normals.then(|| weld(mesh.vertex_normals()));
-        require_finite(&format!("{flag} {}", path.display()), mesh, n.as_deref())?;
-        let (welded_positions, welded_faces, mut tags) = mesh.welded();
-        let positions = as_written(flag, path, format, &welded_positions)?;
-        // Tags and texture coordinates where the format has a place for them.
-        let without_holes = if surface { subdiv_io::faces_without_holes(mesh) } else { None };
-        let without_holes = without_holes.map(|(faces, uvs)| match mesh.welds() {
-            Some(welds) => (welds.weld_faces(&faces), uvs),
-            None => (faces, uvs),
-        });
-        if without_holes.is_some() {
-            tags.holes.clear();
-        }
-        let (mut view, left_out) = subdiv_io::view_for_format(mesh, &positions, &tags, format);
-        view.faces = &welded_faces;
-        if let Some((faces, uvs)) = &without_holes {
-            view.faces = faces;
-            view.uvs = view.uvs.and(uvs.as_ref());
-        }
-        if let Some(n) = &n {
-            view = view.with_normals(n);
-        }
-        for what in left_out {
-            progress.warn(&format!("{flag} {}: {what}", path.display()));
-        }
+        let prepared = Prepared::new(flag, path, format, mesh, normals, surface, progress)?;
+        let view = prepared.view();
         // A rough size for the bar's ETA: text formats take ~40 bytes a vertex and ~8 a corner.
-        let estimate = 40 * positions.len() as u64 + 8 * mesh.topology().half_edge_count() as u64;
+        let estimate = 40 * prepared.positions.len() as u64 + 8 * mesh.topology().half_edge_count() as u64;
         progress.begin(Phase::Write, &format!("writing {}", path.display()), estimate);
         let mut most = estimate;
         let staged = subdiv_io::stage_mesh(path, view, format, &mut |done| {
@@ -213,19 +263,52 @@ impl Outputs {
             progress.advance(done);
         });
         progress.end();
-        let staged = staged.map_err(|e| match e {
-            subdiv_io::IoError::Io { .. } => JobError::from_error(ErrorKind::WriteFailed, &e),
-            other => JobError::from_error(ErrorKind::BadInput, &other),
-        })?;
-        self.stage(staged);
+        self.stage(staged.map_err(staging_error)?);
         Ok(())
     }
 
+    /// Checks and stages a USD output of several meshes at their prim paths, into a copy of
+    /// `template`'s layer when given (see [`Outputs::stage_mesh`] for `normals` and `surface`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn stage_usd(
+        &mut self,
+        flag: &str,
+        path: &Path,
+        meshes: &[UsdOutput<'_>],
+        template: Option<&subdiv_io::usd::UsdScene>,
+        normals: bool,
+        surface: bool,
+        progress: &mut dyn Progress,
+    ) -> Result<(), JobError> {
+        let format = Format::from_path(path).map_err(|e| JobError::bad_input(format!("{flag} {e}")))?;
+        let prepared = meshes
+            .iter()
+            .map(|m| Prepared::new(flag, path, format, m.mesh, normals, surface, progress))
+            .collect::<Result<Vec<_>, _>>()?;
+        let scene: Vec<subdiv_io::usd::SceneMesh<'_>> = meshes
+            .iter()
+            .zip(&prepared)
+            .map(|(m, p)| subdiv_io::usd::SceneMesh { path: m.prim, view: p.view(), scheme: Some(m.scheme) })
+            .collect();
+        progress.begin(Phase::Write, &format!("writing {}", path.display()), 0);
+        let staged = subdiv_io::usd::stage_scene(path, template, &scene, format);
+        progress.end();
+        self.stage(staged.map_err(staging_error)?);
+        Ok(())
+    }
     /// Stages a non-mesh output.
     pub fn stage_bytes(&mut self, path: &Path, bytes: &[u8]) -> Result<(), JobError> {
         let staged =
             subdiv_io::stage_bytes(path, bytes).map_err(|e| JobError::from_error(ErrorKind::WriteFailed, &e))?;
         self.stage(staged);
         Ok(())
+    }
+}
+
+/// A failed staging: a write failure (exit 4) or a mesh the format cannot hold (exit 2).
+fn staging_error(e: subdiv_io::IoError) -> JobError {
+    match e {
+        subdiv_io::IoError::Io { .. } => JobError::from_error(ErrorKind::WriteFailed, &e),
+        other => JobError::from_error(ErrorKind::BadInput, &other),
     }
 }

@@ -15,12 +15,12 @@
 use crate::budget::{BudgetError, MemoryBudget};
 use crate::error::{ErrorKind, JobError};
 use crate::info::{summarize_soup, Summary};
-use crate::load::{load_tagged_mesh, read_soup};
+use crate::load::read_soup;
 use crate::options::{InfoOptions, InterpolateOptions, Parameter, ShapeValue, SubdivideOptions};
-use crate::outputs::{self, Outputs};
+use crate::outputs::{self, Outputs, UsdOutput};
 use crate::progress::{Phase, Progress};
+use crate::scene::{check_output, load_scene};
 use serde::Serialize;
-use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use subdiv_interp::report::MeshSummary;
@@ -28,6 +28,7 @@ use subdiv_interp::{
     params, ChengOptions, DengMaOptions, DengWangOptions, ErrorStats, FairOptions, FanChengLaiOptions, InterpError,
     Interpolant, Method, MethodOptions, ParamFileError, Report, Shape, ZhengCaiOptions,
 };
+use subdiv_io::usd::SubdivisionScheme;
 use subdiv_mesh::{DVec3, Mesh};
 use subdiv_stencil::{Options, Scheme, StencilError};
 
@@ -66,10 +67,51 @@ impl InterpolateOutputs {
 pub struct Interpolated {
     /// The files written.
     pub outputs: Vec<PathBuf>,
-    /// The report (what `--report` holds).
+    /// The report (what `--report` holds for an input of one mesh); of the first mesh of a
+    /// scene ([`Interpolated::prims`] has every mesh's).
     pub report: Report,
-    /// The error measured on the control mesh as written.
+    /// The error measured on the control mesh as written; the largest over a scene's meshes.
     pub error: ErrorStats,
+    /// Every mesh of a USD input, by prim path, with its report (empty for other formats).
+    pub prims: Vec<PrimReport>,
+}
+
+/// The result of one Mesh prim of a USD input.
+#[derive(Clone, Debug, Serialize)]
+#[non_exhaustive]
+pub struct PrimReport {
+    /// Its prim path.
+    pub prim: String,
+    /// Its report.
+    pub report: Report,
+}
+
+/// One mesh's interpolation, before its outputs are written.
+struct OneDone {
+    control_out: Option<Mesh>,
+    surface: Option<Mesh>,
+    scheme: Scheme,
+    report: Report,
+    error: ErrorStats,
+    warnings: Vec<String>,
+}
+
+/// The scheme a renderer shows a control mesh of `scheme` with: Catmull-Clark and Loop are
+/// USD's (and OpenSubdiv's); any other is written as polygons, with a warning.
+fn usd_scheme(scheme: Scheme, flag: &str, path: &Path, progress: &mut dyn Progress) -> SubdivisionScheme {
+    match scheme {
+        Scheme::CatmullClark => SubdivisionScheme::CatmullClark,
+        Scheme::Loop(_) => SubdivisionScheme::Loop,
+        other => {
+            progress.warn(&format!(
+                "{flag} {}: USD has no {} scheme: the control mesh is written with subdivisionScheme \"none\", so \
+                 a renderer shows its polygons",
+                path.display(),
+                other.name()
+            ));
+            SubdivisionScheme::None
+        }
+    }
 }
 
 /// The warnings a job met, passed on to `progress` once the outputs are committed.
@@ -329,11 +371,95 @@ pub fn interpolate(
     if let Some(path) = &paths.report {
         outputs.other("--report", path)?;
     }
-    let mesh = load_tagged_mesh(input, &o.tags, progress)?;
+    let scene = load_scene(input, &o.tags, progress)?;
+    for (flag, path, format) in
+        [("--output", &paths.control, control_format), ("--surface", &paths.surface, surface_format)]
+    {
+        if let (Some(path), Some(format)) = (path, format) {
+            check_output(&scene, input, flag, path, format)?;
+        }
+    }
+    let mut done = Vec::with_capacity(scene.meshes.len());
+    for entry in &scene.meshes {
+        let label = entry.label(input);
+        let one = interpolate_one(Path::new(&label), &entry.mesh, o, paths, control_format, surface_format, progress)?;
+        done.push(one);
+    }
+    let is_deng_ma = o.method == Method::DengMa;
+    let total_ms = total.elapsed().as_secs_f64() * 1e3;
+    for one in &mut done {
+        one.report = one.report.clone().with_total_ms(total_ms);
+    }
+    let to_usd = |format: Option<subdiv_io::Format>| format.is_some_and(subdiv_io::Format::is_usd);
+    let prim_of = |i: usize| scene.meshes[i].prim.clone().unwrap_or_else(|| subdiv_io::usd::DEFAULT_PRIM_PATH.into());
+    for (flag, path, format, is_surface) in
+        [("--output", &paths.control, control_format, is_deng_ma), ("--surface", &paths.surface, surface_format, true)]
+    {
+        let Some(path) = path else { continue };
+        let control = flag == "--output";
+        fn mesh_of(one: &OneDone, control: bool) -> Option<&Mesh> {
+            if control {
+                one.control_out.as_ref()
+            } else {
+                one.surface.as_ref()
+            }
+        }
+        if to_usd(format) {
+            let prims: Vec<String> = (0..done.len()).map(prim_of).collect();
+            let mut meshes = Vec::with_capacity(done.len());
+            for (one, prim) in done.iter().zip(&prims) {
+                let Some(mesh) = mesh_of(one, control) else { continue };
+                let scheme =
+                    if is_surface { SubdivisionScheme::None } else { usd_scheme(one.scheme, flag, path, progress) };
+                meshes.push(UsdOutput { prim, mesh, scheme });
+            }
+            outputs.stage_usd(flag, path, &meshes, scene.usd.as_ref(), is_surface, is_surface, progress)?;
+        } else if let Some(mesh) = done.first().and_then(|one| mesh_of(one, control)) {
+            outputs.stage_mesh(flag, path, mesh, is_surface, is_surface, progress)?;
+        }
+    }
+    let prims: Vec<PrimReport> = if scene.usd.is_some() {
+        done.iter().enumerate().map(|(i, one)| PrimReport { prim: prim_of(i), report: one.report.clone() }).collect()
+    } else {
+        Vec::new()
+    };
+    if let Some(path) = &paths.report {
+        let text = if prims.len() > 1 {
+            serde_json::to_string_pretty(&prims)
+        } else {
+            serde_json::to_string_pretty(&done[0].report)
+        }
+        .map_err(|e| JobError::new(ErrorKind::Panic, format!("report: {e}")))?;
+        outputs.stage_bytes(path, (text + "\n").as_bytes())?;
+    }
+    let written = outputs.commit()?;
+    for one in &done {
+        warn_all(progress, &one.warnings);
+    }
+    let error = done
+        .iter()
+        .map(|one| one.error)
+        .max_by(|a, b| a.max_rel.total_cmp(&b.max_rel))
+        .ok_or_else(|| JobError::bad_input(format!("{}: no mesh", input.display())))?;
+    let report = done.swap_remove(0).report;
+    Ok(Interpolated { outputs: written, report, error, prims })
+}
+
+/// [`interpolate`] on one mesh of the input (`input` names it in messages): the method, the
+/// refinements sized and built, the error measured as the control output's format stores it.
+fn interpolate_one(
+    input: &Path,
+    mesh: &Mesh,
+    o: &InterpolateOptions,
+    paths: &InterpolateOutputs,
+    control_format: Option<subdiv_io::Format>,
+    surface_format: Option<subdiv_io::Format>,
+    progress: &mut dyn Progress,
+) -> Result<OneDone, JobError> {
     let name = o.method.name();
     let label = format!("{name}: {} vertices", mesh.topology().vertex_count());
     let observer = progress.solver(&label, o.tol);
-    let result = interpolate_mesh(input, &mesh, o, observer);
+    let result = interpolate_mesh(input, mesh, o, observer);
     progress.solver_end();
     let mut result = result?;
     let mut warnings = Vec::new();
@@ -406,42 +532,26 @@ pub fn interpolate(
         )));
     }
     // Deng-Ma's -o is its refined surface; every other method's the control mesh itself.
-    let control_out: Option<Cow<Mesh>> = match (&paths.control, is_deng_ma) {
+    let control_out: Option<Mesh> = match (&paths.control, is_deng_ma) {
         (None, _) => None,
-        (Some(_), true) => Some(Cow::Owned(match &surface {
+        (Some(_), true) => Some(match &surface {
             Some(s) => s.clone(),
             None => refine_surface(&result, progress)?,
-        })),
-        (Some(_), false) => Some(Cow::Borrowed(&result.control)),
+        }),
+        (Some(_), false) => Some(result.control.clone()),
     };
 
-    let total_ms = total.elapsed().as_secs_f64() * 1e3;
     // The report's control mesh is what stands for it: Deng-Ma's is its refined surface
     // (written as -o, or as the surface alone).
     let control_mesh = match (&control_out, is_deng_ma, &surface) {
-        (Some(control), _, _) => control.as_ref(),
+        (Some(control), _, _) => control,
         (None, true, Some(surface)) => surface,
         (None, _, _) => &result.control,
     };
-    let report = Report::new(&mesh, &result, error)
-        .with_input_file(input.display().to_string())
-        .with_control(control_mesh)
-        .with_total_ms(total_ms);
-    if let (Some(path), Some(control)) = (&paths.control, &control_out) {
-        outputs.stage_mesh("--output", path, control, is_deng_ma, is_deng_ma, progress)?;
-    }
-    if let (Some(path), Some(s)) = (&paths.surface, &surface) {
-        outputs.stage_mesh("--surface", path, s, true, true, progress)?;
-    }
-    if let Some(path) = &paths.report {
-        let text = serde_json::to_string_pretty(&report)
-            .map_err(|e| JobError::new(ErrorKind::Panic, format!("report: {e}")))?;
-        outputs.stage_bytes(path, (text + "\n").as_bytes())?;
-    }
-    let written = outputs.commit()?;
+    let report =
+        Report::new(mesh, &result, error).with_input_file(input.display().to_string()).with_control(control_mesh);
     warnings.extend(result.warnings.iter().cloned());
-    warn_all(progress, &warnings);
-    Ok(Interpolated { outputs: written, report, error })
+    Ok(OneDone { control_out, surface, scheme: plain, report, error, warnings })
 }
 
 /// [`Interpolant::error`] of the control mesh as written, when it has subnormal coordinates:
@@ -539,12 +649,31 @@ pub fn subdivide(
     o.validate()?;
     let mut outputs = Outputs::new(std::iter::once(input).chain(o.tags.tags.as_deref()));
     let format = outputs.mesh("--output", output)?;
-    let mesh = load_tagged_mesh(input, &o.tags, progress)?;
-    let (mesh, refined, dropped) = subdivide_mesh(input, mesh, o, Some(format), progress)?;
-    outputs.stage_mesh("--output", output, &refined, o.normals, true, progress)?;
+    let scene = load_scene(input, &o.tags, progress)?;
+    check_output(&scene, input, "--output", output, format)?;
+    let mut done = Vec::with_capacity(scene.meshes.len());
+    let mut warnings = Vec::new();
+    for entry in scene.meshes {
+        let label = entry.label(input);
+        let (mesh, refined, dropped) = subdivide_mesh(Path::new(&label), entry.mesh, o, Some(format), progress)?;
+        warnings.extend(dropped);
+        let prim = entry.prim.unwrap_or_else(|| subdiv_io::usd::DEFAULT_PRIM_PATH.into());
+        done.push((prim, mesh, refined));
+    }
+    if format.is_usd() {
+        // A refined surface: plain polygons for a renderer.
+        let meshes: Vec<UsdOutput<'_>> = done
+            .iter()
+            .map(|(prim, _, refined)| UsdOutput { prim, mesh: refined, scheme: SubdivisionScheme::None })
+            .collect();
+        outputs.stage_usd("--output", output, &meshes, scene.usd.as_ref(), o.normals, true, progress)?;
+    } else {
+        outputs.stage_mesh("--output", output, &done[0].2, o.normals, true, progress)?;
+    }
     let written = outputs.commit()?;
-    warn_all(progress, dropped.as_slice());
-    let mut input_summary = MeshSummary::of(&mesh);
+    warn_all(progress, warnings.as_slice());
+    let (_, mesh, refined) = &done[0];
+    let mut input_summary = MeshSummary::of(mesh);
     input_summary.file = Some(input.display().to_string());
     let scheme = o.options(mesh.tags().options()).scheme;
     let report = SubdivideReport {
@@ -553,7 +682,7 @@ pub fn subdivide(
         levels: o.levels,
         limit: o.limit,
         input: input_summary,
-        output: MeshSummary::of(&refined),
+        output: MeshSummary::of(refined),
     };
     Ok(Subdivided { outputs: written, report })
 }

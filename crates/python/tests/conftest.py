@@ -63,3 +63,39 @@ def torus(nu: int, nv: int, R: float = 3.0, r: float = 1.0):
     c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
     F = np.stack([a, b, c, d], -1).reshape(-1, 4).astype(np.int64)
     return X, F
+
+
+def blender_limit_points(vertices, faces, creases, corners, boundary_smooth="ALL", quality=6):
+    """The first n vertices of Blender's Subdivision Surface modifier (OpenSubdiv inside; limit
+    surface, level 1) on a control mesh: the limit points of its n vertices. Edge creases
+    [(a, b, s)] and vertex creases [(v, s)] become c = √(s/10) (Blender's map to OpenSubdiv
+    sharpness is 10·c²). `boundary_smooth`: Blender's 'ALL' is OpenSubdiv's edge-only,
+    'PRESERVE_CORNERS' edge-and-corner. Needs `bpy`."""
+    import math
+
+    import bpy
+
+    mesh = bpy.data.meshes.new("cage")
+    mesh.from_pydata(np.asarray(vertices).tolist(), [], [list(f) for f in faces])
+    mesh.update()
+    edge = {tuple(sorted(e.vertices)): e.index for e in mesh.edges}
+    crease = np.zeros(len(mesh.edges))
+    for a, b, s in creases:
+        crease[edge[tuple(sorted((a, b)))]] = math.sqrt(min(s, 10.0) / 10.0)
+    mesh.attributes.new("crease_edge", "FLOAT", "EDGE").data.foreach_set("value", crease)
+    corner = np.zeros(len(vertices))
+    for v, s in corners:
+        corner[v] = math.sqrt(min(s, 10.0) / 10.0)
+    mesh.attributes.new("crease_vert", "FLOAT", "POINT").data.foreach_set("value", corner)
+    obj = bpy.data.objects.new("cage", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    modifier = obj.modifiers.new("subsurf", "SUBSURF")
+    modifier.levels = modifier.render_levels = 1
+    modifier.use_limit_surface = True
+    modifier.quality = quality
+    modifier.boundary_smooth = boundary_smooth
+    modifier.use_creases = True
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
+    points = np.array([tuple(p.co) for p in evaluated.vertices])[: len(vertices)]
+    bpy.data.objects.remove(obj)
+    return points

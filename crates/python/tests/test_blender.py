@@ -10,11 +10,11 @@ the darts, which shows the check can fail.
 
 Skipped where `bpy` is not installed (it is large; `pip install bpy` on CPython 3.11)."""
 
-import math
 
 import numpy as np
 import pytest
 
+from conftest import blender_limit_points
 from conftest import fixture, read_obj
 
 bpy = pytest.importorskip("bpy")
@@ -32,37 +32,12 @@ def read_tags(path):
     return creases, corners
 
 
-def blender_limit_points(control):
-    """The first n vertices of Blender's modifier (limit surface, level 1) on the control mesh,
-    with edge and vertex creases c = √(s/10) (Blender's map to OpenSubdiv sharpness is 10·c²)."""
+def limit_points_of_obj(control):
+    """Blender's limit points of the control mesh an OBJ file holds, with its tags; 'ALL' (edge-only):
+    fandisk is closed, so either boundary rule shows the same surface."""
     vertices, faces = read_obj(control)
     creases, corners = read_tags(control)
-    mesh = bpy.data.meshes.new("cage")
-    mesh.from_pydata(vertices.tolist(), [], faces)
-    mesh.update()
-    edge = {tuple(sorted(e.vertices)): e.index for e in mesh.edges}
-    crease = np.zeros(len(mesh.edges))
-    for a, b, s in creases:
-        crease[edge[tuple(sorted((a, b)))]] = math.sqrt(min(s, 10.0) / 10.0)
-    mesh.attributes.new("crease_edge", "FLOAT", "EDGE").data.foreach_set("value", crease)
-    corner = np.zeros(len(vertices))
-    for v, s in corners:
-        corner[v] = math.sqrt(min(s, 10.0) / 10.0)
-    mesh.attributes.new("crease_vert", "FLOAT", "POINT").data.foreach_set("value", corner)
-    obj = bpy.data.objects.new("cage", mesh)
-    bpy.context.scene.collection.objects.link(obj)
-    modifier = obj.modifiers.new("subsurf", "SUBSURF")
-    modifier.levels = modifier.render_levels = 1
-    modifier.use_limit_surface = True
-    modifier.quality = 6
-    # 'ALL' is OpenSubdiv's edge-only (Blender's BKE_subdiv_vtx_boundary_interpolation_from_subsurf),
-    # 'PRESERVE_CORNERS' edge-and-corner; fandisk is closed, so either shows the same surface.
-    modifier.boundary_smooth = "ALL"
-    modifier.use_creases = True
-    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
-    points = np.array([tuple(p.co) for p in evaluated.vertices])[: len(vertices)]
-    bpy.data.objects.remove(obj)
-    return points
+    return blender_limit_points(vertices, faces, creases, corners, boundary_smooth="ALL", quality=6)
 
 
 def read_off(path):
@@ -80,7 +55,7 @@ def test_blender_passes_through_the_data_at_darts(cli, tmp_path, dart_limit, bou
     assert done.returncode == 0, done.stderr
     target = read_off(data)
     d = np.linalg.norm(target.max(0) - target.min(0))
-    error = np.linalg.norm(blender_limit_points(control) - target, axis=1) / d
+    error = np.linalg.norm(limit_points_of_obj(control) - target, axis=1) / d
     if bound is not None:
         assert error.max() <= bound, f"max {error.max():.3e}·d at vertex {error.argmax()}"
     else:

@@ -101,6 +101,11 @@ fn gltf_corpus_replays() {
 }
 
 #[test]
+fn usd_corpus_replays() {
+    replay("usd", fuzz_bodies::usd);
+}
+
+#[test]
 fn from_soup_corpus_replays() {
     replay("from_soup", fuzz_bodies::from_soup);
 }
@@ -134,12 +139,13 @@ fn fit_corpus_replays() {
 /// reads zeros past the end).
 #[test]
 fn bodies_take_empty_and_short_inputs() {
-    let bodies: [fn(&[u8]); 11] = [
+    let bodies: [fn(&[u8]); 12] = [
         fuzz_bodies::obj,
         fuzz_bodies::off,
         fuzz_bodies::ply,
         fuzz_bodies::stl,
         fuzz_bodies::gltf,
+        fuzz_bodies::usd,
         fuzz_bodies::from_soup,
         fuzz_bodies::end_to_end,
         fuzz_bodies::evaluate,

@@ -429,3 +429,26 @@ fn tagged_methods_are_sized_against_the_memory_budget() {
         assert!(out.exists(), "{method}: no output");
     }
 }
+
+/// Truncated and corrupted USD crate files (binary `.usdc`, as pxr writes
+/// them) are refused with exit 2 and a message, never a panic or its text:
+/// the `openusd` reader panics on some malformed files, and subdiv-io catches
+/// those panics without letting the panic hook print them.
+#[test]
+fn truncated_and_corrupted_usdc_files_are_refused_quietly() {
+    let bytes = std::fs::read(fixtures().join("usd/scene_pxr.usdc")).unwrap();
+    let path = tmp("broken.usdc");
+    let mut cases: Vec<Vec<u8>> = (1..24).map(|k| bytes[..bytes.len() * k / 24].to_vec()).collect();
+    for k in (16..bytes.len()).step_by(bytes.len() / 24) {
+        let mut corrupted = bytes.clone();
+        corrupted[k..(k + 8).min(bytes.len())].iter_mut().for_each(|b| *b = 0xff);
+        cases.push(corrupted);
+    }
+    for (i, case) in cases.iter().enumerate() {
+        std::fs::write(&path, case).unwrap();
+        let run = subdiv(&["info", s(&path)]);
+        let e = stderr(&run);
+        assert!(!e.contains("panicked"), "case {i}: {e}");
+        assert!(matches!(code(&run), Some(0 | 2)), "case {i}: {e}");
+    }
+}

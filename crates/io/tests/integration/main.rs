@@ -20,4 +20,5 @@ mod staged_cleanup;
 mod tag_files;
 mod tobj_differential;
 mod triangulate_fixtures;
+mod usd;
 mod uvs_and_tags;

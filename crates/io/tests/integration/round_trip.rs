@@ -70,7 +70,9 @@ fn streamed_files_equal_the_in_memory_encoding() {
         let path = dir.join(format!("torus.{}", format.extension()));
         write_mesh_as(&path, view, format).unwrap();
         let in_memory = write_mesh_to_vec(view, format).unwrap();
-        assert!(in_memory.len() > 2 << 20, "{format}: {} bytes", in_memory.len());
+        // USD's binary layers compress their arrays.
+        let least = if matches!(format, Format::Usdc | Format::Usdz) { 1 << 20 } else { 2 << 20 };
+        assert!(in_memory.len() > least, "{format}: {} bytes", in_memory.len());
         assert!(std::fs::read(&path).unwrap() == in_memory, "{format}");
     }
 }

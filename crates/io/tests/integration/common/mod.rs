@@ -165,13 +165,28 @@ pub fn corner_uvs(faces: &FaceList, uvs: &FaceVarying, triangulate: bool) -> Vec
     out
 }
 
-/// `uv` as glTF stores it: `f32`, with `v` flipped to its top-left origin and back.
+/// `uv` as the format stores it: glTF in `f32`, with `v` flipped to its
+/// top-left origin and back; USD in `f32` (`texCoord2f`).
 pub fn stored_uv(uv: DVec2, format: Format) -> DVec2 {
     if format.keeps_f64() {
         uv
+    } else if format.is_usd() {
+        uv.as_vec2().as_dvec2()
     } else {
         DVec2::new(f64::from(uv.x as f32), 1.0 - f64::from((1.0 - uv.y) as f32))
     }
+}
+
+/// The tags a mesh with `tags` reads back with from `format`: USD writes the
+/// face-varying mode whenever there are texture coordinates (its fallback,
+/// `cornersPlus1`, is not OpenSubdiv's default), so an unset mode reads back
+/// as the default it stood for.
+pub fn stored_tags(tags: &subdiv_io::TagList, has_uvs: bool, format: Format) -> subdiv_io::TagList {
+    let mut tags = tags.clone();
+    if format.is_usd() && has_uvs && tags.options.fvar.is_none() {
+        tags.options.fvar = Some(Default::default());
+    }
+    tags
 }
 
 /// Texture coordinates after a write and read in `format`: none where the
