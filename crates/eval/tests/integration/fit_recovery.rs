@@ -228,12 +228,23 @@ fn recovers_loop_open_triangle_grid() {
 }
 
 #[test]
-#[ignore = "measured (release, loaded): level 2, 9 rounds, 3.7e-6·d from the true surface; level 3, 30 rounds, \
-            151 s, 3.9e-6·d (target→surface max 3.4e-6·d): the fit slides tangentially (1e-2·d) and does not come \
-            back; run with --ignored --release"]
+#[ignore = "1,839 control vertices (release, ~1 min): run with --ignored --release"]
+fn recovers_loop_bunny_fixture() {
+    // 1,839 control vertices (a real, closed triangle mesh), a smooth start
+    // 2 % of d off (moved independently, its vertices would pass their
+    // neighbours).
+    let bunny = fixture("tri/bunny_npm.obj");
+    recover_from("loop bunny", &bunny, &smoothly_perturbed(&bunny, 0.02, 17), loop_options(), 2);
+}
+
+#[test]
+#[ignore = "a symmetric surface: its data do not fix the control mesh (measured: level 2, 9 rounds, 3.7e-6·d \
+            from the true surface with every target point within 1e-8·d; see the note on symmetry)"]
 fn recovers_loop_torus_fixture() {
-    // 2,304 control vertices; a smooth start 2 % of d off (moved
-    // independently, its vertices would pass their neighbours).
+    // The torus of revolution: turning its control mesh about the axis by a
+    // fraction of a face moves the limit surface by ~1e-6·d only, so the
+    // fit slides along it (1e-2·d) and its knots no longer fall where the
+    // truth's do. Asymmetric shapes (the bunny, bumped tori) recover.
     let torus = fixture("tri/torus.obj");
     recover_from("loop torus", &torus, &smoothly_perturbed(&torus, 0.02, 17), loop_options(), 3);
 }
@@ -251,11 +262,25 @@ fn recovers_doo_sabin_cube() {
 }
 
 #[test]
-#[ignore = "measured (release, 2 loaded cores): 30 rounds, 267 s, target→surface max 1.6e-8·d but 4.3e-6·d \
-            from the true surface between the 16 target points per face (the torus's near-symmetric tangential \
-            slide, 1e-2·d, is left to that sparse data); run with --ignored --release"]
+#[ignore = "10⁴ control vertices of an open scan (release, minutes); run with --ignored --release"]
+fn recovers_an_open_scan_of_1e4_vertices() {
+    let dragon = fixture("open/ChineseDragon-10kv.off");
+    recover_from("dragon", &dragon, &smoothly_perturbed(&dragon, 0.02, 17), Options::new(Scheme::CatmullClark), 2);
+}
+
+#[test]
+#[ignore = "10⁴ control vertices (release, minutes); run with --ignored --release"]
+fn recovers_a_bumpy_catmull_clark_torus_of_1e4_vertices() {
+    // 1.6·10⁵ target points, a smooth start 2 % of d off.
+    let torus = bumpy(shapes::torus(100, 100), 0.015, 7);
+    let start = smoothly_perturbed(&torus, 0.02, 17);
+    recover_from("bumpy torus 100×100", &torus, &start, Options::new(Scheme::CatmullClark), 2);
+}
+
+#[test]
+#[ignore = "a symmetric surface: its data do not fix the control mesh (measured: 30 rounds, every target point \
+            within 1.6e-8·d, the surface 4.3e-6·d from the true one after a 1e-2·d tangential slide)"]
 fn recovers_a_large_catmull_clark_torus() {
-    // 10⁴ control vertices, 1.6·10⁵ target points, a smooth start 2 % of d off.
     let torus = shapes::torus(100, 100);
     let start = smoothly_perturbed(&torus, 0.02, 17);
     recover_from("torus 100×100", &torus, &start, Options::new(Scheme::CatmullClark), 2);
@@ -263,34 +288,39 @@ fn recovers_a_large_catmull_clark_torus() {
 
 #[test]
 #[ignore = "every vertex of a 10⁴-vertex torus moved independently by 2 % of d, 2.7× its edge length: \
-            a tangled start, from which the fit does not recover (see the lead's report)"]
+            a tangled start, from which the fit does not recover"]
 fn recovers_a_large_torus_from_a_tangled_start() {
     recover("torus 100×100 tangled", &shapes::torus(100, 100), Options::new(Scheme::CatmullClark), 2);
 }
 
 #[test]
-#[ignore = "10⁵ control vertices, 1.6·10⁶ target points: about a minute in release; run with --ignored --release"]
-fn recovers_a_catmull_clark_torus_of_1e5_vertices() {
-    let torus = shapes::torus(400, 250);
+#[ignore = "10⁵ control vertices, 1.6·10⁶ target points (release, minutes); run with --ignored --release"]
+fn recovers_a_bumpy_catmull_clark_torus_of_1e5_vertices() {
+    let torus = bumpy(shapes::torus(400, 250), 0.005, 7);
     let start = smoothly_perturbed(&torus, 0.02, 17);
-    recover_from("torus 400×250", &torus, &start, Options::new(Scheme::CatmullClark), 2);
+    recover_from("bumpy torus 400×250", &torus, &start, Options::new(Scheme::CatmullClark), 2);
 }
 
-/// The issue's 112-vertex quad mesh: a 14 × 8 torus, its control points moved
-/// radially by up to 10 % of the tube radius (no symmetry left).
-fn bumpy_torus() -> Mesh {
-    let torus = shapes::torus(14, 8);
-    let mut rng = SplitMix64(42);
+/// `torus` (of [`shapes::torus`]: major radius 2) with its control points
+/// moved radially from the tube's axis by up to ±`amplitude`: no symmetry left.
+fn bumpy(torus: Mesh, amplitude: f64, seed: u64) -> Mesh {
+    let mut rng = SplitMix64(seed);
     torus.with_positions(
         torus
             .positions()
             .iter()
             .map(|&p| {
                 let axis = DVec3::new(p.x, p.y, 0.0).normalize() * 2.0;
-                p + (p - axis).normalize() * 0.075 * (rng.next_f64() - 0.5) * 2.0
+                p + (p - axis).normalize() * amplitude * (rng.next_f64() - 0.5) * 2.0
             })
             .collect(),
     )
+}
+
+/// The issue's 112-vertex quad mesh: a 14 × 8 torus, its control points moved
+/// radially by up to 10 % of the tube radius (no symmetry left).
+fn bumpy_torus() -> Mesh {
+    bumpy(shapes::torus(14, 8), 0.075, 42)
 }
 
 #[test]
