@@ -359,10 +359,9 @@ mod tests {
         assert!(mean_row(0.3, 0.45) > mean_row(0.55, 0.7) + 20.0);
         // Text: dark anti-aliased pixels outside the plotting area (title, ticks, labels).
         assert!(img.rgb.chunks_exact(3).filter(|p| p[0] < 60 && p[1] < 60 && p[2] < 60).count() > 200);
-        let path = std::env::temp_dir().join(format!("xtask-plot-{}.png", std::process::id()));
-        img.save_png(&path).unwrap();
-        assert!(std::fs::metadata(&path).unwrap().len() > 1000);
-        std::fs::remove_file(&path).unwrap();
+        let file = tempfile::Builder::new().prefix("xtask-plot-").suffix(".png").tempfile().unwrap();
+        img.save_png(file.path()).unwrap();
+        assert!(std::fs::metadata(file.path()).unwrap().len() > 1000);
         let tiny = line_plot("Power laws", "x", "y", &[Series::new("y = x²", vec![(10.0, 100.0)])], true, true, 64, 48);
         assert_eq!((tiny.width, tiny.height), (64, 48));
     }

@@ -1201,15 +1201,14 @@ mod tests {
     #[test]
     fn png_round_trip() {
         let img = render_mesh(&shapes::icosahedron(), &View::default(), &Style::control_mesh(), 64, 48, None);
-        let path = std::env::temp_dir().join(format!("xtask-render-{}.png", std::process::id()));
-        img.save_png(&path).unwrap();
-        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
+        let file = tempfile::Builder::new().prefix("xtask-render-").suffix(".png").tempfile().unwrap();
+        img.save_png(file.path()).unwrap();
+        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(file.path()).unwrap()));
         let mut reader = decoder.read_info().unwrap();
         let mut buf = vec![0; reader.output_buffer_size().unwrap()];
         let info = reader.next_frame(&mut buf).unwrap();
         assert_eq!((info.width, info.height, info.color_type), (64, 48, png::ColorType::Rgb));
         assert_eq!(&buf[..info.buffer_size()], img.rgb.as_slice());
-        std::fs::remove_file(&path).unwrap();
     }
 
     fn fixture(path: &str) -> Mesh {

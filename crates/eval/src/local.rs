@@ -20,16 +20,18 @@
 
 use crate::surface::EvalError;
 use std::collections::HashMap;
+use std::sync::Arc;
 use subdiv_mesh::{EdgeId, FaceId, FaceList, HalfEdgeId, Tags, Topology, VertexId};
 use subdiv_stencil::{LevelSharpness, Options, SparseMatrix, SubdivisionPlan};
 
 /// A submesh at some level with each vertex as weights on the root's vertices.
 #[derive(Clone, Debug)]
 pub(crate) struct Local {
-    /// The submesh's connectivity.
-    pub t: Topology,
+    /// The submesh's connectivity (shared by the levels of one structure:
+    /// a [`Step`]'s next level and every level it is applied to).
+    pub t: Arc<Topology>,
     /// Its tags at this level (decayed), with the options' boundary rule.
-    pub sharp: LevelSharpness,
+    pub sharp: Arc<LevelSharpness>,
     /// `vertex_count × root` weights, row-major: local vertex i is
     /// Σ_j rows\[i·root + j\]·(root vertex j).
     pub rows: Vec<f64>,
@@ -180,7 +182,7 @@ pub(crate) fn submesh(
             (out, n)
         }
     };
-    Ok((Local { t: topo, sharp, rows: out, root, is_base }, picked.parent_vertex))
+    Ok((Local { t: Arc::new(topo), sharp: Arc::new(sharp), rows: out, root, is_base }, picked.parent_vertex))
 }
 
 impl Root {

@@ -218,6 +218,8 @@ const TABLE_DEPTH: usize = 8;
 /// beside a semi-sharp crease stay irregular for ⌈s⌉ levels along the crease,
 /// and are refined on demand past this.
 const TABLE_NODES: usize = 64;
+/// Domains whose patch trees are built (in parallel) before they are merged.
+const TREE_BATCH: usize = 1024;
 /// Levels of on-demand refinement: below 2⁻⁶⁰ of an irregular vertex the
 /// parameter is taken as the vertex (the surface moves by ~λ⁶⁰·size there,
 /// far below the rounding of any coordinate).
@@ -375,8 +377,40 @@ struct Tree {
     nodes: Vec<Node>,
     deep: Vec<DeepEntry>,
     kinds: Vec<PatchKind>,
-    /// Per patch point: (control vertex, weight) lists.
-    points: Vec<Vec<(u32, f64)>>,
+    /// The patch points' (control vertex, weight) lists, one after the
+    /// other (16 slots per patch, empty past the kind's point count)…
+    entries: Vec<(u32, f64)>,
+    /// …and where each ends in `entries`.
+    ends: Vec<u32>,
+}
+
+impl Tree {
+    /// Appends one patch point: `pairs` sorted by vertex, repeated vertices
+    /// merged (summed in order).
+    fn push_point(&mut self, pairs: impl IntoIterator<Item = (u32, f64)>) {
+        let start = self.entries.len();
+        self.entries.extend(pairs);
+        self.entries[start..].sort_by_key(|p| p.0);
+        let mut kept = start;
+        for read in start..self.entries.len() {
+            let pair = self.entries[read];
+            if kept > start && self.entries[kept - 1].0 == pair.0 {
+                self.entries[kept - 1].1 += pair.1;
+            } else {
+                self.entries[kept] = pair;
+                kept += 1;
+            }
+        }
+        self.entries.truncate(kept);
+        self.ends.push(self.entries.len() as u32);
+    }
+
+    /// The pairs of patch point `slot` of patch `patch`.
+    fn point(&self, patch: usize, slot: usize) -> &[(u32, f64)] {
+        let i = patch * 16 + slot;
+        let start = if i == 0 { 0 } else { self.ends[i - 1] as usize };
+        &self.entries[start..self.ends[i] as usize]
+    }
 }
 
 /// Dense weights on a root (6 rows: position, du, dv, duu, duv, dvv).
@@ -545,11 +579,25 @@ impl LimitSurface {
             surface.ring_vertices.extend(ring);
             surface.ring_offsets.push(surface.ring_vertices.len() as u32);
         }
-        // Patch trees, a domain per task.
-        let trees: Vec<Result<Tree, EvalError>> =
-            surface.domains.par_iter().map(|&d| surface.build_tree(d, &sharp)).collect();
+        // Patch trees, a domain per task, merged a batch at a time: a tree's patch points are
+        // small vectors each (a triangle mesh under Catmull-Clark has ~43 patches per domain, 11
+        // weights per point), so holding every tree before merging took three times the table.
+        let domains = surface.domains.clone();
+        for batch in domains.chunks(TREE_BATCH) {
+            let trees: Vec<Result<Tree, EvalError>> =
+                batch.par_iter().map(|&d| surface.build_tree(d, &sharp)).collect();
+            surface.merge_trees(trees)?;
+        }
+        surface.point_vertices.shrink_to_fit();
+        surface.point_weights.shrink_to_fit();
+        Ok(surface)
+    }
+
+    /// Appends built patch trees (in domain order) to the surface's arrays.
+    fn merge_trees(&mut self, trees: Vec<Result<Tree, EvalError>>) -> Result<(), EvalError> {
+        let surface = self;
         for tree in trees {
-            let tree = tree?;
+            let mut tree = tree?;
             let (node_base, patch_base) = (surface.nodes.len() as u32, surface.patch_kinds.len() as u32);
             let deep_base = surface.deep.len() as u32;
             surface.roots.push(node_base);
@@ -560,12 +608,12 @@ impl LimitSurface {
                     Node::Deep(i) => Node::Deep(if i == u32::MAX { i } else { i + deep_base }),
                 })
             }));
-            surface.deep.extend(tree.deep);
+            surface.deep.extend(std::mem::take(&mut tree.deep));
             surface.patch_kinds.extend(&tree.kinds);
             for (k, kind) in tree.kinds.iter().enumerate() {
                 for slot in 0..16 {
                     if slot < kind.len() {
-                        for &(v, w) in &tree.points[k * 16 + slot] {
+                        for &(v, w) in tree.point(k, slot) {
                             surface.point_vertices.push(v);
                             surface.point_weights.push(w);
                         }
@@ -573,8 +621,17 @@ impl LimitSurface {
                     surface.point_offsets.push(surface.point_vertices.len() as u32);
                 }
             }
+            // The offsets are u32 (half the table's index memory).
+            if u32::try_from(surface.point_vertices.len()).is_err() {
+                return Err(EvalError::Unsupported {
+                    scheme: surface.options.scheme.name(),
+                    reason: "the mesh's patch table would exceed 2³² weights (a very large mesh with \
+                             irregular faces everywhere)"
+                        .into(),
+                });
+            }
         }
-        Ok(surface)
+        Ok(())
     }
 
     /// Where a parameter in a folded quarter continues on the surface: a
@@ -964,10 +1021,7 @@ impl LimitSurface {
             if let Some(points) = regular_points(spec, &self.topology, sharp, FaceId(d.face)) {
                 tree.kinds.push(spec.kind);
                 for slot in 0..16 {
-                    tree.points.push(points.get(slot).map_or_else(Vec::new, |combo| {
-                        let dense: Vec<(u32, f64)> = combo.clone();
-                        to_global_pairs(dense)
-                    }));
+                    tree.push_point(points.get(slot).into_iter().flatten().copied());
                 }
                 tree.nodes.push(Node::Patch(0));
                 return Ok(tree);
@@ -996,9 +1050,9 @@ impl LimitSurface {
                 if slot < points.len() {
                     dense.iter_mut().for_each(|x| *x = 0.0);
                     local.combine(&points[slot], &mut dense);
-                    tree.points.push(to_global(ids, &dense));
+                    tree.push_point(ids.iter().zip(&dense).filter(|&(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)));
                 } else {
-                    tree.points.push(Vec::new());
+                    tree.push_point([]);
                 }
             }
             tree.nodes.push(Node::Patch(patch));
@@ -1014,17 +1068,18 @@ impl LimitSurface {
             return Ok(id);
         }
         tree.nodes.push(Node::Deep(u32::MAX)); // placeholder, replaced below
-        let refined = local.refine(&self.options)?;
+        let folded = self.traits.split == Split::Dual && !doo_sabin::has_v_face(&local.refine(&self.options)?, face);
         let mut children = [0u32; 4];
         for (k, c) in children.iter_mut().enumerate() {
-            if k == 0 && self.traits.split == Split::Dual && !doo_sabin::has_v_face(&refined, face) {
+            if k == 0 && folded {
                 continue; // folded away (Self::fold): never descended into; filled below
             }
-            let (child, cell) = (self.patching.child_cell)(local, &refined, face, k)?;
-            let (next, _) = refined.ring(&self.options, child)?;
-            *c = self.build_node(ids, &next, FaceId(cell), depth + 1, tree)?;
+            // The cached step of this structure: the child's ring with the same weights as
+            // refining `local` and taking the ring, its connectivity shared with the step.
+            let step = self.step(local, face, k)?;
+            *c = self.build_node(ids, &local.apply(&step), step.cell, depth + 1, tree)?;
         }
-        if self.traits.split == Split::Dual && !doo_sabin::has_v_face(&refined, face) {
+        if folded {
             children[0] = children[1];
         }
         tree.nodes[id as usize] = Node::Split(children);
@@ -1177,25 +1232,6 @@ enum Located {
         v: f64,
         a: [[f64; 2]; 2],
     },
-}
-
-/// Dense weights over a root as merged (vertex, weight) pairs of the control mesh.
-fn to_global(ids: &[u32], dense: &[f64]) -> Vec<(u32, f64)> {
-    to_global_pairs(ids.iter().zip(dense).filter(|&(_, &w)| w != 0.0).map(|(&i, &w)| (i, w)).collect())
-}
-
-/// (vertex, weight) pairs sorted by vertex, repeated vertices merged.
-fn to_global_pairs(mut out: Vec<(u32, f64)>) -> Vec<(u32, f64)> {
-    out.sort_by_key(|p| p.0);
-    out.dedup_by(|b, a| {
-        if a.0 == b.0 {
-            a.1 += b.1;
-            true
-        } else {
-            false
-        }
-    });
-    out
 }
 
 /// Basis derivatives with respect to (u, v) from those in (s, t), J = ∂(s,t)/∂(u,v).

@@ -319,11 +319,9 @@ fn write_with(
 mod tests {
     use super::*;
 
-    fn scratch(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("subdiv-io-atomic-{name}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh scratch folder (`subdiv-io-atomic-{name}-XXXXXX`), removed when it drops.
+    fn scratch(name: &str) -> tempfile::TempDir {
+        tempfile::Builder::new().prefix(&format!("subdiv-io-atomic-{name}-")).tempdir().unwrap()
     }
 
     fn listing(dir: &Path) -> Vec<String> {
@@ -335,7 +333,8 @@ mod tests {
 
     #[test]
     fn an_encoder_failing_after_streaming_leaves_the_old_file_and_no_temporary() {
-        let dir = scratch("fail");
+        let tmp = scratch("fail");
+        let dir = tmp.path();
         let target = dir.join("out.obj");
         fs::write(&target, "old contents").unwrap();
         // More than the buffer, so part of it reaches the temporary file first.
@@ -346,32 +345,32 @@ mod tests {
         .unwrap_err();
         assert!(e.to_string().contains("failed half-way"), "{e}");
         assert_eq!(fs::read_to_string(&target).unwrap(), "old contents");
-        assert_eq!(listing(&dir), ["out.obj"]);
+        assert_eq!(listing(dir), ["out.obj"]);
         // A complete stream replaces the file whole.
         write_with(&target, |out| out.write_all(b"new").map_err(|e| Ctx::new(&target).io(e))).unwrap();
         assert_eq!(fs::read_to_string(&target).unwrap(), "new");
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn staged_files_appear_only_on_commit_and_vanish_when_dropped() {
-        let dir = scratch("stage");
+        let tmp = scratch("stage");
+        let dir = tmp.path();
         let (a, b) = (dir.join("a.obj"), dir.join("b.json"));
         let sa = stage_bytes(&a, b"A").unwrap();
         let sb = stage_bytes(&b, b"B").unwrap();
         assert!(!a.exists() && !b.exists());
-        assert_eq!(listing(&dir).len(), 2, "two temporaries");
+        assert_eq!(listing(dir).len(), 2, "two temporaries");
         commit_all(vec![sa, sb]).unwrap();
-        assert_eq!(listing(&dir), ["a.obj", "b.json"]);
+        assert_eq!(listing(dir), ["a.obj", "b.json"]);
         drop(stage_bytes(&a, b"never").unwrap());
         assert_eq!(fs::read_to_string(&a).unwrap(), "A");
-        assert_eq!(listing(&dir), ["a.obj", "b.json"]);
-        fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(listing(dir), ["a.obj", "b.json"]);
     }
 
     #[test]
     fn a_failed_rename_restores_the_outputs_already_replaced() {
-        let dir = scratch("rollback");
+        let tmp = scratch("rollback");
+        let dir = tmp.path();
         let (a, new, blocked) = (dir.join("a.obj"), dir.join("new.off"), dir.join("c.ply"));
         fs::write(&a, "old a").unwrap();
         let sa = stage_bytes(&a, b"new a").unwrap();
@@ -384,13 +383,13 @@ mod tests {
         assert!(e.to_string().contains("c.ply"), "{e}");
         assert_eq!(fs::read_to_string(&a).unwrap(), "old a");
         assert!(!new.exists(), "a file that did not exist before is removed again");
-        assert_eq!(listing(&dir), ["a.obj", "c.ply"]);
-        fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(listing(dir), ["a.obj", "c.ply"]);
     }
 
     #[test]
     fn progress_hears_the_bytes_written() {
-        let dir = scratch("progress");
+        let tmp = scratch("progress");
+        let dir = tmp.path();
         let mut seen = Vec::new();
         let staged = stage_with(&dir.join("p.obj"), &mut |n| seen.push(n), |out| {
             // Encoders write small pieces.
@@ -401,7 +400,6 @@ mod tests {
         assert_eq!(seen.last(), Some(&(9 << 20)));
         assert!(seen.len() >= 3 && seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
         drop(staged);
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     /// One destination check: a FIFO (or a directory) as the target is refused when staged, and
@@ -409,12 +407,13 @@ mod tests {
     #[cfg(unix)]
     #[test]
     fn special_targets_are_refused_when_staged_and_committed() {
-        let dir = scratch("special");
+        let tmp = scratch("special");
+        let dir = tmp.path();
         let fifo = dir.join("out.obj");
         assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
         let e = stage_bytes(&fifo, b"x").unwrap_err();
         assert!(matches!(e, IoError::NotAFile { kind: "a FIFO", .. }), "{e}");
-        assert!(matches!(stage_bytes(&dir, b"x"), Err(IoError::NotAFile { kind: "a directory", .. })));
+        assert!(matches!(stage_bytes(dir, b"x"), Err(IoError::NotAFile { kind: "a directory", .. })));
         fs::remove_file(&fifo).unwrap();
         let (a, b) = (dir.join("a.txt"), dir.join("b.txt"));
         let staged = vec![stage_bytes(&a, b"A").unwrap(), stage_bytes(&b, b"B").unwrap()];
@@ -422,17 +421,16 @@ mod tests {
         assert!(matches!(commit_all(staged), Err(IoError::NotAFile { .. })));
         assert!(!a.exists(), "nothing is replaced when one target is refused");
         let names: Vec<String> =
-            fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+            fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
         assert_eq!(names, ["b.txt"], "temporaries removed");
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn completed_commits_are_counted() {
-        let dir = scratch("count");
+        let tmp = scratch("count");
+        let dir = tmp.path();
         let before = commits_completed();
         stage_bytes(&dir.join("c.txt"), b"c").unwrap().commit().unwrap();
         assert!(commits_completed() > before);
-        fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -136,17 +136,16 @@ pub fn file_stamp(path: &Path) -> Option<FileStamp> {
 mod tests {
     use super::*;
 
-    fn dir(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("subdiv-io-fs-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh scratch folder (`subdiv-io-fs-{name}-XXXXXX`), removed when it drops.
+    fn dir(name: &str) -> tempfile::TempDir {
+        tempfile::Builder::new().prefix(&format!("subdiv-io-fs-{name}-")).tempdir().unwrap()
     }
 
     #[cfg(unix)]
     #[test]
     fn identities_and_canonical_paths_see_through_links() {
-        let d = dir("links");
+        let tmp = dir("links");
+        let d = tmp.path();
         let file = d.join("a.obj");
         std::fs::write(&file, "v 0 0 0\n").unwrap();
         std::os::unix::fs::symlink(&file, d.join("link.obj")).unwrap();
@@ -161,34 +160,34 @@ mod tests {
         assert_eq!(resolve(&d.join("link.obj")), Some(c.clone()));
         assert_eq!(resolve(&d.join("new.obj")), Some(c.parent().unwrap().join("new.obj")));
         assert_eq!(resolve(&d.join("nowhere/new.obj")), None);
-        std::fs::remove_dir_all(&d).unwrap();
     }
 
     #[cfg(unix)]
     #[test]
     fn destinations_are_classified_without_opening_them() {
-        let d = dir("dest");
+        let tmp = dir("dest");
+        let d = tmp.path();
         let file = d.join("f.obj");
         std::fs::write(&file, "").unwrap();
         let fifo = d.join("p.fifo");
         assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
         std::os::unix::fs::symlink(&file, d.join("to-file")).unwrap();
-        std::os::unix::fs::symlink(&d, d.join("to-dir")).unwrap();
+        std::os::unix::fs::symlink(d, d.join("to-dir")).unwrap();
         std::os::unix::fs::symlink(d.join("missing"), d.join("dangling")).unwrap();
         assert_eq!(destination(&d.join("new.obj")), Destination::Absent);
         assert_eq!(destination(&file), Destination::File);
-        assert_eq!(destination(&d), Destination::Directory);
+        assert_eq!(destination(d), Destination::Directory);
         assert_eq!(destination(&fifo), Destination::Special);
         assert_eq!(destination(&d.join("to-file")), Destination::File);
         assert_eq!(destination(&d.join("to-dir")), Destination::LinkToNonFile);
         assert_eq!(destination(&d.join("dangling")), Destination::File);
-        assert!(is_directory(&d).unwrap() && !is_directory(&file).unwrap() && is_directory(&d.join("x")).is_err());
-        std::fs::remove_dir_all(&d).unwrap();
+        assert!(is_directory(d).unwrap() && !is_directory(&file).unwrap() && is_directory(&d.join("x")).is_err());
     }
 
     #[test]
     fn directories_are_made_listed_and_probed() {
-        let d = dir("dirs");
+        let tmp = dir("dirs");
+        let d = tmp.path();
         let deep = d.join("a/b/c");
         ensure_dir(&deep).unwrap();
         ensure_dir(&deep).unwrap(); // exists: nothing to do
@@ -201,12 +200,12 @@ mod tests {
         probe_writable(&deep).unwrap();
         assert_eq!(list_dir(&deep).unwrap(), Vec::<PathBuf>::new(), "the probe is removed");
         assert!(probe_writable(&d.join("none")).is_err());
-        std::fs::remove_dir_all(&d).unwrap();
     }
 
     #[test]
     fn stamps_change_with_the_content() {
-        let d = dir("stamp");
+        let tmp = dir("stamp");
+        let d = tmp.path();
         let file = d.join("s.txt");
         std::fs::write(&file, "12345").unwrap();
         let stamp = file_stamp(&file).unwrap();
@@ -215,7 +214,6 @@ mod tests {
         std::fs::write(&file, "123456").unwrap();
         assert_eq!(file_stamp(&file).unwrap().size, 6);
         assert_eq!(file_stamp(&d.join("none")), None);
-        std::fs::remove_dir_all(&d).unwrap();
     }
 
     /// `/proc` files report size 0 and are read to their end all the same.

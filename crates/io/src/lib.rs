@@ -637,8 +637,8 @@ mod tests {
 
     #[test]
     fn reading_in_chunks_reports_progress_up_to_the_size_and_stops_at_the_limit() {
-        let dir = std::env::temp_dir().join(format!("subdiv-io-chunks-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let tmp = tempfile::Builder::new().prefix("subdiv-io-chunks-").tempdir().unwrap();
+        let dir = tmp.path();
         let path = dir.join("ten.bin");
         std::fs::write(&path, b"0123456789").unwrap();
         let mut calls = Vec::new();
@@ -649,9 +649,8 @@ mod tests {
         let bytes = read_file_in_chunks(&path, Some(6), 4, &mut |read, total| calls.push((read, total))).unwrap();
         assert_eq!(bytes, b"012345");
         assert_eq!(calls, [(0, 6), (4, 6), (6, 6)]);
-        let e = read_file_in_chunks(&dir, None, 4, &mut |_, _| panic!("a directory is never read")).unwrap_err();
+        let e = read_file_in_chunks(dir, None, 4, &mut |_, _| panic!("a directory is never read")).unwrap_err();
         assert!(matches!(e, IoError::NotAFile { kind: "a directory", .. }), "{e}");
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -90,16 +90,16 @@ fn decode(bytes: Vec<u8>, ctx: Ctx<'_>) -> Result<String, IoError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::PathBuf;
+    use tempfile::TempDir;
 
-    fn dir() -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("subdiv-io-text-file-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh scratch folder, removed when it drops.
+    fn dir() -> TempDir {
+        tempfile::Builder::new().prefix("subdiv-io-text-file-").tempdir().unwrap()
     }
 
     fn read_bytes(name: &str, bytes: &[u8]) -> Result<String, IoError> {
-        let path = dir().join(name);
+        let dir = dir();
+        let path = dir.path().join(name);
         std::fs::write(&path, bytes).unwrap();
         read_text(&path)
     }
@@ -128,7 +128,8 @@ mod tests {
 
     #[test]
     fn a_file_over_the_limit_is_refused_before_it_is_read() {
-        let path = dir().join("big.txt");
+        let dir = dir();
+        let path = dir.path().join("big.txt");
         std::fs::write(&path, "0 1 2 3 4 5 6 7 8 9\n").unwrap();
         let e = read_text_limited(&path, 10).unwrap_err();
         assert!(matches!(e, IoError::Unsupported { .. }), "{e}");
@@ -138,14 +139,16 @@ mod tests {
 
     #[test]
     fn directories_and_missing_files_are_refused() {
-        assert!(matches!(read_text(&dir()), Err(IoError::NotAFile { kind: "a directory", .. })));
-        assert!(matches!(read_text(&dir().join("missing.txt")), Err(IoError::Io { .. })));
+        let dir = dir();
+        assert!(matches!(read_text(dir.path()), Err(IoError::NotAFile { kind: "a directory", .. })));
+        assert!(matches!(read_text(&dir.path().join("missing.txt")), Err(IoError::Io { .. })));
     }
 
     #[cfg(unix)]
     #[test]
     fn special_files_are_refused_without_opening_them() {
-        let fifo = dir().join("text.fifo");
+        let dir = dir();
+        let fifo = dir.path().join("text.fifo");
         let _ = std::fs::remove_file(&fifo);
         assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
         // Opening the FIFO would block this test forever.

@@ -2,7 +2,7 @@
 //! command's message and exit code, outputs identical to the single
 //! command's, resuming, name collisions, option checks.
 
-use crate::common::{assert_no_panic, fixtures, out_path, subdiv};
+use crate::common::{assert_no_panic, fixtures, subdiv, Scratch};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::fs;
@@ -39,11 +39,11 @@ fn mtimes(dir: &Path) -> BTreeMap<PathBuf, SystemTime> {
 
 /// Every record against the single command on the same input: the same
 /// bytes for each output, the same message and exit code for each failure.
-fn compare_with_single_command(records: &[Value], single: impl Fn(&str, &Path) -> Vec<String>, suite: &str) {
+fn compare_with_single_command(records: &[Value], single: impl Fn(&str, &Path) -> Vec<String>, scratch: &Scratch) {
     for (i, r) in records.iter().enumerate() {
         assert_eq!(r["index"], i);
         let input = r["input"].as_str().unwrap();
-        let dir = out_path(suite, &format!("single-{i}"));
+        let dir = scratch.path(&format!("single-{i}"));
         fs::create_dir_all(&dir).unwrap();
         let args = single(input, &dir);
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -80,7 +80,8 @@ fn compare_with_single_command(records: &[Value], single: impl Fn(&str, &Path) -
 
 #[test]
 fn interpolate_over_the_fixtures_matches_the_single_command() {
-    let out_dir = out_path("batch-interp", "out");
+    let scratch = Scratch::new("batch-interp");
+    let out_dir = scratch.path("out");
     let inputs = mixed_inputs();
     let mut args = vec!["batch", "interpolate"];
     args.extend(inputs.iter().map(String::as_str));
@@ -102,7 +103,7 @@ fn interpolate_over_the_fixtures_matches_the_single_command() {
                 .map(String::from)
                 .to_vec()
         },
-        "batch-interp",
+        &scratch,
     );
     // The record file is the line printed.
     let stored: Value = serde_json::from_str(&fs::read_to_string(out_dir.join("3torus.record.json")).unwrap()).unwrap();
@@ -112,7 +113,8 @@ fn interpolate_over_the_fixtures_matches_the_single_command() {
 
 #[test]
 fn subdivide_and_info_match_the_single_commands() {
-    let out_dir = out_path("batch-subd", "out").display().to_string();
+    let scratch = Scratch::new("batch-subd");
+    let out_dir = scratch.path("out").display().to_string();
     let inputs = mixed_inputs();
     let mut args = vec!["batch", "subdivide"];
     args.extend(inputs.iter().map(String::as_str));
@@ -127,10 +129,10 @@ fn subdivide_and_info_match_the_single_commands() {
                 .map(String::from)
                 .to_vec()
         },
-        "batch-subd",
+        &scratch,
     );
 
-    let info_dir = out_path("batch-subd", "info").display().to_string();
+    let info_dir = scratch.path("info").display().to_string();
     let mut args = vec!["batch", "info"];
     args.extend(inputs.iter().map(String::as_str));
     args.extend(["--out-dir", &info_dir]);
@@ -149,13 +151,14 @@ fn subdivide_and_info_match_the_single_commands() {
 
 #[test]
 fn a_second_run_skips_everything_and_a_touched_input_reruns_alone() {
-    let input_dir = out_path("batch-resume", "in");
+    let scratch = Scratch::new("batch-resume");
+    let input_dir = scratch.path("in");
     fs::create_dir_all(&input_dir).unwrap();
     for name in ["quad/3torus.off", "poly/cube_poly.off", "bad/nonmanifold_edge_3faces.obj"] {
         let from = fixtures().join(name);
         fs::copy(&from, input_dir.join(from.file_name().unwrap())).unwrap();
     }
-    let out_dir = out_path("batch-resume", "out");
+    let out_dir = scratch.path("out");
     let (input, out) = (input_dir.display().to_string(), out_dir.display().to_string());
     let args = ["batch", "interpolate", &input, "--out-dir", &out, "--method", "zheng-cai", "--levels", "1"];
     let (code, first, _) = batch(&args);
@@ -194,13 +197,14 @@ fn a_second_run_skips_everything_and_a_touched_input_reruns_alone() {
 
 #[test]
 fn inputs_sharing_a_stem_get_distinct_outputs() {
-    let a = out_path("batch-names", "a");
-    let b = out_path("batch-names", "b");
+    let scratch = Scratch::new("batch-names");
+    let a = scratch.path("a");
+    let b = scratch.path("b");
     fs::create_dir_all(&a).unwrap();
     fs::create_dir_all(&b).unwrap();
     fs::copy(fixtures().join("quad/3torus.off"), a.join("mesh.off")).unwrap();
     fs::copy(fixtures().join("poly/cube_poly.off"), b.join("mesh.off")).unwrap();
-    let out = out_path("batch-names", "out").display().to_string();
+    let out = scratch.path("out").display().to_string();
     let (pa, pb) = (a.join("mesh.off").display().to_string(), b.join("mesh.off").display().to_string());
     let (code, records, stderr) =
         batch(&["batch", "subdivide", &pa, &pb, "--out-dir", &out, "--scheme", "catmull-clark", "--levels", "1"]);
@@ -218,7 +222,8 @@ fn inputs_sharing_a_stem_get_distinct_outputs() {
 
 #[test]
 fn misspelled_or_misapplied_options_are_refused_before_anything_runs() {
-    let out = out_path("batch-options", "out");
+    let scratch = Scratch::new("batch-options");
+    let out = scratch.path("out");
     let o = out.display().to_string();
     let input = fixtures().join("quad/3torus.off").display().to_string();
     for (args, expected) in [
@@ -247,7 +252,8 @@ fn misspelled_or_misapplied_options_are_refused_before_anything_runs() {
 
 #[test]
 fn globs_select_mesh_files_and_all_good_exits_zero() {
-    let out = out_path("batch-glob", "out").display().to_string();
+    let scratch = Scratch::new("batch-glob");
+    let out = scratch.path("out").display().to_string();
     let pattern = fixtures().join("quad/*.off").display().to_string();
     let (code, records, stderr) = batch(&["batch", "info", &pattern, "--out-dir", &out, "--quiet"]);
     assert_eq!(code, Some(0), "{stderr}");

@@ -4,7 +4,7 @@
 //! never the report); the report names the scheme; `subdiv subdivide
 //! --scheme sqrt3` refines; refusals exit 2 with the remedy and write nothing.
 
-use crate::common::{assert_no_panic, fixtures, out_path, run_ok, subdiv};
+use crate::common::{assert_no_panic, fixtures, run_ok, subdiv, Scratch};
 use serde_json::Value;
 use std::path::Path;
 use subdiv_mesh::{DVec3, Mesh};
@@ -26,6 +26,7 @@ fn independent_error(data: &Mesh, control: &Mesh, scheme: Scheme) -> f64 {
 
 #[test]
 fn cheng_with_sqrt3_and_loop_writes_control_meshes_that_check_out() {
+    let scratch = Scratch::new("cheng-schemes");
     for (input, scheme, extra) in [
         ("canonical/icosphere_2.obj", Scheme::Sqrt3, vec![]),
         ("open/hemisphere.off", Scheme::Sqrt3, vec![]),
@@ -34,9 +35,9 @@ fn cheng_with_sqrt3_and_loop_writes_control_meshes_that_check_out() {
     ] {
         let input_path = fixtures().join(input);
         let stem = format!("{}-{}", input.replace('/', "-"), extra.join(""));
-        let control = out_path("cheng-schemes", &format!("{stem}.obj"));
-        let report = out_path("cheng-schemes", &format!("{stem}.json"));
-        let surface = out_path("cheng-schemes", &format!("{stem}.surface.obj"));
+        let control = scratch.path(&format!("{stem}.obj"));
+        let report = scratch.path(&format!("{stem}.json"));
+        let surface = scratch.path(&format!("{stem}.surface.obj"));
         let extra: Vec<&str> =
             extra.iter().map(|&a| if a == "surface.obj" { surface.to_str().unwrap() } else { a }).collect();
         let mut args = vec![
@@ -73,8 +74,9 @@ fn cheng_with_sqrt3_and_loop_writes_control_meshes_that_check_out() {
 
 #[test]
 fn subdivide_with_sqrt3_refines() {
+    let scratch = Scratch::new("cheng-schemes");
     let ico = fixtures().join("canonical/icosahedron.obj");
-    let out = out_path("cheng-schemes", "ico-sqrt3-2.obj");
+    let out = scratch.path("ico-sqrt3-2.obj");
     run_ok(&["subdivide", ico.to_str().unwrap(), "--scheme", "sqrt3", "--levels", "2", "-o", out.to_str().unwrap()]);
     let refined = load(&out);
     // 12 + 20 = 32 vertices and 60 faces after one step, 32 + 60 and 180 after two.
@@ -83,9 +85,10 @@ fn subdivide_with_sqrt3_refines() {
 
 #[test]
 fn refusals_exit_2_name_the_remedy_and_write_nothing() {
+    let scratch = Scratch::new("cheng-schemes");
     let quads = fixtures().join("canonical/cube_quad.obj");
     let ico = fixtures().join("canonical/icosahedron.obj");
-    let out = out_path("cheng-schemes", "never.obj");
+    let out = scratch.path("never.obj");
     let _ = std::fs::remove_file(&out);
     for (input, args, needles) in [
         (&quads, vec!["--method", "cheng", "--scheme", "sqrt3"], vec!["triangles", "deng-wang", "--triangulate"]),
@@ -111,10 +114,10 @@ fn refusals_exit_2_name_the_remedy_and_write_nothing() {
         assert!(!out.exists(), "{args:?} wrote an output");
     }
     // The remedy the refusal names works: triangulate, then interpolate.
-    let triangulated = out_path("cheng-schemes", "cube-triangulated.obj");
+    let triangulated = scratch.path("cube-triangulated.obj");
     let t = triangulated.to_str().unwrap();
     run_ok(&["subdivide", quads.to_str().unwrap(), "--scheme", "sqrt3", "--triangulate", "--levels", "0", "-o", t]);
-    let control = out_path("cheng-schemes", "cube-triangulated-control.obj");
+    let control = scratch.path("cube-triangulated-control.obj");
     run_ok(&["interpolate", t, "--method", "cheng", "--scheme", "sqrt3", "-o", control.to_str().unwrap()]);
     let independent = independent_error(&load(&triangulated), &load(&control), Scheme::Sqrt3);
     assert!(independent <= 1e-6, "{independent:e}");

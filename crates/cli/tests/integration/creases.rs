@@ -3,7 +3,7 @@
 //! against OpenSubdiv's files, the tags written back level by level, `--tags`
 //! files, `--boundary`, `--crease-method`, and the refusals.
 
-use crate::common::{assert_no_panic, fixtures, out_path, read, run_ok, subdiv};
+use crate::common::{assert_no_panic, fixtures, read, run_ok, subdiv, Scratch};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 use subdiv_mesh::{DVec3, PolygonSoup};
@@ -39,6 +39,7 @@ fn crease_set(soup: &PolygonSoup) -> BTreeSet<(String, String, String)> {
 
 #[test]
 fn tagged_subdivision_and_its_tags_equal_opensubdiv() {
+    let scratch = Scratch::new("creases");
     for (name, extra, reference) in [
         ("cube_crease_top_s2.5", &[][..], "opensubdiv-catmull-clark-L2.obj"),
         ("cube_crease_top_mixed", &["--crease-method", "chaikin"][..], "opensubdiv-catmull-clark-chaikin-L2.obj"),
@@ -48,7 +49,7 @@ fn tagged_subdivision_and_its_tags_equal_opensubdiv() {
     ] {
         let scheme = if name.starts_with("octahedron") { "loop" } else { "catmull-clark" };
         let input = case(name, &format!("{name}.obj"));
-        let out = out_path("creases", &format!("{name}-L2.obj"));
+        let out = scratch.path(&format!("{name}-L2.obj"));
         let mut args = vec!["subdivide", input.to_str().unwrap(), "--scheme", scheme, "--levels", "2"];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["-o", out.to_str().unwrap()]);
@@ -65,13 +66,14 @@ fn tagged_subdivision_and_its_tags_equal_opensubdiv() {
 
 #[test]
 fn zero_levels_limit_of_tagged_inputs_equals_opensubdiv() {
+    let scratch = Scratch::new("creases");
     for (name, extra, reference) in [
         ("cube_crease_top_s2.5", &[][..], "opensubdiv-catmull-clark-limit.txt"),
         ("torus_ring_s3", &["--crease-method", "chaikin"][..], "opensubdiv-catmull-clark-chaikin-limit.txt"),
         ("cube_corners2", &[][..], "opensubdiv-catmull-clark-limit.txt"),
     ] {
         let input = case(name, &format!("{name}.obj"));
-        let out = out_path("creases", &format!("{name}-limit.obj"));
+        let out = scratch.path(&format!("{name}-limit.obj"));
         let mut args = vec!["subdivide", input.to_str().unwrap(), "--scheme", "catmull-clark", "--levels", "0"];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["--limit", "-o", out.to_str().unwrap()]);
@@ -94,10 +96,11 @@ fn zero_levels_limit_of_tagged_inputs_equals_opensubdiv() {
 /// A `--tags` file on the untagged cube gives the tagged OBJ's surface.
 #[test]
 fn tag_file_equals_obj_tag_lines() {
-    let tags = out_path("creases", "top.json");
+    let scratch = Scratch::new("creases");
+    let tags = scratch.path("top.json");
     std::fs::write(&tags, r#"{"creases": [[1, 5, 2.5], [5, 7, 2.5], [7, 3, 2.5], [3, 1, 2.5]]}"#).unwrap();
     let cube = fixtures().join("canonical/cube_quad.obj");
-    let (a, b) = (out_path("creases", "cube-tagfile.obj"), out_path("creases", "cube-tagged.obj"));
+    let (a, b) = (scratch.path("cube-tagfile.obj"), scratch.path("cube-tagged.obj"));
     let common = ["--scheme", "catmull-clark", "--levels", "2", "-o"];
     run_ok(
         &[
@@ -112,7 +115,7 @@ fn tag_file_equals_obj_tag_lines() {
     assert_eq!(read(&a).positions, read(&b).positions);
     // A tag file naming a non-edge is refused (exit 2), nothing written.
     std::fs::write(&tags, r#"{"creases": [[0, 7, 1.0]]}"#).unwrap();
-    let c = out_path("creases", "cube-bad-tags.obj");
+    let c = scratch.path("cube-bad-tags.obj");
     let run = subdiv(
         &[
             &["subdivide", cube.to_str().unwrap(), "--tags", tags.to_str().unwrap()][..],
@@ -131,11 +134,12 @@ fn tag_file_equals_obj_tag_lines() {
 /// under the default edge-and-corner); `none` refines as edge-only.
 #[test]
 fn boundary_options_move_the_corners_or_not() {
+    let scratch = Scratch::new("creases");
     let grid = case("grid_crease_row_corner", "grid_crease_row_corner.obj");
     let input = read(&grid).positions;
     let mut limits = Vec::new();
     for boundary in ["edge-and-corner", "edge-only", "none"] {
-        let out = out_path("creases", &format!("grid-{boundary}.obj"));
+        let out = scratch.path(&format!("grid-{boundary}.obj"));
         run_ok(&[
             "subdivide",
             grid.to_str().unwrap(),
@@ -175,8 +179,9 @@ fn boundary_options_move_the_corners_or_not() {
 
 #[test]
 fn deng_ma_refuses_semi_sharp_tags_and_interpolation_keeps_them() {
+    let scratch = Scratch::new("creases");
     let tagged = case("cube_crease_top_s1", "cube_crease_top_s1.obj");
-    let out = out_path("creases", "deng-ma-tagged.obj");
+    let out = scratch.path("deng-ma-tagged.obj");
     let run = subdiv(&[
         "subdivide",
         tagged.to_str().unwrap(),
@@ -207,8 +212,8 @@ fn deng_ma_refuses_semi_sharp_tags_and_interpolation_keeps_them() {
     assert_eq!(read(&out).tags.creases.len(), 12 * 4);
     // interpolate: the control mesh is solved with the tags and written with
     // them; read back from the file alone, its limit points pass through the data.
-    let control = out_path("creases", "cheng-tagged.obj");
-    let report = out_path("creases", "cheng-tagged.json");
+    let control = scratch.path("cheng-tagged.obj");
+    let report = scratch.path("cheng-tagged.json");
     let stderr = run_ok(&[
         "interpolate",
         tagged.to_str().unwrap(),
@@ -298,6 +303,7 @@ fn uv_gap(ours: &PolygonSoup, theirs: &PolygonSoup) -> f64 {
 
 #[test]
 fn texture_coordinates_follow_opensubdiv_in_each_fvar_mode() {
+    let scratch = Scratch::new("creases");
     for (name, mode, boundary) in [
         ("spot_uv", "linear-none", "edge-and-corner"),
         ("spot_uv", "linear-corners-only", "edge-and-corner"),
@@ -305,7 +311,7 @@ fn texture_coordinates_follow_opensubdiv_in_each_fvar_mode() {
         ("uv_grid", "linear-none", "edge-only"),
     ] {
         let input = case(name, &format!("{name}.obj"));
-        let out = out_path("creases", &format!("{name}-{mode}-{boundary}.obj"));
+        let out = scratch.path(&format!("{name}-{mode}-{boundary}.obj"));
         run_ok(&[
             "subdivide",
             input.to_str().unwrap(),
@@ -329,7 +335,7 @@ fn texture_coordinates_follow_opensubdiv_in_each_fvar_mode() {
         assert!(gap < 1e-12, "{name} {mode} {boundary}: UVs off by {gap:.3e}");
     }
     // Doo-Sabin refines no channel with seams: the positions are written, the UVs dropped with a warning.
-    let out = out_path("creases", "spot-ds.obj");
+    let out = scratch.path("spot-ds.obj");
     let spot = case("spot_uv", "spot_uv.obj");
     let stderr = run_ok(&[
         "subdivide",
@@ -350,8 +356,9 @@ fn texture_coordinates_follow_opensubdiv_in_each_fvar_mode() {
 /// stay, the level's tags are written; semi-sharp tags are refused (exit 2).
 #[test]
 fn doo_sabin_keeps_infinitely_sharp_creases() {
+    let scratch = Scratch::new("creases");
     let cube = case("cube_crease_all10", "cube_crease_all10.obj");
-    let out = out_path("creases", "cube-ds-sharp.obj");
+    let out = scratch.path("cube-ds-sharp.obj");
     run_ok(&[
         "subdivide",
         cube.to_str().unwrap(),
@@ -392,11 +399,12 @@ fn doo_sabin_keeps_infinitely_sharp_creases() {
 /// tag file's own tags), for `interpolate` and `subdivide` alike.
 #[test]
 fn feature_angle_tags_the_feature_edges() {
+    let scratch = Scratch::new("creases");
     let fandisk = fixtures().join("quad/fandisk_quads.off");
     let data = subdiv_mesh::Mesh::from_soup(read(&fandisk)).unwrap().0;
     let expected = subdiv_mesh::feature_edges(&data, 30.0).edges.len();
     assert!(expected > 100, "fandisk has CAD edges");
-    let (control, report) = (out_path("creases", "fandisk-cheng.obj"), out_path("creases", "fandisk-cheng.json"));
+    let (control, report) = (scratch.path("fandisk-cheng.obj"), scratch.path("fandisk-cheng.json"));
     run_ok(&[
         "interpolate",
         fandisk.to_str().unwrap(),
@@ -421,9 +429,9 @@ fn feature_angle_tags_the_feature_edges() {
 
     // A tag file's value on a feature edge wins; subdivide takes the flag too.
     let cube = fixtures().join("canonical/cube_quad.obj");
-    let tags = out_path("creases", "semi.json");
+    let tags = scratch.path("semi.json");
     std::fs::write(&tags, r#"{"creases": [[0, 1, 2.5]]}"#).unwrap();
-    let out = out_path("creases", "cube-features.obj");
+    let out = scratch.path("cube-features.obj");
     let (cube_s, tags_s, out_s) = (cube.to_str().unwrap(), tags.to_str().unwrap(), out.to_str().unwrap());
     let cube_args = |levels| {
         let tail = ["--feature-angle", "30", "--tags", tags_s, "-o", out_s];

@@ -5,7 +5,7 @@
 //! lines alone — are the input vertices; and the command still writes those
 //! control meshes.
 
-use crate::common::{assert_no_panic, fixtures, read, subdiv};
+use crate::common::{assert_no_panic, fixtures, read, subdiv, Scratch};
 use std::path::{Path, PathBuf};
 use subdiv_mesh::DVec3;
 
@@ -75,11 +75,10 @@ fn opensubdiv_limits_of_the_written_control_meshes_are_the_input_vertices() {
 
 #[test]
 fn interpolate_still_writes_the_checked_control_meshes() {
-    let out = std::env::temp_dir().join(format!("subdiv-cli-creases-osd-{}", std::process::id()));
-    std::fs::create_dir_all(&out).unwrap();
+    let scratch = Scratch::new("creases-osd");
     for (name, method, flags, control, _) in cases() {
         let dir = case_dir(&name);
-        let written = out.join(format!("{name}-{control}"));
+        let written = scratch.path(&format!("{name}-{control}"));
         let input = dir.join("input.obj");
         let mut args = vec!["interpolate", input.to_str().unwrap(), "--method", method, "--tol", "1e-12"];
         args.extend(&flags);

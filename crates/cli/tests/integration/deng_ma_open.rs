@@ -3,16 +3,9 @@
 //! surface starts with the input's vertices bit for bit (read back from the
 //! file), and its boundary loops are 2^levels times as long.
 
-use crate::common::{assert_no_panic, fixtures, subdiv};
+use crate::common::{assert_no_panic, fixtures, subdiv, Scratch};
 use serde_json::Value;
-use std::path::PathBuf;
 use subdiv_mesh::Mesh;
-
-fn out_path(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("subdiv-cli-deng-ma-open-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
 
 fn load(path: &std::path::Path) -> Mesh {
     Mesh::from_soup(subdiv_io::read_mesh(path).unwrap()).unwrap().0
@@ -27,13 +20,14 @@ fn loop_lengths(mesh: &Mesh) -> Vec<usize> {
 
 #[test]
 fn subdivide_deng_ma_takes_open_meshes() {
+    let scratch = Scratch::new("deng-ma-open");
     for (input, extra) in [
         ("open/nefertiti_small.off", vec![]),
         ("open/halftunnel.off", vec!["--omega", "0.5"]),
         ("canonical/grid_quad_8x8_open.obj", vec!["--variable-tension", "0.5"]),
     ] {
         let path = fixtures().join(input);
-        let out = out_path(&format!("{}.obj", input.replace('/', "-")));
+        let out = scratch.path(&format!("{}.obj", input.replace('/', "-")));
         let mut args = vec!["subdivide", path.to_str().unwrap(), "--scheme", "deng-ma", "--levels", "2"];
         args.extend(extra.iter().copied());
         args.extend(["-o", out.to_str().unwrap()]);
@@ -50,8 +44,9 @@ fn subdivide_deng_ma_takes_open_meshes() {
 
 #[test]
 fn interpolate_deng_ma_takes_open_meshes() {
+    let scratch = Scratch::new("deng-ma-open");
     let path = fixtures().join("open/halftunnel.off");
-    let (out, report) = (out_path("halftunnel-surface.obj"), out_path("halftunnel-report.json"));
+    let (out, report) = (scratch.path("halftunnel-surface.obj"), scratch.path("halftunnel-report.json"));
     let run = subdiv(&[
         "interpolate",
         path.to_str().unwrap(),

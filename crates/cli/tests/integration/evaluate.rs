@@ -3,18 +3,19 @@
 //! without `--derivs`) matches the library, and bad parameter files fail
 //! with exit 2, the line named and no output written.
 
-use crate::common::{assert_no_panic, fixtures, numbers, out_path, read, subdiv};
+use crate::common::{assert_no_panic, fixtures, numbers, read, subdiv, Scratch};
 
-fn write(name: &str, text: &str) -> std::path::PathBuf {
-    let p = out_path("evaluate", name);
+fn write(scratch: &Scratch, name: &str, text: &str) -> std::path::PathBuf {
+    let p = scratch.path(name);
     std::fs::write(&p, text).unwrap();
     p
 }
 
 #[test]
 fn face_points_match_subdivide_limit() {
+    let scratch = Scratch::new("evaluate");
     let cube = fixtures().join("canonical/cube_quad.obj");
-    let limit = out_path("evaluate", "cube-limit.obj");
+    let limit = scratch.path("cube-limit.obj");
     let run = subdiv(&[
         "subdivide",
         cube.to_str().unwrap(),
@@ -38,8 +39,8 @@ fn face_points_match_subdivide_limit() {
     for f in 0..nf {
         text.push_str(&format!("{f} 0 0\n"));
     }
-    let at = write("cube-at.txt", &text);
-    let out = out_path("evaluate", "cube-out.txt");
+    let at = write(&scratch, "cube-at.txt", &text);
+    let out = scratch.path("cube-out.txt");
     let run = subdiv(&[
         "evaluate",
         cube.to_str().unwrap(),
@@ -67,6 +68,7 @@ fn face_points_match_subdivide_limit() {
 
 #[test]
 fn derivatives_and_ngons_match_the_library() {
+    let scratch = Scratch::new("evaluate");
     let mesh_path = fixtures().join("canonical/pyramid_mixed.obj");
     let mesh = subdiv_io::load_mesh(&mesh_path).unwrap();
     let surface =
@@ -84,8 +86,8 @@ fn derivatives_and_ngons_match_the_library() {
         });
         params.push(p);
     }
-    let at = write("pyramid-at.txt", &text);
-    let out = out_path("evaluate", "pyramid-out.txt");
+    let at = write(&scratch, "pyramid-at.txt", &text);
+    let out = scratch.path("pyramid-out.txt");
     let run = subdiv(&[
         "evaluate",
         mesh_path.to_str().unwrap(),
@@ -108,9 +110,10 @@ fn derivatives_and_ngons_match_the_library() {
 
 #[test]
 fn loop_on_triangles() {
+    let scratch = Scratch::new("evaluate");
     let ico = fixtures().join("canonical/icosahedron.obj");
-    let at = write("ico-at.txt", "0 0.2 0.3\n5 0 1\n");
-    let out = out_path("evaluate", "ico-out.txt");
+    let at = write(&scratch, "ico-at.txt", "0 0.2 0.3\n5 0 1\n");
+    let out = scratch.path("ico-out.txt");
     let run = subdiv(&[
         "evaluate",
         ico.to_str().unwrap(),
@@ -127,11 +130,12 @@ fn loop_on_triangles() {
 
 #[test]
 fn doo_sabin_domains_are_face_corners() {
+    let scratch = Scratch::new("evaluate");
     // (1,1) of every corner domain of a face is its centroid; (0,0) the vertex's limit point.
     let cube = fixtures().join("canonical/cube_quad.obj");
     let control = read(&cube);
-    let at = write("ds-at.txt", "0.0 1 1\n0.3 1 1\n2.1 0 0\n");
-    let out = out_path("evaluate", "ds-out.txt");
+    let at = write(&scratch, "ds-at.txt", "0.0 1 1\n0.3 1 1\n2.1 0 0\n");
+    let out = scratch.path("ds-out.txt");
     let run = subdiv(&[
         "evaluate",
         cube.to_str().unwrap(),
@@ -149,7 +153,7 @@ fn doo_sabin_domains_are_face_corners() {
     for row in &rows[..2] {
         assert!((glam::DVec3::new(row[0], row[1], row[2]) - centroid).length() < 1e-12);
     }
-    let limit = out_path("evaluate", "ds-limit.obj");
+    let limit = scratch.path("ds-limit.obj");
     let run = subdiv(&[
         "subdivide",
         cube.to_str().unwrap(),
@@ -169,6 +173,7 @@ fn doo_sabin_domains_are_face_corners() {
 
 #[test]
 fn bad_parameters_fail_with_the_line_and_write_nothing() {
+    let scratch = Scratch::new("evaluate");
     let pyramid = fixtures().join("canonical/pyramid_mixed.obj");
     let mesh = subdiv_io::load_mesh(&pyramid).unwrap();
     let ngon = (0..mesh.topology().face_count())
@@ -186,8 +191,8 @@ fn bad_parameters_fail_with_the_line_and_write_nothing() {
         (&cube, "deng-ma", "0 0.5 0.5\n", "deng-ma"),
         (&cube, "doo-sabin", "0 0.5 0.5\n", "give FACE.K"),
     ] {
-        let at = write("bad-at.txt", text);
-        let out = out_path("evaluate", "bad-out.txt");
+        let at = write(&scratch, "bad-at.txt", text);
+        let out = scratch.path("bad-out.txt");
         let _ = std::fs::remove_file(&out);
         let run = subdiv(&[
             "evaluate",

@@ -3,19 +3,13 @@
 //! each scheme and refinement; the fair flags are refused where they do not
 //! apply, with exit 2 and the flag named.
 
-use crate::common::{assert_no_panic, fixtures, subdiv};
+use crate::common::{assert_no_panic, fixtures, subdiv, Scratch};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use subdiv_interp::verify::{candidate_limit_points, nearest_gap};
 use subdiv_mesh::Mesh;
 use subdiv_stencil::LoopBeta;
 use subdiv_stencil::Scheme;
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("subdiv-fair-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
 
 fn load(path: &Path) -> Mesh {
     Mesh::from_soup(subdiv_io::read_mesh(path).unwrap()).unwrap().0
@@ -29,6 +23,7 @@ fn run(args: &[&str]) -> (Option<i32>, String) {
 
 #[test]
 fn fair_writes_control_meshes_whose_error_checks_out_independently() {
+    let scratch = Scratch::new("fair");
     for (input, extra, plain, vertices_per) in [
         ("quad/spot_control_mesh.obj", vec![], Scheme::CatmullClark, "V+E+F"),
         ("open/halftunnel.off", vec!["--refine", "2"], Scheme::CatmullClark, ""),
@@ -38,7 +33,7 @@ fn fair_writes_control_meshes_whose_error_checks_out_independently() {
     ] {
         let input_path = fixtures().join(input);
         let stem = format!("fair-{}-{}", input.replace('/', "-"), extra.join(""));
-        let (control, report) = (tmp(&format!("{stem}.obj")), tmp(&format!("{stem}.json")));
+        let (control, report) = (scratch.path(&format!("{stem}.obj")), scratch.path(&format!("{stem}.json")));
         let mut args = vec![
             "interpolate",
             input_path.to_str().unwrap(),
@@ -81,8 +76,9 @@ fn fair_writes_control_meshes_whose_error_checks_out_independently() {
 
 #[test]
 fn a_fairness_weight_approximates_and_is_reported_not_refused() {
+    let scratch = Scratch::new("fair");
     let spot = fixtures().join("quad/spot_control_mesh.obj");
-    let report = tmp("weighted.json");
+    let report = scratch.path("weighted.json");
     let (code, stderr) = run(&[
         "interpolate",
         spot.to_str().unwrap(),
@@ -101,9 +97,10 @@ fn a_fairness_weight_approximates_and_is_reported_not_refused() {
 
 #[test]
 fn fair_flags_are_refused_where_they_do_not_apply() {
+    let scratch = Scratch::new("fair");
     let spot = fixtures().join("quad/spot_control_mesh.obj");
     let spot = spot.to_str().unwrap();
-    let out = tmp("never.obj");
+    let out = scratch.path("never.obj");
     let _ = std::fs::remove_file(&out);
     let o = out.to_str().unwrap();
     for (args, needle) in [

@@ -2,7 +2,7 @@
 //! in `sample`, `evaluate`, `project` and `batch` exits 0 with a correct,
 //! finite result, or 2/3 with nothing written.
 
-use crate::common::{self, assert_no_panic, fixtures, numbers, out_path, read, subdiv};
+use crate::common::{self, assert_no_panic, fixtures, numbers, read, subdiv, Scratch};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -10,10 +10,6 @@ use std::time::{Duration, Instant};
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
-}
-
-fn tmp(name: &str) -> PathBuf {
-    out_path("hostile", name)
 }
 
 /// The exit code of `out`, after checking it did not panic.
@@ -27,8 +23,8 @@ fn stderr(out: &Output) -> String {
 }
 
 /// The unit cube's quads, every coordinate times `scale`, as an OBJ file.
-fn cube(name: &str, scale: f64) -> PathBuf {
-    let path = tmp(name);
+fn cube(scratch: &Scratch, name: &str, scale: f64) -> PathBuf {
+    let path = scratch.path(name);
     let mut text = String::new();
     for z in [0.0, 1.0] {
         for (x, y) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
@@ -47,8 +43,9 @@ fn cube(name: &str, scale: f64) -> PathBuf {
 /// allocation) or a "capacity overflow" panic (exit 101).
 #[test]
 fn sample_counts_beyond_the_memory_budget_are_refused() {
-    let mesh = cube("count-cube.obj", 1.0);
-    let out = tmp("count.ply");
+    let scratch = Scratch::new("hostile");
+    let mesh = cube(&scratch, "count-cube.obj", 1.0);
+    let out = scratch.path("count.ply");
     for (flag, n, items) in [
         ("--count", "1000000000000", "1,000,000,000,000 samples"),
         ("--count", "4294967296", "4,294,967,296 samples"),
@@ -85,12 +82,13 @@ fn sample_counts_beyond_the_memory_budget_are_refused() {
 /// `evaluate --at` and `project --points` are sized by their lines against the budget.
 #[test]
 fn evaluation_and_projection_queries_beyond_the_budget_are_refused() {
-    let mesh = cube("queries-cube.obj", 1.0);
-    let at = tmp("queries.txt");
+    let scratch = Scratch::new("hostile");
+    let mesh = cube(&scratch, "queries-cube.obj", 1.0);
+    let at = scratch.path("queries.txt");
     std::fs::write(&at, "0 0.5 0.5\n".repeat(20_000)).unwrap();
-    let xyz = tmp("queries.xyz");
+    let xyz = scratch.path("queries.xyz");
     std::fs::write(&xyz, "0.5 0.5 2\n".repeat(20_000)).unwrap();
-    let out = tmp("queries-out.txt");
+    let out = scratch.path("queries-out.txt");
     for args in [
         vec!["evaluate", s(&mesh), "--scheme", "catmull-clark", "--at", s(&at)],
         vec!["project", s(&mesh), "--scheme", "catmull-clark", "--points", s(&xyz)],
@@ -116,12 +114,13 @@ fn run_bounded(args: &[&str]) -> (Option<i32>, String) {
 #[cfg(unix)]
 #[test]
 fn links_to_devices_and_fifos_as_query_files_are_refused() {
-    let mesh = cube("dev-cube.obj", 1.0);
-    let out = tmp("dev-out.txt");
-    let zero = tmp("zero.xyz");
+    let scratch = Scratch::new("hostile");
+    let mesh = cube(&scratch, "dev-cube.obj", 1.0);
+    let out = scratch.path("dev-out.txt");
+    let zero = scratch.path("zero.xyz");
     let _ = std::fs::remove_file(&zero);
     std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
-    let fifo = tmp("fifo.xyz");
+    let fifo = scratch.path("fifo.xyz");
     let _ = std::fs::remove_file(&fifo);
     assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
     for file in [&zero, &fifo] {
@@ -143,8 +142,9 @@ fn links_to_devices_and_fifos_as_query_files_are_refused() {
 #[cfg(unix)]
 #[test]
 fn batch_refuses_fifos_at_its_records_and_outputs() {
+    let scratch = Scratch::new("hostile");
     use std::os::unix::fs::FileTypeExt;
-    let dir = tmp("batch-fifo");
+    let dir = scratch.path("batch-fifo");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let mesh = fixtures().join("canonical/cube_quad.obj");
@@ -190,14 +190,15 @@ fn relative(a: f64, b: f64) -> f64 {
 /// distances underflowed to 0, a wrong face came back with distance 0.
 #[test]
 fn project_at_extreme_scales_finds_what_it_finds_at_scale_one() {
+    let scratch = Scratch::new("hostile");
     let queries = [DVec3::new(0.3, 0.4, 1.7), DVec3::new(-0.5, 0.5, 0.5), DVec3::new(0.9, 2.0, 0.1)];
     let run_at = |scale: f64| {
-        let mesh = cube(&format!("project-{scale:e}.obj"), scale);
-        let xyz = tmp(&format!("project-{scale:e}.xyz"));
+        let mesh = cube(&scratch, &format!("project-{scale:e}.obj"), scale);
+        let xyz = scratch.path(&format!("project-{scale:e}.xyz"));
         let text: String =
             queries.iter().map(|q| format!("{:?} {:?} {:?}\n", q.x * scale, q.y * scale, q.z * scale)).collect();
         std::fs::write(&xyz, text).unwrap();
-        let out = tmp(&format!("project-{scale:e}.txt"));
+        let out = scratch.path(&format!("project-{scale:e}.txt"));
         let run = subdiv(&["project", s(&mesh), "--scheme", "catmull-clark", "--points", s(&xyz), "-o", s(&out)]);
         assert_eq!(code(&run), Some(0), "{scale:e}: {}", stderr(&run));
         projections(&out)
@@ -235,15 +236,16 @@ fn cloud_of(path: &Path) -> (Vec<DVec3>, Vec<DVec3>) {
 /// (0, 0, 0) at ≤ 1e-150 and ≥ 1e150 (du × dv underflowed or overflowed).
 #[test]
 fn evaluate_and_sample_normals_at_extreme_scales_are_the_normals_at_scale_one() {
-    let at = tmp("normals-at.txt");
+    let scratch = Scratch::new("hostile");
+    let at = scratch.path("normals-at.txt");
     std::fs::write(&at, "0 0.5 0.5\n2 0.1 0.9\n4 0 0\n").unwrap();
     let run_at = |scale: f64| {
-        let mesh = cube(&format!("normals-{scale:e}.obj"), scale);
-        let out = tmp(&format!("normals-{scale:e}.txt"));
+        let mesh = cube(&scratch, &format!("normals-{scale:e}.obj"), scale);
+        let out = scratch.path(&format!("normals-{scale:e}.txt"));
         let args = ["evaluate", s(&mesh), "--scheme", "catmull-clark", "--at", s(&at), "--derivs", "-o", s(&out)];
         let run = subdiv(&args);
         assert_eq!(code(&run), Some(0), "{scale:e}: {}", stderr(&run));
-        let cloud = tmp(&format!("normals-{scale:e}.cloud.obj"));
+        let cloud = scratch.path(&format!("normals-{scale:e}.cloud.obj"));
         let args = ["sample", s(&mesh), "--scheme", "catmull-clark", "--count", "50", "-o", s(&cloud)];
         let run = subdiv(&args);
         assert_eq!(code(&run), Some(0), "{scale:e}: {}", stderr(&run));
@@ -279,14 +281,15 @@ fn evaluate_and_sample_normals_at_extreme_scales_are_the_normals_at_scale_one() 
 /// f32, which is as infinitely sharp as any value ≥ 10: never `inf`.
 #[test]
 fn sharpness_beyond_f32_is_written_finite() {
-    let mesh = tmp("sharp.obj");
-    let cube = std::fs::read_to_string(cube("sharp-cube.obj", 1.0)).unwrap();
+    let scratch = Scratch::new("hostile");
+    let mesh = scratch.path("sharp.obj");
+    let cube = std::fs::read_to_string(cube(&scratch, "sharp-cube.obj", 1.0)).unwrap();
     std::fs::write(&mesh, format!("{cube}t crease 2/1/0 0 1 1e39\nt corner 1/1/0 6 3.5e38\n")).unwrap();
     for args in [
         vec!["subdivide", s(&mesh), "--scheme", "catmull-clark", "--levels", "1"],
         vec!["interpolate", s(&mesh), "--method", "cheng"],
     ] {
-        let out = tmp(&format!("sharp-{}.obj", args[0]));
+        let out = scratch.path(&format!("sharp-{}.obj", args[0]));
         let mut args = args.clone();
         args.extend(["-o", s(&out)]);
         let run = subdiv(&args);
@@ -312,10 +315,11 @@ fn sharpness_beyond_f32_is_written_finite() {
 #[cfg(unix)]
 #[test]
 fn a_late_signal_exits_with_the_code_of_what_is_on_disk() {
+    let scratch = Scratch::new("hostile");
     let mesh = fixtures().join("canonical/torus_quad_16x8.obj");
     let (mut zero, mut killed) = (0, 0);
     for k in 0..24 {
-        let out = tmp(&format!("signal-{k}.ply"));
+        let out = scratch.path(&format!("signal-{k}.ply"));
         let _ = std::fs::remove_file(&out);
         let start = Instant::now();
         let mut child = Command::new(env!("CARGO_BIN_EXE_subdiv"))
@@ -356,7 +360,8 @@ fn a_late_signal_exits_with_the_code_of_what_is_on_disk() {
 /// nothing written.
 #[test]
 fn subnormal_data_are_measured_as_written() {
-    let mesh = tmp("subnormal.obj");
+    let scratch = Scratch::new("hostile");
+    let mesh = scratch.path("subnormal.obj");
     let corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)];
     let jitter = [1.04, 1.25, 1.225, 1.1, 1.3, 1.15, 1.05, 1.2];
     let mut text = String::new();
@@ -367,7 +372,7 @@ fn subnormal_data_are_measured_as_written() {
     text.push_str("f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
     std::fs::write(&mesh, text).unwrap();
     for method in ["nasri", "zheng-cai", "fan-cheng-lai", "deng-wang", "fair"] {
-        let out = tmp(&format!("subnormal-{method}.obj"));
+        let out = scratch.path(&format!("subnormal-{method}.obj"));
         let run = subdiv(&["interpolate", s(&mesh), "--method", method, "-o", s(&out)]);
         let e = stderr(&run);
         assert_eq!(code(&run), Some(3), "{method}: {e}");
@@ -378,8 +383,8 @@ fn subnormal_data_are_measured_as_written() {
 
 /// A `n` × `n` quad grid with a semi-sharp crease of 2.5 on every 4th row
 /// of edges, as an OBJ file with OpenSubdiv's `t crease` tags.
-fn creased_grid(name: &str, n: usize) -> PathBuf {
-    let path = tmp(name);
+fn creased_grid(scratch: &Scratch, name: &str, n: usize) -> PathBuf {
+    let path = scratch.path(name);
     let id = |i: usize, j: usize| j * (n + 1) + i;
     let mut text = String::new();
     for j in 0..=n {
@@ -415,9 +420,10 @@ fn creased_grid(name: &str, n: usize) -> PathBuf {
 /// chunk at a time: 0.48 GB and 1.9 GB).
 #[test]
 fn tagged_methods_are_sized_against_the_memory_budget() {
-    let mesh = creased_grid("creased-grid.obj", 60);
+    let scratch = Scratch::new("hostile");
+    let mesh = creased_grid(&scratch, "creased-grid.obj", 60);
     for method in ["cheng", "deng-wang", "fair"] {
-        let out = tmp(&format!("creased-grid-{method}.obj"));
+        let out = scratch.path(&format!("creased-grid-{method}.obj"));
         let args = ["interpolate", s(&mesh), "--method", method, "-o", s(&out), "--quiet"];
         let run = subdiv(&[&args[..], &["--max-memory", "2M"]].concat());
         let e = stderr(&run);
@@ -436,8 +442,9 @@ fn tagged_methods_are_sized_against_the_memory_budget() {
 /// those panics without letting the panic hook print them.
 #[test]
 fn truncated_and_corrupted_usdc_files_are_refused_quietly() {
+    let scratch = Scratch::new("hostile");
     let bytes = std::fs::read(fixtures().join("usd/scene_pxr.usdc")).unwrap();
-    let path = tmp("broken.usdc");
+    let path = scratch.path("broken.usdc");
     let mut cases: Vec<Vec<u8>> = (1..24).map(|k| bytes[..bytes.len() * k / 24].to_vec()).collect();
     for k in (16..bytes.len()).step_by(bytes.len() / 24) {
         let mut corrupted = bytes.clone();

@@ -2,7 +2,7 @@
 //! methods, whether it takes the mesh and why not — the same verdict the
 //! method itself reaches (`subdiv interpolate` is run to check it).
 
-use crate::common::{assert_no_panic, fixtures, subdiv};
+use crate::common::{assert_no_panic, fixtures, subdiv, Scratch};
 use serde_json::Value;
 
 const METHODS: [&str; 7] = ["nasri", "zheng-cai", "cheng", "fan-cheng-lai", "deng-wang", "deng-ma", "fair"];
@@ -25,12 +25,13 @@ fn bent_cube(dir: &std::path::Path) -> String {
 
 #[test]
 fn methods_section_matches_what_interpolate_does() {
-    let dir = tempfile_dir("info-methods");
+    let scratch = Scratch::new("info-methods");
+    let dir = scratch.dir();
     let cases = [
         fixtures().join("quad/spot_control_mesh.obj").display().to_string(),
         fixtures().join("open/halftunnel.off").display().to_string(),
         fixtures().join("poly/mpi.off").display().to_string(),
-        bent_cube(&dir),
+        bent_cube(dir),
     ];
     for path in &cases {
         let (json, out) = info_json(path);
@@ -65,8 +66,7 @@ fn invalid_meshes_are_refused_by_every_method_with_the_validation_error() {
 
 #[test]
 fn non_manifold_meshes_are_taken_by_cheng_and_fair_and_refused_by_the_others_with_the_reason() {
-    let dir = std::env::temp_dir().join(format!("subdiv-info-methods-nm-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = Scratch::new("info-methods-nm");
     for file in ["bad/nonmanifold_edge_3faces.obj", "bad/nonmanifold_vertex_bowtie.obj"] {
         let path = fixtures().join(file).display().to_string();
         let (json, out) = info_json(&path);
@@ -79,13 +79,12 @@ fn non_manifold_meshes_are_taken_by_cheng_and_fair_and_refused_by_the_others_wit
                 assert!(verdict["reason"].as_str().unwrap().contains("non-manifold"), "{file} {m}: {verdict}");
             }
             // interpolate does what info says.
-            let control = dir.join(format!("{m}.obj")).display().to_string();
+            let control = scratch.path(&format!("{m}.obj")).display().to_string();
             let run = subdiv(&["interpolate", &path, "--method", m, "-o", &control]);
             assert_no_panic(&run);
             assert_eq!(run.status.success(), accepts, "{file} {m}: {run:?}");
         }
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -97,12 +96,4 @@ fn text_output_lists_the_methods() {
     for m in METHODS {
         assert!(text.lines().any(|l| l.trim_start().starts_with(m) && l.contains("accepts")), "{m}: {text}");
     }
-}
-
-/// A fresh directory under the target dir for this test's files.
-fn tempfile_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }

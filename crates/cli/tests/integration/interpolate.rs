@@ -2,19 +2,13 @@
 //! a surface and a report whose error an independent check re-derives from
 //! the written file alone; failures exit 2 or 3 and write nothing.
 
-use crate::common::{assert_no_panic, fixtures, subdiv};
+use crate::common::{assert_no_panic, fixtures, subdiv, Scratch};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use subdiv_interp::verify::{candidate_limit_points, nearest_gap};
 use subdiv_mesh::Mesh;
 use subdiv_stencil::LoopBeta;
 use subdiv_stencil::Scheme;
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("subdiv-interp-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
 
 fn load(path: &Path) -> Mesh {
     Mesh::from_soup(subdiv_io::read_mesh(path).unwrap()).unwrap().0
@@ -32,6 +26,7 @@ fn run(args: &[&str]) -> (Option<i32>, String, String) {
 
 #[test]
 fn every_method_writes_outputs_whose_error_checks_out_independently() {
+    let scratch = Scratch::new("interpolate");
     for (method, input, plain, tol) in [
         ("nasri", "poly/mpi.off", Scheme::DooSabin, 1e-6),
         ("zheng-cai", "quad/spot_control_mesh.obj", Scheme::DooSabin, 1e-12),
@@ -43,8 +38,11 @@ fn every_method_writes_outputs_whose_error_checks_out_independently() {
     ] {
         let input_path = fixtures().join(input);
         let stem = format!("{method}-{}", input.replace('/', "-"));
-        let (control, surface, report) =
-            (tmp(&format!("{stem}.obj")), tmp(&format!("{stem}-surface.ply")), tmp(&format!("{stem}.json")));
+        let (control, surface, report) = (
+            scratch.path(&format!("{stem}.obj")),
+            scratch.path(&format!("{stem}-surface.ply")),
+            scratch.path(&format!("{stem}.json")),
+        );
         let (code, stdout, stderr) = run(&[
             "interpolate",
             input_path.to_str().unwrap(),
@@ -82,15 +80,16 @@ fn every_method_writes_outputs_whose_error_checks_out_independently() {
 
 #[test]
 fn singular_and_unsupported_inputs_exit_with_reasons_and_write_nothing() {
+    let scratch = Scratch::new("interpolate");
     let cube = fixtures().join("canonical/cube_quad.obj");
-    let out = tmp("never.obj");
+    let out = scratch.path("never.obj");
     let _ = std::fs::remove_file(&out);
     // The exact cube is in the range of the singular A: a valid, non-unique interpolant.
     let (code, _, stderr) = run(&["interpolate", cube.to_str().unwrap(), "--method", "cheng"]);
     assert_eq!(code, Some(0), "{stderr}");
     assert!(stderr.contains("not unique"), "{stderr}");
     // A perturbed cube is not: exit 3 with the error reached, nothing written.
-    let bent = tmp("bent_cube.obj");
+    let bent = scratch.path("bent_cube.obj");
     let text = std::fs::read_to_string(&cube).unwrap().replacen("v 0 0 0", "v 0.05 -0.02 0.03", 1);
     std::fs::write(&bent, text).unwrap();
     let (code, _, stderr) =
@@ -99,7 +98,7 @@ fn singular_and_unsupported_inputs_exit_with_reasons_and_write_nothing() {
     assert!(stderr.contains("residual") && stderr.contains("zheng-cai"), "{stderr}");
     assert!(!out.exists());
     // Deng-Wang triangulates polygons itself; only a face without a valid triangulation is refused.
-    let untriangulable = untriangulable_torus();
+    let untriangulable = untriangulable_torus(&scratch);
     let (code, _, stderr) =
         run(&["interpolate", untriangulable.to_str().unwrap(), "--method", "deng-wang", "-o", out.to_str().unwrap()]);
     assert_eq!(code, Some(2), "{stderr}");
@@ -107,7 +106,7 @@ fn singular_and_unsupported_inputs_exit_with_reasons_and_write_nothing() {
     assert_eq!(stderr.trim_end().lines().count(), 1, "one line: {stderr}");
     assert!(!out.exists());
     // Bad parameter files name the file and line.
-    let subset = tmp("subset.txt");
+    let subset = scratch.path("subset.txt");
     std::fs::write(&subset, "0 1\n# comment\n2 99999\n").unwrap();
     let (code, _, stderr) =
         run(&["interpolate", cube.to_str().unwrap(), "--method", "nasri", "--subset", subset.to_str().unwrap()]);
@@ -133,10 +132,11 @@ fn singular_and_unsupported_inputs_exit_with_reasons_and_write_nothing() {
 
 #[test]
 fn shape_files_and_subsets_apply() {
+    let scratch = Scratch::new("interpolate");
     let mesh = fixtures().join("poly/mpi.off");
-    let shape = tmp("shape.json");
+    let shape = scratch.path("shape.json");
     std::fs::write(&shape, r#"{"default": 0.5, "faces": {"0": 0.9, "3": 0.2}}"#).unwrap();
-    let report = tmp("fcl.json");
+    let report = scratch.path("fcl.json");
     let (code, _, stderr) = run(&[
         "interpolate",
         mesh.to_str().unwrap(),
@@ -151,7 +151,7 @@ fn shape_files_and_subsets_apply() {
     let r: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(r["parameters"]["lambda"]["min"], 0.2);
     assert_eq!(r["parameters"]["lambda"]["max"], 0.9);
-    let subset = tmp("subset.json");
+    let subset = scratch.path("subset.json");
     std::fs::write(&subset, "[0, 5, 10]").unwrap();
     let (code, _, stderr) = run(&[
         "interpolate",
@@ -174,10 +174,11 @@ fn shape_files_and_subsets_apply() {
 /// (A face with no triangulation exits 2 naming it: the test above.)
 #[test]
 fn deng_wang_triangulates_polygon_meshes() {
+    let scratch = Scratch::new("interpolate");
     for (input, faces) in [("canonical/cube_quad.obj", 6), ("quad/spot_control_mesh.obj", 176), ("poly/mpi.off", 39)] {
         let input_path = fixtures().join(input);
         let stem = format!("deng-wang-{}", input.replace('/', "-"));
-        let (control, report) = (tmp(&format!("{stem}.obj")), tmp(&format!("{stem}.json")));
+        let (control, report) = (scratch.path(&format!("{stem}.obj")), scratch.path(&format!("{stem}.json")));
         let (code, _, stderr) = run(&[
             "interpolate",
             input_path.to_str().unwrap(),
@@ -210,8 +211,8 @@ fn deng_wang_triangulates_polygon_meshes() {
 /// The 7-vertex torus (every two vertices share an edge) with one vertex's
 /// star replaced by a hexagon over its link, face 8 (vertices renumbered
 /// 1..7 → 0..6): every diagonal of the hexagon is an edge, so it has no
-/// triangulation keeping the mesh manifold. Written as OBJ; returns the path.
-fn untriangulable_torus() -> PathBuf {
+/// triangulation keeping the mesh manifold. Written as OBJ in `scratch`; returns the path.
+fn untriangulable_torus(scratch: &Scratch) -> PathBuf {
     let mut text: String =
         (1..7).map(|k| format!("v {} {} {}\n", f64::from(k).cos(), f64::from(k).sin(), k % 3)).collect();
     for i in 0..7u32 {
@@ -222,7 +223,7 @@ fn untriangulable_torus() -> PathBuf {
         }
     }
     text += "f 1 3 2 6 4 5\n";
-    let path = tmp("untriangulable.obj");
+    let path = scratch.path("untriangulable.obj");
     std::fs::write(&path, text).unwrap();
     path
 }

@@ -2,7 +2,7 @@
 //! the input's UVs (refined by one level where it is a refined mesh) and
 //! `--surface` writes them, with the seams where the input has them.
 
-use crate::common::{fixtures, out_path, read, run_ok};
+use crate::common::{fixtures, read, run_ok, Scratch};
 use std::collections::{BTreeSet, HashMap};
 use subdiv_mesh::PolygonSoup;
 
@@ -53,6 +53,7 @@ fn values_per_vertex(soup: &PolygonSoup) -> Vec<usize> {
 /// and every input vertex keeps as many UV values (siblings) as it had.
 #[test]
 fn surface_keeps_the_seams_of_a_uv_quad_mesh() {
+    let scratch = Scratch::new("uvs");
     let input_path = fixtures().join("peer/creases/spot_uv/spot_uv.obj");
     let input = read(&input_path);
     let input_seams = seam_edges(&input);
@@ -60,8 +61,8 @@ fn surface_keeps_the_seams_of_a_uv_quad_mesh() {
     let input_values = values_per_vertex(&input);
     for method in ["cheng", "deng-ma"] {
         for (levels, fvar) in [(1usize, "linear-all"), (2, "linear-none"), (2, "linear-corners-only")] {
-            let surface = out_path("uvs", &format!("spot-{method}-{levels}-{fvar}.obj"));
-            let control = out_path("uvs", &format!("spot-{method}-control.obj"));
+            let surface = scratch.path(&format!("spot-{method}-{levels}-{fvar}.obj"));
+            let control = scratch.path(&format!("spot-{method}-control.obj"));
             run_ok(&[
                 "interpolate",
                 input_path.to_str().unwrap(),
@@ -106,11 +107,12 @@ fn surface_keeps_the_seams_of_a_uv_quad_mesh() {
 /// a warning says the UVs are not.
 #[test]
 fn doo_sabin_methods_carry_seamless_uvs_and_warn_about_seams() {
+    let scratch = Scratch::new("uvs");
     let grid = fixtures().join("peer/creases/uv_grid/uv_grid.obj");
     let spot = fixtures().join("peer/creases/spot_uv/spot_uv.obj");
     for method in ["nasri", "zheng-cai", "fan-cheng-lai"] {
-        let control = out_path("uvs", &format!("grid-{method}-control.obj"));
-        let surface = out_path("uvs", &format!("grid-{method}-surface.obj"));
+        let control = scratch.path(&format!("grid-{method}-control.obj"));
+        let surface = scratch.path(&format!("grid-{method}-surface.obj"));
         let stderr = run_ok(&[
             "interpolate",
             grid.to_str().unwrap(),

@@ -4,7 +4,7 @@
 //! finite meshes with extreme coordinates, coincident vertices, isolated
 //! vertices, extreme parameters.
 
-use crate::common::{assert_no_panic, fixtures, subdiv};
+use crate::common::{assert_no_panic, fixtures, subdiv, Scratch};
 use std::fs;
 use std::path::{Path, PathBuf};
 use subdiv_interp::verify::{candidate_limit_points, nearest_gap};
@@ -12,21 +12,15 @@ use subdiv_mesh::{DVec3, Mesh, PowerOfTwoScale};
 use subdiv_stencil::LoopBeta;
 use subdiv_stencil::Scheme;
 
-fn dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("subdiv-cli-numeric-{}", std::process::id()));
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// A tetrahedron with its coordinates mapped by `f`, as OBJ.
-fn tetrahedron(name: &str, f: impl Fn(DVec3) -> DVec3) -> PathBuf {
+/// A tetrahedron with its coordinates mapped by `f`, as OBJ in `scratch`.
+fn tetrahedron(scratch: &Scratch, name: &str, f: impl Fn(DVec3) -> DVec3) -> PathBuf {
     let corners = [DVec3::new(0.0, 0.0, 0.0), DVec3::X, DVec3::Y, DVec3::new(0.3, 0.2, 1.0)];
     let mut text = String::new();
     for p in corners.map(f) {
         text += &format!("v {:e} {:e} {:e}\n", p.x, p.y, p.z);
     }
     text += "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
-    let path = dir().join(format!("{name}.obj"));
+    let path = scratch.path(&format!("{name}.obj"));
     fs::write(&path, text).unwrap();
     path
 }
@@ -88,23 +82,24 @@ fn assert_interpolates(data: &Path, control: &Path, method: &str, tol: f64) {
 
 const METHODS: [&str; 6] = ["nasri", "zheng-cai", "cheng", "fan-cheng-lai", "deng-wang", "deng-ma"];
 
-fn extreme_meshes() -> Vec<PathBuf> {
+fn extreme_meshes(scratch: &Scratch) -> Vec<PathBuf> {
     vec![
-        tetrahedron("x-1.7e308", |p| if p == DVec3::X { DVec3::new(1.7e308, 0.0, 0.0) } else { p }),
-        tetrahedron("x-1e308", |p| if p == DVec3::X { DVec3::new(1e308, 0.0, 0.0) } else { p }),
-        tetrahedron("all-1e154", |p| p * 1e154),
-        tetrahedron("all-1.3e308", |p| p * 1.3e308),
-        tetrahedron("all-1e-300", |p| p * 1e-300),
-        tetrahedron("translated-1e12", |p| p + DVec3::splat(1e12)),
-        tetrahedron("coincident", |_| DVec3::splat(2.5)),
-        tetrahedron("coincident-huge", |_| DVec3::splat(1e308)),
+        tetrahedron(scratch, "x-1.7e308", |p| if p == DVec3::X { DVec3::new(1.7e308, 0.0, 0.0) } else { p }),
+        tetrahedron(scratch, "x-1e308", |p| if p == DVec3::X { DVec3::new(1e308, 0.0, 0.0) } else { p }),
+        tetrahedron(scratch, "all-1e154", |p| p * 1e154),
+        tetrahedron(scratch, "all-1.3e308", |p| p * 1.3e308),
+        tetrahedron(scratch, "all-1e-300", |p| p * 1e-300),
+        tetrahedron(scratch, "translated-1e12", |p| p + DVec3::splat(1e12)),
+        tetrahedron(scratch, "coincident", |_| DVec3::splat(2.5)),
+        tetrahedron(scratch, "coincident-huge", |_| DVec3::splat(1e308)),
     ]
 }
 
 #[test]
 fn interpolation_of_extreme_coordinates_is_finite_and_within_tol_or_refused() {
-    let control = dir().join("control.obj");
-    for mesh in extreme_meshes() {
+    let scratch = Scratch::new("numeric");
+    let control = scratch.path("control.obj");
+    for mesh in extreme_meshes(&scratch) {
         for method in METHODS {
             let m = mesh.to_str().unwrap();
             let args = ["interpolate", m, "--method", method, "-o", control.to_str().unwrap(), "--levels", "1"];
@@ -122,8 +117,9 @@ fn interpolation_of_extreme_coordinates_is_finite_and_within_tol_or_refused() {
 
 #[test]
 fn subdivision_of_extreme_coordinates_is_finite_or_refused() {
-    let out = dir().join("refined.obj");
-    for mesh in extreme_meshes() {
+    let scratch = Scratch::new("numeric");
+    let out = scratch.path("refined.obj");
+    for mesh in extreme_meshes(&scratch) {
         for scheme in ["catmull-clark", "loop", "doo-sabin", "deng-ma"] {
             for limit in [false, true] {
                 if limit && scheme == "deng-ma" {
@@ -146,8 +142,8 @@ fn subdivision_of_extreme_coordinates_is_finite_or_refused() {
 
 #[test]
 fn isolated_vertices_and_extreme_parameters_never_pass_with_a_large_error() {
-    let dir = dir();
-    let control = dir.join("iso-control.obj");
+    let scratch = Scratch::new("numeric");
+    let control = scratch.path("iso-control.obj");
     let isolated = fixtures().join("bad/isolated_vertices.obj");
     for method in METHODS {
         let args = ["interpolate", isolated.to_str().unwrap(), "--method", method, "-o", control.to_str().unwrap()];
@@ -166,7 +162,7 @@ fn isolated_vertices_and_extreme_parameters_never_pass_with_a_large_error() {
     }
     let cube = fixtures().join("canonical/cube_quad.obj");
     for value in ["1e12", "1e200", "1e-300"] {
-        let handles = dir.join("handles.txt");
+        let handles = scratch.path("handles.txt");
         fs::write(&handles, format!("0 {value}\n3 {value}\n")).unwrap();
         let args = [
             "interpolate",

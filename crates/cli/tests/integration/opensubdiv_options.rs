@@ -5,7 +5,7 @@
 //! options its surface needs, so that reading it back (as an OpenSubdiv-based
 //! tool would, through its tags alone) gives the same limit points.
 
-use crate::common::{out_path, read, run_ok, subdiv};
+use crate::common::{read, run_ok, subdiv, Scratch};
 use std::path::Path;
 use subdiv_mesh::{DVec3, Mesh};
 use subdiv_stencil::{limit_points_with_options, BoundaryInterpolation, Options, Scheme};
@@ -28,8 +28,8 @@ fn grid_obj(extra: &str) -> String {
     text + extra
 }
 
-fn write(name: &str, text: &str) -> std::path::PathBuf {
-    let path = out_path("osd-options", name);
+fn write(scratch: &Scratch, name: &str, text: &str) -> std::path::PathBuf {
+    let path = scratch.path(name);
     std::fs::write(&path, text).unwrap();
     path
 }
@@ -40,10 +40,11 @@ fn faces(path: &Path) -> usize {
 
 #[test]
 fn the_files_boundary_option_applies_unless_the_command_gives_one() {
-    let with_tag = write("edge_only.obj", &grid_obj("t interpolateboundary 1/0/0 2\n"));
-    let plain = write("plain.obj", &grid_obj(""));
+    let scratch = Scratch::new("osd-options");
+    let with_tag = write(&scratch, "edge_only.obj", &grid_obj("t interpolateboundary 1/0/0 2\n"));
+    let plain = write(&scratch, "plain.obj", &grid_obj(""));
     let limit = |input: &Path, extra: &[&str], name: &str| {
-        let out = out_path("osd-options", name);
+        let out = scratch.path(name);
         let mut args =
             vec!["subdivide", input.to_str().unwrap(), "--scheme", "catmull-clark", "--levels", "0", "--limit"];
         args.extend_from_slice(extra);
@@ -62,9 +63,10 @@ fn the_files_boundary_option_applies_unless_the_command_gives_one() {
 
 #[test]
 fn holes_are_left_out_of_surfaces_and_kept_in_control_meshes() {
+    let scratch = Scratch::new("osd-options");
     // Faces 5 and 6 (0-based) are holes.
-    let input = write("holes.obj", &grid_obj("t hole 2/0/0 5 6\n"));
-    let surface = out_path("osd-options", "holes_surface.obj");
+    let input = write(&scratch, "holes.obj", &grid_obj("t hole 2/0/0 5 6\n"));
+    let surface = scratch.path("holes_surface.obj");
     run_ok(&[
         "subdivide",
         input.to_str().unwrap(),
@@ -79,8 +81,8 @@ fn holes_are_left_out_of_surfaces_and_kept_in_control_meshes() {
     let soup = read(&surface);
     assert_eq!(soup.positions.len(), 17 * 13, "every vertex of level 2 is kept, numbered as on the level");
     // The same points as without the holes: a hole moves nothing.
-    let plain = write("no_holes.obj", &grid_obj(""));
-    let plain_surface = out_path("osd-options", "no_holes_surface.obj");
+    let plain = write(&scratch, "no_holes.obj", &grid_obj(""));
+    let plain_surface = scratch.path("no_holes_surface.obj");
     run_ok(&[
         "subdivide",
         plain.to_str().unwrap(),
@@ -93,8 +95,8 @@ fn holes_are_left_out_of_surfaces_and_kept_in_control_meshes() {
     ]);
     assert_eq!(read(&plain_surface).positions, soup.positions);
 
-    let control = out_path("osd-options", "holes_control.obj");
-    let surface = out_path("osd-options", "holes_interp_surface.obj");
+    let control = scratch.path("holes_control.obj");
+    let surface = scratch.path("holes_interp_surface.obj");
     run_ok(&[
         "interpolate",
         input.to_str().unwrap(),
@@ -121,10 +123,11 @@ fn holes_are_left_out_of_surfaces_and_kept_in_control_meshes() {
 
 #[test]
 fn a_control_mesh_carries_the_options_of_its_surface() {
+    let scratch = Scratch::new("osd-options");
     // An edge-only boundary and Chaikin creasing given on the command line: the control mesh's
     // limit points, computed from the written file's tags alone, are the input's vertices.
-    let input = write("for_control.obj", &grid_obj("t crease 2/1/0 6 7 1.5\nt crease 2/1/0 7 8 2.5\n"));
-    let control = out_path("osd-options", "control.obj");
+    let input = write(&scratch, "for_control.obj", &grid_obj("t crease 2/1/0 6 7 1.5\nt crease 2/1/0 7 8 2.5\n"));
+    let control = scratch.path("control.obj");
     run_ok(&[
         "interpolate",
         input.to_str().unwrap(),
@@ -162,6 +165,7 @@ fn a_control_mesh_carries_the_options_of_its_surface() {
 /// them at the darts only.
 #[test]
 fn dart_limit_smooth_mask_is_opensubdivs_limit_stencil() {
+    let scratch = Scratch::new("osd-options");
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/opensubdiv");
     for shape in ["catmark_inf_crease0", "catmark_cubes_infsharp", "loop_cubes_infsharp"] {
         let input = root.join(format!("shapes/{shape}.obj"));
@@ -176,7 +180,7 @@ fn dart_limit_smooth_mask_is_opensubdivs_limit_stencil() {
             })
             .collect();
         let limits = |dart: &str| {
-            let out = out_path("osd-options", &format!("{shape}-{dart}.obj"));
+            let out = scratch.path(&format!("{shape}-{dart}.obj"));
             let (input, out_s) = (input.display().to_string(), out.display().to_string());
             // OpenSubdiv's harness: the file's boundary option, else edge-only.
             let own = std::fs::read_to_string(&input).unwrap().contains("t interpolateboundary");

@@ -3,18 +3,16 @@
 //! before any work and written all together or not at all, with documented
 //! exit codes.
 
-use crate::common::{assert_no_panic, fixtures, subdiv};
+use crate::common::{assert_no_panic, fixtures, subdiv, Scratch};
 use std::fs;
 use std::path::{Path, PathBuf};
 
-/// A fresh scratch directory with a copy of the cube.
-fn scratch(name: &str) -> (PathBuf, PathBuf) {
-    let dir = std::env::temp_dir().join(format!("subdiv-cli-{name}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    let cube = dir.join("cube.obj");
+/// A fresh scratch directory (removed when the guard drops) with a copy of the cube.
+fn with_cube(name: &str) -> (Scratch, PathBuf) {
+    let scratch = Scratch::new(name);
+    let cube = scratch.path("cube.obj");
     fs::copy(fixtures().join("canonical/cube_quad.obj"), &cube).unwrap();
-    (dir, cube)
+    (scratch, cube)
 }
 
 fn listing(dir: &Path) -> Vec<String> {
@@ -36,7 +34,8 @@ fn s(p: &Path) -> &str {
 
 #[test]
 fn an_unusable_output_is_refused_before_any_other_output_is_written() {
-    let (dir, cube) = scratch("plan");
+    let (scratch, cube) = with_cube("plan");
+    let dir = scratch.dir();
     let control = dir.join("control.obj");
     // Unknown extension on --surface: exit 2, -o not written.
     let (code, err) =
@@ -52,13 +51,13 @@ fn an_unusable_output_is_refused_before_any_other_output_is_written() {
     let (code, err) = run(&["interpolate", s(&cube), "--method", "cheng", "-o", s(&control), "--report", "/dev/full"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("/dev/full") && err.contains("not a regular file"), "{err}");
-    assert_eq!(listing(&dir), ["cube.obj"], "no output and no temporary");
-    fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(listing(dir), ["cube.obj"], "no output and no temporary");
 }
 
 #[test]
 fn outputs_never_overwrite_an_input_or_each_other() {
-    let (dir, cube) = scratch("same");
+    let (scratch, cube) = with_cube("same");
+    let dir = scratch.dir();
     let before = fs::read(&cube).unwrap();
     for flag in ["-o", "--surface", "--report"] {
         let (code, err) = run(&["interpolate", s(&cube), "--method", "cheng", flag, s(&cube)]);
@@ -86,12 +85,12 @@ fn outputs_never_overwrite_an_input_or_each_other() {
     assert!(err.contains("both"), "{err}");
     assert_eq!(fs::read(&cube).unwrap(), before);
     assert_eq!(fs::read_to_string(&subset).unwrap(), "0 1 2\n");
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn every_output_appears_together_when_the_command_succeeds() {
-    let (dir, cube) = scratch("all");
+    let (scratch, cube) = with_cube("all");
+    let dir = scratch.dir();
     let (control, surface, report) = (dir.join("c.off"), dir.join("s.ply"), dir.join("r.json"));
     let (code, err) = run(&[
         "interpolate",
@@ -108,17 +107,17 @@ fn every_output_appears_together_when_the_command_succeeds() {
         s(&report),
     ]);
     assert_eq!(code, 0, "{err}");
-    assert_eq!(listing(&dir), ["c.off", "cube.obj", "r.json", "s.ply"]);
+    assert_eq!(listing(dir), ["c.off", "cube.obj", "r.json", "s.ply"]);
     let report: serde_json::Value = serde_json::from_str(&fs::read_to_string(&report).unwrap()).unwrap();
     assert!(report["error"]["max_rel"].as_f64().unwrap() <= 1e-6);
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[cfg(unix)]
 #[test]
 fn an_unwritable_directory_is_exit_4_before_any_work() {
     // Root ignores directory permissions: the probe then succeeds and there is nothing to test.
-    let (dir, cube) = scratch("perm");
+    let (scratch, cube) = with_cube("perm");
+    let dir = scratch.dir();
     let locked = dir.join("locked");
     fs::create_dir(&locked).unwrap();
     use std::os::unix::fs::PermissionsExt;
@@ -131,12 +130,12 @@ fn an_unwritable_directory_is_exit_4_before_any_work() {
         assert!(err.contains("cannot create files"), "{err}");
     }
     fs::set_permissions(&locked, fs::Permissions::from_mode(0o755)).unwrap();
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn refinements_beyond_the_memory_budget_are_refused_with_their_true_size() {
-    let (dir, cube) = scratch("size");
+    let (scratch, cube) = with_cube("size");
+    let dir = scratch.dir();
     let out = dir.join("o.obj");
     // Cube: 6·4^L faces after L Catmull-Clark steps; each level quotes its own count.
     for (levels, faces) in [(9, "1,572,864"), (11, "25,165,824"), (13, "402,653,184")] {
@@ -184,12 +183,12 @@ fn refinements_beyond_the_memory_budget_are_refused_with_their_true_size() {
     let (code, err) =
         run(&["subdivide", s(&cube), "--scheme", "loop", "--levels", "1", "--max-memory", "lots", "-o", s(&out)]);
     assert_eq!(code, 2, "{err}");
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn quiet_prints_nothing_but_errors_and_os_text_appears_once() {
-    let (dir, cube) = scratch("quiet");
+    let (scratch, cube) = with_cube("quiet");
+    let dir = scratch.dir();
     let out = subdiv(&["interpolate", s(&cube), "--method", "cheng", "--quiet"]);
     assert_eq!(out.status.code(), Some(0));
     assert!(out.stdout.is_empty() && out.stderr.is_empty(), "{out:?}");
@@ -199,7 +198,6 @@ fn quiet_prints_nothing_but_errors_and_os_text_appears_once() {
     assert_eq!(code, 2);
     assert_eq!(err.lines().count(), 1, "{err}");
     assert_eq!(err.matches("No such file").count(), 1, "{err}");
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -230,7 +228,8 @@ fn help_documents_the_exit_codes() {
 fn sigterm_during_a_write_removes_the_temporary() {
     use std::process::{Command, Stdio};
     use std::time::{Duration, Instant};
-    let (dir, cube) = scratch("sigterm");
+    let (scratch, cube) = with_cube("sigterm");
+    let dir = scratch.dir();
     let out = dir.join("big.obj");
     // ≈ 400k faces: the write takes long enough to be caught in the middle.
     let mut child = Command::new(env!("CARGO_BIN_EXE_subdiv"))
@@ -241,7 +240,7 @@ fn sigterm_during_a_write_removes_the_temporary() {
     let start = Instant::now();
     let mut caught = false;
     while start.elapsed() < Duration::from_secs(60) {
-        if listing(&dir).iter().any(|n| n.ends_with(".tmp")) {
+        if listing(dir).iter().any(|n| n.ends_with(".tmp")) {
             Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap();
             caught = true;
             break;
@@ -255,12 +254,11 @@ fn sigterm_during_a_write_removes_the_temporary() {
     if caught {
         // Killed while writing (exit 143), or finished just before the signal (exit 0, file complete).
         match status.code() {
-            Some(143) => assert_eq!(listing(&dir), ["cube.obj"], "temporary removed, no output"),
-            Some(0) => assert_eq!(listing(&dir), ["big.obj", "cube.obj"]),
+            Some(143) => assert_eq!(listing(dir), ["cube.obj"], "temporary removed, no output"),
+            Some(0) => assert_eq!(listing(dir), ["big.obj", "cube.obj"]),
             other => panic!("unexpected exit {other:?}"),
         }
     } else {
         eprintln!("the write finished before a temporary was seen; nothing to check");
     }
-    fs::remove_dir_all(&dir).unwrap();
 }

@@ -6,17 +6,11 @@
 //! (`evaluate --at`, `project --points` .xyz) are read the same way: a FIFO or
 //! a file in another encoding is refused for every one of them.
 
-use crate::common::{assert_no_panic, fixtures, run_bounded, subdiv};
+use crate::common::{assert_no_panic, fixtures, run_bounded, subdiv, Scratch};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("subdiv-params-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
 
 fn cube() -> String {
     fixtures().join("canonical/cube_quad.obj").to_str().unwrap().to_owned()
@@ -24,6 +18,7 @@ fn cube() -> String {
 
 #[test]
 fn bad_parameter_files_exit_2_naming_the_parameter_file() {
+    let scratch = Scratch::new("params");
     let cases: &[(&str, &str, &str, &str, &str)] = &[
         // (method, flag, file, contents, message after "FILE:")
         ("fan-cheng-lai", "--shape-file", "null.json", "null", "1: shape file sets nothing"),
@@ -85,9 +80,9 @@ fn bad_parameter_files_exit_2_naming_the_parameter_file() {
         ("zheng-cai", "--handles", "handles.txt", "1 2\n1 3\n", "2: vertex 1 is listed twice (first on line 1)"),
         ("zheng-cai", "--handles", "handle-string.json", "{\"1\": \"2\"}", "1: vertex 1: \"2\" is a string"),
     ];
-    let out = tmp("control.obj");
+    let out = scratch.path("control.obj");
     for (method, flag, file, contents, message) in cases {
-        let param = tmp(file);
+        let param = scratch.path(file);
         std::fs::write(&param, contents).unwrap();
         let param = param.to_str().unwrap();
         let result = subdiv(&["interpolate", &cube(), "--method", method, flag, param, "-o", out.to_str().unwrap()]);
@@ -130,10 +125,11 @@ fn text_inputs(file: &str, out: &Path) -> Vec<(&'static str, Vec<String>)> {
 #[cfg(unix)]
 #[test]
 fn a_fifo_as_any_text_input_is_refused_without_blocking() {
-    let fifo = tmp("input.fifo.xyz");
+    let scratch = Scratch::new("params");
+    let fifo = scratch.path("input.fifo.xyz");
     let _ = std::fs::remove_file(&fifo);
     assert!(Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
-    let out = tmp("fifo-out");
+    let out = scratch.path("fifo-out");
     for (flag, args) in text_inputs(fifo.to_str().unwrap(), &out) {
         let (code, stderr) = run_bounded(&args, flag, Duration::from_secs(60));
         assert!(!stderr.contains("panicked"), "{flag}: {stderr}");
@@ -150,14 +146,15 @@ fn a_fifo_as_any_text_input_is_refused_without_blocking() {
 /// binary data.
 #[test]
 fn a_text_input_in_another_encoding_is_a_clean_error() {
-    let out = tmp("encoding-out");
+    let scratch = Scratch::new("params");
+    let out = scratch.path("encoding-out");
     let cases: [(&str, &[u8], &str); 3] = [
         ("utf16.xyz", b"\xFF\xFE0\x00 \x001\x00\n\x00", "UTF-16 text is not supported; save the file as UTF-8"),
         ("latin1.xyz", b"0 1\n# caf\xE9\n", ":2: not UTF-8 text (byte 0xE9); save the file as UTF-8"),
         ("binary.xyz", b"0 1 2\n\x00\x01\x02", ":2: NUL byte: binary data, not a text file"),
     ];
     for (name, bytes, message) in cases {
-        let file = tmp(name);
+        let file = scratch.path(name);
         std::fs::write(&file, bytes).unwrap();
         for (flag, args) in text_inputs(file.to_str().unwrap(), &out) {
             let result = Command::new(env!("CARGO_BIN_EXE_subdiv")).args(&args).output().unwrap();
@@ -176,16 +173,17 @@ fn a_text_input_in_another_encoding_is_a_clean_error() {
 /// A strict shape file still works: OBJ groups, per-face overrides and a BOM.
 #[test]
 fn shape_file_with_groups_applies() {
-    let mesh = tmp("grouped_cube.obj");
+    let scratch = Scratch::new("params");
+    let mesh = scratch.path("grouped_cube.obj");
     let cube_text = std::fs::read_to_string(cube()).unwrap();
     let (vertices, faces): (Vec<&str>, Vec<&str>) =
         cube_text.lines().filter(|l| !l.starts_with('#')).partition(|l| l.starts_with("v "));
     let grouped = format!("{}\ng top\n{}\ng sides\n{}\n", vertices.join("\n"), faces[0], faces[1..].join("\n"));
     std::fs::write(&mesh, grouped).unwrap();
-    let shape = tmp("groups.json");
+    let shape = scratch.path("groups.json");
     std::fs::write(&shape, "\u{FEFF}{\"default\": 0.3,\n \"groups\": {\"top\": 0.8},\n \"faces\": {\"5\": 0.6}}")
         .unwrap();
-    let report = tmp("groups-report.json");
+    let report = scratch.path("groups-report.json");
     let result = subdiv(&[
         "interpolate",
         mesh.to_str().unwrap(),

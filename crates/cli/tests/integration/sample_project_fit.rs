@@ -3,7 +3,7 @@
 //! `FACE.K`, fitting a mesh's own limit surface keeps it there, bad input
 //! exits 2 naming the problem.
 
-use crate::common::{assert_no_panic, fixtures, out_path, read, run_ok, subdiv};
+use crate::common::{assert_no_panic, fixtures, read, run_ok, subdiv, Scratch};
 
 fn s(p: &std::path::Path) -> &str {
     p.to_str().unwrap()
@@ -11,18 +11,19 @@ fn s(p: &std::path::Path) -> &str {
 
 #[test]
 fn samples_project_back_onto_their_surface() {
+    let scratch = Scratch::new("spf");
     for (mesh, scheme, per_domain) in [
         ("canonical/cube_quad.obj", "catmull-clark", 4usize),
         ("canonical/pyramid_mixed.obj", "catmull-clark", 3),
         ("canonical/icosahedron.obj", "loop", 3),
     ] {
         let mesh = fixtures().join(mesh);
-        let cloud = out_path("spf", &format!("{scheme}-{per_domain}.ply"));
+        let cloud = scratch.path(&format!("{scheme}-{per_domain}.ply"));
         run_ok(&["sample", s(&mesh), "--scheme", scheme, "--per-face", &per_domain.to_string(), "-o", s(&cloud)]);
         let points = read(&cloud).positions;
         let control = read(&mesh);
         assert!(points.len() >= control.faces.len() * per_domain * per_domain, "{}", points.len());
-        let out = out_path("spf", &format!("{scheme}-{per_domain}.txt"));
+        let out = scratch.path(&format!("{scheme}-{per_domain}.txt"));
         run_ok(&["project", s(&mesh), "--scheme", scheme, "--points", s(&cloud), "-o", s(&out)]);
         let text = std::fs::read_to_string(&out).unwrap();
         let lines: Vec<&str> = text.lines().collect();
@@ -44,9 +45,10 @@ fn samples_project_back_onto_their_surface() {
 
 #[test]
 fn area_samples_are_reproducible() {
+    let scratch = Scratch::new("spf");
     let mesh = fixtures().join("canonical/torus_quad_16x8.obj");
-    let a = out_path("spf", "area-a.ply");
-    let b = out_path("spf", "area-b.ply");
+    let a = scratch.path("area-a.ply");
+    let b = scratch.path("area-b.ply");
     run_ok(&["sample", s(&mesh), "--scheme", "catmull-clark", "--count", "500", "--seed", "3", "-o", s(&a)]);
     run_ok(&["sample", s(&mesh), "--scheme", "catmull-clark", "--count", "500", "--seed", "3", "-o", s(&b)]);
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
@@ -55,11 +57,12 @@ fn area_samples_are_reproducible() {
 
 #[test]
 fn fitting_a_limit_surface_keeps_it() {
+    let scratch = Scratch::new("spf");
     let mesh = fixtures().join("canonical/cube_quad.obj");
-    let target = out_path("spf", "cube-limit.obj");
+    let target = scratch.path("cube-limit.obj");
     run_ok(&["subdivide", s(&mesh), "--scheme", "catmull-clark", "--levels", "2", "--limit", "-o", s(&target)]);
-    let fitted = out_path("spf", "cube-fitted.obj");
-    let report = out_path("spf", "cube-fit.json");
+    let fitted = scratch.path("cube-fitted.obj");
+    let report = scratch.path("cube-fit.json");
     let run = subdiv(&[
         "fit",
         s(&target),
@@ -92,10 +95,11 @@ fn fitting_a_limit_surface_keeps_it() {
 
 #[test]
 fn bad_input_exits_2() {
+    let scratch = Scratch::new("spf");
     let mesh = fixtures().join("canonical/cube_quad.obj");
-    let xyz = out_path("spf", "bad.xyz");
+    let xyz = scratch.path("bad.xyz");
     std::fs::write(&xyz, "0 0 0\n1 2 x\n").unwrap();
-    let out = out_path("spf", "bad.txt");
+    let out = scratch.path("bad.txt");
     for args in [
         vec!["project", s(&mesh), "--scheme", "catmull-clark", "--points", s(&xyz), "-o", s(&out)],
         vec!["sample", s(&mesh), "--scheme", "deng-ma", "--per-face", "2", "-o", "x.ply"],

@@ -1,14 +1,7 @@
 //! `subdiv subdivide` as a process: counts, limit positions against OpenSubdiv,
 //! and clear failures that leave no output file.
 
-use crate::common::{assert_no_panic, fixtures, subdiv};
-use std::path::PathBuf;
-
-fn out_path(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("subdiv-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+use crate::common::{assert_no_panic, fixtures, subdiv, Scratch};
 
 fn read(path: &std::path::Path) -> subdiv_mesh::PolygonSoup {
     subdiv_io::read_mesh(path).unwrap()
@@ -16,6 +9,7 @@ fn read(path: &std::path::Path) -> subdiv_mesh::PolygonSoup {
 
 #[test]
 fn counts_after_each_scheme() {
+    let scratch = Scratch::new("subdivide");
     let cube = fixtures().join("canonical/cube_quad.obj");
     let ico = fixtures().join("canonical/icosahedron.obj");
     for (input, scheme, levels, vertices, faces) in [
@@ -24,7 +18,7 @@ fn counts_after_each_scheme() {
         (&cube, "deng-ma", 2, 98, 96),
         (&ico, "loop", 2, 162, 320),
     ] {
-        let out = out_path(&format!("{scheme}-{levels}.obj"));
+        let out = scratch.path(&format!("{scheme}-{levels}.obj"));
         let run = subdiv(&[
             "subdivide",
             input.to_str().unwrap(),
@@ -46,6 +40,7 @@ fn counts_after_each_scheme() {
 /// input order; OpenSubdiv's `PrimvarRefiner::Limit` gives them independently.
 #[test]
 fn zero_levels_limit_matches_opensubdiv() {
+    let scratch = Scratch::new("subdivide");
     for (mesh, scheme, beta, peer) in [
         ("quad/spot_control_mesh.obj", "catmull-clark", "", "spot_control_mesh/opensubdiv-catmull-clark-limit.txt"),
         ("open/halftunnel.off", "catmull-clark", "", "halftunnel/opensubdiv-catmull-clark-limit.txt"),
@@ -53,7 +48,7 @@ fn zero_levels_limit_matches_opensubdiv() {
         ("canonical/icosphere_2.obj", "loop", "loop", "icosphere_2/opensubdiv-loop-origbeta-limit.txt"),
     ] {
         let input = fixtures().join(mesh);
-        let out = out_path(&format!("limit-{}.ply", mesh.replace('/', "-")));
+        let out = scratch.path(&format!("limit-{}.ply", mesh.replace('/', "-")));
         // --beta belongs to Loop alone (refused for other schemes).
         let mut args = vec!["subdivide", input.to_str().unwrap(), "--scheme", scheme];
         if !beta.is_empty() {
@@ -86,6 +81,7 @@ fn zero_levels_limit_matches_opensubdiv() {
 
 #[test]
 fn impossible_requests_fail_cleanly_without_output() {
+    let scratch = Scratch::new("subdivide");
     let cube = fixtures().join("canonical/cube_quad.obj");
     for (input, extra, needle) in [
         (&cube, vec!["--scheme", "loop", "--levels", "1"], "triang"),
@@ -93,7 +89,7 @@ fn impossible_requests_fail_cleanly_without_output() {
         (&cube, vec!["--scheme", "catmull-clark", "--levels", "40"], "levels"),
         (&cube, vec!["--scheme", "deng-ma", "--levels", "1", "--omega", "3"], "ω"),
     ] {
-        let out = out_path("never.obj");
+        let out = scratch.path("never.obj");
         let _ = std::fs::remove_file(&out);
         let mut args = vec!["subdivide", input.to_str().unwrap()];
         args.extend(extra.iter().copied());
@@ -106,7 +102,7 @@ fn impossible_requests_fail_cleanly_without_output() {
         assert!(!out.exists(), "{extra:?}: no output file on failure");
     }
     // --triangulate makes Loop accept quads.
-    let out = out_path("tri.obj");
+    let out = scratch.path("tri.obj");
     let run = subdiv(&[
         "subdivide",
         cube.to_str().unwrap(),
@@ -161,9 +157,10 @@ fn torus_with_untriangulable_hexagon() -> String {
 /// face with no valid diagonal is a clean exit 2 naming it, with no output.
 #[test]
 fn triangulate_never_duplicates_an_edge() {
-    let input = out_path("quad_and_two_triangles.obj");
+    let scratch = Scratch::new("subdivide");
+    let input = scratch.path("quad_and_two_triangles.obj");
     std::fs::write(&input, quad_and_two_triangles()).unwrap();
-    let out = out_path("quad_and_two_triangles-loop.obj");
+    let out = scratch.path("quad_and_two_triangles-loop.obj");
     let args = ["--scheme", "loop", "--triangulate", "--levels", "1", "-o", out.to_str().unwrap()];
     let run = subdiv(&[&["subdivide", input.to_str().unwrap()][..], &args].concat());
     assert_no_panic(&run);
@@ -173,9 +170,9 @@ fn triangulate_never_duplicates_an_edge() {
     let t = refined.topology();
     assert_eq!((t.vertex_count(), t.face_count(), t.genus()), (10, 16, Some(0)));
 
-    let input = out_path("untriangulable.obj");
+    let input = scratch.path("untriangulable.obj");
     std::fs::write(&input, torus_with_untriangulable_hexagon()).unwrap();
-    let out = out_path("untriangulable-loop.obj");
+    let out = scratch.path("untriangulable-loop.obj");
     let _ = std::fs::remove_file(&out);
     let args = ["--scheme", "loop", "--triangulate", "--levels", "1", "-o", out.to_str().unwrap()];
     let run = subdiv(&[&["subdivide", input.to_str().unwrap()][..], &args].concat());

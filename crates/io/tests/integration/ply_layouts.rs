@@ -8,7 +8,6 @@
 //! memory do, on the same layouts and on files of several read chunks.
 
 use proptest::prelude::*;
-use std::path::PathBuf;
 use subdiv_io::{read_mesh, read_mesh_from_bytes, Format, IoError, PolygonSoup};
 
 /// A PLY scalar type: (name, size, integer range or None for floats).
@@ -191,43 +190,24 @@ proptest! {
     }
 }
 
-/// A scratch file in a directory of its own (removed on drop).
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(tag: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("subdiv-ply-stream-{tag}-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 /// `bytes` written to a file and read back by path gives `expected` (the
 /// in-memory read): the same soup bit for bit, or the same error.
 fn same_from_disk(bytes: &[u8], expected: &Result<PolygonSoup, IoError>) {
-    thread_local!(static DIR: Scratch = Scratch::new(&format!("{:?}", std::thread::current().id()).replace(|c: char| !c.is_ascii_alphanumeric(), "")));
-    DIR.with(|dir| {
-        let path = dir.0.join("t.ply");
-        std::fs::write(&path, bytes).unwrap();
-        let from_disk = read_mesh(&path);
-        match (&from_disk, expected) {
-            (Ok(d), Ok(m)) => {
-                assert_eq!(d.faces, m.faces);
-                assert_eq!(d.uvs, m.uvs);
-                let bits =
-                    |p: &[subdiv_mesh::DVec3]| p.iter().map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
-                assert_eq!(bits(&d.positions), bits(&m.positions));
-            }
-            (Err(d), Err(m)) => assert_eq!(d.to_string().replace(&path.display().to_string(), "t.ply"), m.to_string()),
-            (d, m) => panic!("from disk {:?} vs in memory {:?}", d.as_ref().map(|_| ()), m.as_ref().map(|_| ())),
+    // A directory of its own (removed on drop), so that the file keeps the in-memory read's name.
+    let dir = tempfile::Builder::new().prefix("subdiv-ply-stream-").tempdir().unwrap();
+    let path = dir.path().join("t.ply");
+    std::fs::write(&path, bytes).unwrap();
+    let from_disk = read_mesh(&path);
+    match (&from_disk, expected) {
+        (Ok(d), Ok(m)) => {
+            assert_eq!(d.faces, m.faces);
+            assert_eq!(d.uvs, m.uvs);
+            let bits = |p: &[subdiv_mesh::DVec3]| p.iter().map(|v| v.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+            assert_eq!(bits(&d.positions), bits(&m.positions));
         }
-    });
+        (Err(d), Err(m)) => assert_eq!(d.to_string().replace(&path.display().to_string(), "t.ply"), m.to_string()),
+        (d, m) => panic!("from disk {:?} vs in memory {:?}", d.as_ref().map(|_| ()), m.as_ref().map(|_| ())),
+    }
 }
 
 /// A binary PLY of `faces` (corner counts from `sizes`, cycled) over `n`

@@ -30,10 +30,9 @@ fn remove_staged_files_deletes_every_live_temporary() {
         assert!(stdout.contains("test result: ok. 1 passed"), "the child ran no test {name}:\n{stdout}\n{stderr}");
         return;
     }
-    let dir = std::env::temp_dir().join(format!("subdiv-io-cleanup-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    let count = || fs::read_dir(&dir).unwrap().count();
+    let tmp = tempfile::Builder::new().prefix("subdiv-io-cleanup-").tempdir().unwrap();
+    let dir = tmp.path();
+    let count = || fs::read_dir(dir).unwrap().count();
     let first = stage_bytes(&dir.join("x.obj"), b"x").unwrap();
     let second = stage_bytes(&dir.join("y.json"), b"{}").unwrap();
     assert_eq!(count(), 2);
@@ -43,5 +42,4 @@ fn remove_staged_files_deletes_every_live_temporary() {
     assert!(first.commit().is_err());
     drop(second);
     assert_eq!(count(), 0);
-    fs::remove_dir_all(&dir).unwrap();
 }

@@ -207,9 +207,8 @@ fn obj_opensubdiv_option_and_hole_tags_are_applied() {
     let (mesh, _) = Mesh::from_soup(soup).unwrap();
     assert!(mesh.tags().is_hole(subdiv_mesh::FaceId(0)));
     assert_eq!(mesh.tags().options(), options);
-    let dir = std::env::temp_dir().join(format!("subdiv-io-option-tags-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("square.obj");
+    let dir = tempfile::Builder::new().prefix("subdiv-io-option-tags-").tempdir().unwrap();
+    let path = dir.path().join("square.obj");
     subdiv_io::write_mesh(&path, &mesh, &subdiv_io::WriteOptions::default()).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     for line in [
@@ -223,7 +222,6 @@ fn obj_opensubdiv_option_and_hole_tags_are_applied() {
     }
     let again = subdiv_io::load_mesh(&path).unwrap();
     assert_eq!(again.tags(), mesh.tags());
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

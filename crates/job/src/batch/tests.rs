@@ -7,12 +7,9 @@ use subdiv_interp::{interpolate, Method, MethodOptions};
 use subdiv_io::{load_mesh, write_mesh, WriteOptions};
 use subdiv_mesh::Mesh;
 
-/// A fresh directory for one test.
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("subdiv-batch-{test}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory for one test (`subdiv-batch-{test}-XXXXXX`), removed when it drops.
+fn scratch(test: &str) -> tempfile::TempDir {
+    tempfile::Builder::new().prefix(&format!("subdiv-batch-{test}-")).tempdir().unwrap()
 }
 
 fn write(path: &Path, mesh: &Mesh) -> PathBuf {
@@ -31,7 +28,8 @@ fn mtimes(dir: &Path) -> BTreeMap<PathBuf, SystemTime> {
 
 #[test]
 fn failures_are_isolated_and_outputs_match_the_library() {
-    let dir = scratch("isolated");
+    let tmp = scratch("isolated");
+    let dir = tmp.path();
     let torus = subdiv_mesh::shapes::torus(8, 6);
     let good = write(&dir.join("in/torus.obj"), &torus);
     // A face of two corners: read, but no mesh.
@@ -71,19 +69,19 @@ fn failures_are_isolated_and_outputs_match_the_library() {
     let stored: Record = serde_json::from_str(&fs::read_to_string(out.join("torus.record.json")).unwrap()).unwrap();
     assert_eq!(stored, records[1]);
     assert!(stored.report.unwrap()["error"]["max_rel"].as_f64().unwrap() <= subdiv_interp::DEFAULT_TOL);
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn a_second_run_skips_and_a_touched_input_reruns() {
-    let dir = scratch("resume");
+    let tmp = scratch("resume");
+    let dir = tmp.path();
     let a = write(&dir.join("a.obj"), &subdiv_mesh::shapes::cube());
     let b = write(&dir.join("b.obj"), &subdiv_mesh::shapes::octahedron());
     let out = dir.join("out");
     let command =
         Command::from_json("subdivide", &serde_json::json!({"scheme": "catmull-clark", "levels": 1})).unwrap();
     let options = BatchOptions::default();
-    let inputs = [dir.clone()];
+    let inputs = [dir.to_path_buf()];
     let first = run(&inputs, &out, &command, &options, |_| {}).unwrap();
     assert_eq!(first.iter().map(|r| r.name.as_str()).collect::<Vec<_>>(), ["a", "b"], "the directory, sorted");
     assert!(first.iter().all(|r| r.succeeded() && !r.skipped));
@@ -111,12 +109,12 @@ fn a_second_run_skips_and_a_touched_input_reruns() {
     fs::remove_file(out.join("a.subdivided.obj")).unwrap();
     let fifth = run(&inputs, &out, &command, &options, |_| {}).unwrap();
     assert_eq!(fifth.iter().map(|r| r.skipped).collect::<Vec<_>>(), [false, true]);
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn shared_stems_write_distinct_files() {
-    let dir = scratch("stems");
+    let tmp = scratch("stems");
+    let dir = tmp.path();
     let a = write(&dir.join("a/mesh.obj"), &subdiv_mesh::shapes::cube());
     let b = write(&dir.join("b/mesh.obj"), &subdiv_mesh::shapes::octahedron());
     let out = dir.join("out");
@@ -131,12 +129,12 @@ fn shared_stems_write_distinct_files() {
     let faces = |r: &Record| r.report.as_ref().unwrap()["output"]["faces"].as_u64().unwrap();
     assert_eq!((faces(&records[0]), faces(&records[1])), (26, 26));
     assert_ne!(fs::read(&records[0].outputs[0]).unwrap(), fs::read(&records[1].outputs[0]).unwrap());
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn globs_expand_and_empty_patterns_are_errors() {
-    let dir = scratch("glob");
+    let tmp = scratch("glob");
+    let dir = tmp.path();
     write(&dir.join("x/one.obj"), &subdiv_mesh::shapes::cube());
     write(&dir.join("x/y/two.off"), &subdiv_mesh::shapes::cube());
     fs::write(dir.join("x/notes.txt"), "not a mesh").unwrap();
@@ -160,12 +158,12 @@ fn globs_expand_and_empty_patterns_are_errors() {
     write(&dir.join("x/one.obj"), &subdiv_mesh::shapes::cube());
     // The same file twice is run once.
     assert_eq!(expand_inputs(&[dir.join("x/one.obj"), dir.join("x/../x/one.obj")]).unwrap().len(), 1);
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn info_records_the_summary_and_fails_invalid_meshes_with_it() {
-    let dir = scratch("info");
+    let tmp = scratch("info");
+    let dir = tmp.path();
     let cube = write(&dir.join("cube.obj"), &subdiv_mesh::shapes::cube());
     // Three faces on edge (0, 1): non-manifold, described; a face of two corners: no mesh.
     let fin = dir.join("fin.obj");
@@ -184,7 +182,6 @@ fn info_records_the_summary_and_fails_invalid_meshes_with_it() {
         (&serde_json::json!(false), &serde_json::json!([[0, 1]]))
     );
     assert_eq!(records[2].error.as_ref().unwrap().kind, ErrorKind::BadInput);
-    fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

@@ -37,13 +37,43 @@ pub fn numbers(path: &Path) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// A path in `suite`'s scratch folder (`subdiv-cli-{suite}-{pid}` in the
-/// temporary directory, created on first use). The test modules share one
-/// process (one test binary), so each uses suite names of its own.
-pub fn out_path(suite: &str, name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("subdiv-cli-{suite}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// A scratch folder for one test (`subdiv-cli-{suite}-XXXXXX` in the temporary
+/// directory), removed when the guard drops — kept, and its path printed, when
+/// the test is failing (panicking), so that a failure can be inspected. Each
+/// test creates its own (`let scratch = Scratch::new("suite");`) and keeps it
+/// alive to its end: the tests share one process under `cargo test` and run
+/// one per process under `cargo nextest`, and either way leave nothing behind.
+pub struct Scratch(Option<tempfile::TempDir>);
+
+impl Scratch {
+    /// A fresh, empty folder named after `suite`.
+    pub fn new(suite: &str) -> Self {
+        let dir = tempfile::Builder::new()
+            .prefix(&format!("subdiv-cli-{suite}-"))
+            .tempdir()
+            .unwrap_or_else(|e| panic!("scratch folder for {suite}: {e}"));
+        Scratch(Some(dir))
+    }
+
+    /// The folder.
+    pub fn dir(&self) -> &Path {
+        self.0.as_ref().expect("the scratch folder lives until the guard drops").path()
+    }
+
+    /// `name` in the folder (not created).
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.dir().join(name)
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            if let Some(dir) = self.0.take() {
+                eprintln!("scratch kept: {}", dir.keep().display());
+            }
+        }
+    }
 }
 
 /// Reads a mesh file as it is (panics naming the file).
