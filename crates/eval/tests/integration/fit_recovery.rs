@@ -262,16 +262,31 @@ fn recovers_doo_sabin_cube() {
 }
 
 #[test]
-#[ignore = "10⁴ control vertices of an open scan (release, minutes); run with --ignored --release"]
+#[ignore = "not reached (measured, release: 30 rounds, 622 s, target→surface RMS 2.7e-5·d, max 5e-4…8e-4·d \
+            oscillating, surface→target max 1.6e-2·d): Catmull-Clark on a triangle scan makes every domain \
+            irregular, and projection misses near the triangles' centres (exact limit points found 2e-5·d off)"]
 fn recovers_an_open_scan_of_1e4_vertices() {
     let dragon = fixture("open/ChineseDragon-10kv.off");
     recover_from("dragon", &dragon, &smoothly_perturbed(&dragon, 0.02, 17), Options::new(Scheme::CatmullClark), 2);
 }
 
 #[test]
-#[ignore = "10⁴ control vertices (release, minutes); run with --ignored --release"]
-fn recovers_a_bumpy_catmull_clark_torus_of_1e4_vertices() {
+#[ignore = "not reached: a tangential slide (measured, release: level-3 target, 15 rounds, 129 s, stalled with \
+            every target point within 3.4e-6·d (RMS 1.2e-8·d) but the surface 2.2e-5·d from the true one, slid \
+            1.2e-2·d along it; level-2 target: 19 rounds, 6e-8·d and 1.2e-5·d): point-to-plane distances do not \
+            see the slide, and the fading tangential terms are gone before it is undone"]
+fn recovers_a_wavy_catmull_clark_torus_of_1e4_vertices() {
     // 1.6·10⁵ target points, a smooth start 2 % of d off.
+    let torus = wavy(shapes::torus(100, 100), 0.1, 7);
+    let start = smoothly_perturbed(&torus, 0.02, 17);
+    recover_from("wavy torus 100×100", &torus, &start, Options::new(Scheme::CatmullClark), 3);
+}
+
+#[test]
+#[ignore = "a local minimum (measured: 13 rounds, stalled with the surface 8.0e-4·d from the true one, every \
+            target point within 2.1e-4·d): the start is 2 % of d ≈ a face width off and the shape has detail at \
+            the face scale, so the feet fall on the wrong bumps"]
+fn recovers_a_bumpy_catmull_clark_torus_of_1e4_vertices() {
     let torus = bumpy(shapes::torus(100, 100), 0.015, 7);
     let start = smoothly_perturbed(&torus, 0.02, 17);
     recover_from("bumpy torus 100×100", &torus, &start, Options::new(Scheme::CatmullClark), 2);
@@ -294,11 +309,37 @@ fn recovers_a_large_torus_from_a_tangled_start() {
 }
 
 #[test]
-#[ignore = "10⁵ control vertices, 1.6·10⁶ target points (release, minutes); run with --ignored --release"]
-fn recovers_a_bumpy_catmull_clark_torus_of_1e5_vertices() {
-    let torus = bumpy(shapes::torus(400, 250), 0.005, 7);
+#[ignore = "10⁵ control vertices, 1.6·10⁶ target points (release, minutes; not run yet: the 10⁴ wavy torus \
+            does not reach 1e-6·d)"]
+fn recovers_a_wavy_catmull_clark_torus_of_1e5_vertices() {
+    let torus = wavy(shapes::torus(400, 250), 0.1, 7);
     let start = smoothly_perturbed(&torus, 0.02, 17);
-    recover_from("bumpy torus 400×250", &torus, &start, Options::new(Scheme::CatmullClark), 2);
+    recover_from("wavy torus 400×250", &torus, &start, Options::new(Scheme::CatmullClark), 2);
+}
+
+/// `torus` (of [`shapes::torus`]: major radius 2) with its tube swollen and
+/// shrunk by up to ±`amplitude` in a few low-frequency waves around both
+/// circles: a smooth shape without symmetry, whose detail is far coarser
+/// than its faces (a fine scan of a smooth object).
+fn wavy(torus: Mesh, amplitude: f64, seed: u64) -> Mesh {
+    let mut rng = SplitMix64(seed);
+    let waves: Vec<(f64, f64, f64)> = [(1.0, 2.0), (2.0, 3.0), (3.0, 1.0)]
+        .iter()
+        .map(|&(a, b)| (a, b, rng.next_f64() * std::f64::consts::TAU))
+        .collect();
+    torus.with_positions(
+        torus
+            .positions()
+            .iter()
+            .map(|&p| {
+                let radial = DVec3::new(p.x, p.y, 0.0).normalize();
+                let tube = p - 2.0 * radial;
+                let (u, w) = (p.y.atan2(p.x), tube.z.atan2(tube.dot(radial)));
+                let swell = waves.iter().map(|&(a, b, phase)| (a * u + b * w + phase).sin()).sum::<f64>() / 3.0;
+                p + tube.normalize() * amplitude * swell
+            })
+            .collect(),
+    )
 }
 
 /// `torus` (of [`shapes::torus`]: major radius 2) with its control points
