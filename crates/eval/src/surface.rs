@@ -218,6 +218,11 @@ const TABLE_DEPTH: usize = 8;
 /// beside a semi-sharp crease stay irregular for ⌈s⌉ levels along the crease,
 /// and are refined on demand past this.
 const TABLE_NODES: usize = 64;
+/// Table building keeps the steps it meets from this depth on: shallower
+/// levels hold the control mesh's own neighbourhoods, nearly one structure
+/// per domain, which would fill the cache before the repeating rings of
+/// irregular vertices that evaluation below the table meets.
+const CACHED_FROM_DEPTH: usize = 2;
 /// Domains whose patch trees are built (in parallel) before they are merged.
 const TREE_BATCH: usize = 1024;
 /// Levels of on-demand refinement: below 2⁻⁶⁰ of an irregular vertex the
@@ -1076,7 +1081,7 @@ impl LimitSurface {
             }
             // The cached step of this structure: the child's ring with the same weights as
             // refining `local` and taking the ring, its connectivity shared with the step.
-            let step = self.step(local, face, k)?;
+            let step = self.step(local, face, k, depth >= CACHED_FROM_DEPTH)?;
             *c = self.build_node(ids, &local.apply(&step), step.cell, depth + 1, tree)?;
         }
         if folded {
@@ -1184,7 +1189,7 @@ impl LimitSurface {
                 }
             }
             let (k, ak, bk) = (self.patching.child)(u, v);
-            let step = self.step(&local, face, k)?;
+            let step = self.step(&local, face, k, true)?;
             (u, v) = apply_affine(&(ak, bk), u, v);
             a = compose(&ak, &a);
             local = local.apply(&step);
@@ -1194,14 +1199,17 @@ impl LimitSurface {
     }
 
     /// The step of on-demand refinement from `face`'s child `k` on
-    /// `local`'s structure: from the cache, else computed (and kept while
-    /// the cache has room).
-    fn step(&self, local: &Local, face: FaceId, k: usize) -> Result<std::sync::Arc<Step>, EvalError> {
+    /// `local`'s structure: from the cache, else computed (and kept, when
+    /// `keep`, while the cache has room).
+    fn step(&self, local: &Local, face: FaceId, k: usize, keep: bool) -> Result<std::sync::Arc<Step>, EvalError> {
         let key = local.step_key(face, k);
         if let Some(step) = self.steps.0.read().ok().and_then(|map| map.get(&key).cloned()) {
             return Ok(step);
         }
         let step = std::sync::Arc::new(local.step(&self.options, face, k, self.patching.child_cell)?);
+        if !keep {
+            return Ok(step);
+        }
         if let Ok(mut map) = self.steps.0.write() {
             if map.len() < MAX_CACHED_STEPS {
                 map.entry(key).or_insert_with(|| step.clone());
