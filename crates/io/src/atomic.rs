@@ -420,9 +420,7 @@ mod tests {
         assert!(std::process::Command::new("mkfifo").arg(&b).status().unwrap().success());
         assert!(matches!(commit_all(staged), Err(IoError::NotAFile { .. })));
         assert!(!a.exists(), "nothing is replaced when one target is refused");
-        let names: Vec<String> =
-            fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
-        assert_eq!(names, ["b.txt"], "temporaries removed");
+        assert_eq!(listing(dir), ["b.txt"], "temporaries removed");
     }
 
     #[test]

@@ -25,7 +25,7 @@ def cli():
     """Runs the `subdiv` binary named by SUBDIV_CLI; skips when it is not set."""
     exe = os.environ.get("SUBDIV_CLI")
     if not exe or not Path(exe).is_file():
-        pytest.skip("SUBDIV_CLI is not set to the subdiv binary (.ci/run sets it: target/release/subdiv)")
+        pytest.skip("SUBDIV_CLI is not set to the subdiv binary (.ci/run sets it: target/ci/subdiv)")
 
     def run(*args):
         done = subprocess.run([exe, "--quiet", *map(str, args)], capture_output=True, text=True)

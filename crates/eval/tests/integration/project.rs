@@ -126,7 +126,7 @@ fn refined_bounds_contain_their_patches() {
         let bounds = torus_bounds(&mesh, &torus, levels);
         assert_eq!(bounds.len(), nu * nv * 4usize.pow(levels as u32));
         for (k, dom) in torus.domains().iter().enumerate() {
-            let boxes: Vec<_> = bounds.iter().filter(|(o, _)| *o as usize == k).map(|(_, b)| *b).collect();
+            let boxes: Vec<_> = bounds.iter().filter(|p| p.domain as usize == k).map(|p| p.bounds).collect();
             for (u, v) in DomainShape::Square.grid(12) {
                 let p = torus.evaluate(SurfaceParam { face: dom.face, corner: 0, u, v }).unwrap().position;
                 assert!(
@@ -270,4 +270,73 @@ fn doo_sabin_creases_and_valence_two() {
     );
     let creased = cube.clone().with_tags(tags.unwrap());
     check_limit_surface("doo-sabin creased cube", &creased, Options::new(Scheme::DooSabin), 150);
+}
+
+/// Every piece of [`refined_bounds`] is the refined face of the same index,
+/// and its map places the face's corners where the domain's evaluation gives
+/// those vertices' limit positions (computed independently, by the stencil
+/// crate's limit masks on the refined mesh) — n-gons, triangles under
+/// Catmull-Clark, Loop — and each piece's box holds its part of the patch.
+#[test]
+fn piece_maps_place_refined_vertices_at_their_limits() {
+    let mix = shapes::polygon_mix(&jittered_torus(6, 5, 0.2, 3), 7, 0.2, 0.1, 0.05);
+    let tri = shapes::triangle_grid(4, 3);
+    let cases = [
+        ("cc polygon mix", mix.clone(), Options::new(Scheme::CatmullClark), DomainShape::Square),
+        ("cc triangles", bumped(tri.clone(), 0.3, 4), Options::new(Scheme::CatmullClark), DomainShape::Square),
+        ("loop triangles", bumped(tri, 0.3, 5), Options::new(Scheme::Loop(Default::default())), DomainShape::Triangle),
+    ];
+    for (what, mesh, options, shape) in cases {
+        let d = mesh.bbox_diagonal();
+        let surface = subdiv_eval::LimitSurface::new(&mesh, &options).unwrap();
+        let bound = surface.bind(mesh.positions()).unwrap();
+        for levels in [1, 2, 3] {
+            let pieces = refined_bounds(&mesh, &options, surface.domains(), levels).unwrap();
+            let refined = subdiv_stencil::subdivide(&mesh, options, levels, true).unwrap();
+            let t = refined.topology();
+            assert_eq!(pieces.len(), t.face_count(), "{what}");
+            let corners: &[(f64, f64)] = match shape {
+                DomainShape::Square => &[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
+                DomainShape::Triangle => &[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],
+            };
+            for (f, piece) in pieces.iter().enumerate() {
+                let domain = surface.domains()[piece.domain as usize];
+                let at = |(s, t): (f64, f64)| {
+                    let (u, v) = piece.map.apply(s, t);
+                    assert!(shape.contains(u + 1e-15 * (0.5 - u), v + 1e-15 * (0.5 - v)), "{what}: ({u}, {v})");
+                    bound.evaluate(SurfaceParam { face: domain.face, corner: domain.corner, u, v }).unwrap().position
+                };
+                let face = t.face(subdiv_mesh::FaceId(f as u32));
+                assert_eq!(face.len(), corners.len(), "{what}");
+                for (&c, &vertex) in corners.iter().zip(face) {
+                    let want = refined.positions()[vertex as usize];
+                    let got = at(c);
+                    assert!((got - want).length() <= 1e-9 * d, "{what} level {levels} face {f}: {got} vs {want}");
+                }
+                for (s, t) in shape.grid(4) {
+                    let p = at((s, t));
+                    let b = piece.bounds;
+                    assert!((b.min - p).max_element() <= 0.0 && (p - b.max).max_element() <= 0.0, "{what} {f}");
+                }
+            }
+        }
+    }
+}
+
+/// A sliver triangle of a real scan (`fixtures/open/dragon-fold-patch.off`,
+/// from ChineseDragon-10kv) where the Catmull-Clark surface folds over within
+/// a quarter of a domain: Newton from the domain's nearest sample stopped in
+/// a local minimum 2·10⁻⁵·d away from a point on the surface, until every
+/// piece of a solved domain whose box is nearer than the best foot got a run
+/// of its own. Every level-2 limit vertex projects onto itself.
+#[test]
+fn a_folded_scan_patch_projects_its_own_limit_points() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/open/dragon-fold-patch.off");
+    let mesh = subdiv_io::load_mesh(path).unwrap();
+    let options = Options::new(Scheme::CatmullClark);
+    let d = mesh.bbox_diagonal();
+    let points = subdiv_stencil::subdivide(&mesh, options, 2, true).unwrap().positions().to_vec();
+    let found = subdiv_eval::project_points(&mesh, &options, &points, &ProjectOptions::default()).unwrap();
+    let worst = found.iter().map(|p| p.distance).fold(0.0, f64::max);
+    assert!(worst <= 1e-9 * d, "a limit point projects {:e}·d away", worst / d);
 }

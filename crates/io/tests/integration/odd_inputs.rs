@@ -265,7 +265,8 @@ fn large_ply_files_in_the_dragon_layouts_read_exactly() {
         t.iter().for_each(|&v| ply.extend((v as i32).to_le_bytes()));
     }
     assert!(ply.len() > 4 << 20, "{} bytes: not past one read chunk", ply.len());
-    let path = scratch_dir("dragon-layout").join("torus_binary.ply");
+    let dir = scratch_dir("dragon-layout");
+    let path = dir.join("torus_binary.ply");
     std::fs::write(&path, &ply).unwrap();
     let soup = read_mesh(&path).unwrap();
     assert_eq!((soup.positions.len(), soup.faces.len()), ((n * m) as usize, (2 * n * m) as usize));

@@ -7,6 +7,7 @@
 //! from disk (decoded as it streams, `read_mesh`) reads as its bytes in
 //! memory do, on the same layouts and on files of several read chunks.
 
+use crate::common;
 use proptest::prelude::*;
 use subdiv_io::{read_mesh, read_mesh_from_bytes, Format, IoError, PolygonSoup};
 
@@ -194,8 +195,8 @@ proptest! {
 /// in-memory read): the same soup bit for bit, or the same error.
 fn same_from_disk(bytes: &[u8], expected: &Result<PolygonSoup, IoError>) {
     // A directory of its own (removed on drop), so that the file keeps the in-memory read's name.
-    let dir = tempfile::Builder::new().prefix("subdiv-ply-stream-").tempdir().unwrap();
-    let path = dir.path().join("t.ply");
+    let dir = common::scratch_dir("ply-stream");
+    let path = dir.join("t.ply");
     std::fs::write(&path, bytes).unwrap();
     let from_disk = read_mesh(&path);
     match (&from_disk, expected) {

@@ -2,7 +2,7 @@
 //! as the mesh, glTF buffer URIs that point outside the glTF file's directory,
 //! and progress reports while reading (issue #14, classes 3 and 4).
 
-use crate::common::{make_fifo, scratch_dir, within};
+use crate::common::{make_fifo, scratch_dir, within, ScratchDir};
 use std::path::{Path, PathBuf};
 use subdiv_io::{read_mesh, read_mesh_from_bytes, read_mesh_with_progress, Format, IoError};
 use subdiv_mesh::DVec3;
@@ -48,7 +48,7 @@ fn refused(model: &Path, name: &str, uri: &str, reason: &str) {
 
 /// A directory with `outside/secret.bin` (a valid buffer: reading it would succeed) and an
 /// empty `model/` for the glTF files.
-fn layout(name: &str) -> (PathBuf, PathBuf, PathBuf) {
+fn layout(name: &str) -> (ScratchDir, PathBuf, PathBuf) {
     let dir = scratch_dir(name);
     let model = dir.join("model");
     std::fs::create_dir_all(&model).unwrap();

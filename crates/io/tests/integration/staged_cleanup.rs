@@ -3,6 +3,7 @@
 //! the test runs its body alone: in a child process of this test binary that
 //! runs this one test, never beside other tests that stage files.
 
+use crate::common;
 use std::fs;
 use std::process::Command;
 use subdiv_io::{remove_staged_files, stage_bytes};
@@ -30,9 +31,8 @@ fn remove_staged_files_deletes_every_live_temporary() {
         assert!(stdout.contains("test result: ok. 1 passed"), "the child ran no test {name}:\n{stdout}\n{stderr}");
         return;
     }
-    let tmp = tempfile::Builder::new().prefix("subdiv-io-cleanup-").tempdir().unwrap();
-    let dir = tmp.path();
-    let count = || fs::read_dir(dir).unwrap().count();
+    let dir = common::scratch_dir("cleanup");
+    let count = || fs::read_dir(&dir).unwrap().count();
     let first = stage_bytes(&dir.join("x.obj"), b"x").unwrap();
     let second = stage_bytes(&dir.join("y.json"), b"{}").unwrap();
     assert_eq!(count(), 2);

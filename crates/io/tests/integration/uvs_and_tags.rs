@@ -207,8 +207,8 @@ fn obj_opensubdiv_option_and_hole_tags_are_applied() {
     let (mesh, _) = Mesh::from_soup(soup).unwrap();
     assert!(mesh.tags().is_hole(subdiv_mesh::FaceId(0)));
     assert_eq!(mesh.tags().options(), options);
-    let dir = tempfile::Builder::new().prefix("subdiv-io-option-tags-").tempdir().unwrap();
-    let path = dir.path().join("square.obj");
+    let dir = common::scratch_dir("option-tags");
+    let path = dir.join("square.obj");
     subdiv_io::write_mesh(&path, &mesh, &subdiv_io::WriteOptions::default()).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     for line in [

@@ -18,12 +18,26 @@ pub fn shared_mesh(relative: &str) -> Option<PathBuf> {
     path.exists().then_some(path)
 }
 
-/// A fresh empty directory under cargo's per-target temporary directory.
-pub fn scratch_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("subdiv-io-tests").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh empty directory (`subdiv-io-{name}-XXXXXX` in the temporary
+/// directory), removed when the guard drops: bind it for the whole test.
+pub fn scratch_dir(name: &str) -> ScratchDir {
+    ScratchDir(tempfile::Builder::new().prefix(&format!("subdiv-io-{name}-")).tempdir().unwrap())
+}
+
+/// The guard of [`scratch_dir`]; derefs to the directory's path.
+pub struct ScratchDir(tempfile::TempDir);
+
+impl AsRef<Path> for ScratchDir {
+    fn as_ref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl std::ops::Deref for ScratchDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
 }
 
 /// The fan triangulation of every face, as the triangulating writers do it.
