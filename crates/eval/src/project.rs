@@ -462,8 +462,9 @@ impl<E: PatchEvaluator> Projector<E> {
     /// # Errors
     /// [`EvalError::NoSurface`] when the surface has no domain; what evaluation returns.
     pub fn project(&self, q: DVec3) -> Result<Projection, EvalError> {
-        // Every Newton run so far: its domain and where it ended.
-        let mut solved: Vec<(u32, (f64, f64))> = Vec::with_capacity(16);
+        // Every Newton run so far: its domain, where it ended, and whether it
+        // ended there by handing over at a smooth edge (not a minimum of its domain).
+        let mut solved: Vec<(u32, (f64, f64), bool)> = Vec::with_capacity(16);
         let mut best: Option<(Foot, u32)> = None;
         let mut error = None;
         let m = self.grid_params.len();
@@ -479,7 +480,8 @@ impl<E: PatchEvaluator> Projector<E> {
             let nearest = |among: &mut dyn Iterator<Item = usize>| {
                 among.min_by(|&a, &b| (grid[a] - q).length_squared().total_cmp(&(grid[b] - q).length_squared()))
             };
-            let start = if solved.iter().all(|&(d, _)| d != k) {
+            let mut smooth = self.smooth_edges.get(k as usize).copied().unwrap_or([false; 4]);
+            let start = if solved.iter().all(|&(d, _, _)| d != k) {
                 // The domain's first run: from its sample nearest to q.
                 self.grid_params[nearest(&mut (0..m)).unwrap_or(0)]
             } else {
@@ -487,14 +489,21 @@ impl<E: PatchEvaluator> Projector<E> {
                 // the best foot and holds no foot yet: the surface may fold
                 // there (a local minimum elsewhere in the domain caught the
                 // first run), so Newton starts again from the piece's own
-                // sample nearest to q (or its centre).
+                // sample nearest to q (or its centre), and runs to a minimum of
+                // the domain: a foot handed over at an edge of the piece does
+                // not count (the minimum can lie just across it, in the piece,
+                // when the neighbour's run went elsewhere), and the restart
+                // does not hand over.
                 let map = self.leaf_map[item as usize];
                 if current <= exact2
                     || box_distance2 >= RESTART_RATIO * current
-                    || solved.iter().any(|&(d, (u, v))| d == k && map.contains(shape, u, v, PIECE_MARGIN))
+                    || solved
+                        .iter()
+                        .any(|&(d, (u, v), exited)| d == k && !exited && map.contains(shape, u, v, PIECE_MARGIN))
                 {
                     return current;
                 }
+                smooth = [false; 4];
                 let inside = |&i: &usize| {
                     let (u, v) = self.grid_params[i];
                     map.contains(shape, u, v, 0.0)
@@ -508,10 +517,9 @@ impl<E: PatchEvaluator> Projector<E> {
                 }
             };
             let domain = self.eval.domains()[k as usize];
-            let smooth = self.smooth_edges.get(k as usize).copied().unwrap_or([false; 4]);
             let found = closest_in_domain(&self.eval, domain, q, start, smooth, self.options.max_iterations);
             if let Ok(foot) = &found {
-                solved.push((k, (foot.param.u, foot.param.v)));
+                solved.push((k, (foot.param.u, foot.param.v), foot.exited));
             }
             match found {
                 Ok(foot) if foot.dist2 < current => {
