@@ -480,46 +480,66 @@ impl<E: PatchEvaluator> Projector<E> {
             let nearest = |among: &mut dyn Iterator<Item = usize>| {
                 among.min_by(|&a, &b| (grid[a] - q).length_squared().total_cmp(&(grid[b] - q).length_squared()))
             };
-            let mut smooth = self.smooth_edges.get(k as usize).copied().unwrap_or([false; 4]);
-            let start = if solved.iter().all(|&(d, _, _)| d != k) {
-                // The domain's first run: from its sample nearest to q.
-                self.grid_params[nearest(&mut (0..m)).unwrap_or(0)]
-            } else {
-                // A piece of a domain solved before, whose box is nearer than
-                // the best foot and holds no foot yet: the surface may fold
-                // there (a local minimum elsewhere in the domain caught the
-                // first run), so Newton starts again from the piece's own
-                // sample nearest to q (or its centre), and runs to a minimum of
-                // the domain: a foot handed over at an edge of the piece does
-                // not count (the minimum can lie just across it, in the piece,
-                // when the neighbour's run went elsewhere), and the restart
-                // does not hand over.
-                let map = self.leaf_map[item as usize];
-                if current <= exact2
-                    || box_distance2 >= RESTART_RATIO * current
-                    || solved
-                        .iter()
-                        .any(|&(d, (u, v), exited)| d == k && !exited && map.contains(shape, u, v, PIECE_MARGIN))
-                {
-                    return current;
-                }
-                smooth = [false; 4];
-                let inside = |&i: &usize| {
-                    let (u, v) = self.grid_params[i];
-                    map.contains(shape, u, v, 0.0)
-                };
-                match nearest(&mut (0..m).filter(inside)) {
-                    Some(i) => self.grid_params[i],
-                    None => {
-                        let c = shape.centroid();
-                        map.apply(c.0, c.1)
-                    }
+            let domain = self.eval.domains()[k as usize];
+            let map = self.leaf_map[item as usize];
+            // A run restarted in this piece: from the piece's own sample
+            // nearest to q (or its centre), to a minimum of the domain
+            // without hand-overs.
+            let piece_start = || match nearest(&mut (0..m).filter(|&i| {
+                let (u, v) = self.grid_params[i];
+                map.contains(shape, u, v, 0.0)
+            })) {
+                Some(i) => self.grid_params[i],
+                None => {
+                    let c = shape.centroid();
+                    map.apply(c.0, c.1)
                 }
             };
-            let domain = self.eval.domains()[k as usize];
-            let found = closest_in_domain(&self.eval, domain, q, start, smooth, self.options.max_iterations);
+            // The piece wants a run of its own when its box is nearer than the
+            // best foot (by RESTART_RATIO) and no run ended at a minimum in it:
+            // the surface may fold there (a local minimum elsewhere in the
+            // domain caught the first run), or a run handed over at one of
+            // its edges while the minimum lies just inside (the neighbour's
+            // run went elsewhere). A handed-over foot does not count.
+            let wants_restart = |solved: &[(u32, (f64, f64), bool)], best: f64| {
+                best > exact2
+                    && box_distance2 < RESTART_RATIO * best
+                    && !solved
+                        .iter()
+                        .any(|&(d, (u, v), exited)| d == k && !exited && map.contains(shape, u, v, PIECE_MARGIN))
+            };
+            let first = solved.iter().all(|&(d, _, _)| d != k);
+            if !first && !wants_restart(&solved, current) {
+                return current;
+            }
+            // The domain's first run starts from its sample nearest to q and hands over at smooth edges.
+            let (start, smooth) = if first {
+                let smooth = self.smooth_edges.get(k as usize).copied().unwrap_or([false; 4]);
+                (self.grid_params[nearest(&mut (0..m)).unwrap_or(0)], smooth)
+            } else {
+                (piece_start(), [false; 4])
+            };
+            let mut found = closest_in_domain(&self.eval, domain, q, start, smooth, self.options.max_iterations);
             if let Ok(foot) = &found {
                 solved.push((k, (foot.param.u, foot.param.v), foot.exited));
+                if first && foot.exited && wants_restart(&solved, current.min(foot.dist2)) {
+                    let again = closest_in_domain(
+                        &self.eval,
+                        domain,
+                        q,
+                        piece_start(),
+                        [false; 4],
+                        self.options.max_iterations,
+                    );
+                    if let Ok(other) = &again {
+                        solved.push((k, (other.param.u, other.param.v), other.exited));
+                        if other.dist2 < foot.dist2 {
+                            found = again;
+                        }
+                    } else {
+                        found = again;
+                    }
+                }
             }
             match found {
                 Ok(foot) if foot.dist2 < current => {
