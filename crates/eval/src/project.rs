@@ -55,7 +55,8 @@
 //! Queries run in parallel with rayon; the output keeps the input order and
 //! does not depend on the thread count (each query is independent).
 //! Throughput (benches/project.rs, 11,712-face Catmull-Clark mesh, 2
-//! threads, a loaded machine): 1.2-1.5·10⁵ queries/s, 9 in 10 queries within 1 % of d of the
+//! threads, a loaded machine): 1.1·10⁵ queries/s (1.2-1.5·10⁵ before the piece restarts of
+//! step 3, which found wrong feet), 9 in 10 queries within 1 % of d of the
 //! surface.
 
 use crate::bvh::{union, Bvh};
@@ -386,7 +387,11 @@ const PIECE_MARGIN: f64 = 1e-9;
 /// nearer than this fraction of the best squared distance (a point there
 /// would be at least 1/√2 nearer). Measured on the projection bench (an
 /// 11,712-face mesh, 20,000 queries near and far): restarting every piece
-/// nearer than the best ran 3.5× slower, this ratio within noise (+3 %).
+/// nearer than the best ran 3.5× slower, this ratio within noise (+3 %);
+/// with the restarts after hand-overs too, +67 % (112 → 187 ms for 20,000
+/// queries): on a smooth surface a first run often hands over at the edge
+/// its minimum lies just inside of (a fitted torus: feet found 2·10⁻⁵·d
+/// away on domain edges, 2·10⁻⁹·d across them).
 /// On a scan whose every domain is irregular (ChineseDragon-10kv under
 /// Catmull-Clark, 5,000 queries 10⁻³·d and 10⁻²·d off its vertices) the
 /// queries take 1.5× as long (15 s against 10 s, beside the 28 s table) and
