@@ -521,46 +521,42 @@ impl<E: PatchEvaluator> Projector<E> {
             if !first && !wants_restart(&solved, current) {
                 return current;
             }
-            // The domain's first run starts from its sample nearest to q and hands over at smooth edges.
-            let (start, smooth) = if first {
+            // The domain's first run starts from its sample nearest to q and
+            // hands over at smooth edges; when it hands over while this piece
+            // wants a run of its own, the piece's run follows.
+            let (mut start, mut smooth) = if first {
                 let smooth = self.smooth_edges.get(k as usize).copied().unwrap_or([false; 4]);
                 (self.grid_params[nearest(&mut (0..m)).unwrap_or(0)], smooth)
             } else {
                 (piece_start(), [false; 4])
             };
-            let mut found = closest_in_domain(&self.eval, domain, q, start, smooth, self.options.max_iterations);
-            if let Ok(foot) = &found {
-                solved.push((k, (foot.param.u, foot.param.v), foot.exited));
-                if first && foot.exited && wants_restart(&solved, current.min(foot.dist2)) {
-                    let again = closest_in_domain(
-                        &self.eval,
-                        domain,
-                        q,
-                        piece_start(),
-                        [false; 4],
-                        self.options.max_iterations,
-                    );
-                    if let Ok(other) = &again {
-                        solved.push((k, (other.param.u, other.param.v), other.exited));
-                        if other.dist2 < foot.dist2 {
-                            found = again;
-                        }
-                    } else {
-                        found = again;
+            let mut found: Option<Foot> = None;
+            loop {
+                let foot = match closest_in_domain(&self.eval, domain, q, start, smooth, self.options.max_iterations) {
+                    Ok(foot) => foot,
+                    Err(e) => {
+                        error = Some(e);
+                        return current;
                     }
+                };
+                solved.push((k, (foot.param.u, foot.param.v), foot.exited));
+                let again =
+                    first && smooth != [false; 4] && foot.exited && wants_restart(&solved, current.min(foot.dist2));
+                if found.as_ref().is_none_or(|f| foot.dist2 < f.dist2) {
+                    found = Some(foot);
                 }
+                if !again {
+                    break;
+                }
+                (start, smooth) = (piece_start(), [false; 4]);
             }
             match found {
-                Ok(foot) if foot.dist2 < current => {
+                Some(foot) if foot.dist2 < current => {
                     let d = foot.dist2;
                     best = Some((foot, k));
                     d
                 }
-                Ok(_) => current,
-                Err(e) => {
-                    error = Some(e);
-                    current
-                }
+                _ => current,
             }
         });
         if let Some(e) = error {
