@@ -3,7 +3,7 @@
 //! says why, the report names the method, the stopping rule, the history and
 //! the regularised vertices, `--quiet` prints nothing.
 
-use crate::common::{assert_no_panic, fixtures, out_path, read, run_ok, subdiv};
+use crate::common::{assert_no_panic, fixtures, read, run_ok, subdiv, Scratch};
 
 fn s(p: &std::path::Path) -> &str {
     p.to_str().unwrap()
@@ -11,9 +11,9 @@ fn s(p: &std::path::Path) -> &str {
 
 /// The cube's level-3 limit tessellation scaled by `scale`, and the cube
 /// scaled and moved off its limit (every vertex by 2 % of d).
-fn scaled_pair(name: &str, scale: f64) -> (std::path::PathBuf, std::path::PathBuf) {
+fn scaled_pair(scratch: &Scratch, name: &str, scale: f64) -> (std::path::PathBuf, std::path::PathBuf) {
     let mesh = fixtures().join("canonical/cube_quad.obj");
-    let limit = out_path("fit_options", &format!("{name}-limit.obj"));
+    let limit = scratch.path(&format!("{name}-limit.obj"));
     run_ok(&["subdivide", s(&mesh), "--scheme", "catmull-clark", "--levels", "3", "--limit", "-o", s(&limit)]);
     let write = |soup: &subdiv_mesh::PolygonSoup, path: &std::path::Path, nudge: bool| {
         let mut text = String::new();
@@ -31,8 +31,8 @@ fn scaled_pair(name: &str, scale: f64) -> (std::path::PathBuf, std::path::PathBu
         }
         std::fs::write(path, text).unwrap();
     };
-    let target = out_path("fit_options", &format!("{name}-target.obj"));
-    let start = out_path("fit_options", &format!("{name}-start.obj"));
+    let target = scratch.path(&format!("{name}-target.obj"));
+    let start = scratch.path(&format!("{name}-start.obj"));
     write(&read(&limit), &target, false);
     write(&read(&mesh), &start, true);
     (target, start)
@@ -40,8 +40,9 @@ fn scaled_pair(name: &str, scale: f64) -> (std::path::PathBuf, std::path::PathBu
 
 #[test]
 fn bad_options_exit_2() {
-    let (target, start) = scaled_pair("bad", 1.0);
-    let out = out_path("fit_options", "bad-out.obj");
+    let scratch = Scratch::new("fit_options");
+    let (target, start) = scaled_pair(&scratch, "bad", 1.0);
+    let out = scratch.path("bad-out.obj");
     for (flag, value) in [
         ("--tolerance", "NaN"),
         ("--tolerance", "-1"),
@@ -69,10 +70,11 @@ fn bad_options_exit_2() {
 
 #[test]
 fn extreme_scales_give_finite_correct_results() {
+    let scratch = Scratch::new("fit_options");
     for (name, scale) in [("big", 1e150), ("tiny", 1e-200), ("unit", 1.0)] {
-        let (target, start) = scaled_pair(name, scale);
-        let out = out_path("fit_options", &format!("{name}-fitted.obj"));
-        let report = out_path("fit_options", &format!("{name}-report.json"));
+        let (target, start) = scaled_pair(&scratch, name, scale);
+        let out = scratch.path(&format!("{name}-fitted.obj"));
+        let report = scratch.path(&format!("{name}-report.json"));
         let run = subdiv(&[
             "fit",
             s(&target),
@@ -106,11 +108,12 @@ fn extreme_scales_give_finite_correct_results() {
 
 #[test]
 fn an_unrepresentable_target_is_refused_saying_why() {
+    let scratch = Scratch::new("fit_options");
     // A point cloud: an OBJ file without faces.
-    let target = out_path("fit_options", "huge.obj");
+    let target = scratch.path("huge.obj");
     std::fs::write(&target, "v -1.7e308 -1.7e308 -1.7e308\nv 1.7e308 1.7e308 1.7e308\nv 1.7e308 0 0\n").unwrap();
     let control = fixtures().join("canonical/cube_quad.obj");
-    let out = out_path("fit_options", "huge-out.obj");
+    let out = scratch.path("huge-out.obj");
     let run = subdiv(&["fit", s(&target), "--control", s(&control), "--scheme", "catmull-clark", "-o", s(&out)]);
     assert_no_panic(&run);
     assert_eq!(run.status.code(), Some(2));
@@ -121,9 +124,10 @@ fn an_unrepresentable_target_is_refused_saying_why() {
 
 #[test]
 fn report_and_quiet() {
-    let (target, start) = scaled_pair("report", 1.0);
-    let out = out_path("fit_options", "report-fitted.obj");
-    let report = out_path("fit_options", "report.json");
+    let scratch = Scratch::new("fit_options");
+    let (target, start) = scaled_pair(&scratch, "report", 1.0);
+    let out = scratch.path("report-fitted.obj");
+    let report = scratch.path("report.json");
     let run = subdiv(&[
         "--quiet",
         "fit",

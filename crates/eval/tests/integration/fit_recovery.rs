@@ -163,7 +163,7 @@ fn bumped_grid(nx: usize, ny: usize, seed: u64) -> Mesh {
 
 #[test]
 fn recovers_cube_catmull_clark() {
-    recover("cube", &shapes::cube(), Options::new(Scheme::CatmullClark), 4);
+    recover("cube", &shapes::cube(), Options::new(Scheme::CatmullClark), 2);
 }
 
 #[test]
@@ -175,7 +175,7 @@ fn recovers_open_grid_catmull_clark() {
 fn recovers_polygon_mix_with_ngons() {
     let mix = shapes::polygon_mix(&shapes::torus(8, 6), 5, 0.2, 0.1, 0.1);
     assert!(mix.topology().face_ids().any(|f| mix.topology().face_size(f) != 4));
-    recover("polygon mix", &mix, Options::new(Scheme::CatmullClark), 4);
+    recover("polygon mix", &mix, Options::new(Scheme::CatmullClark), 2);
 }
 
 #[test]
@@ -184,12 +184,12 @@ fn recovers_valence_two_vertices() {
     let edges: Vec<_> = torus.topology().edges().step_by(7).take(4).collect();
     let split = shapes::split_edges(&torus, &edges, 0.05);
     assert!(split.topology().vertices().any(|v| split.topology().valence(v) == 2));
-    recover("valence 2", &split, Options::new(Scheme::CatmullClark), 4);
+    recover("valence 2", &split, Options::new(Scheme::CatmullClark), 2);
 }
 
 #[test]
 fn recovers_creased_cube() {
-    recover("creased cube", &crease_cube(), Options::new(Scheme::CatmullClark), 4);
+    recover("creased cube", &crease_cube(), Options::new(Scheme::CatmullClark), 2);
 }
 
 #[test]
@@ -206,17 +206,17 @@ fn recovers_corners_on_an_open_grid() {
 
 #[test]
 fn recovers_pyramid_mixed_fixture() {
-    recover("pyramid_mixed", &fixture("canonical/pyramid_mixed.obj"), Options::new(Scheme::CatmullClark), 4);
+    recover("pyramid_mixed", &fixture("canonical/pyramid_mixed.obj"), Options::new(Scheme::CatmullClark), 2);
 }
 
 #[test]
 fn recovers_spot_control_mesh() {
-    recover("spot", &fixture("quad/spot_control_mesh.obj"), Options::new(Scheme::CatmullClark), 3);
+    recover("spot", &fixture("quad/spot_control_mesh.obj"), Options::new(Scheme::CatmullClark), 2);
 }
 
 #[test]
 fn recovers_loop_icosahedron() {
-    recover("loop icosahedron", &shapes::icosahedron(), loop_options(), 4);
+    recover("loop icosahedron", &shapes::icosahedron(), loop_options(), 2);
 }
 
 #[test]
@@ -258,7 +258,7 @@ fn recovers_loop_torus_fixture_from_a_tangled_start() {
 
 #[test]
 fn recovers_doo_sabin_cube() {
-    recover("doo-sabin cube", &shapes::cube(), Options::new(Scheme::DooSabin), 4);
+    recover("doo-sabin cube", &shapes::cube(), Options::new(Scheme::DooSabin), 2);
 }
 
 #[test]
@@ -310,8 +310,9 @@ fn recovers_a_large_torus_from_a_tangled_start() {
 }
 
 #[test]
-#[ignore = "10⁵ control vertices, 1.6·10⁶ target points (release, minutes; not run yet: the 10⁴ wavy torus \
-            does not reach 1e-6·d)"]
+#[ignore = "10⁵ control vertices, 1.6·10⁶ target points (release, beside another job: 30 rounds, 1,260 s; the \
+            surface 4.2e-9·d from the true one, target→surface max 1.1e-8·d after round 2 at 38 s, the later rounds \
+            gaining ~1 % each)"]
 fn recovers_a_wavy_catmull_clark_torus_of_1e5_vertices() {
     let torus = wavy(shapes::torus(400, 250), 0.1, 7);
     let start = smoothly_perturbed(&torus, 0.02, 17);
@@ -368,7 +369,7 @@ fn bumpy_torus() -> Mesh {
 #[test]
 fn recovers_the_112_vertex_torus() {
     assert_eq!(bumpy_torus().positions().len(), 112);
-    recover("torus 14×8", &bumpy_torus(), Options::new(Scheme::CatmullClark), 4);
+    recover("torus 14×8", &bumpy_torus(), Options::new(Scheme::CatmullClark), 2);
 }
 
 /// Standard normal samples (Box-Muller).
@@ -396,7 +397,7 @@ fn rms_to(truth: &Mesh, fitted: &Mesh, options: &Options, n: usize) -> f64 {
 fn noise_is_averaged_away() {
     let truth = bumpy_torus();
     let options = Options::new(Scheme::CatmullClark);
-    let clean = limit_target(&truth, options, 4);
+    let clean = limit_target(&truth, options, 3);
     let d = subdiv_mesh::Aabb::of(clean.points.iter().copied()).unwrap().diagonal();
     let sigma = 0.005 * d;
     let mut rng = SplitMix64(11);
@@ -429,7 +430,7 @@ fn noise_is_averaged_away() {
 fn a_partial_scan_fits_its_part_and_regularises_the_rest() {
     let truth = bumpy_torus();
     let options = Options::new(Scheme::CatmullClark);
-    let full = limit_target(&truth, options, 4);
+    let full = limit_target(&truth, options, 3);
     // The half x > 0.3 of the torus only, as a point cloud.
     let part = FitTarget::cloud(full.points.iter().copied().filter(|p| p.x > 0.3).collect());
     let d = subdiv_mesh::Aabb::of(part.points.iter().copied()).unwrap().diagonal();
@@ -454,10 +455,24 @@ fn a_partial_scan_fits_its_part_and_regularises_the_rest() {
     assert!(result.mesh.positions().iter().all(|p| p.is_finite()));
 }
 
-/// Every fixture small enough for a test fits with the default options (or
-/// is refused with a typed reason), and with an explicit smoothness too.
+/// Every fixture of up to 100 control vertices fits with the default options
+/// (or is refused with a typed reason), and with an explicit smoothness too.
 #[test]
+fn never_singular_on_the_small_fixtures() {
+    never_singular_on_fixtures_up_to(100, 57);
+}
+
+/// [`never_singular_on_the_small_fixtures`] on every fixture of up to 3,000
+/// control vertices.
+#[test]
+#[ignore = "fixtures of up to 3,000 control vertices: ~4 min in release (run with --ignored --release)"]
 fn never_singular_on_the_fixtures() {
+    never_singular_on_fixtures_up_to(3000, 102);
+}
+
+/// Fits every fixture with at most `max_vertices` control vertices, with
+/// smoothness 0 (the default), 1e-6 and 1; asserts at least `at_least` fits.
+fn never_singular_on_fixtures_up_to(max_vertices: usize, at_least: usize) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
     let mut names = Vec::new();
     for dir in ["canonical", "quad", "tri", "poly", "open"] {
@@ -472,7 +487,7 @@ fn never_singular_on_the_fixtures() {
     let mut fitted = 0;
     for path in names {
         let Ok(mesh) = subdiv_io::load_mesh(&path) else { continue };
-        if mesh.positions().len() > 3000 {
+        if mesh.positions().len() > max_vertices {
             continue;
         }
         let triangles = mesh.topology().face_ids().all(|f| mesh.topology().face_size(f) == 3);
@@ -481,7 +496,9 @@ fn never_singular_on_the_fixtures() {
         let target = FitTarget::from_mesh(&target_mesh);
         let start = perturbed(&mesh, 0.02, 3);
         for smoothness in [0.0, 1e-6, 1.0] {
-            let fit_options = FitOptions { surface: options, iterations: 4, smoothness, ..FitOptions::default() };
+            // Four rounds of the default path; two show that an explicit smoothness finishes.
+            let iterations = if smoothness == 0.0 { 4 } else { 2 };
+            let fit_options = FitOptions { surface: options, iterations, smoothness, ..FitOptions::default() };
             match fit(&target, &start, &fit_options) {
                 Ok(r) => {
                     let (a, b) = (r.iterations[0], r.iterations.last().unwrap());
@@ -509,7 +526,7 @@ fn never_singular_on_the_fixtures() {
             }
         }
     }
-    assert!(fitted >= 45, "{fitted}");
+    assert!(fitted >= at_least, "{fitted}");
 }
 
 /// The numeric rule: the same fit at 1e150 and 1e-200 as at 1, in relative terms.
