@@ -110,7 +110,7 @@ pub mod fit;
 pub mod project;
 pub mod sample;
 
-pub use fit::{fit, FitIteration, FitOptions, FitResult, FitTarget};
+pub use fit::{fit, FitIteration, FitLoss, FitMethod, FitObserver, FitOptions, FitResult, FitStop, FitTarget};
 pub use project::{project_on, project_points, DomainShape, PatchEvaluator, ProjectOptions, Projection, Projector};
 pub use sample::{
     per_domain_count, sample_by_area, sample_per_domain, sample_surface, Sampling, SurfaceSample, SAMPLE_BYTES,

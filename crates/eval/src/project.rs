@@ -591,6 +591,41 @@ impl<E: PatchEvaluator> Projector<E> {
     }
 }
 
+/// Margin (in the parameter) inside which a [`project_near`] foot counts as
+/// interior to its domain.
+pub const NEAR_MARGIN: f64 = 1e-9;
+
+/// The closest point to `q` near `hint`: Newton in `hint`'s domain started at
+/// `hint` (step 3 of the module docs, without hand-overs). `Some` when it
+/// converges to a point inside the domain (a stationary point of the
+/// distance: a local closest point), `None` when it ends on the domain's
+/// boundary or without converging — then the caller asks a [`Projector`].
+/// Cheap (a few evaluations of one patch) where the surface moved little
+/// since `hint` was found: fitting re-projects its feet this way.
+///
+/// # Errors
+/// What evaluation returns (a `hint` outside the surface's domains).
+pub fn project_near<E: PatchEvaluator + ?Sized>(
+    eval: &E,
+    q: DVec3,
+    hint: SurfaceParam,
+    max_iterations: usize,
+) -> Result<Option<Projection>, EvalError> {
+    let domain = Domain { face: hint.face, corner: hint.corner };
+    let foot = closest_in_domain(eval, domain, q, (hint.u, hint.v), [false; 4], max_iterations)?;
+    let (u, v) = (foot.param.u, foot.param.v);
+    let inside = eval.shape().constraints().iter().all(|(a, b)| a[0] * u + a[1] * v < b - NEAR_MARGIN);
+    if !inside || !foot.converged {
+        return Ok(None);
+    }
+    Ok(Some(Projection {
+        param: foot.param,
+        position: foot.sample.position,
+        normal: foot.sample.normal,
+        distance: foot.dist2.sqrt(),
+    }))
+}
+
 /// A local minimum found on one domain.
 #[derive(Clone, Copy, Debug)]
 struct Foot {
@@ -599,6 +634,8 @@ struct Foot {
     dist2: f64,
     /// Stopped at a smooth edge (not converged in its domain).
     exited: bool,
+    /// Stopped before the iteration limit (a step below [`PARAM_TOLERANCE`], no descent left).
+    converged: bool,
 }
 
 /// Projected Newton with an active set on the domain's edges (module docs, step 3).
@@ -621,6 +658,7 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
     let mut s = eval.evaluate_second(at(u, v))?;
     let mut f = 0.5 * (s.sample.position - q).length_squared();
     let mut exited = false;
+    let mut converged = false;
     for _ in 0..max_iterations {
         let r = s.sample.position - q;
         let (su, sv) = (s.sample.du, s.sample.dv);
@@ -666,7 +704,10 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
                     (u, v, s, f) = (nu, nv, ns, nf);
                     continue;
                 }
-                None => break,
+                None => {
+                    converged = true;
+                    break;
+                }
             }
         };
         let slope = dir[0] * g[0] + dir[1] * g[1];
@@ -676,7 +717,10 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
                     (u, v, s, f) = (nu, nv, ns, nf);
                     continue;
                 }
-                None => break,
+                None => {
+                    converged = true;
+                    break;
+                }
             }
         }
         // Longest step inside the domain.
@@ -708,16 +752,20 @@ fn closest_in_domain<E: PatchEvaluator + ?Sized>(
                     (u, v, s, f) = (nu, nv, ns, nf);
                     continue;
                 }
-                None => break,
+                None => {
+                    converged = true;
+                    break;
+                }
             }
         };
         let moved = (nu - u).abs().max((nv - v).abs());
         (u, v, s, f) = (nu, nv, ns, nf);
         if moved < PARAM_TOLERANCE {
+            converged = true;
             break;
         }
     }
-    Ok(Foot { param: at(u, v), sample: s.sample, dist2: 2.0 * f, exited })
+    Ok(Foot { param: at(u, v), sample: s.sample, dist2: 2.0 * f, exited, converged })
 }
 
 /// At a corner of the domain (two constraints `on`): the point

@@ -9,8 +9,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use subdiv::budget::MemoryBudget;
 use subdiv::eval::{
-    fit as fit_surface, per_domain_count, project_points, sample_surface, EvalError, FitOptions, FitTarget,
-    LimitSurface, ProjectOptions, Projection, Sampling, SurfaceParam, SurfaceSample, SAMPLE_BYTES,
+    fit as fit_surface, per_domain_count, project_points, sample_surface, EvalError, FitLoss, FitMethod, FitOptions,
+    FitTarget, LimitSurface, ProjectOptions, Projection, Sampling, SurfaceParam, SurfaceSample, SAMPLE_BYTES,
 };
 use subdiv::mesh::DVec3;
 use subdiv::Options;
@@ -223,9 +223,13 @@ pub fn project<'py>(
     Ok(out)
 }
 
-/// `fit` (docstring in the Python wrapper): the fitted mesh and one dict per iteration.
+/// `fit` (docstring in the Python wrapper): the fitted mesh and one dict per kept round (the
+/// last one also names the stopping rule and the regularised control vertices).
 #[pyfunction]
-#[pyo3(signature = (target, control, scheme = "catmull-clark", iterations = 30, smoothness = 0.0, **options))]
+#[pyo3(signature = (target, control, scheme = "catmull-clark", iterations = 30, smoothness = 0.0,
+    tolerance = 0.0, method = "gauss-newton", loss = "l2", min_improvement = 1e-3, max_time = None,
+    lambda_ = 0.05, **options))]
+#[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
     py: Python<'py>,
     target: &Bound<'py, PyAny>,
@@ -233,20 +237,41 @@ pub fn fit<'py>(
     scheme: &str,
     iterations: usize,
     smoothness: f64,
+    tolerance: f64,
+    method: &str,
+    loss: &str,
+    min_improvement: f64,
+    max_time: Option<f64>,
+    lambda_: f64,
     options: Option<Bound<'py, PyDict>>,
 ) -> PyResult<(PyMesh, Vec<Bound<'py, PyDict>>)> {
     let surface_options = surface_options(py, "fit", scheme, options, control.inner.tags().options())?;
+    let method =
+        method.parse::<FitMethod>().map_err(|e| input(format!("fit: {e}")).into_pyerr(py))?.with_lambda(lambda_);
+    let loss = loss.parse::<FitLoss>().map_err(|e| input(format!("fit: {e}")).into_pyerr(py))?;
     let target = match target.extract::<PyRef<'_, PyMesh>>() {
         Ok(mesh) => FitTarget::from_mesh(&mesh.inner),
         Err(_) => FitTarget::cloud(with_positions(target, |p| Ok(p.iter().map(|&q| DVec3::from_array(q)).collect()))?),
     };
-    let fit_options = FitOptions { surface: surface_options, iterations, smoothness, ..FitOptions::default() };
+    let fit_options = FitOptions {
+        surface: surface_options,
+        iterations,
+        smoothness,
+        tolerance,
+        min_improvement,
+        max_time,
+        method,
+        loss,
+        ..FitOptions::default()
+    };
     let control_mesh = control.inner.clone();
     let result = detached(py, move || Ok(fit_surface(&target, &control_mesh, &fit_options)?))?;
+    let count = result.iterations.len();
     let history = result
         .iterations
         .iter()
-        .map(|it| {
+        .enumerate()
+        .map(|(k, it)| {
             let d = PyDict::new(py);
             d.set_item("iteration", it.iteration)?;
             d.set_item("rms_target_to_surface", it.rms_target_to_surface)?;
@@ -254,6 +279,18 @@ pub fn fit<'py>(
             d.set_item("rms_surface_to_target", it.rms_surface_to_target)?;
             d.set_item("max_surface_to_target", it.max_surface_to_target)?;
             d.set_item("scale", it.scale)?;
+            d.set_item("damping", it.damping)?;
+            d.set_item("retries", it.retries)?;
+            d.set_item("regularised", it.regularised)?;
+            d.set_item("seconds", it.seconds)?;
+            d.set_item("solver", it.solver)?;
+            d.set_item("solver_iterations", it.solver_iterations)?;
+            if k + 1 == count {
+                d.set_item("method", method.name())?;
+                d.set_item("loss", loss.name())?;
+                d.set_item("stop", result.stop.name())?;
+                d.set_item("regularised_vertices", result.regularised.clone())?;
+            }
             Ok(d)
         })
         .collect::<PyResult<Vec<_>>>()?;

@@ -15,6 +15,7 @@ mod deng_ma_open;
 mod evaluate;
 mod facade_pipeline;
 mod fair;
+mod fit_options;
 mod fuzz_corpus;
 mod hostile_inputs;
 mod info_fixtures;

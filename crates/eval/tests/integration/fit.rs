@@ -70,6 +70,7 @@ fn recover(what: &str, mesh: &Mesh, options: Options) {
     let fit_options = FitOptions { surface: options, iterations: 40, tolerance: 1e-9, ..FitOptions::default() };
     let result = fit(&target, &perturbed, &fit_options).unwrap();
     print_rounds(what, &result);
+    eprintln!("{what}: stop {:?}", result.stop);
     let end = *result.iterations.last().unwrap();
     assert!(result.iterations[0].max_target_to_surface > 1e-3 * d);
     assert!(end.max_target_to_surface <= 1e-6 * d, "{what}: max {:.3e}·d", end.max_target_to_surface / d);

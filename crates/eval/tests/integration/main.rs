@@ -12,6 +12,7 @@ mod dart;
 mod doo_sabin;
 mod dyadic;
 mod fit;
+mod fit_recovery;
 mod project;
 mod properties;
 mod sample;

@@ -210,26 +210,59 @@ def fit(
     scheme: str = "catmull-clark",
     iterations: int = 30,
     smoothness: float = 0.0,
+    tolerance: float = 0.0,
+    method: str = "gauss-newton",
+    loss: str = "l2",
+    min_improvement: float = 1e-3,
+    max_time: "float | None" = None,
+    lambda_: float = 0.05,
     **options: Any,
-) -> "tuple[Mesh, list[dict[str, float]]]":
+) -> "tuple[Mesh, list[dict[str, Any]]]":
     """Move the control points of ``control`` so that its limit surface fits ``target``.
 
-    The command line's ``fit``: least-squares fitting with foot points re-projected every round
-    (tangent-distance steps); ``control``'s topology and tags are kept.
+    The command line's ``fit``: foot points re-projected every round and a point-to-plane
+    Gauss-Newton step with Levenberg-Marquardt damping; control points with little or no target
+    support (a partial scan) are regularised; ``control``'s topology and tags are kept.
 
     Args:
-        target: a :class:`Mesh` (distances to its triangles) or an ``(n, 3)`` point cloud.
+        target: a :class:`Mesh` (distances to its triangles) or an ``(n, 3)`` point cloud; it may
+            cover only part of the surface.
         control: the starting control mesh.
-        iterations: rounds at most.
+        iterations: kept rounds at most.
         smoothness: weight of an umbrella-Laplacian term on the control points (0: none).
+        tolerance: stop when the RMS target→surface distance is at most this times d.
+        method: ``"gauss-newton"`` (default), ``"lspia"`` (point-to-point, linear convergence) or
+            ``"tangent"`` (tangent distance with λ = ``lambda_`` shrinking per round).
+        loss: ``"l2"``, ``"huber"`` or ``"cauchy"`` (robust: outliers weigh less).
+        min_improvement: stop when a kept round lowers the objective by less than this fraction.
+        max_time: stop after this many seconds (checked after every round).
         {surface}
 
     Returns:
-        ``(fitted_mesh, history)``: ``history`` has one dict per round with the RMS and maximum
-        distances target→surface and surface→target (``rms_target_to_surface``, …) and the
-        target's bounding-box diagonal ``scale``.
+        ``(fitted_mesh, history)``: ``history`` has one dict per kept round with the RMS and
+        maximum distances target→surface and surface→target (``rms_target_to_surface``, …), the
+        target's bounding-box diagonal ``scale``, ``damping``, ``retries``, ``regularised``,
+        ``seconds`` and ``solver``; the last dict also has ``method``, ``loss``, ``stop`` (the rule
+        that stopped the fit) and ``regularised_vertices``.
+
+    Raises:
+        InputError: a bad option (``tolerance=nan``, an unknown ``method``), an empty or
+            non-finite target, coordinates that cannot be represented.
     """
-    return _subdiv.fit(target, control, scheme, iterations, smoothness, **options)
+    return _subdiv.fit(
+        target,
+        control,
+        scheme,
+        iterations,
+        smoothness,
+        tolerance,
+        method,
+        loss,
+        min_improvement,
+        max_time,
+        lambda_,
+        **options,
+    )
 
 
 for _f in (evaluate, sample, project, fit):
