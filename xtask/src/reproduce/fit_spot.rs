@@ -60,8 +60,9 @@ pub fn figure(target_mesh: &Mesh, designed: &Mesh) -> Result<(Image, String)> {
     );
     let caption = format!(
         "Fitting (issue #17): the Spot control topology fitted to the 2,930-vertex target from a naive start \
-         (each control vertex at its nearest target vertex), {} rounds of foot-point projection and a \
-         tangent-distance least-squares solve. Target → surface RMS {:.2e}·d, max {:.2e}·d (start {:.2e}·d, {:.2e}·d); \
+         (each control vertex at its nearest target vertex), {} Gauss-Newton rounds (point-to-plane distances to \
+         feet projected again each round, Levenberg-Marquardt damping; the tangent-distance fit before it took \
+         15 rounds to the same quality). Target → surface RMS {:.2e}·d, max {:.2e}·d (start {:.2e}·d, {:.2e}·d); \
          surface → target RMS {:.2e}·d, max {:.2e}·d.",
         last.iteration,
         last.rms_target_to_surface / d,
