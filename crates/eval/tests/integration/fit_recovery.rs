@@ -466,7 +466,7 @@ fn never_singular_on_the_small_fixtures() {
 /// [`never_singular_on_the_small_fixtures`] on every fixture of up to 3,000
 /// control vertices.
 #[test]
-#[ignore = "fixtures of up to 3,000 control vertices: ~4 min in release (run with --ignored --release)"]
+#[ignore = "fixtures of up to 3,000 control vertices: 2 min in release (run with --ignored --release)"]
 fn never_singular_on_the_fixtures() {
     never_singular_on_fixtures_up_to(3000, 102);
 }
