@@ -18,79 +18,24 @@
 //! or 60 s.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use glam::DVec3;
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;
 use subdiv_eval::{fit, FitMethod, FitOptions, FitTarget};
-use subdiv_mesh::shapes::{self, SplitMix64};
+use subdiv_mesh::shapes;
 use subdiv_mesh::Mesh;
 use subdiv_stencil::{Options, Scheme};
-
-fn perturbed(mesh: &Mesh, fraction: f64, seed: u64) -> Mesh {
-    let d = mesh.bbox_diagonal();
-    let mut rng = SplitMix64(seed);
-    mesh.with_positions(
-        mesh.positions()
-            .iter()
-            .map(|&p| {
-                let v = DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5);
-                p + fraction * d * v.normalize_or(DVec3::X)
-            })
-            .collect(),
-    )
-}
-
-/// `mesh` moved by a smooth random displacement field of amplitude `fraction`·d
-/// (three low-frequency waves per coordinate), as the recovery tests' start of fine meshes.
-fn smoothly_perturbed(mesh: &Mesh, fraction: f64, seed: u64) -> Mesh {
-    let d = mesh.bbox_diagonal();
-    let mut rng = SplitMix64(seed);
-    let waves: Vec<(DVec3, f64)> = (0..9)
-        .map(|_| {
-            let k = DVec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5) * (8.0 / d);
-            (k, rng.next_f64() * std::f64::consts::TAU)
-        })
-        .collect();
-    let amplitude = fraction * d / 3f64.sqrt();
-    mesh.with_positions(
-        mesh.positions()
-            .iter()
-            .map(|&p| {
-                let f = |i: usize| {
-                    waves[3 * i..3 * i + 3].iter().map(|(k, phase)| (k.dot(p) + phase).sin()).sum::<f64>() / 3.0
-                };
-                p + amplitude * DVec3::new(f(0), f(1), f(2))
-            })
-            .collect(),
-    )
-}
-
-fn bumpy_torus() -> Mesh {
-    let torus = shapes::torus(14, 8);
-    let mut rng = SplitMix64(42);
-    torus.with_positions(
-        torus
-            .positions()
-            .iter()
-            .map(|&p| {
-                let axis = DVec3::new(p.x, p.y, 0.0).normalize() * 2.0;
-                p + (p - axis).normalize() * 0.075 * (rng.next_f64() - 0.5) * 2.0
-            })
-            .collect(),
-    )
-}
 
 fn cases() -> Vec<(&'static str, Mesh, FitTarget, Options)> {
     let options = Options::new(Scheme::CatmullClark);
     let spot =
         subdiv_io::load_mesh(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/quad/spot_control_mesh.obj"))
             .expect("the Spot fixture");
-    [("torus-112", bumpy_torus()), ("spot-188", spot)]
+    [("torus-112", shapes::bumpy_torus(14, 8, 0.075, 42)), ("spot-188", spot)]
         .into_iter()
         .map(|(name, mesh)| {
             let target = FitTarget::from_mesh(&subdiv_stencil::subdivide(&mesh, options, 3, true).expect("limit"));
-            (name, perturbed(&mesh, 0.02, 17), target, options)
+            (name, shapes::perturbed(&mesh, 0.02, 17), target, options)
         })
         .collect()
 }
@@ -107,7 +52,7 @@ fn scale_run() {
     let extra = subdiv_stencil::subdivide(&truth, options, 3, true).expect("limit");
     points.extend(extra.positions().iter().skip(level2.positions().len()).take(2_000_000 - points.len()));
     let target = FitTarget::cloud(points);
-    let start = smoothly_perturbed(&truth, 0.02, 17);
+    let start = shapes::smoothly_perturbed(&truth, 0.02, 17);
     eprintln!(
         "scale: {} control vertices, {} target points (setup {:.1} s)",
         truth.positions().len(),

@@ -375,6 +375,73 @@ pub fn split_edges(mesh: &Mesh, edges: &[crate::EdgeId], offset: f64) -> Mesh {
     build(positions, faces)
 }
 
+/// `mesh` with every vertex moved by `fraction`·d (d the bounding-box
+/// diagonal) in a random direction from `seed`: the start of a synthetic
+/// fitting recovery. On fine meshes 2 % of d exceeds the edge length and
+/// tangles the control mesh: use [`smoothly_perturbed`] there.
+pub fn perturbed(mesh: &Mesh, fraction: f64, seed: u64) -> Mesh {
+    let d = mesh.bbox_diagonal();
+    let mut rng = SplitMix64(seed);
+    mesh.with_positions(
+        mesh.positions()
+            .iter()
+            .map(|&p| {
+                let dir = loop {
+                    let v = v(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5);
+                    if v.length() > 1e-3 {
+                        break v.normalize();
+                    }
+                };
+                p + fraction * d * dir
+            })
+            .collect(),
+    )
+}
+
+/// `mesh` with every vertex moved by a smooth displacement field of
+/// amplitude `fraction`·d: a sum of three random low-frequency waves per
+/// coordinate (wavelength ≥ d/2) from `seed`. Neighbours move together, so
+/// the start of a fine mesh stays untangled.
+pub fn smoothly_perturbed(mesh: &Mesh, fraction: f64, seed: u64) -> Mesh {
+    let d = mesh.bbox_diagonal();
+    let mut rng = SplitMix64(seed);
+    let waves: Vec<(DVec3, f64)> = (0..9)
+        .map(|_| {
+            let k = v(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5) * (8.0 / d);
+            (k, rng.next_f64() * TAU)
+        })
+        .collect();
+    let amplitude = fraction * d / 3f64.sqrt();
+    mesh.with_positions(
+        mesh.positions()
+            .iter()
+            .map(|&p| {
+                let f = |i: usize| {
+                    waves[3 * i..3 * i + 3].iter().map(|(k, phase)| (k.dot(p) + phase).sin()).sum::<f64>() / 3.0
+                };
+                p + amplitude * v(f(0), f(1), f(2))
+            })
+            .collect(),
+    )
+}
+
+/// [`torus`]`(nu, nv)` with its control points moved radially from the
+/// tube's axis by up to ±`amplitude` (random from `seed`): no symmetry left,
+/// so fitting data fix its control mesh.
+pub fn bumpy_torus(nu: usize, nv: usize, amplitude: f64, seed: u64) -> Mesh {
+    let torus = torus(nu, nv);
+    let mut rng = SplitMix64(seed);
+    let moved = torus
+        .positions()
+        .iter()
+        .map(|&p| {
+            let axis = v(p.x, p.y, 0.0).normalize() * 2.0;
+            p + (p - axis).normalize() * amplitude * (rng.next_f64() - 0.5) * 2.0
+        })
+        .collect();
+    torus.with_positions(moved)
+}
+
 /// Mean edge length of a mesh, summed in coordinates scaled by a power of
 /// two so that neither the differences nor the sum overflow (the naive mean,
 /// bit for bit, wherever that is finite).

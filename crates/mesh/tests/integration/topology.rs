@@ -589,3 +589,41 @@ fn counts_of_a_big_mixed_mesh_equal_brute_force_counts() {
         assert_eq!(format!("{rebuilt:?}"), format!("{t:?}"));
     }
 }
+
+/// The fitting starts of `shapes`: `perturbed` moves every vertex by exactly
+/// `fraction`·d, `smoothly_perturbed` by at most that (neighbours alike),
+/// `bumpy_torus` moves radially within ±amplitude; all keep the faces and
+/// repeat bit for bit from the seed.
+#[test]
+fn fitting_starts_move_as_documented() {
+    let torus = shapes::torus(12, 8);
+    let d = torus.bbox_diagonal();
+    let moved = shapes::perturbed(&torus, 0.02, 7);
+    for (a, b) in torus.positions().iter().zip(moved.positions()) {
+        assert!(((*a - *b).length() - 0.02 * d).abs() <= 1e-12 * d);
+    }
+    let smooth = shapes::smoothly_perturbed(&torus, 0.02, 7);
+    let steps: Vec<f64> = torus.positions().iter().zip(smooth.positions()).map(|(a, b)| (*a - *b).length()).collect();
+    assert!(steps.iter().all(|&s| s <= 0.02 * d * (1.0 + 1e-12)));
+    assert!(steps.iter().any(|&s| s > 0.002 * d), "the field moves the mesh");
+    // Smooth: the displacements of the two ends of an edge differ far less than 2·fraction·d.
+    let t = torus.topology();
+    for e in t.edges() {
+        let (a, b) = t.edge_vertices(e);
+        let da = smooth.position(a) - torus.position(a);
+        let db = smooth.position(b) - torus.position(b);
+        assert!((da - db).length() <= 0.25 * 0.02 * d);
+    }
+    let bumpy = shapes::bumpy_torus(12, 8, 0.075, 7);
+    for (a, b) in torus.positions().iter().zip(bumpy.positions()) {
+        let axis = DVec3::new(a.x, a.y, 0.0).normalize() * 2.0;
+        let off = *b - *a;
+        assert!(off.length() <= 0.075 * (1.0 + 1e-12));
+        assert!(off.cross(*a - axis).length() <= 1e-12, "radial from the tube's axis");
+    }
+    for m in [&moved, &smooth, &bumpy] {
+        assert_eq!(m.topology().faces(), t.faces());
+    }
+    assert_eq!(shapes::perturbed(&torus, 0.02, 7).positions(), moved.positions());
+    assert_eq!(shapes::smoothly_perturbed(&torus, 0.02, 7).positions(), smooth.positions());
+}
